@@ -1,0 +1,1 @@
+"""The joshuac compiler: .pbtxt robot descriptions to checked, reproducible artifacts."""

@@ -1,0 +1,1 @@
+"""Runtime library imported by joshuac-generated node entrypoints."""

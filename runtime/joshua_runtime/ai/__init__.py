@@ -1,0 +1,1 @@
+"""LeRobot policy inference, dataset recording and the local model registry."""

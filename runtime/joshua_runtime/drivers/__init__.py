@@ -1,0 +1,1 @@
+"""ROS-free hardware drivers that speak PerceptionPacket / ActionPacket."""

@@ -1,0 +1,1 @@
+"""Protocol-level device emulators served on pseudo-terminals (`joshua-emulate`)."""

@@ -1,0 +1,63 @@
+"""The one function a generated node entrypoint calls: `run_node(SETTINGS)`.
+
+joshuac writes every node's resolved settings into `OUT/nodes/<node>.py` as a dict literal and
+calls `run_node` with it. The dict has these keys (every default already resolved; "" or [] when
+a field does not apply to the node type):
+
+    robot, mode, name, type                      str  (type: a NodeType name, or "SIMULATION")
+    topic        {"name", "message_type", "qos"} or None
+    state_topic  {"name", "message_type", "qos"} or None   (ACTUATOR_SUBSCRIBER present states)
+    inputs       [{"name", "message_type", "qos"}, ...]   (INFERENCE / DATA_SUBSCRIBER inputs; QoS
+                                                           chosen to match their publishers)
+    qos          {"history": "KEEP_LAST"|"KEEP_ALL", "depth": int,
+                  "reliability": "RELIABLE"|"BEST_EFFORT", "durability": "VOLATILE"|"TRANSIENT_LOCAL"}
+    serial_port str, baud_rate int, device_ids [int], joint_names [str], calibration_file str
+    camera_index int, video_source str, width int, height int, rate_hz float, frame_id str
+    model_path str, policy_type str, device str, output_format str, output_directory str
+    simulation   None, or for type "SIMULATION": {"model", "timestep_s", "realtime_factor",
+                 "camera", "gl_backend", "simulates": [settings of each replaced hardware node]}
+
+Exit codes: 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device failure.
+"""
+
+import importlib
+import sys
+
+from joshua_runtime.errors import JoshuaError, SettingsError
+
+# Node type -> "module:Class" implementing it, imported only when that node runs.
+NODE_CLASSES = {
+    "CAMERA_PUBLISHER": "joshua_runtime.nodes.camera_publisher:CameraPublisher",
+    "ENCODER_PUBLISHER": "joshua_runtime.nodes.encoder_publisher:EncoderPublisher",
+    "LIDAR_PUBLISHER": "joshua_runtime.nodes.lidar_publisher:LidarPublisher",
+    "ACTUATOR_SUBSCRIBER": "joshua_runtime.nodes.actuator_subscriber:ActuatorSubscriber",
+    "OPERATIONAL_LIMIT_CALIBRATION": "joshua_runtime.nodes.operational_limit_calibration:OperationalLimitCalibration",
+    "MOCK_CAMERA_PUBLISHER": "joshua_runtime.nodes.mock_camera_publisher:MockCameraPublisher",
+    "MOCK_ENCODER_PUBLISHER": "joshua_runtime.nodes.mock_encoder_publisher:MockEncoderPublisher",
+    "MOCK_LIDAR_PUBLISHER": "joshua_runtime.nodes.mock_lidar_publisher:MockLidarPublisher",
+    "MOCK_ACTUATOR_SUBSCRIBER": "joshua_runtime.nodes.mock_actuator_subscriber:MockActuatorSubscriber",
+    "INFERENCE": "joshua_runtime.ai.inference_node:InferenceNode",
+    "DATA_SUBSCRIBER": "joshua_runtime.ai.recorder_node:RecorderNode",
+    "SIMULATION": "joshua_runtime.sim.engine_node:SimulationEngineNode",
+}
+
+
+def node_class(node_type: str):
+    """Import and return the class that implements a node type."""
+    target = NODE_CLASSES.get(node_type)
+    if target is None:
+        raise SettingsError(f"no runtime implementation for node type {node_type!r}")
+    module_name, class_name = target.split(":")
+    return getattr(importlib.import_module(module_name), class_name)
+
+
+def run_node(settings: dict) -> int:
+    """Run the node described by `settings` until SIGINT/SIGTERM; return its exit code."""
+    from joshua_runtime.node import run
+
+    try:
+        cls = node_class(settings["type"])
+    except JoshuaError as exc:
+        print(f"{settings.get('name', '?')}: error: {exc}", file=sys.stderr, flush=True)
+        return exc.exit_code
+    return run(cls, settings)

@@ -1,0 +1,1 @@
+"""rclpy node classes, one per node type (see entrypoint.NODE_CLASSES)."""

@@ -1,0 +1,19 @@
+"""Conversion of the QoS settings written by joshuac into rclpy QoSProfile objects."""
+
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+_RELIABILITY = {"RELIABLE": ReliabilityPolicy.RELIABLE, "BEST_EFFORT": ReliabilityPolicy.BEST_EFFORT}
+_DURABILITY = {"VOLATILE": DurabilityPolicy.VOLATILE, "TRANSIENT_LOCAL": DurabilityPolicy.TRANSIENT_LOCAL}
+_HISTORY = {"KEEP_LAST": HistoryPolicy.KEEP_LAST, "KEEP_ALL": HistoryPolicy.KEEP_ALL}
+
+
+def qos_profile(qos: dict) -> QoSProfile:
+    """Build a QoSProfile from `{"history", "depth", "reliability", "durability"}`."""
+    history = _HISTORY[qos["history"]]
+    depth = qos["depth"] if history == HistoryPolicy.KEEP_LAST else 0
+    return QoSProfile(
+        history=history,
+        depth=depth,
+        reliability=_RELIABILITY[qos["reliability"]],
+        durability=_DURABILITY[qos["durability"]],
+    )

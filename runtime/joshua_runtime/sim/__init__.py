@@ -1,0 +1,1 @@
+"""MuJoCo simulation engine used in MODE_SIMULATION."""
