@@ -1,0 +1,25 @@
+"""Shared fixtures of the runtime tests: an isolated ROS 2 environment per test."""
+
+import os
+import zlib
+
+import pytest
+
+
+@pytest.fixture
+def ros_env(request) -> dict:
+    """Environment for ROS processes of this test: its own domain id, discovery on localhost only."""
+    domain = zlib.crc32(request.node.nodeid.encode()) % 200 + 20
+    env = dict(os.environ)
+    env["ROS_DOMAIN_ID"] = str(domain)
+    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    env["PYTHONUNBUFFERED"] = "1"
+    return env
+
+
+@pytest.fixture
+def ros_domain(ros_env, monkeypatch) -> int:
+    """Put this process in the test's ROS domain too (for an in-process rclpy client)."""
+    for key in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE"):
+        monkeypatch.setenv(key, ros_env[key])
+    return int(ros_env["ROS_DOMAIN_ID"])
