@@ -1,0 +1,1 @@
+"""Conversions between driver packets and ROS messages: joint_state.py, image.py, laser_scan.py."""
