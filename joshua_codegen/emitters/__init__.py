@@ -1,0 +1,10 @@
+"""Emitters: each turns the model into some of the output files. Order does not matter."""
+
+from joshua_codegen.emitters import entrypoints, fastdds, manifest, topology
+
+EMITTERS = [
+    manifest.emit,
+    topology.emit,
+    entrypoints.emit,
+    fastdds.emit,
+]

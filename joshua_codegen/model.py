@@ -1,0 +1,115 @@
+"""The frozen model of a checked description: nodes with derived names, topics, processes, devices.
+
+`plan(description)` is pure; it assumes the rules found no error, so every value is valid here.
+"""
+
+from dataclasses import dataclass, field
+
+from joshua_codegen import defaults
+from joshua_codegen.schema import robot_config_pb2 as pb
+
+
+@dataclass(frozen=True)
+class QoS:
+    history: str
+    depth: int
+    reliability: str
+    durability: str
+
+    def as_dict(self) -> dict:
+        return {"history": self.history, "depth": self.depth, "reliability": self.reliability,
+                "durability": self.durability}
+
+
+@dataclass(frozen=True)
+class Endpoint:
+    """One node's publisher or subscription on one topic."""
+
+    node: str
+    topic: str
+    message_type: str
+    qos: QoS
+    role: str  # "publisher" | "subscriber"
+
+    def as_topic_settings(self) -> dict:
+        return {"name": self.topic, "message_type": self.message_type, "qos": self.qos.as_dict()}
+
+
+@dataclass(frozen=True)
+class Topic:
+    name: str
+    message_type: str
+    publishers: tuple[Endpoint, ...]
+    subscribers: tuple[Endpoint, ...]
+
+
+@dataclass(frozen=True)
+class Device:
+    """Something on the robot a node needs before it starts: `serial`, `camera`, `file`, `model`."""
+
+    kind: str
+    path: str
+    node: str
+
+
+@dataclass(frozen=True)
+class Process:
+    """What the supervisor starts for one node.
+
+    `python` processes run `nodes/<name>.py`; `custom` ones run `executable` with `args`. When
+    `cpp_binary` is set, the supervisor prefers `<cpp_bin_dir>/<cpp_binary>` with `cpp_args`.
+    """
+
+    name: str
+    node_type: str
+    kind: str  # "python" | "custom"
+    entrypoint: str  # path relative to the output directory
+    executable: str
+    args: tuple[str, ...]
+    cpp_binary: str
+    cpp_args: tuple[str, ...]
+    restart: str
+    max_restarts: int
+    critical: bool
+    env: tuple[tuple[str, str], ...]
+    devices: tuple[Device, ...]
+
+
+@dataclass(frozen=True)
+class NodeModel:
+    name: str
+    type: str
+    index: int  # position among the description's nodes
+    backend: str  # "PYTHON" | "CPP" (the preference the node type honours)
+    simulated_by: str  # the process standing in for it in MODE_SIMULATION, else ""
+    publishes: tuple[Endpoint, ...]
+    subscribes: tuple[Endpoint, ...]
+    devices: tuple[Device, ...]
+    settings: dict = field(hash=False, compare=False)  # handed to joshua_runtime.entrypoint.run_node
+
+
+@dataclass(frozen=True)
+class Robot:
+    name: str
+    mode: str
+    source: str  # file name of the description, without directories
+    nodes: tuple[NodeModel, ...]
+    topics: tuple[Topic, ...]
+    processes: tuple[Process, ...]
+    sigint_grace_s: float
+    sigterm_grace_s: float
+    ros_domain_id: int | None
+    cpp_bin_dir: str
+    python_executable: str
+    env: tuple[tuple[str, str], ...]
+    simulation: dict | None = field(hash=False, compare=False)
+
+    def node(self, name: str) -> NodeModel:
+        return next(node for node in self.nodes if node.name == name)
+
+    def process_settings(self, process: Process) -> dict:
+        """The settings dict of a python process (a node's, or the simulation engine's)."""
+        if process.node_type == "SIMULATION":
+            return {"robot": self.name, "mode": self.mode, "name": process.name, "type": "SIMULATION",
+                    "simulation": self.simulation}
+        return self.node(process.name).settings

@@ -1,0 +1,266 @@
+"""Turn a checked RobotDescription into the frozen Robot model (pure; no I/O)."""
+
+import os
+
+from joshua_codegen import defaults
+from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
+from joshua_codegen.schema import robot_config_pb2 as pb
+
+_QOS_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
+_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
+# Parameters each C++ node binary receives as `-p name:=value`, in this order.
+CPP_PARAMETERS = {
+    "CAMERA_PUBLISHER": _QOS_PARAMETERS + ("camera_index", "video_source", "width", "height", "rate_hz", "frame_id"),
+    "LIDAR_PUBLISHER": _QOS_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
+    "ENCODER_PUBLISHER": _QOS_PARAMETERS + _BUS_PARAMETERS + ("frame_id",),
+    "ACTUATOR_SUBSCRIBER": _QOS_PARAMETERS + _BUS_PARAMETERS + ("state_topic",),
+    "OPERATIONAL_LIMIT_CALIBRATION": _QOS_PARAMETERS + _BUS_PARAMETERS,
+}
+
+
+def plan(description: pb.RobotDescription, source: str) -> Robot:
+    """Build the model of a description the rules accepted. `source` is the description's path."""
+    config = description.robot_config
+    mode = pb.Mode.Name(config.mode)
+    names = defaults.node_names(config)
+    simulating = config.mode == pb.MODE_SIMULATION
+    engine = _engine_name(names) if simulating and any(n.type in defaults.HARDWARE for n in config.node) else ""
+    publishers = _publishers(config, names)
+    nodes = tuple(
+        _node(config, node, name, index, publishers, engine if node.type in defaults.HARDWARE else "")
+        for index, (node, name) in enumerate(zip(config.node, names))
+    )
+    processes = tuple(_process(config, node, model) for node, model in zip(config.node, nodes) if not model.simulated_by)
+    simulation = None
+    if engine:
+        simulated = [model for model in nodes if model.simulated_by]
+        simulation = _simulation(config, simulated)
+        processes += (_engine_process(engine, simulated),)
+    return Robot(
+        name=config.name,
+        mode=mode,
+        source=os.path.basename(source),
+        nodes=nodes,
+        topics=_topics(nodes),
+        processes=processes,
+        sigint_grace_s=_grace(config.shutdown, "sigint_grace_s", defaults.SIGINT_GRACE_S),
+        sigterm_grace_s=_grace(config.shutdown, "sigterm_grace_s", defaults.SIGTERM_GRACE_S),
+        ros_domain_id=config.ros_domain_id if config.HasField("ros_domain_id") else None,
+        cpp_bin_dir=config.cpp_bin_dir or defaults.CPP_BIN_DIR,
+        python_executable=config.python_executable or defaults.PYTHON_EXECUTABLE,
+        env=tuple(sorted(config.env.items())),
+        simulation=simulation,
+    )
+
+
+def _grace(shutdown: pb.Shutdown, field: str, default: float) -> float:
+    return getattr(shutdown, field) if shutdown.HasField(field) else default
+
+
+def _engine_name(names: list[str]) -> str:
+    name, suffix = defaults.SIMULATION_NAME, 1
+    while name in names:
+        suffix += 1
+        name = f"{defaults.SIMULATION_NAME}_{suffix}"
+    return name
+
+
+def _publishers(config: pb.RobotConfig, names: list[str]) -> dict[str, list[Endpoint]]:
+    """Every publisher of the description, by topic name."""
+    by_topic: dict[str, list[Endpoint]] = {}
+    for node, name in zip(config.node, names):
+        for endpoint in _published(node, name):
+            by_topic.setdefault(endpoint.topic, []).append(endpoint)
+    return by_topic
+
+
+def _published(node: pb.Node, name: str) -> list[Endpoint]:
+    endpoints = []
+    qos = QoS(**defaults.qos(node))
+    if node.type in defaults.PUBLISHES_TOPIC:
+        endpoints.append(Endpoint(name, node.topic_name, defaults.message_type(node), qos, "publisher"))
+    if node.type in defaults.ACTUATORS and node.state_topic:
+        endpoints.append(Endpoint(name, node.state_topic, defaults.STATE_MESSAGE_TYPE, qos, "publisher"))
+    return endpoints
+
+
+def _matching_qos(publishers: list[Endpoint]) -> QoS:
+    """A subscription QoS every publisher of a topic can serve, with the deepest publisher history."""
+    if not publishers:
+        return QoS("KEEP_LAST", 10, "RELIABLE", "VOLATILE")
+    reliable = all(p.qos.reliability == "RELIABLE" for p in publishers)
+    durable = all(p.qos.durability == "TRANSIENT_LOCAL" for p in publishers)
+    depth = max(p.qos.depth for p in publishers) or 10
+    return QoS("KEEP_LAST", depth, "RELIABLE" if reliable else "BEST_EFFORT",
+               "TRANSIENT_LOCAL" if durable else "VOLATILE")
+
+
+def _subscribed(node: pb.Node, name: str, publishers: dict[str, list[Endpoint]]) -> tuple[list[Endpoint], list[Endpoint]]:
+    """(subscription of topic_name, subscriptions of input_topics) of one node."""
+    main = []
+    if node.type in defaults.SUBSCRIBES_TOPIC:
+        found = publishers.get(node.topic_name, [])
+        message_type = defaults.message_type(node) or (found[0].message_type if found else "")
+        main.append(Endpoint(name, node.topic_name, message_type, QoS(**defaults.qos(node)), "subscriber"))
+    inputs = []
+    if node.type in defaults.READS_INPUTS:
+        for topic in dict.fromkeys(node.input_topics):
+            found = publishers.get(topic, [])
+            message_type = found[0].message_type if found else ""
+            inputs.append(Endpoint(name, topic, message_type, _matching_qos(found), "subscriber"))
+    return main, inputs
+
+
+def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int,
+          publishers: dict[str, list[Endpoint]], simulated_by: str) -> NodeModel:
+    published = _published(node, name)
+    main, inputs = _subscribed(node, name, publishers)
+    topic = next((e for e in published + main if e.topic == node.topic_name), None)
+    state = next((e for e in published if node.state_topic and e.topic == node.state_topic
+                  and node.type in defaults.ACTUATORS), None)
+    devices = tuple(_devices(node, name))
+    settings = {
+        "robot": config.name,
+        "mode": pb.Mode.Name(config.mode),
+        "name": name,
+        "type": defaults.type_name(node.type),
+        "topic": topic.as_topic_settings() if topic else None,
+        "state_topic": state.as_topic_settings() if state else None,
+        "inputs": [e.as_topic_settings() for e in inputs],
+        "qos": defaults.qos(node),
+        "serial_port": node.serial_port,
+        "baud_rate": defaults.baud_rate(node),
+        "device_ids": defaults.device_ids(node),
+        "joint_names": defaults.joint_names(node) if defaults.device_ids(node) or node.joint_names else [],
+        "calibration_file": node.calibration_file,
+        "camera_index": node.camera_index if node.HasField("camera_index") else (0 if node.type in defaults.CAMERAS else -1),
+        "video_source": node.video_source,
+        "width": node.width if node.HasField("width") else 640,
+        "height": node.height if node.HasField("height") else 480,
+        "rate_hz": defaults.rate_hz(node),
+        "frame_id": defaults.frame_id(node),
+        "model_path": node.model_path,
+        "policy_type": node.policy_type,
+        "device": node.device or "cpu",
+        "output_format": node.output_format or "lerobot",
+        "output_directory": node.output_directory,
+        "simulation": None,
+    }
+    return NodeModel(
+        name=name,
+        type=defaults.type_name(node.type),
+        index=index,
+        backend=defaults.backend(node),
+        simulated_by=simulated_by,
+        publishes=tuple(published),
+        subscribes=tuple(main + inputs),
+        devices=devices,
+        settings=settings,
+    )
+
+
+def _devices(node: pb.Node, name: str):
+    if node.type in defaults.SERIAL and node.serial_port:
+        yield Device("serial", node.serial_port, name)
+    if node.type == pb.CAMERA_PUBLISHER:
+        if node.video_source and "://" not in node.video_source:
+            yield Device("file", node.video_source, name)
+        elif not node.video_source:
+            index = node.camera_index if node.HasField("camera_index") else 0
+            yield Device("camera", f"/dev/video{index}", name)
+    if node.type == pb.INFERENCE and node.model_path and not node.model_path.startswith("registry:"):
+        yield Device("model", node.model_path, name)
+
+
+def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel) -> Process:
+    custom = node.type == pb.CUSTOM
+    env = dict(config.env)
+    env.update(node.env)
+    return Process(
+        name=model.name,
+        node_type=model.type,
+        kind="custom" if custom else "python",
+        entrypoint="" if custom else f"nodes/{model.name}.py",
+        executable=node.executable,
+        args=tuple(node.args),
+        cpp_binary=model.type.lower() if model.backend == "CPP" else "",
+        cpp_args=_cpp_args(model) if model.backend == "CPP" else (),
+        restart=defaults.restart(node),
+        max_restarts=defaults.max_restarts(node),
+        critical=defaults.critical(node),
+        env=tuple(sorted(env.items())),
+        devices=model.devices,
+    )
+
+
+def _cpp_args(model: NodeModel) -> tuple[str, ...]:
+    """`--ros-args -r __node:=NAME -p field:=value ...` for the C++ binary of a node."""
+    settings = model.settings
+    topic = settings["topic"] or {}
+    qos = settings["qos"]
+    values = dict(settings)
+    values.update({
+        "topic_name": topic.get("name", ""),
+        "message_type": topic.get("message_type", ""),
+        "qos_depth": qos["depth"],
+        "qos_reliability": qos["reliability"],
+        "qos_durability": qos["durability"],
+        "qos_history": qos["history"],
+        "state_topic": (settings["state_topic"] or {}).get("name", ""),
+    })
+    args = ["--ros-args", "-r", f"__node:={model.name}"]
+    for key in CPP_PARAMETERS[model.type]:
+        if values[key] in ("", [], -1):
+            continue
+        args += ["-p", f"{key}:={_ros_param(values[key])}"]
+    return tuple(args)
+
+
+def _ros_param(value) -> str:
+    """A ROS 2 command-line parameter value (YAML): lists as [a, b], strings quoted when needed."""
+    if isinstance(value, list):
+        return "[" + ", ".join(_ros_param(v) for v in value) + "]"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    text = str(value)
+    if text.replace("_", "").replace("/", "").replace(".", "").replace("-", "").isalnum() and not text[0].isdigit():
+        return text
+    return "'" + text.replace("'", "''") + "'"
+
+
+def _simulation(config: pb.RobotConfig, simulated: list[NodeModel]) -> dict:
+    sim = config.simulation
+    return {
+        "model": sim.model,
+        "timestep_s": sim.timestep_s if sim.HasField("timestep_s") else None,
+        "realtime_factor": sim.realtime_factor if sim.HasField("realtime_factor") else 1.0,
+        "camera": sim.camera,
+        "gl_backend": sim.gl_backend or "egl",
+        "simulates": [model.settings for model in simulated],
+    }
+
+
+def _engine_process(name: str, simulated: list[NodeModel]) -> Process:
+    return Process(
+        name=name, node_type="SIMULATION", kind="python", entrypoint=f"nodes/{name}.py", executable="",
+        args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
+        critical=True, env=(), devices=(),
+    )
+
+
+def _topics(nodes: tuple[NodeModel, ...]) -> tuple[Topic, ...]:
+    publishers: dict[str, list[Endpoint]] = {}
+    subscribers: dict[str, list[Endpoint]] = {}
+    for node in nodes:
+        for endpoint in node.publishes:
+            publishers.setdefault(endpoint.topic, []).append(endpoint)
+        for endpoint in node.subscribes:
+            subscribers.setdefault(endpoint.topic, []).append(endpoint)
+    topics = []
+    for name in sorted(set(publishers) | set(subscribers)):
+        pubs, subs = publishers.get(name, []), subscribers.get(name, [])
+        message_type = (pubs or subs)[0].message_type
+        topics.append(Topic(name, message_type, tuple(pubs), tuple(subs)))
+    return tuple(topics)
