@@ -1,0 +1,38 @@
+# joshuac: `make run` runs the demo robot, `make test` runs every test. Both set the machine up first.
+SHELL := /bin/bash
+export UV_PYTHON_DOWNLOADS := never
+export PATH := $(HOME)/.local/bin:$(PATH)
+VENV := .venv/bin
+ROBOTS := $(basename $(notdir $(wildcard config/robots/*.pbtxt)))
+RUN_CONFIG ?= config/robots/mock_arm.pbtxt
+DURATION ?=
+PYTEST_ARGS ?=
+
+.PHONY: setup run test generate proto bench check
+
+setup:
+	@bash scripts/setup.sh
+
+## run: build the demo description into a temporary directory and run it (Ctrl-C stops it;
+## DURATION=10 makes it stop by itself).
+run: setup
+	$(VENV)/joshuac run $(RUN_CONFIG) $(if $(DURATION),--duration $(DURATION)) --skip-preflight
+
+test: setup
+	$(VENV)/pytest $(PYTEST_ARGS)
+
+## generate: refresh generated/<robot>/ for every description in config/robots/.
+generate: setup
+	@for robot in $(ROBOTS); do \
+		$(VENV)/joshuac build config/robots/$$robot.pbtxt -o generated/$$robot || exit 1; \
+	done
+
+## proto: regenerate joshua_codegen/schema/*_pb2.py from proto/.
+proto: setup
+	PATH=$(VENV):$$PATH bash scripts/gen_proto.sh
+
+check: setup
+	$(VENV)/joshuac check config/robots/*.pbtxt
+
+bench: setup
+	@for script in bench/*.py; do echo "== $$script"; $(VENV)/python $$script || exit 1; done

@@ -1,0 +1,177 @@
+"""`joshuac`: the command line. Thin: every command calls check, plan, render and write."""
+
+import sys
+import tempfile
+from pathlib import Path
+
+import click
+
+from joshua_codegen.version import VERSION
+
+FORMATS = ("text", "json", "github")
+EXIT_OK, EXIT_ERRORS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 70
+
+set_option = click.option(
+    "--set", "overrides", multiple=True, metavar="KEY=VALUE",
+    help="Override a field before validation, e.g. mode=MODE_SIMULATION or NODE.qos_depth=10 (repeatable).",
+)
+format_option = click.option(
+    "--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
+    help="How diagnostics are printed.",
+)
+config_argument = click.argument("config", type=click.Path(exists=True, dir_okay=False))
+
+
+def report(results, output_format: str, stream) -> None:
+    """Print the diagnostics of one or more check results."""
+    from joshua_codegen.diagnostics import format_github, format_json, format_text, sort_diagnostics
+
+    diagnostics = sort_diagnostics([d for r in results for d in r.diagnostics])
+    if output_format == "json":
+        click.echo(format_json(diagnostics), file=stream, nl=False)
+    elif output_format == "github":
+        click.echo(format_github(diagnostics), file=stream, nl=False)
+    elif diagnostics:
+        sources = {r.path: r.text for r in results}
+        click.echo(format_text(diagnostics, sources), file=stream, nl=False)
+
+
+def compile_or_exit(config: str, overrides, output_format: str, prefix: str | None = None):
+    from joshua_codegen.compile import compile_file
+
+    compilation = compile_file(config, overrides, prefix)
+    report([compilation.check], output_format, sys.stderr if output_format == "text" else sys.stdout)
+    if compilation.files is None:
+        sys.exit(EXIT_ERRORS)
+    return compilation
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(VERSION, prog_name="joshuac")
+def cli() -> None:
+    """Check robot descriptions (.pbtxt) and generate what runs them."""
+
+
+@cli.command()
+@click.argument("configs", nargs=-1, required=True, type=click.Path(exists=True, dir_okay=False))
+@set_option
+@format_option
+def check(configs, overrides, output_format) -> None:
+    """Validate descriptions; print every problem with its position."""
+    from joshua_codegen.check import check_file
+
+    results = [check_file(path, overrides) for path in configs]
+    report(results, output_format, sys.stdout)
+    sys.exit(EXIT_ERRORS if any(r.has_errors for r in results) else EXIT_OK)
+
+
+@cli.command()
+@config_argument
+@click.option("-o", "--out", "out", required=True, type=click.Path(file_okay=False), help="Output directory.")
+@click.option("--prefix", default=None, help="Where OUT lives on the robot. Default /opt/joshua/<robot>.")
+@click.option("--check", "check_only", is_flag=True, help="Write nothing; exit 1 with a diff when OUT differs.")
+@set_option
+@format_option
+def build(config, out, prefix, check_only, overrides, output_format) -> None:
+    """Generate entrypoints, units, manifest and supervisor into OUT."""
+    from joshua_codegen.write import OutputError, diff_tree, write_tree
+
+    compilation = compile_or_exit(config, overrides, output_format, prefix)
+    if check_only:
+        difference = diff_tree(compilation.files, Path(out))
+        if difference:
+            click.echo(difference, nl=False)
+            click.echo(f"joshuac: {out} is not up to date with {config}; run: joshuac build {config} -o {out}", err=True)
+            sys.exit(EXIT_ERRORS)
+        return
+    try:
+        write_tree(compilation.files, Path(out))
+    except OutputError as exc:
+        click.echo(f"joshuac: error: {exc}", err=True)
+        sys.exit(EXIT_ERRORS)
+    click.echo(f"joshuac: wrote {len(compilation.files)} files to {out}", err=True)
+
+
+@cli.command()
+@config_argument
+@click.option("--format", "graph_format", type=click.Choice(("dot", "mermaid")), default="dot", show_default=True)
+@set_option
+def graph(config, graph_format, overrides) -> None:
+    """Print the node/topic graph as Graphviz DOT or Mermaid."""
+    compilation = compile_or_exit(config, overrides, "text")
+    click.echo(compilation.files["topology.dot" if graph_format == "dot" else "topology.mmd"], nl=False)
+
+
+@cli.command()
+@click.argument("code")
+def explain(code) -> None:
+    """Explain a diagnostic code, e.g. joshuac explain E301."""
+    from joshua_codegen.rules import all_rules, explain as explain_code
+
+    text = explain_code(code.upper())
+    if text is None:
+        known = ", ".join(sorted(rule.CODE for rule in all_rules()))
+        click.echo(f"joshuac: unknown code {code!r}; known codes: {known}", err=True)
+        sys.exit(EXIT_USAGE)
+    click.echo(text)
+
+
+@cli.command()
+@config_argument
+@click.option("--check", "check_only", is_flag=True, help="Exit 1 when the file is not in canonical form.")
+@click.option("-w", "--write", "write_back", is_flag=True, help="Rewrite the file in canonical form.")
+def fmt(config, check_only, write_back) -> None:
+    """Print a description in canonical form (comments kept)."""
+    from joshua_codegen.diagnostics import format_text
+    from joshua_codegen.fmt import format_description
+
+    text = Path(config).read_text(encoding="utf-8", errors="replace")
+    formatted, diagnostics = format_description(text, config)
+    if formatted is None:
+        click.echo(format_text(diagnostics, {config: text}), err=True, nl=False)
+        sys.exit(EXIT_ERRORS)
+    if check_only:
+        if formatted != text:
+            click.echo(f"joshuac: {config} is not formatted; run: joshuac fmt --write {config}", err=True)
+            sys.exit(EXIT_ERRORS)
+        return
+    if write_back:
+        if formatted != text:
+            Path(config).write_text(formatted, encoding="utf-8")
+        return
+    click.echo(formatted, nl=False)
+
+
+@cli.command(context_settings={"ignore_unknown_options": True})
+@config_argument
+@set_option
+@click.option("--duration", type=float, default=None, help="Stop with the shutdown cascade after this many seconds.")
+@click.option("--skip-preflight", is_flag=True, help="Start even when devices or models are missing.")
+def run(config, overrides, duration, skip_preflight) -> None:
+    """Build into a temporary directory and run the supervisor in the foreground."""
+    from joshua_codegen.run import run_supervisor
+    from joshua_codegen.write import write_tree
+
+    with tempfile.TemporaryDirectory(prefix="joshuac-run-") as tmp:
+        out = Path(tmp) / "out"
+        compilation = compile_or_exit(config, overrides, "text", prefix=str(out))
+        write_tree(compilation.files, out)
+        extra = []
+        if duration is not None:
+            extra += ["--duration", str(duration)]
+        if skip_preflight:
+            extra.append("--skip-preflight")
+        sys.exit(run_supervisor(out, extra))
+
+
+def main() -> None:
+    """Console entry point: usage errors exit 2, unexpected failures a one-line internal error."""
+    try:
+        cli(standalone_mode=True)
+    except SystemExit:
+        raise
+    except KeyboardInterrupt:
+        sys.exit(130)
+    except Exception as exc:  # a bug, but never a traceback for the user
+        click.echo(f"joshuac: internal error: {type(exc).__name__}: {exc}", err=True)
+        sys.exit(EXIT_INTERNAL)

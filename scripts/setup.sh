@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Prepares a machine for `make run` / `make test`: apt packages, uv, and the locked environment.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export UV_PYTHON_DOWNLOADS=never
+
+# System packages: systemd-analyze (unit checks) and Mesa EGL (MuJoCo offscreen rendering).
+APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2)
+missing=()
+for package in "${APT_PACKAGES[@]}"; do
+  dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "setup: installing ${missing[*]}"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  else
+    echo "setup: warning: missing system packages (install them as root): ${missing[*]}" >&2
+  fi
+fi
+
+if ! command -v uv >/dev/null 2>&1; then
+  echo "setup: installing uv"
+  python3 -m pip install --quiet --user uv 2>/dev/null || python3 -m pip install --quiet uv
+  export PATH="$HOME/.local/bin:$PATH"
+fi
+uv sync --locked --quiet
