@@ -1,0 +1,39 @@
+"""Values that enter generated code stay data: quotes, newlines, `$` or backslashes change nothing."""
+
+import ast
+
+from hypothesis import given, settings, strategies as st
+
+from joshua_codegen.plan import plan
+from joshua_codegen.render import render
+from joshua_codegen.schema import RobotDescription, robot_config_pb2 as pb
+
+NASTY = st.text(alphabet=st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=40) | st.sampled_from(
+    ['"""', "'''", "\n\nimport os; os.system('rm -rf /')", "${HOME}", "\\", "%(here)s", "\r\n#", "\x00", "}}{{"])
+
+
+def settings_literal(source: str) -> dict:
+    tree = ast.parse(source)
+    assignment = next(n for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "SETTINGS")
+    return ast.literal_eval(assignment.value)
+
+
+@settings(max_examples=150, deadline=None)
+@given(output_directory=NASTY, model_path=NASTY, video_source=NASTY, source=NASTY)
+def test_strings_reach_the_entrypoint_unchanged(output_directory, model_path, video_source, source):
+    description = RobotDescription()
+    config = description.robot_config
+    config.name, config.mode = "robot", pb.MODE_DATA_COLLECTION
+    recorder = config.node.add(name="rec", type=pb.DATA_SUBSCRIBER, topic_name="/t", output_directory=output_directory)
+    policy = config.node.add(name="pol", type=pb.INFERENCE, topic_name="/a", model_path=model_path, input_topics=["/t"])
+    camera = config.node.add(name="cam", type=pb.MOCK_CAMERA_PUBLISHER, topic_name="/t", video_source=video_source)
+    robot = plan(description, source + ".pbtxt")
+    files = render(robot)
+    for node, field, value in [(recorder, "output_directory", output_directory),
+                               (policy, "model_path", model_path), (camera, "video_source", video_source)]:
+        text = files[f"nodes/{node.name}.py"]
+        compile(text, node.name, "exec")
+        assert settings_literal(text)[field] == value
+        assert settings_literal(text) == robot.node(node.name).settings
+        header = text.splitlines()[:3]
+        assert all(line.startswith(("#!", "# ")) for line in header)

@@ -1,0 +1,88 @@
+"""The planner: derived names, endpoint QoS, backend choice and the MODE_SIMULATION substitution."""
+
+import json
+
+from google.protobuf import text_format
+
+from conftest import ROOT
+from joshua_codegen.emitters.manifest import manifest
+from joshua_codegen.plan import plan
+from joshua_codegen.render import Context, render
+from joshua_codegen.schema import RobotDescription, robot_config_pb2 as pb
+
+
+def describe(text: str) -> RobotDescription:
+    return text_format.Parse(text, RobotDescription())
+
+
+def seed(name: str) -> RobotDescription:
+    return describe((ROOT / "config" / "robots" / f"{name}.pbtxt").read_text())
+
+
+def test_unnamed_nodes_get_type_names_numbered_only_when_a_type_repeats():
+    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+        node { type: MOCK_CAMERA_PUBLISHER topic_name: "/a" }
+        node { type: MOCK_CAMERA_PUBLISHER topic_name: "/b" }
+        node { type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" } }"""), "r.pbtxt")
+    assert [n.name for n in robot.nodes] == ["mock_camera_publisher_1", "mock_camera_publisher_2",
+                                             "mock_lidar_publisher"]
+
+
+def test_recorder_inputs_get_a_qos_every_publisher_can_serve():
+    robot = plan(describe("""robot_config { name: "r" mode: MODE_DATA_COLLECTION
+        node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/cam" qos_depth: 3 }
+        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" qos_durability: TRANSIENT_LOCAL }
+        node { name: "rec" type: DATA_SUBSCRIBER topic_name: "/joints" input_topics: ["/cam", "/joints"]
+               output_directory: "/data" } }"""), "r.pbtxt")
+    inputs = robot.node("rec").settings["inputs"]
+    assert inputs == [
+        {"name": "/cam", "message_type": "sensor_msgs/msg/Image",
+         "qos": {"history": "KEEP_LAST", "depth": 3, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
+        {"name": "/joints", "message_type": "sensor_msgs/msg/JointState",
+         "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}},
+    ]
+
+
+def test_cpp_preference_is_kept_only_for_node_types_that_have_a_cpp_binary():
+    robot = plan(seed("so100_leader_follower"), "so100_leader_follower.pbtxt")
+    processes = {p.name: p for p in robot.processes}
+    assert processes["encoder_publisher"].cpp_binary == "encoder_publisher"
+    assert processes["encoder_publisher"].cpp_args[:3] == ("--ros-args", "-r", "__node:=encoder_publisher")
+    assert "serial_port:=/dev/ttyUSB0" in processes["encoder_publisher"].cpp_args
+    assert processes["data_subscriber"].cpp_binary == ""
+
+
+def test_actuator_state_topic_is_a_publisher_in_the_topology():
+    robot = plan(seed("mock_arm"), "mock_arm.pbtxt")
+    topic = next(t for t in robot.topics if t.name == "/follower/joint_states")
+    assert [(e.node, e.message_type) for e in topic.publishers] == [("follower", "sensor_msgs/msg/JointState")]
+    assert robot.node("follower").settings["state_topic"]["name"] == "/follower/joint_states"
+
+
+def _endpoints(document: dict) -> list:
+    return [(t["name"], t["message_type"],
+             sorted((p["node"], json.dumps(p["qos"], sort_keys=True)) for p in t["publishers"]),
+             sorted((s["node"], json.dumps(s["qos"], sort_keys=True)) for s in t["subscribers"]))
+            for t in document["topics"]]
+
+
+def test_simulation_replaces_hardware_nodes_by_one_engine_on_the_same_topics_types_and_qos():
+    real_description = seed("so100_leader_follower")
+    simulated_description = RobotDescription()
+    simulated_description.CopyFrom(real_description)
+    simulated_description.robot_config.mode = pb.MODE_SIMULATION
+    simulated_description.robot_config.simulation.model = "builtin:so100"
+    context = Context(prefix="/opt/joshua/x")
+    real = manifest(plan(real_description, "a.pbtxt"), context)
+    simulated = manifest(plan(simulated_description, "a.pbtxt"), context)
+    assert _endpoints(simulated) == _endpoints(real)
+    assert [p["name"] for p in simulated["processes"]] == ["data_subscriber", "simulation"]
+    engine = simulated["processes"][1]
+    assert engine["simulates"] == ["encoder_publisher", "actuator_subscriber", "camera_publisher"]
+    assert {n["name"]: n["simulated_by"] for n in simulated["nodes"]} == {
+        "encoder_publisher": "simulation", "actuator_subscriber": "simulation",
+        "camera_publisher": "simulation", "data_subscriber": None}
+    files = render(plan(simulated_description, "a.pbtxt"), "/opt/joshua/x")
+    assert "nodes/simulation.py" in files and "nodes/camera_publisher.py" not in files
+    assert "simulated by simulation" in files["topology.dot"]
+    assert "'simulates': [" in files["nodes/simulation.py"]
