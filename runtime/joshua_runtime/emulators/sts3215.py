@@ -1,0 +1,281 @@
+"""A Feetech STS3215 servo bus emulated at the byte level on a pseudo-terminal.
+
+    with Sts3215Emulator(tmp_path / "ttyLEADER", ids=[1, 2, 3]) as bus:
+        bus.move_by_hand(1, 3000)          # turn servo 1 as a person would
+        bus.read_register(2, "Goal_Position")
+
+Only addressed packets are answered (PING also on broadcast); SYNC_READ replies come in request
+order; SYNC_WRITE, ACTION on broadcast and restart are never answered; Response_Status_Level 0
+limits replies to PING and READ. Garbage is skipped and a stalled partial frame is dropped after
+PARTIAL_FRAME_TIMEOUT_S. Replies are delayed by their time on a wire at `baud_rate` plus the servo's
+Return_Delay_Time, and can be dropped or corrupted (bad checksum) at seeded random rates or on demand.
+"""
+
+import os
+import random
+import select
+import threading
+import time
+from collections import Counter
+from collections.abc import Callable
+from pathlib import Path
+
+from joshua_runtime.drivers import sts3215_protocol as proto
+from joshua_runtime.drivers.sts3215_table import encode_value, register
+from joshua_runtime.emulators.pty_link import PtyLink
+from joshua_runtime.emulators.sts3215_servo import EmulatedServo
+
+DEFAULT_IDS = (1, 2, 3, 4, 5, 6)
+DEFAULT_POSITION = 2048
+POLL_INTERVAL_S = 0.05  # how often the serving thread checks for stop()
+PARTIAL_FRAME_TIMEOUT_S = 0.02  # a frame silent this long mid-way is garbage
+STOP_JOIN_TIMEOUT_S = 1.0
+READ_CHUNK_BYTES = 4096
+BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
+RETURN_DELAY_UNIT_S = 2e-6
+CORRUPTION_MASK = 0x5A  # XORed into the checksum byte of a corrupted reply
+
+# Called from the serving thread after a write lands: (servo id, address, data, monotonic time).
+WriteListener = Callable[[int, int, bytes, float], None]
+
+
+class Sts3215Emulator:
+    """N emulated servos behind one pty at `link`; start() serves them from a background thread."""
+
+    def __init__(
+        self,
+        link: str | os.PathLike,
+        ids=DEFAULT_IDS,
+        *,
+        drop_rate: float = 0.0,
+        corrupt_rate: float = 0.0,
+        seed: int = 0,
+        baud_rate: int = 1_000_000,
+        emulate_wire_time: bool = True,
+        position: int = DEFAULT_POSITION,
+    ):
+        self.link = Path(link)
+        now = time.monotonic()
+        self._servos = {servo_id: EmulatedServo(servo_id, position, now) for servo_id in ids}
+        self.drop_rate = drop_rate
+        self.corrupt_rate = corrupt_rate
+        self.baud_rate = baud_rate
+        self.emulate_wire_time = emulate_wire_time
+        self.stats = Counter()  # packets, bad_checksums, replies, dropped, corrupted
+        self.write_listeners: list[WriteListener] = []
+        self._random = random.Random(seed)
+        self._forced = Counter()
+        self._lock = threading.RLock()
+        self._handled = threading.Condition(self._lock)
+        self._pty: PtyLink | None = None
+        self._thread: threading.Thread | None = None
+        self._stop = threading.Event()
+
+    # --- lifecycle -------------------------------------------------------------------------
+    def start(self) -> "Sts3215Emulator":
+        """Create the pty at `link` and serve it. Can be called again after stop() (a re-plugged adapter)."""
+        if self._thread is not None:
+            return self
+        self._pty = PtyLink(self.link)
+        os.set_blocking(self._pty.master_fd, False)
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._serve, name=f"sts3215@{self.link.name}", daemon=True)
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        """Stop serving and remove the pty, as unplugging the adapter would. Servo state is kept."""
+        if self._thread is None:
+            return
+        self._stop.set()
+        self._thread.join(STOP_JOIN_TIMEOUT_S)
+        self._thread = None
+        self._pty.close()
+        self._pty = None
+
+    @property
+    def device_name(self) -> str | None:
+        """The /dev/pts/N behind the link while serving."""
+        return self._pty.slave_name if self._pty else None
+
+    def __enter__(self) -> "Sts3215Emulator":
+        return self.start()
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+    # --- in-process API --------------------------------------------------------------------
+    @property
+    def ids(self) -> list[int]:
+        with self._lock:
+            return sorted(self._servos)
+
+    def move_by_hand(self, servo_id: int, position: float) -> None:
+        """Turn a servo's shaft to `position` ticks (present-position frame)."""
+        with self._lock:
+            self._servos[servo_id].move_by_hand(position, time.monotonic())
+
+    def position(self, servo_id: int) -> int:
+        return self.read_register(servo_id, "Present_Position")
+
+    def read_register(self, servo_id: int, name: str) -> int:
+        with self._lock:
+            servo = self._servos[servo_id]
+            servo.advance(time.monotonic())
+            return servo.get(name)
+
+    def write_register(self, servo_id: int, name: str, value: int) -> None:
+        """Write a register as a WRITE instruction would (read-only registers: see set_sensor)."""
+        reg = register(name)
+        with self._lock:
+            self._servos[servo_id].write(reg.address, encode_value(reg, value), time.monotonic())
+
+    def set_sensor(self, servo_id: int, name: str, value: int) -> None:
+        """Set Present_Voltage or Present_Temperature, e.g. to trigger the voltage or overheat bit."""
+        with self._lock:
+            self._servos[servo_id].set_sensor(name, value, time.monotonic())
+
+    def inject_error(self, servo_id: int, bits: int) -> None:
+        """Report these status error bits (e.g. proto.ERROR_OVERLOAD) until cleared with 0."""
+        with self._lock:
+            self._servos[servo_id].inject_errors(bits, time.monotonic())
+
+    def drop_next_replies(self, count: int) -> None:
+        with self._lock:
+            self._forced["drop"] += count
+
+    def corrupt_next_replies(self, count: int) -> None:
+        with self._lock:
+            self._forced["corrupt"] += count
+
+    def wait_until(self, predicate: Callable[[], bool], timeout_s: float) -> bool:
+        """Wait until `predicate()` holds, re-checked after every handled packet and API call."""
+        deadline = time.monotonic() + timeout_s
+        with self._handled:
+            while not predicate():
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return False
+                self._handled.wait(min(remaining, POLL_INTERVAL_S))
+            return True
+
+    # --- serving ---------------------------------------------------------------------------
+    def _serve(self) -> None:
+        fd = self._pty.master_fd
+        parser = proto.PacketParser()
+        last_byte_at = time.monotonic()
+        while not self._stop.is_set():
+            readable, _, _ = select.select([fd], [], [], POLL_INTERVAL_S if not parser.pending else PARTIAL_FRAME_TIMEOUT_S)
+            now = time.monotonic()
+            if readable:
+                try:
+                    data = os.read(fd, READ_CHUNK_BYTES)
+                except (BlockingIOError, InterruptedError):
+                    continue
+                except OSError:
+                    return
+                parser.feed(data)
+                last_byte_at = now
+            elif parser.pending and now - last_byte_at >= PARTIAL_FRAME_TIMEOUT_S:
+                parser.drop_byte()
+            while (packet := parser.pop()) is not None:
+                self._handle(fd, packet)
+
+    def _handle(self, fd: int, packet: proto.Packet) -> None:
+        with self._lock:
+            self.stats["packets"] += 1
+            if not packet.checksum_ok:
+                self.stats["bad_checksums"] += 1
+                return
+            replies, delay_s = self._dispatch(packet)
+            wire = b"".join(self._with_faults(reply) for reply in replies)
+            self._handled.notify_all()
+        if not wire:
+            return
+        if self.emulate_wire_time:
+            time.sleep(delay_s + (len(packet.raw) + len(wire)) * BITS_PER_BYTE / self.baud_rate)
+        try:
+            os.write(fd, wire)
+        except OSError:  # nobody reads the other side: the bytes are lost, as on a real bus
+            pass
+
+    def _dispatch(self, packet: proto.Packet) -> tuple[list[bytes], float]:
+        """Execute one instruction packet; return the status packets to send and the return delay."""
+        now = time.monotonic()
+        code, params, target = packet.code, packet.params, packet.servo_id
+        if code == proto.INST_SYNC_WRITE:
+            if target == proto.BROADCAST_ID and len(params) >= 2:
+                self._sync_write(params[0], params[1], params[2:], now)
+            return [], 0.0
+        if code == proto.INST_SYNC_READ:
+            if target != proto.BROADCAST_ID or len(params) < 2:
+                return [], 0.0
+            servos = [self._servos[i] for i in params[2:] if i in self._servos]
+            replies = [proto.encode(s.id, s.error_byte(), s.read(params[0], params[1], now)) for s in servos]
+            return replies, self._return_delay(servos)
+        broadcast = target == proto.BROADCAST_ID
+        servos = [self._servos[i] for i in sorted(self._servos)] if broadcast else [self._servos.get(target)]
+        replies, answering = [], []
+        for servo in filter(None, servos):
+            servo_id = servo.id  # a servo whose ID is rewritten answers with its old ID
+            result = servo.execute(code, params, now)
+            if code == proto.INST_WRITE and result is not None:
+                self._notify_write(servo_id, params[0], bytes(params[1:]), now)
+            if result is not None and self._answers(servo, code, broadcast):
+                replies.append(proto.encode(servo_id, servo.error_byte(), result))
+                answering.append(servo)
+        self._rekey()
+        return replies, self._return_delay(answering)
+
+    def _sync_write(self, address: int, size: int, blocks: bytes, now: float) -> None:
+        for start in range(0, len(blocks) - size, size + 1):
+            servo = self._servos.get(blocks[start])
+            if servo is not None:
+                data = bytes(blocks[start + 1 : start + 1 + size])
+                servo.write(address, data, now)
+                self._notify_write(blocks[start], address, data, now)
+        self._rekey()
+
+    @staticmethod
+    def _answers(servo: EmulatedServo, code: int, broadcast: bool) -> bool:
+        if code == proto.INST_PING:
+            return True
+        if broadcast or code == proto.INST_RESTART:
+            return False
+        return code == proto.INST_READ or servo.get("Response_Status_Level") >= 1
+
+    @staticmethod
+    def _return_delay(servos: list[EmulatedServo]) -> float:
+        return max((s.get("Return_Delay_Time") * RETURN_DELAY_UNIT_S for s in servos), default=0.0)
+
+    def _notify_write(self, servo_id: int, address: int, data: bytes, now: float) -> None:
+        for listener in self.write_listeners:
+            listener(servo_id, address, data, now)
+
+    def _rekey(self) -> None:
+        """Follow ID changes written over the bus."""
+        if any(servo.id != key for key, servo in self._servos.items()):
+            self._servos = {servo.id: servo for servo in self._servos.values()}
+
+    def _with_faults(self, reply: bytes) -> bytes:
+        self.stats["replies"] += 1
+        if self._forced["drop"] or (self.drop_rate and self._random.random() < self.drop_rate):
+            self._forced["drop"] = max(0, self._forced["drop"] - 1)
+            self.stats["dropped"] += 1
+            return b""
+        if self._forced["corrupt"] or (self.corrupt_rate and self._random.random() < self.corrupt_rate):
+            self._forced["corrupt"] = max(0, self._forced["corrupt"] - 1)
+            self.stats["corrupted"] += 1
+            return reply[:-1] + bytes([reply[-1] ^ CORRUPTION_MASK])
+        return reply
+
+
+def serve(args, should_stop: Callable[[], bool]) -> None:
+    """`joshua-emulate sts3215`: serve args.ids on args.link until should_stop() is true."""
+    emulator = Sts3215Emulator(
+        args.link, args.ids, drop_rate=args.drop_rate, corrupt_rate=args.corrupt_rate, seed=args.seed
+    )
+    with emulator:
+        print(f"sts3215: servos {','.join(map(str, args.ids))} on {args.link} -> {emulator.device_name}", flush=True)
+        while not should_stop():
+            time.sleep(POLL_INTERVAL_S)
