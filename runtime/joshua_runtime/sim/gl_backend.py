@@ -40,24 +40,29 @@ def library_loadable(backend: str) -> bool:
     return False
 
 
-def configure_gl(requested: str = "") -> str:
-    """Select the offscreen backend for this process and return its name ("egl" or "osmesa")."""
+def choose_gl_backend(requested: str = "", loadable=library_loadable) -> str:
+    """The requested backend when its library loads, else the other one, else a DeviceError."""
     requested = (requested or DEFAULT_GL_BACKEND).lower()
     if requested not in GL_BACKENDS:
         raise SettingsError(f"gl_backend {requested!r} is not one of {', '.join(GL_BACKENDS)}")
-    if "mujoco" in sys.modules:
-        # Too late to change: keep whatever the process already chose.
-        return os.environ.get("MUJOCO_GL", requested)
-    candidates = [requested] + [b for b in GL_BACKENDS if b != requested]
-    for backend in candidates:
-        if library_loadable(backend):
-            os.environ["MUJOCO_GL"] = backend
-            os.environ["PYOPENGL_PLATFORM"] = backend
+    for backend in [requested] + [b for b in GL_BACKENDS if b != requested]:
+        if loadable(backend):
             return backend
     raise DeviceError(
         "no offscreen OpenGL for camera rendering: neither EGL nor OSMesa can be loaded "
         f"(install the Debian packages {_PACKAGES['egl']} or {_PACKAGES['osmesa']})"
     )
+
+
+def configure_gl(requested: str = "") -> str:
+    """Select the offscreen backend for this process (sets MUJOCO_GL) and return its name."""
+    if "mujoco" in sys.modules:
+        # Too late to change: keep whatever the process already chose.
+        return os.environ.get("MUJOCO_GL", "") or (requested or DEFAULT_GL_BACKEND).lower()
+    backend = choose_gl_backend(requested)
+    os.environ["MUJOCO_GL"] = backend
+    os.environ["PYOPENGL_PLATFORM"] = backend
+    return backend
 
 
 def render_failure(backend: str, exc: BaseException) -> DeviceError:

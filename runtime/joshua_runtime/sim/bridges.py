@@ -1,0 +1,206 @@
+"""ROS side of each simulated hardware node: the same topics, message types and QoS as the real node.
+
+One bridge per replaced node, built from that node's own settings dict:
+- ENCODER_PUBLISHER (and OPERATIONAL_LIMIT_CALIBRATION, which in simulation only reports present
+  positions): JointState of `joint_names` on `topic` at `rate_hz`.
+- ACTUATOR_SUBSCRIBER: JointState commands from `topic` become position-actuator goals; present
+  states go to `state_topic` at `rate_hz` when one is set.
+- CAMERA_PUBLISHER: rendered frames at `width` x `height`, `rate_hz`; Image with encoding rgb8
+  (MuJoCo renders RGB), or CompressedImage (JPEG) when the topic's type says so.
+- LIDAR_PUBLISHER: LaserScan of 360 rays at `rate_hz` (LDS-01 geometry, see sim/lidar.py).
+Joint units are those of the real drivers: radians, rad/s, and effort as a signed fraction of the
+actuator's force limit. Header stamps are the ROS clock (wall time), frame_id the node's frame_id.
+"""
+
+import array
+import math
+
+import cv2
+import numpy as np
+from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
+
+from joshua_runtime.errors import SettingsError
+from joshua_runtime.sim import lidar
+from joshua_runtime.sim.cameras import CameraStream
+from joshua_runtime.sim.engine import JointGroup, SimulationEngine
+from joshua_runtime.sim.model import camera_id
+
+IMAGE_ENCODING = "rgb8"
+JPEG_FORMAT = "rgb8; jpeg compressed bgr8"
+JPEG_QUALITY = 90
+
+
+def _rate(settings: dict) -> float:
+    rate = settings.get("rate_hz") or 0.0
+    if not rate > 0:
+        raise SettingsError(f"{settings['name']}: rate_hz must be positive in simulation, got {rate}")
+    return float(rate)
+
+
+def _topic(settings: dict, key: str = "topic") -> dict:
+    topic = settings.get(key)
+    if not topic:
+        raise SettingsError(f"{settings['name']}: no {key} to simulate")
+    return topic
+
+
+class JointStateSource:
+    """Turns a JointGroup reading into JointState messages (real-driver units)."""
+
+    def __init__(self, node, engine: SimulationEngine, group: JointGroup, frame_id: str):
+        self.node, self.engine, self.group, self.frame_id = node, engine, group, frame_id
+        limits = np.array([
+            abs(engine.model.actuator_forcerange[a, 1]) if a >= 0 and engine.model.actuator_forcelimited[a] else 0.0
+            for a in group.actuators
+        ])
+        self._effort_scale = np.where(limits > 0, 1.0 / np.where(limits > 0, limits, 1.0), 1.0)
+
+    def message(self) -> JointState:
+        reading = self.engine.read(self.group)
+        msg = JointState()
+        msg.header.stamp = self.node.stamp()
+        msg.header.frame_id = self.frame_id
+        msg.name = list(self.group.names)
+        msg.position = array.array("d", reading.positions.tobytes())
+        msg.velocity = array.array("d", reading.velocities.tobytes())
+        msg.effort = array.array("d", (reading.efforts * self._effort_scale).tobytes())
+        return msg
+
+
+class EncoderBridge:
+    """Publishes present joint states like ENCODER_PUBLISHER."""
+
+    def __init__(self, node, engine: SimulationEngine, settings: dict):
+        group = engine.joints(_joint_names(settings))
+        self.source = JointStateSource(node, engine, group, settings["frame_id"])
+        self.publisher = node.publisher(_topic(settings))
+        self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish)
+
+    def publish(self) -> None:
+        self.publisher.publish(self.source.message())
+
+
+class ActuatorBridge:
+    """Applies JointState commands to position actuators like ACTUATOR_SUBSCRIBER."""
+
+    def __init__(self, node, engine: SimulationEngine, settings: dict):
+        self.engine = engine
+        self.group = engine.joints(_joint_names(settings), actuated=True)
+        self._index = {name: i for i, name in enumerate(self.group.names)}
+        self.subscription = node.subscription(_topic(settings), self.on_command)
+        self.state_publisher = None
+        if settings.get("state_topic"):
+            self.source = JointStateSource(node, engine, self.group, settings["frame_id"])
+            self.state_publisher = node.publisher(settings["state_topic"])
+            self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish_state)
+
+    def goals(self, msg: JointState) -> np.ndarray:
+        """Goal per joint of the group: matched by name, else by order when the lengths agree; NaN = keep."""
+        goals = np.full(len(self.group.names), math.nan)
+        positions = list(msg.position)
+        if msg.name:
+            for name, value in zip(msg.name, positions):
+                i = self._index.get(name)
+                if i is not None:
+                    goals[i] = value
+        elif len(positions) == len(goals):
+            goals[:] = positions
+        return goals
+
+    def on_command(self, msg: JointState) -> None:
+        self.engine.command(self.group, self.goals(msg))
+
+    def publish_state(self) -> None:
+        self.state_publisher.publish(self.source.message())
+
+
+class CameraBridge:
+    """Publishes rendered frames like CAMERA_PUBLISHER; `stream` is handed to the CameraThread."""
+
+    def __init__(self, node, engine: SimulationEngine, settings: dict, default_camera: str):
+        self.node = node
+        self.frame_id = settings["frame_id"]
+        width, height = int(settings.get("width") or 0), int(settings.get("height") or 0)
+        if width <= 0 or height <= 0:
+            raise SettingsError(f"{settings['name']}: width and height must be positive, got {width}x{height}")
+        topic = _topic(settings)
+        self.compressed = topic["message_type"].endswith("/CompressedImage")
+        self.publisher = node.publisher(topic)
+        camera = _camera_for(engine, self.frame_id, default_camera)
+        self.stream = CameraStream(camera, width, height, _rate(settings), self.publish)
+
+    def publish(self, pixels: np.ndarray, _sim_time: float) -> None:
+        if self.compressed:
+            msg = CompressedImage()
+            msg.format = JPEG_FORMAT
+            ok, encoded = cv2.imencode(".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
+                                       [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+            if not ok:
+                return
+            msg.data = array.array("B", encoded.tobytes())
+        else:
+            msg = Image()
+            msg.height, msg.width = pixels.shape[0], pixels.shape[1]
+            msg.encoding = IMAGE_ENCODING
+            msg.is_bigendian = 0
+            msg.step = pixels.shape[1] * 3
+            msg.data = array.array("B", pixels.tobytes())
+        msg.header.stamp = self.node.stamp()
+        msg.header.frame_id = self.frame_id
+        self.publisher.publish(msg)
+
+
+class LidarBridge:
+    """Publishes ray-cast scans like LIDAR_PUBLISHER."""
+
+    def __init__(self, node, engine: SimulationEngine, settings: dict):
+        self.node, self.engine = node, engine
+        self.frame_id = settings["frame_id"]
+        self.sensor = lidar.PlanarLidar(engine.model, lidar.lidar_site(engine.model, self.frame_id))
+        self.publisher = node.publisher(_topic(settings))
+        self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish)
+
+    def message(self) -> LaserScan:
+        with self.engine.lock:
+            ranges = self.sensor.scan(self.engine.data)
+        msg = LaserScan()
+        msg.header.stamp = self.node.stamp()
+        msg.header.frame_id = self.frame_id
+        msg.angle_min, msg.angle_max, msg.angle_increment = lidar.ANGLE_MIN, lidar.ANGLE_MAX, lidar.ANGLE_INCREMENT
+        msg.time_increment, msg.scan_time = lidar.TIME_INCREMENT_S, lidar.SCAN_TIME_S
+        msg.range_min, msg.range_max = lidar.RANGE_MIN_M, lidar.RANGE_MAX_M
+        msg.ranges = array.array("f", ranges.astype(np.float32).tobytes())
+        msg.intensities = array.array("f", self.sensor.intensities(ranges).astype(np.float32).tobytes())
+        return msg
+
+    def publish(self) -> None:
+        self.publisher.publish(self.message())
+
+
+def _joint_names(settings: dict) -> list[str]:
+    names = list(settings.get("joint_names") or [])
+    if not names:
+        raise SettingsError(f"{settings['name']}: no joint_names to simulate")
+    return names
+
+
+def _camera_for(engine: SimulationEngine, frame_id: str, default_camera: str) -> int:
+    """The model camera named like the node's frame_id, else the simulation's camera setting."""
+    model = engine.model
+    if frame_id and any(model.camera(c).name == frame_id for c in range(model.ncam)):
+        return camera_id(model, frame_id)
+    return camera_id(model, default_camera)
+
+
+def make_bridge(node, engine: SimulationEngine, settings: dict, default_camera: str):
+    """The bridge that stands in for one hardware node, from that node's settings."""
+    kind = settings["type"]
+    if kind in ("ENCODER_PUBLISHER", "OPERATIONAL_LIMIT_CALIBRATION"):
+        return EncoderBridge(node, engine, settings)
+    if kind == "ACTUATOR_SUBSCRIBER":
+        return ActuatorBridge(node, engine, settings)
+    if kind == "CAMERA_PUBLISHER":
+        return CameraBridge(node, engine, settings, default_camera)
+    if kind == "LIDAR_PUBLISHER":
+        return LidarBridge(node, engine, settings)
+    raise SettingsError(f"{settings.get('name', '?')}: node type {kind} cannot be simulated")

@@ -1,0 +1,54 @@
+"""The SIMULATION node: one process that stands in for every hardware node of a MODE_SIMULATION robot.
+
+Its settings carry `simulation = {"model", "timestep_s", "realtime_factor", "camera", "gl_backend",
+"simulates": [settings of each replaced node]}`. It loads the model, starts physics, and builds one
+bridge per replaced node (sim/bridges.py) on that node's own topics, types and QoS. Cameras render in
+their own thread; encoders, actuator states and lidars run on the node's ROS timers.
+"""
+
+from joshua_runtime.errors import SettingsError
+from joshua_runtime.node import JoshuaNode
+from joshua_runtime.sim.gl_backend import DEFAULT_GL_BACKEND, configure_gl
+
+DEFAULT_REALTIME_FACTOR = 1.0
+
+
+class SimulationEngineNode(JoshuaNode):
+    """Runs the MuJoCo engine and publishes/subscribes on behalf of the simulated hardware nodes."""
+
+    engine = None
+    cameras = None
+
+    def start(self) -> None:
+        sim = self.settings.get("simulation")
+        if not sim:
+            raise SettingsError(f"{self.name}: settings have no 'simulation' section")
+        simulated = list(sim.get("simulates") or [])
+        renders = any(s["type"] == "CAMERA_PUBLISHER" for s in simulated)
+        gl_backend = configure_gl(sim.get("gl_backend") or DEFAULT_GL_BACKEND) if renders else ""
+
+        # mujoco is imported only now, after the GL backend is chosen.
+        from joshua_runtime.sim.bridges import make_bridge
+        from joshua_runtime.sim.cameras import CameraThread
+        from joshua_runtime.sim.engine import SimulationEngine
+        from joshua_runtime.sim.model import load_model
+
+        model = load_model(sim.get("model", ""), sim.get("timestep_s"))
+        factor = sim.get("realtime_factor")
+        self.engine = SimulationEngine(model, DEFAULT_REALTIME_FACTOR if factor is None else factor)
+        self.bridges = [make_bridge(self, self.engine, s, sim.get("camera", "")) for s in simulated]
+        streams = [b.stream for b in self.bridges if hasattr(b, "stream")]
+        self.cameras = CameraThread(self.engine, streams, gl_backend)
+        self.engine.start()
+        self.cameras.start()
+        self.log.info(
+            f"simulating {', '.join(s['name'] for s in simulated) or 'no nodes'} with {sim.get('model')} "
+            f"(timestep {model.opt.timestep} s, realtime factor {self.engine.realtime_factor}"
+            + (f", GL {gl_backend})" if gl_backend else ")")
+        )
+
+    def close(self) -> None:
+        if self.cameras is not None:
+            self.cameras.stop()
+        if self.engine is not None:
+            self.engine.stop()
