@@ -59,17 +59,24 @@ class Sts3215Driver(Driver):
         self.calibration = list(calibration) if calibration else [uncalibrated(i) for i in self.ids]
         self.transport = SerialTransport(port, baud_rate, reply_timeout_s, max_retries)
         self._acknowledges: dict[int, bool] = {}
+        self.connections = 0  # successful opens so far; grows on every reconnect
 
     # --- connection ------------------------------------------------------------------------
-    def open(self) -> None:
+    def open(self, list_every_missing: bool = True) -> None:
+        """Open the port and check every servo; DeviceError names the missing or wrong ones.
+
+        With list_every_missing False (used when reconnecting) the check stops at the first servo
+        that does not answer, to keep a failing attempt short.
+        """
         self.transport.open()
         try:
-            self._check_servos()
+            self._check_servos(list_every_missing)
             if self.calibrated:
                 self._store_calibration()
         except BaseException:
             self.transport.close()
             raise
+        self.connections += 1
 
     def close(self) -> None:
         self.transport.close()
@@ -84,9 +91,9 @@ class Sts3215Driver(Driver):
 
     def _ensure_open(self) -> None:
         if not self.transport.is_open:
-            self.open()
+            self.open(list_every_missing=False)
 
-    def _check_servos(self) -> None:
+    def _check_servos(self, list_every_missing: bool) -> None:
         missing, wrong = [], []
         for servo_id in self.ids:
             try:
@@ -97,6 +104,8 @@ class Sts3215Driver(Driver):
                 if not self.transport.is_open:
                     raise
                 missing.append(servo_id)
+                if not list_every_missing:
+                    break
                 continue
             model = int.from_bytes(data[0:2], "little")
             if model != MODEL_NUMBER_STS3215:

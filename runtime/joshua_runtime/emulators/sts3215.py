@@ -21,7 +21,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from joshua_runtime.drivers import sts3215_protocol as proto
-from joshua_runtime.drivers.sts3215_table import encode_value, register
+from joshua_runtime.drivers.sts3215_table import MODEL_NUMBER_STS3215, encode_value, register
 from joshua_runtime.emulators.pty_link import PtyLink
 from joshua_runtime.emulators.sts3215_servo import EmulatedServo
 
@@ -53,10 +53,11 @@ class Sts3215Emulator:
         baud_rate: int = 1_000_000,
         emulate_wire_time: bool = True,
         position: int = DEFAULT_POSITION,
+        model_number: int = MODEL_NUMBER_STS3215,
     ):
         self.link = Path(link)
         now = time.monotonic()
-        self._servos = {servo_id: EmulatedServo(servo_id, position, now) for servo_id in ids}
+        self._servos = {servo_id: EmulatedServo(servo_id, position, now, model_number) for servo_id in ids}
         self.drop_rate = drop_rate
         self.corrupt_rate = corrupt_rate
         self.baud_rate = baud_rate
@@ -109,6 +110,10 @@ class Sts3215Emulator:
     def ids(self) -> list[int]:
         with self._lock:
             return sorted(self._servos)
+
+    def servo(self, servo_id: int) -> EmulatedServo:
+        """Direct access to one servo's state (call its methods only while the bus is idle)."""
+        return self._servos[servo_id]
 
     def move_by_hand(self, servo_id: int, position: float) -> None:
         """Turn a servo's shaft to `position` ticks (present-position frame)."""
@@ -217,11 +222,12 @@ class Sts3215Emulator:
         servos = [self._servos[i] for i in sorted(self._servos)] if broadcast else [self._servos.get(target)]
         replies, answering = [], []
         for servo in filter(None, servos):
-            servo_id = servo.id  # a servo whose ID is rewritten answers with its old ID
+            servo_id = servo.id  # a servo whose ID or status level is rewritten answers as before
+            answers = self._answers(servo, code, broadcast)
             result = servo.execute(code, params, now)
             if code == proto.INST_WRITE and result is not None:
                 self._notify_write(servo_id, params[0], bytes(params[1:]), now)
-            if result is not None and self._answers(servo, code, broadcast):
+            if result is not None and answers:
                 replies.append(proto.encode(servo_id, servo.error_byte(), result))
                 answering.append(servo)
         self._rekey()

@@ -14,6 +14,7 @@ from joshua_runtime.drivers.sts3215_table import (
     BY_NAME,
     EEPROM_END,
     MAX_TICK,
+    MODEL_NUMBER_STS3215,
     READ_ONLY_BYTES,
     REGISTERS,
     TABLE_SIZE,
@@ -38,7 +39,8 @@ MODE_SPEED = 1
 class EmulatedServo:
     """State of one servo; every method takes the current monotonic time `now` in seconds."""
 
-    def __init__(self, servo_id: int, position: float, now: float):
+    def __init__(self, servo_id: int, position: float, now: float, model_number: int = MODEL_NUMBER_STS3215):
+        self.model_number = model_number
         self.memory = bytearray(TABLE_SIZE)
         self._load_factory_defaults()
         self._set("ID", servo_id)
@@ -69,6 +71,7 @@ class EmulatedServo:
     def _load_factory_defaults(self) -> None:
         for reg in REGISTERS:
             self._set(reg.name, reg.default)
+        self._set("Model_Number", self.model_number)
 
     def read(self, address: int, size: int, now: float) -> bytes:
         self.advance(now)

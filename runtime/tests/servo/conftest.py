@@ -1,0 +1,36 @@
+"""Fixtures of the servo tests: emulated STS3215 buses on ptys and node processes started from settings."""
+
+import pytest
+from servo_helpers import SO100_IDS, NodeProcess
+
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+
+
+@pytest.fixture
+def emulators(tmp_path):
+    """Factory: emulators(name, ids=..., **options) -> a started Sts3215Emulator at tmp_path/name."""
+    started = []
+
+    def make(name: str = "ttyBUS", ids=SO100_IDS, **options) -> Sts3215Emulator:
+        emulator = Sts3215Emulator(tmp_path / name, ids, **options).start()
+        started.append(emulator)
+        return emulator
+
+    yield make
+    for emulator in started:
+        emulator.stop()
+
+
+@pytest.fixture
+def start_node(ros_env):
+    """Factory: start_node(settings) -> NodeProcess in the test's ROS domain; killed at teardown."""
+    processes = []
+
+    def start(settings: dict) -> NodeProcess:
+        node = NodeProcess(settings, ros_env)
+        processes.append(node)
+        return node
+
+    yield start
+    for node in processes:
+        node.kill()
