@@ -1,0 +1,246 @@
+"""The SIMULATION node as a real process, observed by an in-process rclpy client.
+
+The process is started the way a generated entrypoint starts it (`run_node(SETTINGS)`), simulating an
+encoder, an actuator with a state topic, a camera and a lidar of an SO-100. The client commands the
+arm and checks the simulated states converge, that frames are real renders of the configured size,
+that scans see the room, that every topic has the type and QoS the real node would offer, and that
+SIGINT ends the process with exit code 0.
+"""
+
+import math
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import Image, JointState, LaserScan
+
+import sim_settings
+
+GOAL = [0.8, 0.3, 0.2, -0.4, 1.2, 0.7]
+TRACKING_TOLERANCE_RAD = 0.02
+STARTUP_TIMEOUT_S = 30.0
+CONVERGE_TIMEOUT_S = 20.0
+COMMAND_PERIOD_S = 0.1
+EXIT_TIMEOUT_S = 5.0
+SPIN_SLICE_S = 0.05
+# Standard deviation of pixel values above which a frame is a real render, not a blank fill.
+MIN_PIXEL_STD = 10.0
+
+RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+SENSOR = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+
+
+def start_node(settings: dict, env: dict) -> subprocess.Popen:
+    code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({settings!r}))"
+    return subprocess.Popen([sys.executable, "-c", code], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def stop_node(process: subprocess.Popen, signum=signal.SIGINT) -> tuple[int, str, float]:
+    """Send `signum`; return the exit code, stderr and seconds taken to exit."""
+    sent = time.monotonic()
+    process.send_signal(signum)
+    try:
+        _, stderr = process.communicate(timeout=EXIT_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        _, stderr = process.communicate()
+    return process.returncode, stderr, time.monotonic() - sent
+
+
+class Client:
+    """An rclpy node in this process that records the last message of each topic."""
+
+    def __init__(self):
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node("sim_probe", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.last = {}
+
+    def listen(self, topic: str, message_type, qos: QoSProfile) -> None:
+        self.node.create_subscription(message_type, topic, lambda msg: self.last.__setitem__(topic, msg), qos)
+
+    def spin_until(self, condition, timeout_s: float, every=None) -> bool:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if every:
+                every()
+            self.executor.spin_once(timeout_sec=SPIN_SLICE_S)
+            if condition():
+                return True
+        return False
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=0)
+        self.node.destroy_node()
+        rclpy.shutdown(context=self.context)
+
+
+@pytest.fixture
+def client(ros_domain):
+    client = Client()
+    yield client
+    client.close()
+
+
+@pytest.fixture
+def arm_process(ros_env):
+    settings = sim_settings.simulation(
+        [sim_settings.encoder(), sim_settings.actuator(), sim_settings.camera(320, 240, 10.0), sim_settings.lidar()]
+    )
+    process = start_node(settings, ros_env)
+    yield process
+    if process.poll() is None:
+        process.kill()
+        process.communicate()
+
+
+def _positions(msg: JointState | None) -> list[float] | None:
+    return list(msg.position) if msg is not None else None
+
+
+def _converged(msg: JointState | None) -> bool:
+    positions = _positions(msg)
+    return positions is not None and all(abs(p - g) < TRACKING_TOLERANCE_RAD for p, g in zip(positions, GOAL))
+
+
+def test_simulated_arm_camera_and_lidar(client, arm_process):
+    client.listen("/arm/joint_states", JointState, RELIABLE)
+    client.listen("/arm/present", JointState, RELIABLE)
+    client.listen("/camera/image_raw", Image, SENSOR)
+    client.listen("/scan", LaserScan, SENSOR)
+    command = client.node.create_publisher(JointState, "/arm/command", RELIABLE)
+    topics = ("/arm/joint_states", "/arm/present", "/camera/image_raw", "/scan")
+    started = client.spin_until(lambda: all(t in client.last for t in topics), STARTUP_TIMEOUT_S)
+    assert started, f"no message on {[t for t in topics if t not in client.last]}; stderr: {_stderr(arm_process)}"
+
+    # Present states: SO-100 names, at rest near zero, efforts as fractions of the force limit.
+    state = client.last["/arm/joint_states"]
+    assert list(state.name) == sim_settings.SO100_JOINTS
+    assert state.header.frame_id == "base_link"
+    assert _positions(state) == pytest.approx([0.0] * 6, abs=TRACKING_TOLERANCE_RAD)
+    assert all(abs(e) <= 1.0 for e in state.effort)
+
+    # Commands by name, in a different order than the node's joints, converge on both state topics.
+    def send():
+        msg = JointState(name=list(reversed(sim_settings.SO100_JOINTS)), position=list(reversed(GOAL)))
+        command.publish(msg)
+
+    throttle = _Throttle(COMMAND_PERIOD_S, send)
+    converged = client.spin_until(
+        lambda: _converged(client.last.get("/arm/joint_states")) and _converged(client.last.get("/arm/present")),
+        CONVERGE_TIMEOUT_S, every=throttle,
+    )
+    assert converged, f"states {_positions(client.last['/arm/joint_states'])} did not reach {GOAL}"
+
+    image = client.last["/camera/image_raw"]
+    assert (image.width, image.height, image.encoding, image.step) == (320, 240, "rgb8", 960)
+    assert image.header.frame_id == "camera"
+    pixels = np.frombuffer(bytes(image.data), dtype=np.uint8).reshape(240, 320, 3)
+    assert pixels.std() > MIN_PIXEL_STD
+
+    scan = client.last["/scan"]
+    assert len(scan.ranges) == 360 and len(scan.intensities) == 360
+    assert (scan.angle_min, scan.range_min, scan.range_max) == (0.0, pytest.approx(0.12), pytest.approx(3.5))
+    assert scan.angle_increment == pytest.approx(2 * math.pi / 360)
+    assert scan.scan_time == pytest.approx(0.2)
+    assert scan.header.frame_id == "laser"
+    assert scan.ranges[180] == pytest.approx(1.23, abs=1e-4)
+    assert all(0.12 <= r <= 3.5 for r in scan.ranges)
+
+    _assert_endpoints(client.node)
+
+    code, stderr, _ = stop_node(arm_process)
+    assert code == 0, stderr
+    assert "Traceback" not in stderr
+
+
+class _Throttle:
+    """Calls `action` at most once per `period_s`."""
+
+    def __init__(self, period_s: float, action):
+        self.period_s, self.action, self.next = period_s, action, 0.0
+
+    def __call__(self):
+        now = time.monotonic()
+        if now >= self.next:
+            self.next = now + self.period_s
+            self.action()
+
+
+def _assert_endpoints(node) -> None:
+    """Types and QoS of the simulated endpoints are those the real nodes declare."""
+    expected = {
+        "/arm/joint_states": ("sensor_msgs/msg/JointState", ReliabilityPolicy.RELIABLE),
+        "/arm/present": ("sensor_msgs/msg/JointState", ReliabilityPolicy.RELIABLE),
+        "/camera/image_raw": ("sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT),
+        "/scan": ("sensor_msgs/msg/LaserScan", ReliabilityPolicy.BEST_EFFORT),
+    }
+    for topic, (message_type, reliability) in expected.items():
+        infos = [i for i in node.get_publishers_info_by_topic(topic) if i.node_name == "simulation"]
+        assert len(infos) == 1, topic
+        assert infos[0].topic_type == message_type
+        assert infos[0].qos_profile.reliability == reliability
+        assert infos[0].qos_profile.durability == DurabilityPolicy.VOLATILE
+    subscriptions = [i for i in node.get_subscriptions_info_by_topic("/arm/command") if i.node_name == "simulation"]
+    assert len(subscriptions) == 1
+    assert subscriptions[0].topic_type == "sensor_msgs/msg/JointState"
+    assert subscriptions[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
+
+
+def _stderr(process: subprocess.Popen) -> str:
+    if process.poll() is None:
+        return "(still running)"
+    return process.stderr.read()
+
+
+def test_sigterm_also_stops_with_exit_code_zero(ros_env):
+    process = start_node(sim_settings.simulation([sim_settings.encoder()]), ros_env)
+    assert _wait_for_start_line(process), process.stderr.read()
+    code, stderr, _ = stop_node(process, signal.SIGTERM)
+    assert code == 0, stderr
+
+
+def _wait_for_start_line(process: subprocess.Popen) -> bool:
+    """Read stderr (where ROS logs go) until the node's start-up line, or until it ends."""
+    for line in process.stderr:
+        if "simulating arm_encoder" in line:
+            return True
+    return False
+
+
+@pytest.mark.parametrize(
+    "simulation, code, message",
+    [
+        ({"model": "builtin:so101"}, 2, "simulation: error: unknown built-in simulation model 'builtin:so101'"),
+        ({"realtime_factor": -2.0}, 2, "simulation: error: simulation realtime_factor must be >= 0, got -2.0"),
+        ({"gl_backend": "glx"}, 2, "simulation: error: gl_backend 'glx' is not one of egl, osmesa"),
+    ],
+)
+def test_unusable_settings_exit_with_one_line(ros_env, simulation, code, message):
+    settings = sim_settings.simulation([sim_settings.encoder(), sim_settings.camera()])
+    settings["simulation"].update(simulation)
+    process = start_node(settings, ros_env)
+    _, stderr = process.communicate(timeout=STARTUP_TIMEOUT_S)
+    assert process.returncode == code
+    assert stderr.strip().startswith(message)
+    assert len(stderr.strip().splitlines()) == 1
+    assert "Traceback" not in stderr
+
+
+def test_unknown_joint_exits_with_settings_error(ros_env):
+    encoder = sim_settings.encoder()
+    encoder["joint_names"] = ["shoulder_pan", "elbow"]
+    process = start_node(sim_settings.simulation([encoder]), ros_env)
+    _, stderr = process.communicate(timeout=STARTUP_TIMEOUT_S)
+    assert process.returncode == 2
+    assert "simulation: error: simulation model has no hinge or slide joint 'elbow'" in stderr
+    assert "Traceback" not in stderr
