@@ -8,6 +8,7 @@ vanished port closes the transport and raises DeviceError; the owner reopens it 
 
 import os
 import select
+import termios
 import time
 from collections import Counter
 from dataclasses import dataclass
@@ -113,7 +114,7 @@ class SerialTransport:
             self._serial.reset_input_buffer()
             self._parser.clear()
             self._serial.write(packet)
-        except (serial.SerialException, OSError) as exc:
+        except (serial.SerialException, OSError, termios.error) as exc:
             self._lost(exc)
 
     def _receive(self, item: Expected) -> proto.Packet:
@@ -139,7 +140,7 @@ class SerialTransport:
         try:
             ready, _, _ = select.select([self._serial.fileno()], [], [], wait_s)
             return self._serial.read(READ_CHUNK_BYTES) if ready else b""
-        except (serial.SerialException, OSError, ValueError) as exc:
+        except (serial.SerialException, OSError, ValueError, termios.error) as exc:
             self._lost(exc)
 
     def _lost(self, exc: Exception):
