@@ -1,10 +1,11 @@
 """Emitters: each turns the model into some of the output files. Order does not matter."""
 
-from joshua_codegen.emitters import entrypoints, fastdds, manifest, topology
+from joshua_codegen.emitters import entrypoints, fastdds, manifest, supervisor, topology
 
 EMITTERS = [
     manifest.emit,
     topology.emit,
     entrypoints.emit,
     fastdds.emit,
+    supervisor.emit,
 ]

@@ -1,0 +1,79 @@
+"""How nodes are launched and restarted: the backoff the three process managers share, and the
+command lines systemd and supervisord run (supervisor.py decides the same things at run time)."""
+
+import posixpath
+import shlex
+
+from joshua_codegen.model import Process, Robot
+
+# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
+# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
+# as healthy: the restart count and the delay start over.
+RESTART_DELAY_INITIAL_S = 0.25
+RESTART_DELAY_FACTOR = 2.0
+RESTART_DELAY_CAP_S = 30.0
+RESTART_RESET_AFTER_S = 60.0
+
+FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
+ENV_COMMAND = "/usr/bin/env"
+SHELL = "/bin/sh"
+
+
+def node_environment(robot: Robot, process: Process, profile_path: str) -> list[tuple[str, str]]:
+    """The variables every node gets, then the description's own (which win)."""
+    variables = {FASTDDS_PROFILE_VARIABLE: profile_path, "PYTHONUNBUFFERED": "1"}
+    if robot.ros_domain_id is not None:
+        variables["ROS_DOMAIN_ID"] = str(robot.ros_domain_id)
+    variables.update(process.env)
+    return list(variables.items())
+
+
+def under(base: str, path: str) -> str:
+    """`path` when absolute, else `base/path`."""
+    return path if path.startswith("/") else posixpath.join(base, path)
+
+
+def program(name: str, base: str, bare: list[str]) -> list[str]:
+    """The words that run program `name`: a bare name through `bare` (PATH lookup), a relative path
+    under `base`, an absolute path as it is."""
+    if "/" not in name:
+        return [*bare, name]
+    return [under(base, name)]
+
+
+def cpp_binary_path(robot: Robot, process: Process, base: str) -> str:
+    return under(under(base, robot.cpp_bin_dir), process.cpp_binary)
+
+
+def fallback_warning(process: Process, binary: str) -> str:
+    return f"{process.name}: warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
+
+
+def launch_words(robot: Robot, process: Process, base: str, bare: list[str], workdir: str) -> list[str]:
+    """The argv that starts one node, resolving paths against `base` (the output directory on the robot).
+
+    A node with a C++ binary is started through `/bin/sh -c` so that the binary is chosen when it
+    exists and is executable at launch time, like supervisor.py does; otherwise the Python entrypoint
+    runs after one warning line. `exec` keeps the node itself as the main process.
+    """
+    if process.kind == "custom":
+        return [*program(process.executable, workdir, bare), *process.args]
+    python = [*program(robot.python_executable, base, bare), under(base, process.entrypoint)]
+    if not process.cpp_binary:
+        return python
+    binary = cpp_binary_path(robot, process, base)
+    quoted = shlex.quote(binary)
+    script = (
+        f"if [ -f {quoted} ] && [ -x {quoted} ]; then exec {shlex.join([binary, *process.cpp_args])}; fi; "
+        f"echo {shlex.quote(fallback_warning(process, binary))} >&2; exec {shlex.join(python)}"
+    )
+    return [SHELL, "-c", script]
+
+
+def backoff_delays(count: int) -> list[float]:
+    """The waits before restarts 1..count of a node that keeps failing."""
+    delays, delay = [], RESTART_DELAY_INITIAL_S
+    for _ in range(count):
+        delays.append(delay)
+        delay = min(delay * RESTART_DELAY_FACTOR, RESTART_DELAY_CAP_S)
+    return delays
