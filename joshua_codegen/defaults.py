@@ -45,6 +45,34 @@ MESSAGE_TYPES = {
 }
 STATE_MESSAGE_TYPE = "sensor_msgs/msg/JointState"
 
+ALL_TYPES = {value for value in pb.NodeType.values() if value != pb.NODE_TYPE_UNSPECIFIED}
+# Node fields that only some node types read (a MOCK_* type reads what its real type reads, so a
+# description can switch between them); every other type ignores them. Unlisted fields apply to all.
+FIELD_APPLIES_TO = {
+    "serial_port": SERIAL | (MOCKS - CAMERAS),
+    "baud_rate": SERIAL | (MOCKS - CAMERAS),
+    "device_ids": SERVO_BUS | ENCODERS | ACTUATORS,
+    "joint_names": SERVO_BUS | ENCODERS | ACTUATORS,
+    "calibration_file": SERVO_BUS | ENCODERS | ACTUATORS,
+    "camera_index": CAMERAS,
+    "video_source": CAMERAS,
+    "width": CAMERAS,
+    "height": CAMERAS,
+    "rate_hz": ALL_TYPES - {pb.CUSTOM},
+    "frame_id": PUBLISHES_TOPIC | ACTUATORS,
+    "state_topic": ACTUATORS,
+    "input_topics": READS_INPUTS,
+    "model_path": {pb.INFERENCE},
+    "policy_type": {pb.INFERENCE},
+    "device": {pb.INFERENCE},
+    "output_format": {pb.DATA_SUBSCRIBER},
+    "output_directory": {pb.DATA_SUBSCRIBER},
+    "executable": {pb.CUSTOM},
+    "args": {pb.CUSTOM},
+}
+OUTPUT_FORMATS = ("lerobot", "parquet")
+DEVICES = ("cpu", "cuda")
+
 
 def type_name(node_type: int) -> str:
     """`CAMERA_PUBLISHER` for the enum value (or the number when it has no name)."""

@@ -1,0 +1,92 @@
+"""`joshuac check`: load a description, apply `--set` overrides, run every rule, collect diagnostics.
+
+Load errors stop before the rules (a half-read description would only cause confusing
+follow-up errors); override errors do not. When `has_errors` is False, `description` is valid
+for every later stage: enum values, names, topics, ranges and required fields are checked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from joshua_codegen.diagnostics import ERROR, Diagnostic, sort_diagnostics
+from joshua_codegen.load import NOT_TEXT, UNREADABLE_FILE, load_text
+from joshua_codegen.overrides import OVERRIDE_PATH, apply_overrides
+from joshua_codegen.rules import run_rules
+from joshua_codegen.rules.context import RuleContext
+from joshua_codegen.schema import RobotDescription
+
+BYTE_ORDER_MARK = "\ufeff"
+
+
+@dataclass
+class CheckResult:
+    path: str
+    text: str
+    description: RobotDescription | None  # with the overrides applied; None when it could not be loaded
+    diagnostics: list[Diagnostic]
+    overrides: tuple[str, ...] = field(default=())
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity == ERROR for d in self.diagnostics)
+
+    @property
+    def sources(self) -> dict[str, str]:
+        """Texts for `format_text`: the file, and the overrides as the lines of `--set`."""
+        sources = {self.path: self.text}
+        if self.overrides:
+            sources[OVERRIDE_PATH] = "\n".join(self.overrides)
+        return sources
+
+
+def _position(text: str, index: int) -> tuple[int, int]:
+    line = text.count("\n", 0, index) + 1
+    return line, index - (text.rfind("\n", 0, index) + 1) + 1
+
+
+def check_text(path: str, text: str, overrides: Sequence[str] = ()) -> CheckResult:
+    """Check one description given as text; never raises for any text or override."""
+    overrides = tuple(overrides)
+    if text.startswith(BYTE_ORDER_MARK):
+        text = text[len(BYTE_ORDER_MARK):]
+    nul = text.find("\0")
+    if nul >= 0:
+        line, column = _position(text, nul)
+        problem = Diagnostic(path, line, column, NOT_TEXT, ERROR,
+                             "the file contains a NUL character: is it a binary file?")
+        return CheckResult(path, text, None, [problem], overrides)
+    loaded = load_text(path, text)
+    if loaded.description is None:
+        return CheckResult(path, text, None, sort_diagnostics(loaded.diagnostics), overrides)
+    description, source, diagnostics = apply_overrides(loaded.description, loaded.source_map, overrides)
+    diagnostics += run_rules(RuleContext(description, source))
+    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
+
+
+def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
+    """UTF-8 text of a file's bytes, or an E008 diagnostic at the first byte that is not UTF-8."""
+    try:
+        return data.decode("utf-8"), []
+    except UnicodeDecodeError as exc:
+        good = data[:exc.start].decode("utf-8")
+        line, column = _position(good, len(good))
+        return None, [Diagnostic(path, line, column, NOT_TEXT, ERROR,
+                                 f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})")]
+
+
+def check_file(path: str, overrides: Sequence[str] = ()) -> CheckResult:
+    """Check one description file; an unreadable or non-UTF-8 file gives a diagnostic, never an exception."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except (OSError, ValueError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        problem = Diagnostic(path, 1, 1, UNREADABLE_FILE, ERROR, f"cannot read the file: {reason}")
+        return CheckResult(path, "", None, [problem], tuple(overrides))
+    text, problems = decode(path, data)
+    if text is None:
+        shown = data.decode("utf-8", errors="replace")
+        return CheckResult(path, shown, None, problems, tuple(overrides))
+    return check_text(path, text, overrides)

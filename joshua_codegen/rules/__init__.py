@@ -1,0 +1,81 @@
+"""Registry of every diagnostic code: its rule module, its explanation, and the engine that runs rules.
+
+Code scheme (stable: a code keeps its meaning forever; E = error, the build refuses;
+W = warning, reported while the build goes on):
+
+    E001-E008   loading: syntax, unknown fields, bad values, repeated fields, file root, reading
+    E010-E012   `--set KEY=VALUE` overrides
+    E1xx, W1xx  robot and node fields: names, required fields per node type, values that apply
+    E2xx, W2xx  topics, message types and node names
+    E3xx        QoS
+    E4xx        hardware: serial ports, cameras, servo ids, baud rates, joint names
+    E5xx, W5xx  modes and process settings
+
+Each code lives in one module `rules/<code>_<name>.py` with `CODE`, `NAME`, `SEVERITY`, `STAGE`
+and a docstring under the headings "What it checks", "Why it matters" and "Example".
+`STAGE` says who reports it: "load" (the loader), "override" (the `--set` parser) or "check" (the
+module's own `check(ctx)`, which yields `Finding`s).
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import re
+from functools import cache
+from types import ModuleType
+
+from joshua_codegen.diagnostics import Diagnostic, Related
+from joshua_codegen.rules.context import Finding, RuleContext
+
+RULE_MODULE_NAME = re.compile(r"^[ew]\d{3}_[a-z0-9_]+$")
+HEADINGS = ("What it checks", "Why it matters", "Example")
+
+
+@cache
+def _registry() -> dict[str, ModuleType]:
+    rules = {}
+    for info in pkgutil.iter_modules(__path__):
+        if RULE_MODULE_NAME.match(info.name):
+            module = importlib.import_module(f"{__name__}.{info.name}")
+            rules[module.CODE] = module
+    return dict(sorted(rules.items()))
+
+
+def all_rules() -> list[ModuleType]:
+    """Every rule module, sorted by code."""
+    return list(_registry().values())
+
+
+def rule(code: str) -> ModuleType | None:
+    return _registry().get(code.strip().upper())
+
+
+def explain(code: str) -> str | None:
+    """`joshuac explain CODE`: the rule's docstring and severity, or None for an unknown code."""
+    module = rule(code)
+    if module is None:
+        return None
+    title, _, body = (module.__doc__ or "").strip().partition("\n")
+    return f"{title}\nSeverity: {module.SEVERITY}\n{body}\n"
+
+
+def run_rules(context: RuleContext) -> list[Diagnostic]:
+    """Every finding of every check-stage rule, as diagnostics (unsorted)."""
+    diagnostics = []
+    for module in all_rules():
+        if module.STAGE != "check":
+            continue
+        for finding in module.check(context):
+            diagnostics.append(_diagnostic(module, finding, context))
+    return diagnostics
+
+
+def _diagnostic(module: ModuleType, finding: Finding, context: RuleContext) -> Diagnostic:
+    where = context.source.locate(finding.at)
+    related = []
+    for path, message in finding.related:
+        other = context.source.locate(path)
+        related.append(Related(other.path, other.line, other.column, message))
+    return Diagnostic(where.path, where.line, where.column, module.CODE, module.SEVERITY, finding.message,
+                      where.end_line, where.end_column, tuple(related))

@@ -1,0 +1,143 @@
+"""What every rule reads: the description, source positions, derived node names and a topic index.
+
+Everything is computed once per check and indexed in dicts, so each rule runs in linear time.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass
+from functools import cached_property
+
+from joshua_codegen import defaults, msg_catalog
+from joshua_codegen.positions import Path, SourceMap, node_path
+from joshua_codegen.ros_names import resolve_topic, topic_problem
+from joshua_codegen.schema import Node, RobotDescription
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One problem found by a rule: where (a message path), what, and the other side."""
+
+    at: Path
+    message: str
+    related: tuple[tuple[Path, str], ...] = ()
+
+
+@dataclass(frozen=True)
+class NodeView:
+    index: int
+    node: Node
+    name: str  # the node's own name or the one derived from its type
+
+    @property
+    def path(self) -> Path:
+        return node_path(self.index)
+
+    def at(self, *fields: str | int) -> Path:
+        """Path of a field of this node (located at the node when the field is not written)."""
+        return self.path + fields
+
+    @property
+    def label(self) -> str:
+        """`INFERENCE node "policy"`, for messages."""
+        return f'{defaults.type_name(self.node.type)} node "{self.name}"'
+
+
+@dataclass(frozen=True)
+class Endpoint:
+    """A node's publication or subscription of one resolved topic."""
+
+    view: NodeView
+    topic: str  # fully qualified
+    message_type: str  # "" when not known (input_topics take their publishers' type)
+    qos: dict | None  # None for input_topics, whose QoS follows their publishers
+    at: Path  # the field that declares the topic
+
+
+def known_type(node: Node) -> str:
+    """The node's message type when it is a catalogued one, else ""."""
+    message_type = defaults.message_type(node)
+    return message_type if msg_catalog.is_known(message_type) else ""
+
+
+class RuleContext:
+    def __init__(self, description: RobotDescription, source: SourceMap):
+        self.description = description
+        self.config = description.robot_config
+        self.source = source
+        names = defaults.node_names(self.config)
+        self.nodes = [NodeView(i, node, names[i]) for i, node in enumerate(self.config.node)]
+
+    def written(self, path: Path) -> bool:
+        """Whether the path was written in the file (or set by an override)."""
+        return self.source.get(path) is not None
+
+    @cached_property
+    def typed_nodes(self) -> list[NodeView]:
+        """Nodes whose type is set; per-type rules skip the others (E103 reports them)."""
+        return [view for view in self.nodes if view.node.type != defaults.NodeType.Value("NODE_TYPE_UNSPECIFIED")]
+
+    def _topic(self, view: NodeView, name: str) -> str | None:
+        if topic_problem(name, view.name) is not None:
+            return None
+        return resolve_topic(name, view.name)
+
+    @cached_property
+    def _endpoints(self) -> tuple[dict, dict, dict]:
+        publishers: dict[str, list[Endpoint]] = defaultdict(list)
+        subscribers: dict[str, list[Endpoint]] = defaultdict(list)
+        readers: dict[str, list[Endpoint]] = defaultdict(list)
+        for view in self.typed_nodes:
+            node = view.node
+            topic = self._topic(view, node.topic_name)
+            if topic is not None and node.type in defaults.PUBLISHES_TOPIC:
+                publishers[topic].append(Endpoint(view, topic, known_type(node), defaults.qos(node), view.at("topic_name")))
+            if topic is not None and node.type in defaults.SUBSCRIBES_TOPIC:
+                subscribers[topic].append(Endpoint(view, topic, known_type(node), defaults.qos(node), view.at("topic_name")))
+            if node.type in defaults.ACTUATORS and node.state_topic:
+                state = self._topic(view, node.state_topic)
+                if state is not None:
+                    publishers[state].append(Endpoint(view, state, defaults.STATE_MESSAGE_TYPE, defaults.qos(node),
+                                                      view.at("state_topic")))
+            if node.type in defaults.READS_INPUTS:
+                for k, name in enumerate(node.input_topics):
+                    topic = self._topic(view, name)
+                    if topic is not None:
+                        readers[topic].append(Endpoint(view, topic, "", None, view.at("input_topics", k)))
+        return dict(publishers), dict(subscribers), dict(readers)
+
+    @property
+    def publishers(self) -> dict[str, list[Endpoint]]:
+        """Resolved topic -> its publishers, in file order."""
+        return self._endpoints[0]
+
+    @property
+    def subscribers(self) -> dict[str, list[Endpoint]]:
+        """Resolved topic -> nodes subscribing to it as their topic_name (with their own type and QoS)."""
+        return self._endpoints[1]
+
+    @property
+    def readers(self) -> dict[str, list[Endpoint]]:
+        """Resolved topic -> nodes reading it through input_topics."""
+        return self._endpoints[2]
+
+    def qos_at(self, view: NodeView, policy_field: str, fallback: Path) -> Path:
+        """The QoS field's path when written, else `fallback` (the topic field)."""
+        path = view.at(policy_field)
+        return path if self.written(path) else fallback
+
+
+def is_set(message, field: str) -> bool:
+    """Whether a field holds a value: present (optional/message), non-empty (repeated), non-default (plain)."""
+    descriptor = message.DESCRIPTOR.fields_by_name[field]
+    if descriptor.is_repeated:
+        return len(getattr(message, field)) > 0
+    if descriptor.has_presence:
+        return message.HasField(field)
+    return getattr(message, field) != descriptor.default_value
+
+
+def label_of(view: NodeView) -> str:
+    """`node "camera"` for a named node, `node #3` (1-based, in file order) for an unnamed one."""
+    return f'node "{view.node.name}"' if view.node.name else f"node #{view.index + 1}"

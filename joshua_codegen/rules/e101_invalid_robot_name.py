@@ -1,0 +1,49 @@
+"""E101 invalid-robot-name: the robot name is missing or not made of lower-case letters, digits, "_".
+
+What it checks:
+    `robot_config.name` is set, starts with a lower-case letter, holds only lower-case letters,
+    digits and underscores, and is at most 64 characters long.
+
+Why it matters:
+    The name becomes file and unit names (`joshua-<name>.target`, `/opt/joshua/<name>`), which
+    must be portable and unambiguous.
+
+Example:
+    robot_config {
+      name: "SO-100 Arm"     # error: robot name "SO-100 Arm" is invalid; e.g. "so_100_arm"
+    }
+"""
+
+import re
+
+from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.positions import ROBOT
+from joshua_codegen.rules.context import Finding
+
+CODE = "E101"
+NAME = "invalid-robot-name"
+SEVERITY = ERROR
+STAGE = "check"
+MAX_ROBOT_NAME_LENGTH = 64
+ROBOT_NAME = re.compile(r"[a-z][a-z0-9_]*")
+
+
+def _suggestion(name: str) -> str | None:
+    candidate = re.sub(r"[^a-z0-9_]+", "_", name.lower()).strip("_")
+    candidate = re.sub(r"^[0-9_]+", "", candidate)[:MAX_ROBOT_NAME_LENGTH]
+    return candidate if ROBOT_NAME.fullmatch(candidate) else None
+
+
+def check(ctx):
+    name = ctx.config.name
+    if not name:
+        yield Finding(ROBOT + ("name",), 'robot name is missing: add name: "my_robot" '
+                                         "(lower-case letters, digits and underscores)")
+    elif len(name) > MAX_ROBOT_NAME_LENGTH:
+        yield Finding(ROBOT + ("name",), f"robot name is {len(name)} characters long; "
+                                         f"the limit is {MAX_ROBOT_NAME_LENGTH}")
+    elif not ROBOT_NAME.fullmatch(name):
+        hint = _suggestion(name)
+        message = (f'robot name "{name}" is invalid: use lower-case letters, digits and underscores, '
+                   "starting with a letter")
+        yield Finding(ROBOT + ("name",), message + (f'; e.g. "{hint}"' if hint else ""))

@@ -1,0 +1,29 @@
+"""E104 missing-topic-name: a node other than CUSTOM has no topic_name.
+
+What it checks:
+    Every node except CUSTOM sets `topic_name`: the topic it publishes (publishers, INFERENCE,
+    OPERATIONAL_LIMIT_CALIBRATION) or subscribes to (ACTUATOR_SUBSCRIBER, DATA_SUBSCRIBER).
+
+Why it matters:
+    A node without a topic has nothing to publish or nothing to act on.
+
+Example:
+    node {
+      type: CAMERA_PUBLISHER     # error: CAMERA_PUBLISHER node "camera_publisher" has no topic_name
+    }
+"""
+
+from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.rules.context import Finding
+from joshua_codegen.schema import robot_config_pb2 as pb
+
+CODE = "E104"
+NAME = "missing-topic-name"
+SEVERITY = ERROR
+STAGE = "check"
+
+
+def check(ctx):
+    for view in ctx.typed_nodes:
+        if view.node.type != pb.CUSTOM and not view.node.topic_name:
+            yield Finding(view.path, f'{view.label} has no topic_name (e.g. topic_name: "/arm/commands")')

@@ -1,0 +1,36 @@
+"""E401 serial-port-conflict: two nodes claim the same serial port.
+
+What it checks:
+    Each `serial_port` of a servo-bus or lidar node (ENCODER_PUBLISHER, ACTUATOR_SUBSCRIBER,
+    OPERATIONAL_LIMIT_CALIBRATION, LIDAR_PUBLISHER) is used by one node only. MOCK_* nodes open
+    no port and are not counted. The error is at the second node, with the first as a note.
+
+Why it matters:
+    Two processes on one serial line interleave their bytes: both read garbage and servos may
+    receive corrupted commands.
+
+Example:
+    node { type: ENCODER_PUBLISHER serial_port: "/dev/ttyUSB0" ... }
+    node { type: ACTUATOR_SUBSCRIBER serial_port: "/dev/ttyUSB0" ... }  # error: already claimed
+"""
+
+from joshua_codegen import defaults
+from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.rules.context import Finding
+
+CODE = "E401"
+NAME = "serial-port-conflict"
+SEVERITY = ERROR
+STAGE = "check"
+
+
+def check(ctx):
+    owners = {}
+    for view in ctx.typed_nodes:
+        port = view.node.serial_port
+        if view.node.type not in defaults.SERIAL or not port:
+            continue
+        first = owners.setdefault(port, view)
+        if first is not view:
+            yield Finding(view.at("serial_port"), f'serial port "{port}" is already claimed by node "{first.name}"',
+                          ((first.at("serial_port"), "claimed here"),))

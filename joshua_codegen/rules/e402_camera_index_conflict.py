@@ -1,0 +1,38 @@
+"""E402 camera-index-conflict: two camera nodes open the same camera index.
+
+What it checks:
+    CAMERA_PUBLISHER nodes without a `video_source` use distinct `camera_index` values (default 0).
+    The error is at the second camera, with the first as a note.
+
+Why it matters:
+    A V4L2 camera is opened by one process at a time; the second node fails to start or steals
+    frames from the first.
+
+Example:
+    node { type: CAMERA_PUBLISHER topic_name: "/front" }
+    node { type: CAMERA_PUBLISHER topic_name: "/wrist" }    # error: camera index 0 is already used
+"""
+
+from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.rules.context import Finding
+from joshua_codegen.schema import robot_config_pb2 as pb
+
+CODE = "E402"
+NAME = "camera-index-conflict"
+SEVERITY = ERROR
+STAGE = "check"
+
+
+def check(ctx):
+    owners = {}
+    for view in ctx.typed_nodes:
+        node = view.node
+        if node.type != pb.CAMERA_PUBLISHER or node.video_source:
+            continue
+        index = node.camera_index
+        first = owners.setdefault(index, view)
+        if first is not view:
+            defaulted = "" if node.HasField("camera_index") else " (camera_index defaults to 0)"
+            yield Finding(view.at("camera_index"), f'camera index {index} is already used by node "{first.name}"'
+                                                   f"{defaulted}",
+                          ((first.at("camera_index"), "first used here"),))

@@ -1,0 +1,33 @@
+"""W202 unpublished-topic: a node subscribes to a topic that nothing in the description publishes.
+
+What it checks:
+    Each subscription (topic_name of ACTUATOR_SUBSCRIBER and DATA_SUBSCRIBER, and every
+    input_topics entry of INFERENCE and DATA_SUBSCRIBER) has a publisher in the description.
+    CUSTOM nodes declare no topics, and processes outside the description are not known.
+
+Why it matters:
+    Unless something outside the description publishes it, the node waits forever for data.
+
+Example:
+    node {
+      type: ACTUATOR_SUBSCRIBER
+      topic_name: "/arm/commands"    # warning: nothing in this description publishes "/arm/commands"
+    }
+"""
+
+from joshua_codegen.diagnostics import WARNING
+from joshua_codegen.rules.context import Finding
+
+CODE = "W202"
+NAME = "unpublished-topic"
+SEVERITY = WARNING
+STAGE = "check"
+
+
+def check(ctx):
+    for index in (ctx.subscribers, ctx.readers):
+        for topic, endpoints in index.items():
+            if topic in ctx.publishers:
+                continue
+            for endpoint in endpoints:
+                yield Finding(endpoint.at, f'nothing in this description publishes "{topic}"')
