@@ -1,0 +1,194 @@
+"""Build small robots into tmp_path and drive their generated supervisor on real processes."""
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from google.protobuf import text_format
+
+from joshua_codegen.plan import plan
+from joshua_codegen.render import render
+from joshua_codegen.schema import RobotDescription
+from joshua_codegen.write import write_tree
+
+PYTHON = sys.executable
+WAIT_S = 10.0  # the longest any single wait of these tests may take before it fails
+POLL_S = 0.01
+
+# A node program: records what happens to it in a log file, reacts to signals as told.
+# argv: LOG NAME [SIGINT=exit|ignore] [SIGTERM=exit|ignore] [exit_after=S] [code=N]
+#       [grandchild=same|ignore|escape] [argv_file=PATH] [env_file=PATH]
+BEHAVE = r'''
+import json, os, signal, sys, time
+log_path, name = sys.argv[1], sys.argv[2]
+options = dict(arg.split("=", 1) for arg in sys.argv[3:])
+
+def note(text):
+    with open(log_path, "a") as log:
+        log.write(f"{name} {os.getpid()} {text}\n")
+
+def on_signal(number, frame):
+    signame = signal.Signals(number).name
+    action = options.get(signame, "exit")
+    note(f"got {signame} {action}")
+    if action == "exit":
+        os._exit(0)
+
+for number in (signal.SIGINT, signal.SIGTERM):
+    signal.signal(number, on_signal)
+if "env_file" in options:
+    with open(options["env_file"], "w") as out:
+        json.dump(dict(os.environ), out)
+kind = options.get("grandchild")
+if kind and os.fork() == 0:
+    if kind == "escape":
+        os.setsid()
+    if kind in ("ignore", "escape"):
+        for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+            signal.signal(number, signal.SIG_IGN)
+    name = name + "/grandchild"
+    note("start")
+    while True:
+        time.sleep(1)
+note("start")
+if "exit_after" in options:
+    time.sleep(float(options["exit_after"]))
+    note("exit")
+    os._exit(int(options.get("code", "0")))
+while True:
+    time.sleep(1)
+'''
+
+CPP_STAND_IN = r'''#!/bin/sh
+printf '%s\n' "$0" "$@" > "$(dirname "$0")/argv.txt"
+trap 'exit 0' INT TERM
+while :; do sleep 0.05; done
+'''
+
+
+def describe(text: str) -> RobotDescription:
+    return text_format.Parse(text, RobotDescription())
+
+
+def build(directory: Path, config: str, source: str = "robot.pbtxt", prefix: str | None = None) -> Path:
+    """Plan, render and write a description; the output directory."""
+    out = directory / "out"
+    write_tree(render(plan(describe(config), source), prefix), out)
+    return out
+
+
+def custom_node(name: str, log: Path, *options: str, **fields: str) -> str:
+    """A CUSTOM node running the BEHAVE program with `options`."""
+    script = log.parent / "behave.py"
+    if not script.exists():
+        script.write_text(BEHAVE)
+    args = ", ".join(f'"{a}"' for a in ["-I", "-S", str(script), str(log), name, *options])
+    extra = " ".join(f"{key}: {value}" for key, value in fields.items())
+    return f'node {{ name: "{name}" type: CUSTOM executable: "{PYTHON}" args: [{args}] {extra} }}'
+
+
+def robot(nodes: list[str], sigint: float = 0.3, sigterm: float = 0.3, extra: str = "") -> str:
+    body = "\n".join(nodes)
+    return (f'robot_config {{ name: "r" mode: MODE_TELEOPERATION '
+            f'shutdown {{ sigint_grace_s: {sigint} sigterm_grace_s: {sigterm} }} {extra}\n{body}\n}}')
+
+
+def events(log: Path) -> list[tuple[str, int, str]]:
+    """(node name, pid, text) of every line the BEHAVE programs wrote."""
+    if not log.exists():
+        return []
+    lines = []
+    for line in log.read_text().splitlines():
+        name, pid, text = line.split(" ", 2)
+        lines.append((name, int(pid), text))
+    return lines
+
+
+def wait_until(predicate, what: str, timeout: float = WAIT_S):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(POLL_S)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+def process_state(pid: int) -> str | None:
+    """The /proc state letter of a process (Z for a zombie), or None when it is gone."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return stat.rsplit(")", 1)[1].split()[0]
+
+
+def parent_of(pid: int) -> int | None:
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return int(stat.rsplit(")", 1)[1].split()[1])
+
+
+def zombies_of(parent: int) -> list[int]:
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit() and parent_of(int(entry.name)) == parent and process_state(int(entry.name)) == "Z":
+            found.append(int(entry.name))
+    return found
+
+
+def alive(pid: int) -> bool:
+    return process_state(pid) not in (None, "Z")
+
+
+class Supervisor:
+    """A running generated supervisor whose log goes to a file."""
+
+    def __init__(self, out: Path, *args: str, cwd: Path | None = None, env: dict | None = None):
+        self.log_path = out.parent / "supervisor.log"
+        self.log_file = open(self.log_path, "w")
+        self.started = time.monotonic()
+        self.process = subprocess.Popen([PYTHON, str(out / "supervisor.py"), *args], stdout=self.log_file,
+                                        stderr=subprocess.STDOUT, cwd=cwd or out.parent, env=env)
+        self.pid = self.process.pid
+
+    def log(self) -> str:
+        return self.log_path.read_text()
+
+    def wait_log(self, pattern: str, timeout: float = WAIT_S) -> re.Match:
+        return wait_until(lambda: re.search(pattern, self.log(), re.M), f"{pattern!r} in the supervisor log", timeout)
+
+    def signal(self, number: int = signal.SIGINT) -> float:
+        self.process.send_signal(number)
+        return time.monotonic()
+
+    def wait(self, timeout: float = WAIT_S) -> int:
+        try:
+            return self.process.wait(timeout)
+        finally:
+            self.log_file.close()
+
+    def close(self):
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+        self.log_file.close()
+
+
+def log_times(text: str, pattern: str) -> list[float]:
+    """The supervisor's timestamps of the log lines matching `pattern`."""
+    return [float(m.group(1)) for m in re.finditer(r"^\[\s*([\d.]+)\] " + pattern, text, re.M)]
+
+
+def kill_all(pids):
+    for pid in pids:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except OSError:
+            pass
