@@ -79,6 +79,8 @@ def _snippet(source: str | None, line: int, column: int, end_line: int | None, e
     if not 1 <= line <= len(lines):
         return []
     text = lines[line - 1].rstrip("\r")
+    if not text.strip():
+        return []
     start = max(column - 1, 0)
     width = 1
     if end_line == line and end_column is not None and end_column > column:

@@ -78,7 +78,7 @@ def _parse_integer(text: str) -> int:
     return int(text, 0)
 
 
-def _unquote(scalar: Scalar) -> bytes:
+def unquote(scalar: Scalar) -> bytes:
     parts = []
     for token in scalar.tokens:
         try:
@@ -93,12 +93,12 @@ def _shown(scalar: Scalar) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def decode_string(scalar: Scalar) -> str:
+def decode_string(scalar: Scalar, name: str = "the field") -> str:
     """A string literal's value; ValueProblem for a non-string token, a bad escape or invalid UTF-8."""
     if not scalar.is_string:
-        raise ValueProblem(f"expected a quoted string, got {_shown(scalar)}")
+        raise ValueProblem(f"{name} takes a quoted string, got {_shown(scalar)}")
     try:
-        return _unquote(scalar).decode("utf-8")
+        return unquote(scalar).decode("utf-8")
     except UnicodeDecodeError:
         raise ValueProblem("string is not valid UTF-8 (write non-ASCII characters directly)") from None
 
@@ -107,11 +107,11 @@ def parse_scalar(field: FieldDescriptor, scalar: Scalar):
     """The Python value of a scalar for a non-enum field; ValueProblem when it does not fit."""
     kind = field.type
     if kind == FieldDescriptor.TYPE_STRING:
-        return decode_string(scalar)
+        return decode_string(scalar, field.name)
     if kind == FieldDescriptor.TYPE_BYTES:
         if not scalar.is_string:
-            raise ValueProblem(f"expected a quoted string, got {_shown(scalar)}")
-        return _unquote(scalar)
+            raise ValueProblem(f"{field.name} takes a quoted string, got {_shown(scalar)}")
+        return unquote(scalar)
     text = scalar.first.text
     if scalar.is_string:
         raise ValueProblem(f"{field.name} takes {_kind_name(field)}, not a string; remove the quotes")

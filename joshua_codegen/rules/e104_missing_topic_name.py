@@ -26,4 +26,4 @@ STAGE = "check"
 def check(ctx):
     for view in ctx.typed_nodes:
         if view.node.type != pb.CUSTOM and not view.node.topic_name:
-            yield Finding(view.path, f'{view.label} has no topic_name (e.g. topic_name: "/arm/commands")')
+            yield Finding(view.path, f"{view.label} has no topic_name")

@@ -20,7 +20,7 @@ def conflicts(ctx: RuleContext, policy: str, field: str):
             more = f" (and {len(weaker) - 1} more)" if len(weaker) > 1 else ""
             yield Finding(
                 ctx.qos_at(sub.view, field, sub.at),
-                f'publisher "{first.view.name}" offers {first.qos[policy]}{more}, '
+                f'publisher "{first.view.name}"{more} offers {first.qos[policy]}, '
                 f'subscriber "{sub.view.name}" requires {sub.qos[policy]} on "{topic}"',
                 ((ctx.qos_at(first.view, field, first.at), "publisher declared here"),),
             )
