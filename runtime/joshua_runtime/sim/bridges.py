@@ -119,6 +119,7 @@ class CameraBridge:
 
     def __init__(self, node, engine: SimulationEngine, settings: dict, default_camera: str):
         self.node = node
+        self.name = settings["name"]
         self.frame_id = settings["frame_id"]
         width, height = int(settings.get("width") or 0), int(settings.get("height") or 0)
         if width <= 0 or height <= 0:

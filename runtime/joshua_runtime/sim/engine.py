@@ -62,6 +62,8 @@ class SimulationEngine:
         self.lock = threading.Lock()
         self.steps = 0
         self.dropped_s = 0.0
+        self._wall_started = self._sim_started = None
+        self._wall_stopped = self._sim_stopped = None
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._hold_initial_pose()
@@ -133,6 +135,8 @@ class SimulationEngine:
         if self._thread is not None:
             return
         self._stop.clear()
+        self._wall_started, self._sim_started = time.monotonic(), self.data.time
+        self._wall_stopped = None
         self._thread = threading.Thread(target=self._run, name="sim-physics", daemon=True)
         self._thread.start()
 
@@ -142,6 +146,15 @@ class SimulationEngine:
         if self._thread is not None:
             self._thread.join(STOP_JOIN_TIMEOUT_S)
             self._thread = None
+            self._wall_stopped, self._sim_stopped = time.monotonic(), self.data.time
+
+    def run_stats(self) -> tuple[float, float]:
+        """(simulated seconds, wall-clock seconds) since start(), up to stop() once stopped."""
+        if self._wall_started is None:
+            return 0.0, 0.0
+        if self._wall_stopped is None:
+            return self.data.time - self._sim_started, time.monotonic() - self._wall_started
+        return self._sim_stopped - self._sim_started, self._wall_stopped - self._wall_started
 
     def _run(self) -> None:
         timestep = self.model.opt.timestep

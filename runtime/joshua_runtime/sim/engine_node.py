@@ -18,6 +18,7 @@ class SimulationEngineNode(JoshuaNode):
 
     engine = None
     cameras = None
+    bridges: list = []
 
     def start(self) -> None:
         sim = self.settings.get("simulation")
@@ -39,8 +40,10 @@ class SimulationEngineNode(JoshuaNode):
         self.bridges = [make_bridge(self, self.engine, s, sim.get("camera", "")) for s in simulated]
         streams = [b.stream for b in self.bridges if hasattr(b, "stream")]
         self.cameras = CameraThread(self.engine, streams, gl_backend)
-        self.engine.start()
+        # Cameras first: creating GL contexts holds the interpreter for a while, which would show
+        # up as time the physics schedule has to drop.
         self.cameras.start()
+        self.engine.start()
         self.log.info(
             f"simulating {', '.join(s['name'] for s in simulated) or 'no nodes'} with {sim.get('model')} "
             f"(timestep {model.opt.timestep} s, realtime factor {self.engine.realtime_factor}"
@@ -52,3 +55,16 @@ class SimulationEngineNode(JoshuaNode):
             self.cameras.stop()
         if self.engine is not None:
             self.engine.stop()
+            self.log.info(self.summary())
+
+    def summary(self) -> str:
+        """One line on how the run went: real-time factor reached, time dropped, frames rendered."""
+        sim_s, wall_s = self.engine.run_stats()
+        factor = sim_s / wall_s if wall_s > 0 else 0.0
+        line = (f"stopped: simulated {sim_s:.3f} s in {wall_s:.3f} s (real-time factor {factor:.3f}), "
+                f"{self.engine.dropped_s:.3f} s dropped")
+        for bridge in self.bridges:
+            stream = getattr(bridge, "stream", None)
+            if stream is not None:
+                line += f"; {bridge.name} {stream.frames} frames ({stream.skipped} skipped)"
+        return line

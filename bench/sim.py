@@ -1,0 +1,151 @@
+"""MuJoCo simulation speed: physics real-time factor alone, and while publishing and rendering.
+
+    .venv/bin/python bench/sim.py [--seconds 10]
+
+1. physics alone: builtin:so100 stepped in this process as fast as possible (mj_step only), with
+   the arm following a moving goal so that actuators and contacts do real work.
+2. loaded, real time: a SIMULATION node process, started as a generated entrypoint starts it, at
+   realtime_factor 1, simulating an ENCODER_PUBLISHER at 200 Hz and a CAMERA_PUBLISHER at 640x480,
+   30 fps. This process subscribes to both topics (with the Fast DDS profile joshuac generates) and
+   counts what arrives; the node's real-time factor, dropped time and frame counts come from the
+   summary line it logs when it stops.
+3. loaded, as fast as possible: the same at realtime_factor 0, which shows the headroom.
+"""
+
+import argparse
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PYTHON = str(ROOT / ".venv" / "bin" / "python")
+JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+ENCODER_RATE_HZ = 200.0
+WIDTH, HEIGHT, CAMERA_RATE_HZ = 640, 480, 30.0
+DEFAULT_QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
+SENSOR_QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
+STATE_TOPIC, IMAGE_TOPIC = "/bench/joint_states", "/bench/image"
+PHYSICS_BATCH_STEPS = 100
+STARTUP_TIMEOUT_S = 60.0
+STOP_TIMEOUT_S = 10.0
+SPIN_SLICE_S = 0.05
+SUMMARY = re.compile(r"simulated ([\d.]+) s in ([\d.]+) s \(real-time factor ([\d.]+)\), ([\d.]+) s dropped; "
+                     r"camera (\d+) frames \((\d+) skipped\)")
+
+
+def physics_alone(seconds: float) -> float:
+    """Real-time factor of mj_step alone on builtin:so100."""
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    import math
+
+    import mujoco
+
+    from joshua_runtime.sim.model import load_model
+
+    model = load_model("builtin:so100")
+    data = mujoco.MjData(model)
+    start = time.perf_counter()
+    while time.perf_counter() - start < seconds:
+        phase = data.time
+        data.ctrl[:] = [0.8 * math.sin(phase), 0.3 + 0.3 * math.sin(0.7 * phase), 0.3 * math.cos(phase),
+                        0.5 * math.sin(1.3 * phase), math.sin(phase), 0.6 + 0.5 * math.sin(2 * phase)]
+        mujoco.mj_step(model, data, nstep=PHYSICS_BATCH_STEPS)
+    return data.time / (time.perf_counter() - start)
+
+
+def node_settings(realtime_factor: float) -> dict:
+    common = {"robot": "bench", "mode": "MODE_SIMULATION", "state_topic": None, "inputs": [], "serial_port": "",
+              "baud_rate": 0, "device_ids": [], "joint_names": [], "calibration_file": "", "camera_index": -1,
+              "video_source": "", "width": WIDTH, "height": HEIGHT, "rate_hz": 100.0, "frame_id": "",
+              "model_path": "", "policy_type": "", "device": "cpu", "output_format": "lerobot",
+              "output_directory": "", "simulation": None, "qos": DEFAULT_QOS, "topic": None}
+    encoder = dict(common, name="encoder", type="ENCODER_PUBLISHER", device_ids=[1, 2, 3, 4, 5, 6],
+                   joint_names=JOINTS, rate_hz=ENCODER_RATE_HZ, frame_id="base_link",
+                   topic={"name": STATE_TOPIC, "message_type": "sensor_msgs/msg/JointState", "qos": DEFAULT_QOS})
+    camera = dict(common, name="camera", type="CAMERA_PUBLISHER", camera_index=0, rate_hz=CAMERA_RATE_HZ,
+                  frame_id="camera", qos=SENSOR_QOS,
+                  topic={"name": IMAGE_TOPIC, "message_type": "sensor_msgs/msg/Image", "qos": SENSOR_QOS})
+    simulation = {"model": "builtin:so100", "timestep_s": None, "realtime_factor": realtime_factor,
+                  "camera": "", "gl_backend": "egl", "simulates": [encoder, camera]}
+    return dict(common, name="simulation", type="SIMULATION", simulation=simulation)
+
+
+def loaded_run(realtime_factor: float, seconds: float, env: dict) -> dict:
+    """Run the node process for `seconds` while this process counts what it receives."""
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from sensor_msgs.msg import Image, JointState
+
+    code = ("from joshua_runtime.entrypoint import run_node; import sys; "
+            f"sys.exit(run_node({node_settings(realtime_factor)!r}))")
+    process = subprocess.Popen([PYTHON, "-c", code], env=env, stderr=subprocess.PIPE, text=True)
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node("sim_bench", context=context)
+    counts = {"state": 0, "image": 0}
+    node.create_subscription(JointState, STATE_TOPIC, lambda _m: counts.__setitem__("state", counts["state"] + 1),
+                             QoSProfile(depth=10))
+    node.create_subscription(Image, IMAGE_TOPIC, lambda _m: counts.__setitem__("image", counts["image"] + 1),
+                             QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT))
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    deadline = time.monotonic() + STARTUP_TIMEOUT_S
+    while min(counts.values()) == 0 and time.monotonic() < deadline and process.poll() is None:
+        executor.spin_once(timeout_sec=SPIN_SLICE_S)
+    counts.update(state=0, image=0)
+    start = time.monotonic()
+    while time.monotonic() - start < seconds:
+        executor.spin_once(timeout_sec=SPIN_SLICE_S)
+    elapsed = time.monotonic() - start
+    process.send_signal(signal.SIGINT)
+    try:
+        _, stderr = process.communicate(timeout=STOP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        _, stderr = process.communicate()
+    executor.shutdown(timeout_sec=0)
+    node.destroy_node()
+    rclpy.shutdown(context=context)
+    match = SUMMARY.search(stderr)
+    if match is None:
+        raise SystemExit(f"the simulation node did not report its run (exit {process.returncode}):\n{stderr}")
+    sim_s, wall_s, factor, dropped, frames, skipped = match.groups()
+    return {"factor": float(factor), "dropped": float(dropped), "frames": int(frames), "skipped": int(skipped),
+            "wall": float(wall_s), "state_hz": counts["state"] / elapsed, "image_hz": counts["image"] / elapsed}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=10.0, help="measurement time of each run")
+    args = parser.parse_args()
+
+    print(f"cores: {os.cpu_count()}  load average: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    print(f"physics alone (mj_step, builtin:so100, 2 ms step): real-time factor {physics_alone(args.seconds):.1f}")
+
+    from joshua_codegen.render import template
+
+    with tempfile.TemporaryDirectory() as tmp:
+        profile = Path(tmp) / "fastdds_profile.xml"
+        profile.write_text(template("fastdds_profile.xml.j2"))
+        env = dict(os.environ, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile), ROS_DOMAIN_ID=str(150 + os.getpid() % 50),
+                   ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
+        os.environ.update({k: env[k] for k in ("FASTRTPS_DEFAULT_PROFILES_FILE", "ROS_DOMAIN_ID",
+                                               "ROS_AUTOMATIC_DISCOVERY_RANGE")})
+        print(f"loaded: JointState at {ENCODER_RATE_HZ:.0f} Hz + {WIDTH}x{HEIGHT} rgb8 at {CAMERA_RATE_HZ:.0f} fps, "
+              f"{args.seconds:.0f} s per run, counted by a subscriber in this process")
+        print(f"{'realtime_factor':>15} {'reached':>8} {'dropped s':>9} {'frames':>7} {'skipped':>7} "
+              f"{'states/s rx':>11} {'images/s rx':>11}")
+        for factor in (1.0, 0.0):
+            r = loaded_run(factor, args.seconds, env)
+            print(f"{factor:>15.1f} {r['factor']:>8.2f} {r['dropped']:>9.3f} {r['frames']:>7} {r['skipped']:>7} "
+                  f"{r['state_hz']:>11.1f} {r['image_hz']:>11.1f}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
