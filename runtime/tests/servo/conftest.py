@@ -1,7 +1,7 @@
 """Fixtures of the servo tests: emulated STS3215 buses on ptys and node processes started from settings."""
 
 import pytest
-from servo_helpers import SO100_IDS, NodeProcess
+from servo_helpers import SO100_IDS, NodeProcess, RosProbe
 
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
@@ -34,3 +34,11 @@ def start_node(ros_env):
     yield start
     for node in processes:
         node.kill()
+
+
+@pytest.fixture
+def probe(ros_domain):
+    """An in-process rclpy client in the test's ROS domain."""
+    client = RosProbe()
+    yield client
+    client.close()

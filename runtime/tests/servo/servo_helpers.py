@@ -74,6 +74,12 @@ class NodeProcess:
             _, stderr = self.process.communicate()
         return self.process.returncode, time.monotonic() - started, stderr
 
+    def failure(self) -> str:
+        """Why the process is gone (exit code and stderr), or that it still runs."""
+        if self.process.poll() is None:
+            return "process still running"
+        return f"exit code {self.process.returncode}: {self.process.communicate()[1]}"
+
     def kill(self) -> None:
         if self.process.poll() is None:
             self.process.kill()
@@ -91,3 +97,45 @@ def wait_for(predicate, timeout_s: float) -> bool:
 
 def assert_pid_alive(node: NodeProcess) -> None:
     assert node.process.poll() is None, node.process.communicate()[1]
+
+
+SPIN_SLICE_S = 0.02
+
+
+class RosProbe:
+    """An in-process rclpy node (own context) that keeps the messages received on each topic."""
+
+    def __init__(self):
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+
+        self._rclpy = rclpy
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node("servo_probe", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.received: dict[str, list] = {}
+
+    def listen(self, topic_name: str, message_type, qos) -> None:
+        self.received[topic_name] = []
+        self.node.create_subscription(message_type, topic_name, self.received[topic_name].append, qos)
+
+    def last(self, topic_name: str):
+        messages = self.received.get(topic_name)
+        return messages[-1] if messages else None
+
+    def spin_until(self, condition, timeout_s: float, every=None) -> bool:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if every is not None:
+                every()
+            self.executor.spin_once(timeout_sec=SPIN_SLICE_S)
+            if condition():
+                return True
+        return False
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=0)
+        self.node.destroy_node()
+        self._rclpy.shutdown(context=self.context)

@@ -1,0 +1,85 @@
+"""What the STS3215 nodes share: a bus driver built from node settings, and riding out a lost port.
+
+`BusGuard.call` runs one bus operation per control tick. While the port is gone it logs (at most
+every LOG_INTERVAL_S), lets the driver try to reopen it no more often than every RECONNECT_INTERVAL_S,
+and raises DeviceError (exit code 3, the supervisor restarts the node) once the bus has been failing
+for DEVICE_LOST_GRACE_S.
+"""
+
+import time
+
+from joshua_runtime.drivers.calibration import calibration_for_bus
+from joshua_runtime.drivers.sts3215 import Sts3215Driver
+from joshua_runtime.errors import DeviceError, SettingsError
+
+DEVICE_LOST_GRACE_S = 3.0
+RECONNECT_INTERVAL_S = 0.25
+LOG_INTERVAL_S = 1.0
+
+
+def bus_from_settings(settings: dict, use_calibration: bool = True) -> Sts3215Driver:
+    """An unopened driver for the node's serial_port, device_ids, joint_names and calibration_file."""
+    ids = list(settings.get("device_ids") or [])
+    if not ids:
+        raise SettingsError("device_ids is empty")
+    names = list(settings.get("joint_names") or []) or [f"joint_{i}" for i in ids]
+    if len(names) != len(ids):
+        raise SettingsError(f"{len(names)} joint_names for {len(ids)} device_ids")
+    calibration_file = settings.get("calibration_file") if use_calibration else ""
+    calibration = calibration_for_bus(calibration_file, names, ids) if calibration_file else None
+    return Sts3215Driver(
+        settings["serial_port"], ids, names, baud_rate=settings.get("baud_rate") or 1_000_000, calibration=calibration
+    )
+
+
+def period_s(settings: dict) -> float:
+    rate = settings.get("rate_hz") or 0
+    if rate <= 0:
+        raise SettingsError(f"rate_hz must be positive, got {rate}")
+    return 1.0 / rate
+
+
+class BusGuard:
+    """Runs bus operations for a node, tolerating a short loss of the port."""
+
+    def __init__(self, bus: Sts3215Driver, logger, on_reconnect=None):
+        self.bus = bus
+        self.log = logger
+        self.on_reconnect = on_reconnect
+        self._connections = bus.connections
+        self._failing_since: float | None = None
+        self._next_attempt = 0.0
+        self._next_log = 0.0
+
+    def call(self, operation, *args):
+        """The operation's result, or None while the bus is failing."""
+        now = time.monotonic()
+        if self._failing_since is not None and not self.bus.is_open and now < self._next_attempt:
+            self._check_grace(now)
+            return None
+        try:
+            result = operation(*args)
+        except DeviceError as exc:
+            self._failed(now, exc)
+            return None
+        if self.bus.connections != self._connections:
+            self._connections = self.bus.connections
+            self.log.info(f"{self.bus.port}: reconnected")
+            if self.on_reconnect is not None:
+                self.on_reconnect()
+        self._failing_since = None
+        return result
+
+    def _failed(self, now: float, exc: DeviceError) -> None:
+        if self._failing_since is None:
+            self._failing_since = now
+        self._next_attempt = now + RECONNECT_INTERVAL_S
+        if now >= self._next_log:
+            self._next_log = now + LOG_INTERVAL_S
+            self.log.warning(str(exc))
+        self._check_grace(now, exc)
+
+    def _check_grace(self, now: float, exc: DeviceError | None = None) -> None:
+        if now - self._failing_since >= DEVICE_LOST_GRACE_S:
+            detail = f": {exc}" if exc else ""
+            raise DeviceError(f"{self.bus.port}: bus failing for {DEVICE_LOST_GRACE_S:g} s{detail}")
