@@ -90,13 +90,18 @@ def compressed_image_to_packet(message: CompressedImage) -> PerceptionPacket:
     return packet
 
 
+def check_message_type(message_type: str) -> None:
+    """Raise SettingsError unless a camera can publish `message_type`."""
+    if message_type not in (IMAGE_TYPE, COMPRESSED_IMAGE_TYPE):
+        raise SettingsError(f"a camera cannot publish {message_type!r} (use {IMAGE_TYPE} or {COMPRESSED_IMAGE_TYPE})")
+
+
 def packet_to_message(packet: PerceptionPacket, message_type: str):
     """An Image or CompressedImage (JPEG), as `message_type` asks."""
-    if message_type == IMAGE_TYPE:
-        return packet_to_image(packet)
+    check_message_type(message_type)
     if message_type == COMPRESSED_IMAGE_TYPE:
         return packet_to_compressed_image(packet)
-    raise SettingsError(f"a camera cannot publish {message_type!r} (use {IMAGE_TYPE} or {COMPRESSED_IMAGE_TYPE})")
+    return packet_to_image(packet)
 
 
 def message_to_packet(message) -> PerceptionPacket:

@@ -15,14 +15,12 @@ from joshua_runtime.errors import DeviceError
 
 ENCODING = "bgr8"
 BYTES_PER_PIXEL = 3
+OPENCV_LOG_SILENT = 0  # cv2.setLogLevel level that prints nothing
 
 
 def _silence_opencv() -> None:
     """OpenCV logs its own warnings to stderr; the driver reports failures as one DeviceError line."""
-    try:
-        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
-    except AttributeError:
-        pass
+    cv2.setLogLevel(OPENCV_LOG_SILENT)
 
 
 class CameraDriver(Driver):
@@ -54,17 +52,18 @@ class CameraDriver(Driver):
         _silence_opencv()
         if self.is_file and not os.path.isfile(self.video_source):
             raise DeviceError(f"cannot open {self.description}: no such file")
+        if not self.video_source:
+            if self.camera_index < 0:
+                raise DeviceError(f"cannot open a camera: no video_source and invalid index {self.camera_index}")
+            if not os.path.exists(f"/dev/video{self.camera_index}"):
+                raise DeviceError(f"cannot open {self.description}: no such device")
         if self.video_source:
             capture = cv2.VideoCapture(self.video_source)
         else:
-            if self.camera_index < 0:
-                raise DeviceError(f"cannot open camera: invalid index {self.camera_index}")
             capture = cv2.VideoCapture(self.camera_index, cv2.CAP_V4L2)
         if not capture.isOpened():
             capture.release()
-            missing = not self.video_source and not os.path.exists(f"/dev/video{self.camera_index}")
-            reason = "no such device" if missing else "OpenCV could not open it"
-            raise DeviceError(f"cannot open {self.description}: {reason}")
+            raise DeviceError(f"cannot open {self.description}: OpenCV could not open it")
         if not self.video_source:
             capture.set(cv2.CAP_PROP_FRAME_WIDTH, self.width)
             capture.set(cv2.CAP_PROP_FRAME_HEIGHT, self.height)

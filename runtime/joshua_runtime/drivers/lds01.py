@@ -140,24 +140,33 @@ class Lds01Driver(Driver):
         if not speeds:
             return None
         rpm = sum(speeds) / len(speeds) / proto.SPEED_SCALE
-        time_increment = proto.time_increment_s(rpm)
-        scan_time = time_increment * proto.READINGS_PER_TURN
-        packet = PerceptionPacket(frame_id=self.frame_id)
         # Stamp of the first reading: the turn ended when its last byte arrived.
-        packet.timestamp.FromNanoseconds(int((received_at - scan_time) * 1e9))
-        sensor = packet.sensor
-        sensor.kind = SCAN_KIND
-        sensor.ranges.extend(ranges)
-        sensor.intensities.extend(intensities)
-        sensor.values.append(rpm)
-        sensor.angle_min = proto.ANGLE_MIN
-        sensor.angle_max = proto.ANGLE_MAX
-        sensor.angle_increment = proto.ANGLE_INCREMENT
-        sensor.range_min = proto.RANGE_MIN_M
-        sensor.range_max = proto.RANGE_MAX_M
-        sensor.time_increment = time_increment
-        sensor.scan_time = scan_time
-        return packet
+        first_reading_ns = int((received_at - proto.time_increment_s(rpm) * proto.READINGS_PER_TURN) * 1e9)
+        return scan_packet(ranges, intensities, rpm, self.frame_id, first_reading_ns)
+
+
+def scan_packet(ranges: list[float], intensities: list[float], rpm: float, frame_id: str,
+                stamp_ns: int) -> PerceptionPacket:
+    """A "laser_scan" PerceptionPacket of one LDS-01 turn (ranges in m, index = angle in degrees).
+
+    `values` holds one number: the motor speed in rpm.
+    """
+    time_increment = proto.time_increment_s(rpm)
+    packet = PerceptionPacket(frame_id=frame_id)
+    packet.timestamp.FromNanoseconds(stamp_ns)
+    sensor = packet.sensor
+    sensor.kind = SCAN_KIND
+    sensor.ranges.extend(ranges)
+    sensor.intensities.extend(intensities)
+    sensor.values.append(rpm)
+    sensor.angle_min = proto.ANGLE_MIN
+    sensor.angle_max = proto.ANGLE_MAX
+    sensor.angle_increment = proto.ANGLE_INCREMENT
+    sensor.range_min = proto.RANGE_MIN_M
+    sensor.range_max = proto.RANGE_MAX_M
+    sensor.time_increment = time_increment
+    sensor.scan_time = time_increment * proto.READINGS_PER_TURN
+    return packet
 
 
 def _reason(exc: Exception) -> str:

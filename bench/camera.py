@@ -1,0 +1,151 @@
+"""Cross-process latency (p50/p99) and drop rate of 640x480 bgr8 images at 30 fps, with and without the Fast DDS profile.
+
+    .venv/bin/python bench/camera.py [--seconds 10] [--only with|without]
+
+A MOCK_CAMERA_PUBLISHER node process publishes; a subscriber process (this file with
+--subscribe) measures receive time - header stamp and counts missing frames from the frame
+number encoded in the scrolling pattern. Both use the camera's default QoS (keep-last 5, best
+effort, volatile). "with": both processes get FASTRTPS_DEFAULT_PROFILES_FILE set to the profile
+rendered from templates/fastdds_profile.xml.j2; "without": Fast DDS defaults.
+"""
+
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PYTHON = str(ROOT / ".venv" / "bin" / "python")
+WIDTH, HEIGHT, RATE_HZ = 640, 480, 30.0
+TOPIC = "/bench/camera/image"
+QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
+WARMUP_S = 2.0  # frames received during discovery and start-up are not counted
+SUBSCRIBER_GRACE_S = 30.0
+STOP_TIMEOUT_S = 5.0
+SCROLL_PX = 8  # mock_camera_publisher.SCROLL_PX: frame n is scrolled by n x 8 px
+PATTERN_PERIOD = WIDTH // SCROLL_PX
+
+
+def publisher_settings() -> dict:
+    return {
+        "robot": "bench", "mode": "MODE_TELEOPERATION", "name": "bench_camera", "type": "MOCK_CAMERA_PUBLISHER",
+        "topic": {"name": TOPIC, "message_type": "sensor_msgs/msg/Image", "qos": QOS},
+        "state_topic": None, "inputs": [], "qos": QOS, "serial_port": "", "baud_rate": 0, "device_ids": [],
+        "joint_names": [], "calibration_file": "", "camera_index": 0, "video_source": "", "width": WIDTH,
+        "height": HEIGHT, "rate_hz": RATE_HZ, "frame_id": "camera", "model_path": "", "policy_type": "",
+        "device": "cpu", "output_format": "", "output_directory": "", "simulation": None,
+    }
+
+
+def frame_number(data) -> int:
+    """Frame number modulo PATTERN_PERIOD: where the blue gradient of row 0 restarts at 0."""
+    row = memoryview(bytes(data[: WIDTH * 3]))
+    for x in range(WIDTH):
+        if row[3 * x] == 0:
+            return (x // SCROLL_PX) % PATTERN_PERIOD
+    return -1
+
+
+def subscribe(seconds: float) -> None:
+    """Subscriber process: print one JSON line of measurements after `seconds` of counted frames."""
+    import rclpy
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from sensor_msgs.msg import Image
+
+    rclpy.init()
+    node = rclpy.create_node("bench_camera_subscriber")
+    latencies_ms, numbers, first = [], [], {}
+
+    def received(message: Image) -> None:
+        now = time.time_ns()
+        first.setdefault("t", time.monotonic())
+        if time.monotonic() - first["t"] < WARMUP_S:
+            return
+        stamp = message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+        latencies_ms.append((now - stamp) / 1e6)
+        numbers.append(frame_number(message.data))
+
+    qos = QoSProfile(depth=QOS["depth"], reliability=ReliabilityPolicy.BEST_EFFORT)
+    node.create_subscription(Image, TOPIC, received, qos)
+    deadline = time.monotonic() + SUBSCRIBER_GRACE_S + seconds
+    while time.monotonic() < deadline:
+        rclpy.spin_once(node, timeout_sec=0.05)
+        if "t" in first and time.monotonic() - first["t"] > WARMUP_S + seconds:
+            break
+    missing = sum((b - a) % PATTERN_PERIOD - 1 for a, b in zip(numbers, numbers[1:]) if a >= 0 and b >= 0)
+    print(json.dumps({"received": len(numbers), "missing": missing, "latencies_ms": latencies_ms}), flush=True)
+    node.destroy_node()
+    rclpy.shutdown()
+
+
+def percentile(values: list[float], fraction: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))] if ordered else float("nan")
+
+
+def run_case(profile: Path | None, seconds: float, domain: int) -> dict:
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
+    env.pop("FASTRTPS_DEFAULT_PROFILES_FILE", None)
+    if profile is not None:
+        env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(profile)
+    code = ("import sys; from joshua_runtime.entrypoint import run_node; "
+            f"sys.exit(run_node({publisher_settings()!r}))")
+    publisher = subprocess.Popen([PYTHON, "-c", code], env=env, stderr=subprocess.DEVNULL)
+    try:
+        result = subprocess.run([PYTHON, __file__, "--subscribe", "--seconds", str(seconds)], env=env,
+                                capture_output=True, text=True, timeout=SUBSCRIBER_GRACE_S + seconds + WARMUP_S + 10)
+    finally:
+        publisher.send_signal(signal.SIGINT)
+        publisher.wait(STOP_TIMEOUT_S)
+    data = json.loads(result.stdout.strip().splitlines()[-1])
+    expected = data["received"] + data["missing"]
+    return {
+        "received": data["received"],
+        "missing": data["missing"],
+        "drop_rate": data["missing"] / expected if expected else 1.0,
+        "p50_ms": percentile(data["latencies_ms"], 0.50),
+        "p99_ms": percentile(data["latencies_ms"], 0.99),
+    }
+
+
+def render_profile(directory: Path) -> Path:
+    from joshua_codegen.render import template
+
+    path = directory / "fastdds_profile.xml"
+    path.write_text(template("fastdds_profile.xml.j2"))
+    return path
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=10.0, help="measured time per case")
+    parser.add_argument("--only", choices=("with", "without"), help="run one case")
+    parser.add_argument("--subscribe", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.subscribe:
+        subscribe(args.seconds)
+        return 0
+    domain = zlib.crc32(str(os.getpid()).encode()) % 100 + 120
+    with tempfile.TemporaryDirectory() as tmp:
+        profile = render_profile(Path(tmp))
+        cases = [("with", profile), ("without", None)]
+        print(f"640x480 bgr8 Image ({WIDTH * HEIGHT * 3} bytes) at {RATE_HZ:g} fps, best effort depth 5, "
+              f"{args.seconds:g} s per case, ROS_DOMAIN_ID {domain}")
+        print(f"{'profile':<8} {'received':>8} {'missing':>8} {'drop %':>7} {'p50 ms':>8} {'p99 ms':>8}")
+        for name, path in cases:
+            if args.only and name != args.only:
+                continue
+            r = run_case(path, args.seconds, domain)
+            print(f"{name:<8} {r['received']:>8} {r['missing']:>8} {100 * r['drop_rate']:>7.1f} "
+                  f"{r['p50_ms']:>8.2f} {r['p99_ms']:>8.2f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,62 @@
+"""LIDAR_PUBLISHER: LDS-01 turns read from serial_port, published as LaserScan (one per turn, 5 Hz).
+
+A reader thread assembles turns (the driver blocks up to a turn, 0.2 s) and publishes each one, so
+the executor stays free to notice a stop signal. A driver failure (missing port, silent device)
+is handed to the executor by a watchdog timer and ends the node with exit code 3.
+"""
+
+import threading
+
+from joshua_runtime.convert.laser_scan import packet_to_laser_scan
+from joshua_runtime.drivers import lds01_protocol
+from joshua_runtime.drivers.lds01 import Lds01Driver
+from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.node import JoshuaNode
+from joshua_runtime.nodes import settings_checks
+
+WATCHDOG_PERIOD_S = 0.05
+READER_JOIN_TIMEOUT_S = 0.3
+DEFAULT_FRAME_ID = "laser"
+
+
+class LidarPublisher(JoshuaNode):
+    lidar = None
+    reader = None
+
+    def start(self) -> None:
+        topic = settings_checks.topic(self.settings)
+        port = self.settings.get("serial_port", "")
+        if not port:
+            raise SettingsError("LIDAR_PUBLISHER needs a serial_port")
+        self.lidar = Lds01Driver(
+            port,
+            baud_rate=self.settings.get("baud_rate") or lds01_protocol.BAUD_RATE,
+            frame_id=self.settings.get("frame_id") or DEFAULT_FRAME_ID,
+        )
+        self.lidar.open()
+        self.scans = self.publisher(topic)
+        self.stopping = threading.Event()
+        self.failure: JoshuaError | None = None
+        self.reader = threading.Thread(target=self._read_turns, name="lds01-reader", daemon=True)
+        self.reader.start()
+        self.ros.create_timer(WATCHDOG_PERIOD_S, self._raise_reader_failure)
+
+    def _read_turns(self) -> None:
+        try:
+            while not self.stopping.is_set():
+                scan = self.lidar.read_scan(should_stop=self.stopping.is_set)
+                if scan is not None:
+                    self.scans.publish(packet_to_laser_scan(scan))
+        except JoshuaError as exc:
+            self.failure = exc
+
+    def _raise_reader_failure(self) -> None:
+        if self.failure is not None:
+            raise self.failure
+
+    def close(self) -> None:
+        if self.reader is not None:
+            self.stopping.set()
+            self.reader.join(READER_JOIN_TIMEOUT_S)
+        if self.lidar is not None:
+            self.lidar.close()

@@ -1,0 +1,32 @@
+"""MOCK_LIDAR_PUBLISHER: LaserScans of the synthetic room (no serial port), at rate_hz.
+
+The scans are what an LDS-01 at 300 rpm would report from the middle of the emulators' synthetic
+room: whole-degree rays, 0 where the wall is beyond 3.5 m.
+"""
+
+import time
+
+from joshua_runtime.convert.laser_scan import packet_to_laser_scan
+from joshua_runtime.drivers import lds01_protocol
+from joshua_runtime.drivers.lds01 import scan_packet
+from joshua_runtime.emulators import synthetic_room
+from joshua_runtime.node import JoshuaNode
+from joshua_runtime.nodes import settings_checks
+
+DEFAULT_FRAME_ID = "laser"
+
+
+class MockLidarPublisher(JoshuaNode):
+    def start(self) -> None:
+        topic = settings_checks.topic(self.settings)
+        period = settings_checks.period_s(self.settings)
+        ranges_mm = synthetic_room.scan_mm()
+        self.ranges = [mm / 1000.0 for mm in ranges_mm]
+        self.intensities = [float(synthetic_room.intensity(mm)) for mm in ranges_mm]
+        self.frame_id = self.settings.get("frame_id") or DEFAULT_FRAME_ID
+        self.scans = self.publisher(topic)
+        self.ros.create_timer(period, self._publish)
+
+    def _publish(self) -> None:
+        packet = scan_packet(self.ranges, self.intensities, lds01_protocol.NOMINAL_RPM, self.frame_id, time.time_ns())
+        self.scans.publish(packet_to_laser_scan(packet))

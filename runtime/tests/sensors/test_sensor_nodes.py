@@ -1,0 +1,230 @@
+"""Sensor and mock nodes run as real processes, checked by an in-process rclpy client.
+
+Each test starts a node with `run_node(SETTINGS)`, checks its topic name, type and QoS from the
+ROS graph, the values of what it publishes, and that it exits 0 within the shutdown contract
+after SIGINT or SIGTERM. (DDS discovery carries reliability and durability; history and depth
+are local to each endpoint and are not visible from another process.)
+"""
+
+import math
+import signal
+
+import numpy as np
+from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
+from sensor_msgs.msg import CompressedImage, JointState, LaserScan
+
+from conftest import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, node_settings
+from joshua_runtime.emulators import synthetic_room
+from joshua_runtime.emulators.lds01 import Lds01Emulator
+from joshua_runtime.nodes import mock_arm
+from joshua_runtime.nodes.mock_camera_publisher import SCROLL_PX, gradient, pattern_frame
+
+RELIABLE_QOS = {"history": "KEEP_LAST", "depth": 3, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
+
+
+def assert_endpoint(infos, node_name: str, message_type: str, qos: dict) -> None:
+    assert [info.node_name for info in infos] == [node_name]
+    info = infos[0]
+    assert info.topic_type == message_type
+    assert info.qos_profile.reliability == ReliabilityPolicy[qos["reliability"]]
+    assert info.qos_profile.durability == DurabilityPolicy[qos["durability"]]
+
+
+def assert_clean_stop(node, signum) -> None:
+    code, seconds = node.stop(signum)
+    assert code == 0, node.wait()[1]
+    assert seconds < SHUTDOWN_CONTRACT_S, f"exit took {seconds:.3f} s after {signal.Signals(signum).name}"
+
+
+def f32(value: float) -> float:
+    return float(np.float32(value))
+
+
+def test_mock_camera_publishes_the_moving_pattern_as_jpeg(start_node, ros_client):
+    width, height = 320, 240
+    settings = node_settings("MOCK_CAMERA_PUBLISHER", "mock_cam", "/cam/compressed",
+                             "sensor_msgs/msg/CompressedImage", RELIABLE_QOS, width=width, height=height,
+                             rate_hz=20.0, frame_id="cam_optical")
+    node = start_node(settings)
+    assert_endpoint(ros_client.publishers("/cam/compressed", process=node), "mock_cam",
+                    "sensor_msgs/msg/CompressedImage", RELIABLE_QOS)
+    messages = ros_client.collect(CompressedImage, "/cam/compressed", RELIABLE_QOS, 3)
+    import cv2
+
+    base = gradient(width, height)
+    shifts = []
+    for message in messages:
+        assert message.format == "jpeg" and message.header.frame_id == "cam_optical"
+        frame = cv2.imdecode(np.frombuffer(bytes(message.data), np.uint8), cv2.IMREAD_COLOR)
+        assert frame.shape == (height, width, 3)
+        # The scroll is where blue restarts from 0; the frame must match the pattern at that scroll.
+        shift = int(np.argmin(frame[height // 2, :, 0].astype(int)))
+        shift -= shift % SCROLL_PX
+        expected = pattern_frame(base, shift // SCROLL_PX)
+        assert np.abs(frame.astype(int) - expected.astype(int)).mean() < 3
+        shifts.append(shift)
+    assert len(set(shifts)) == len(shifts), "the pattern does not move"
+    assert_clean_stop(node, signal.SIGINT)
+
+
+def test_mock_lidar_publishes_the_synthetic_room(start_node, ros_client):
+    settings = node_settings("MOCK_LIDAR_PUBLISHER", "mock_lidar", "/scan", "sensor_msgs/msg/LaserScan",
+                             SENSOR_QOS, rate_hz=10.0, frame_id="laser")
+    node = start_node(settings)
+    assert_endpoint(ros_client.publishers("/scan", process=node), "mock_lidar", "sensor_msgs/msg/LaserScan",
+                    SENSOR_QOS)
+    scan = ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 2)[-1]
+    assert scan.header.frame_id == "laser"
+    assert list(scan.ranges) == [f32(mm / 1000.0) for mm in synthetic_room.scan_mm()]
+    assert (scan.ranges[0], scan.ranges[90], scan.ranges[180], scan.ranges[270]) == (f32(0.8), 1.5, 0.0, 1.0)
+    assert scan.angle_increment == f32(2 * math.pi / 360) and scan.scan_time == f32(0.2)
+    assert_clean_stop(node, signal.SIGTERM)
+
+
+def test_mock_encoder_swings_every_joint_within_its_range(start_node, ros_client):
+    names = SO100_JOINTS + ["extra_joint"]
+    settings = node_settings("MOCK_ENCODER_PUBLISHER", "mock_leader", "/leader/joint_states",
+                             "sensor_msgs/msg/JointState", DEFAULT_QOS, joint_names=names, rate_hz=50.0)
+    node = start_node(settings)
+    assert_endpoint(ros_client.publishers("/leader/joint_states", process=node), "mock_leader",
+                    "sensor_msgs/msg/JointState", DEFAULT_QOS)
+    messages = ros_client.collect(JointState, "/leader/joint_states", DEFAULT_QOS, 10)
+    for message in messages:
+        assert list(message.name) == names
+        assert len(message.velocity) == len(names) and list(message.effort) == [0.0] * len(names)
+        for name, position in zip(names, message.position):
+            low, high = mock_arm.joint_range(name)
+            assert low <= position <= high, (name, position)
+    first, last = messages[0].position, messages[-1].position
+    assert all(a != b for a, b in zip(first, last)), "every joint moves"
+    assert_clean_stop(node, signal.SIGINT)
+
+
+def test_mock_actuator_follows_commands_and_publishes_its_state(start_node, ros_client):
+    state_topic = {"name": "/follower/state", "message_type": "sensor_msgs/msg/JointState", "qos": DEFAULT_QOS}
+    settings = node_settings("MOCK_ACTUATOR_SUBSCRIBER", "mock_follower", "/follower/command",
+                             "sensor_msgs/msg/JointState", DEFAULT_QOS, joint_names=SO100_JOINTS,
+                             state_topic=state_topic, rate_hz=100.0)
+    node = start_node(settings)
+    assert_endpoint(ros_client.publishers("/follower/state", process=node), "mock_follower",
+                    "sensor_msgs/msg/JointState", DEFAULT_QOS)
+    subscribers = ros_client.subscribers("/follower/command")
+    assert_endpoint(subscribers, "mock_follower", "sensor_msgs/msg/JointState", DEFAULT_QOS)
+
+    from joshua_runtime.qos import qos_profile
+
+    commands = ros_client.node.create_publisher(JointState, "/follower/command", qos_profile(DEFAULT_QOS))
+    command = JointState(name=["shoulder_pan", "gripper", "not_a_joint", "elbow_flex"],
+                         position=[1.0, 5.0, 3.0, float("nan")])
+    expected = {"shoulder_pan": 1.0, "gripper": 1.75}
+    settled = None
+    for _ in range(100):
+        commands.publish(command)
+        state = ros_client.collect(JointState, "/follower/state", DEFAULT_QOS, 1)[0]
+        present = dict(zip(state.name, state.position))
+        if all(abs(present[name] - value) < 1e-3 for name, value in expected.items()):
+            settled = present
+            break
+    assert settled is not None, f"the arm did not reach its command: {present}"
+    assert list(state.name) == SO100_JOINTS
+    for name in ("shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll"):
+        assert settled[name] == 0.0
+    assert_clean_stop(node, signal.SIGTERM)
+
+
+def test_lidar_publisher_streams_emulated_turns_and_stops_the_motor(tmp_path, start_node, ros_client):
+    link = tmp_path / "ttyLIDAR"
+    with Lds01Emulator(link) as emulator:
+        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/base/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
+                                 serial_port=str(link), baud_rate=230400, rate_hz=5.0, frame_id="lidar_link")
+        node = start_node(settings)
+        assert_endpoint(ros_client.publishers("/base/scan", process=node), "lidar", "sensor_msgs/msg/LaserScan",
+                        SENSOR_QOS)
+        scans = ros_client.collect(LaserScan, "/base/scan", SENSOR_QOS, 2)
+        for scan in scans:
+            assert scan.header.frame_id == "lidar_link"
+            assert (scan.ranges[0], scan.ranges[45], scan.ranges[90], scan.ranges[180], scan.ranges[270]) == (
+                f32(0.8), f32(2.121), 1.5, 0.0, 1.0)
+            assert scan.intensities[90] == 4000 - 1500
+            assert (scan.angle_min, scan.angle_max) == (0.0, f32(2 * math.pi - 2 * math.pi / 360))
+            assert (scan.range_min, scan.range_max) == (f32(0.12), 3.5)
+            assert scan.time_increment == f32(1 / 1800) and scan.scan_time == f32(0.2)
+        assert emulator.stream.spinning
+        assert_clean_stop(node, signal.SIGTERM)
+        assert not emulator.stream.spinning, "the node did not stop the motor"
+
+
+def test_lidar_publisher_stops_on_sigint_too(tmp_path, start_node, ros_client):
+    link = tmp_path / "ttyLIDAR"
+    with Lds01Emulator(link):
+        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
+                                 serial_port=str(link), baud_rate=230400, rate_hz=5.0, frame_id="laser")
+        node = start_node(settings)
+        ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 1, timeout=30.0)
+        assert_clean_stop(node, signal.SIGINT)
+
+
+def test_lidar_publisher_without_its_port_exits_3_with_one_line(tmp_path, start_node):
+    port = tmp_path / "ttyUSB9"
+    settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
+                             serial_port=str(port), baud_rate=230400, rate_hz=5.0)
+    code, stderr = start_node(settings).wait()
+    assert code == 3
+    assert stderr.splitlines() == [stderr.strip()]
+    assert stderr.startswith(f"lidar: error: cannot open LDS-01 lidar at {port}: ")
+
+
+def test_lidar_publisher_on_a_silent_device_exits_3(tmp_path, start_node):
+    from joshua_runtime.emulators.pty_link import PtyLink
+
+    with PtyLink(tmp_path / "ttySILENT") as link:
+        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
+                                 serial_port=str(link.link), baud_rate=230400, rate_hz=5.0)
+        code, stderr = start_node(settings).wait()
+    assert code == 3
+    assert stderr.strip() == f"lidar: error: LDS-01 lidar at {link.link} sent no usable scan within 2 s " \
+                             "(silent device, wrong baud rate or not an LDS-01)"
+
+
+def test_camera_publisher_without_its_camera_exits_3_with_one_line(start_node):
+    settings = node_settings("CAMERA_PUBLISHER", "front_camera", "/front/image", "sensor_msgs/msg/Image",
+                             SENSOR_QOS, camera_index=63, frame_id="camera")
+    code, stderr = start_node(settings).wait()
+    assert code == 3
+    assert stderr == "front_camera: error: cannot open camera 63 (/dev/video63): no such device\n"
+
+
+def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tmp_path, start_node, ros_client):
+    """A video file stands in for the camera; the Fast DDS profile carries the 921,600-byte images."""
+    import cv2
+    from joshua_codegen.render import template
+    from sensor_msgs.msg import Image
+
+    width, height, colours = 640, 480, [(0, 0, 255), (0, 255, 0), (255, 0, 0), (0, 255, 255), (255, 255, 255)]
+    video = tmp_path / "clip.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 30.0, (width, height))
+    for colour in colours:
+        writer.write(np.full((height, width, 3), colour, np.uint8))
+    writer.release()
+    profile = tmp_path / "fastdds_profile.xml"
+    profile.write_text(template("fastdds_profile.xml.j2"))
+    settings = node_settings("CAMERA_PUBLISHER", "front_camera", "/front/image", "sensor_msgs/msg/Image",
+                             SENSOR_QOS, video_source=str(video), width=width, height=height, rate_hz=30.0,
+                             frame_id="front_optical")
+    node = start_node(settings, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
+    assert_endpoint(ros_client.publishers("/front/image", process=node), "front_camera", "sensor_msgs/msg/Image",
+                    SENSOR_QOS)
+    # A deep queue on the reader side, so that only the transport could lose frames.
+    deep = dict(SENSOR_QOS, depth=60)
+    messages = ros_client.collect(Image, "/front/image", deep, 25)
+    order = []
+    for message in messages:
+        assert (message.width, message.height, message.encoding, message.step) == (width, height, "bgr8", width * 3)
+        assert len(message.data) == width * height * 3 and message.header.frame_id == "front_optical"
+        pixels = np.frombuffer(message.data, np.uint8).reshape(height, width, 3).astype(int)
+        errors = [np.abs(pixels - np.array(colour)).mean() for colour in colours]
+        assert min(errors) < 3
+        order.append(int(np.argmin(errors)))
+    gaps = [(b - a) % len(colours) for a, b in zip(order, order[1:])]
+    assert gaps == [1] * len(gaps), f"frames lost or repeated: {order}"
+    assert_clean_stop(node, signal.SIGINT)
