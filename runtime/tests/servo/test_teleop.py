@@ -1,0 +1,69 @@
+"""Leader/follower teleoperation end to end: two emulated SO-100 buses, the two nodes as processes.
+
+The nodes get the settings joshuac writes for config/robots/so100_leader_follower.pbtxt (ENCODER_PUBLISHER
+on the leader bus publishing /leader/joint_states RELIABLE; ACTUATOR_SUBSCRIBER on the follower bus
+subscribing to it), with the serial ports pointed at the emulators' ptys.
+"""
+
+import signal
+
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
+from servo_helpers import SO100_IDS, SO100_JOINTS, node_settings
+
+from joshua_runtime.drivers.calibration import RADIANS_PER_TICK
+
+STARTUP_TIMEOUT_S = 30.0
+TRACKING_TIMEOUT_S = 10.0
+TRACKING_TOLERANCE_TICKS = 2
+LEADER_TOPIC = "/leader/joint_states"
+RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+POSES = ([1200, 1800, 2600, 3000, 900, 2300], [2900, 2200, 1500, 1100, 3600, 1700])
+
+
+def test_follower_tracks_the_leader(emulators, start_node, probe):
+    leader_bus = emulators("ttyUSB0")
+    follower_bus = emulators("ttyUSB1")
+    leader = start_node(node_settings("ENCODER_PUBLISHER", "encoder_publisher", leader_bus.link, LEADER_TOPIC))
+    follower = start_node(node_settings("ACTUATOR_SUBSCRIBER", "actuator_subscriber", follower_bus.link, LEADER_TOPIC))
+    probe.listen(LEADER_TOPIC, JointState, RELIABLE)
+
+    def endpoints_known():
+        publishers = probe.node.get_publishers_info_by_topic(LEADER_TOPIC)
+        subscribers = probe.node.get_subscriptions_info_by_topic(LEADER_TOPIC)
+        names = {i.node_name for i in publishers + subscribers}
+        return probe.last(LEADER_TOPIC) is not None and {"encoder_publisher", "actuator_subscriber"} <= names
+
+    assert probe.spin_until(endpoints_known, STARTUP_TIMEOUT_S), (leader.failure(), follower.failure())
+    (publisher,) = probe.node.get_publishers_info_by_topic(LEADER_TOPIC)
+    assert (publisher.node_name, publisher.topic_type) == ("encoder_publisher", "sensor_msgs/msg/JointState")
+    assert publisher.qos_profile.reliability == ReliabilityPolicy.RELIABLE
+    assert publisher.qos_profile.durability == DurabilityPolicy.VOLATILE
+    followers = [s for s in probe.node.get_subscriptions_info_by_topic(LEADER_TOPIC) if s.node_name != "servo_probe"]
+    assert [(s.node_name, s.topic_type) for s in followers] == [("actuator_subscriber", "sensor_msgs/msg/JointState")]
+    assert followers[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
+    assert [follower_bus.read_register(i, "Torque_Enable") for i in SO100_IDS] == [1] * 6
+    assert [leader_bus.read_register(i, "Torque_Enable") for i in SO100_IDS] == [0] * 6
+
+    for pose in POSES:
+        for servo_id, ticks in zip(SO100_IDS, pose):
+            leader_bus.move_by_hand(servo_id, ticks)
+
+        def tracking():
+            return all(abs(follower_bus.position(i) - t) <= TRACKING_TOLERANCE_TICKS for i, t in zip(SO100_IDS, pose))
+
+        assert follower_bus.wait_until(tracking, TRACKING_TIMEOUT_S), [follower_bus.position(i) for i in SO100_IDS]
+        assert [follower_bus.read_register(i, "Goal_Position") for i in SO100_IDS] == pose
+
+        def published_pose():
+            message = probe.last(LEADER_TOPIC)
+            expected = [(t - 2047.5) * RADIANS_PER_TICK for t in pose]
+            return all(abs(p - e) < 1e-9 for p, e in zip(message.position, expected))
+
+        assert probe.spin_until(published_pose, TRACKING_TIMEOUT_S)
+        assert list(probe.last(LEADER_TOPIC).name) == SO100_JOINTS
+
+    for node in (leader, follower):
+        code, _, stderr = node.stop(signal.SIGINT)
+        assert code == 0, stderr
+    assert [follower_bus.read_register(i, "Torque_Enable") for i in SO100_IDS] == [0] * 6
