@@ -1,0 +1,184 @@
+"""The recorder's writing thread: feeds frames to a LeRobotDataset and commits each finished episode.
+
+Every episode is written into a staging copy of the dataset (see `staged_directory.py`), saved,
+finalised (LeRobot's parquet writers only write their footer on close), then swapped in atomically.
+So the dataset at `output_directory` is always a finalised dataset that `LeRobotDataset` loads, and
+a process killed at any moment loses at most the episode in progress. Each episode after the first
+goes to new data/video/metadata files, as LeRobot does when it resumes recording a dataset.
+
+Video datasets use LeRobot's streaming encoder (frames are encoded while recording, so saving an
+episode at SIGINT is quick); image datasets write PNG files through LeRobot's threaded image writer.
+"""
+
+import os
+import queue
+import shutil
+import tempfile
+import threading
+from pathlib import Path
+
+from joshua_runtime.ai import staged_directory
+from joshua_runtime.errors import JoshuaError, SettingsError
+
+VIDEO_CODEC = "libsvtav1"
+IMAGE_WRITER_THREADS = 4
+# LeRobot's default features, added by LeRobot itself; ignored when comparing with an existing dataset.
+_DEFAULT_FEATURES = ("timestamp", "frame_index", "episode_index", "index", "task_index")
+
+
+class EpisodeWriter:
+    """Owns the dataset on disk; commands are queued and applied in order by one thread."""
+
+    def __init__(self, output_directory: str, fps: int, robot_type: str, use_videos: bool, log):
+        self.target = Path(output_directory).expanduser().absolute()
+        self.fps = fps
+        self.robot_type = robot_type
+        self.use_videos = use_videos
+        self.log = log
+        self.error: BaseException | None = None
+        self.saved_episodes = 0
+        self._commands: queue.Queue = queue.Queue()
+        self._features: dict | None = None
+        self._dataset = None
+        self._task = ""
+        self._frames = 0
+        self._cache = tempfile.mkdtemp(prefix="joshua-recorder-cache-")
+        self._thread = threading.Thread(target=self._run, name="episode-writer", daemon=True)
+        self._thread.start()
+
+    # Commands, called from the ROS thread.
+    def configure(self, features: dict) -> None:
+        self._commands.put(("configure", features))
+
+    def start_episode(self, task: str) -> None:
+        self._commands.put(("start", task))
+
+    def add_frame(self, frame: dict) -> None:
+        self._commands.put(("frame", frame))
+
+    def end_episode(self) -> None:
+        self._commands.put(("stop", None))
+
+    def discard_episode(self) -> None:
+        self._commands.put(("discard", None))
+
+    def close(self) -> None:
+        """Apply every queued command (saving the episode in progress if asked), then stop the thread."""
+        self._commands.put(("close", None))
+        self._thread.join()
+        shutil.rmtree(self._cache, ignore_errors=True)
+
+    @property
+    def pending(self) -> int:
+        return self._commands.qsize()
+
+    # The writing thread.
+    def _run(self) -> None:
+        # Keep the Hugging Face datasets cache of this process private (LeRobot reloads the dataset
+        # when it resumes it), and delete it at close.
+        os.environ["HF_DATASETS_CACHE"] = self._cache
+        try:
+            staged_directory.recover(self.target)
+            while True:
+                command, argument = self._commands.get()
+                if command == "close":
+                    return
+                if self.error is None:
+                    getattr(self, f"_{command}")(argument)
+        except BaseException as exc:  # reported by the node through `error`
+            self.error = exc if isinstance(exc, JoshuaError) else JoshuaError(f"recording failed: {type(exc).__name__}: {exc}")
+        finally:
+            if self.error is not None:
+                self._drop_dataset()
+
+    def _configure(self, features: dict) -> None:
+        self._features = features
+
+    def _start(self, task: str) -> None:
+        self._task = task
+        self._frames = 0
+
+    def _frame(self, frame: dict) -> None:
+        if self._dataset is None:
+            self._dataset = self._open()
+        frame["task"] = self._task
+        self._dataset.add_frame(frame)
+        self._frames += 1
+
+    def _stop(self, _argument) -> None:
+        if self._dataset is None or self._frames == 0:
+            self.log.info("episode ended without frames; nothing saved")
+            self._drop_dataset()
+            return
+        dataset, frames = self._dataset, self._frames
+        episode = dataset.meta.total_episodes
+        dataset.save_episode()
+        dataset.stop_image_writer()
+        dataset.finalize()
+        self._dataset = None
+        staged_directory.commit(self.target)
+        self._clear_cache()
+        self.saved_episodes += 1
+        self.log.info(f"episode {episode} saved: {frames} frames, {episode + 1} episodes in {self.target}")
+
+    def _discard(self, _argument) -> None:
+        self.log.info(f"episode discarded ({self._frames} frames)")
+        self._drop_dataset()
+
+    def _drop_dataset(self) -> None:
+        if self._dataset is not None:
+            try:
+                self._dataset.stop_image_writer()
+                self._dataset.clear_episode_buffer(delete_images=False)
+                self._dataset.finalize()
+            except Exception:  # the staging copy is deleted below whatever state it is in
+                pass
+            self._dataset = None
+        staged_directory.discard(self.target)
+        self._frames = 0
+
+    def _clear_cache(self) -> None:
+        for entry in Path(self._cache).iterdir():
+            shutil.rmtree(entry, ignore_errors=True)
+
+    def _open(self):
+        """The LeRobotDataset to write the next episode into, in a fresh staging copy."""
+        import datasets.config
+        from lerobot.datasets.lerobot_dataset import LeRobotDataset
+
+        datasets.config.HF_DATASETS_CACHE = Path(self._cache)
+        if self._features is None:
+            raise JoshuaError("a frame arrived before the dataset features were known")
+        staging = staged_directory.prepare(self.target)
+        repo_id = f"local/{self.target.name}"
+        if not (staging / "meta" / "info.json").is_file():
+            return LeRobotDataset.create(
+                repo_id, self.fps, self._features, root=staging, robot_type=self.robot_type,
+                use_videos=self.use_videos, image_writer_threads=0 if self.use_videos else IMAGE_WRITER_THREADS,
+                video_backend="pyav", vcodec=VIDEO_CODEC, streaming_encoding=self.use_videos,
+            )
+        self._check_compatible(staging)
+        dataset = LeRobotDataset(
+            repo_id, root=staging, video_backend="pyav", vcodec=VIDEO_CODEC, streaming_encoding=self.use_videos,
+        )
+        if not self.use_videos:
+            dataset.start_image_writer(num_processes=0, num_threads=IMAGE_WRITER_THREADS)
+        return dataset
+
+    def _check_compatible(self, staging: Path) -> None:
+        import json
+
+        info = json.loads((staging / "meta" / "info.json").read_text())
+        if info.get("fps") != self.fps:
+            raise SettingsError(f"dataset {self.target} was recorded at {info.get('fps')} fps, not {self.fps}")
+        existing = {key: _comparable(value) for key, value in info["features"].items() if key not in _DEFAULT_FEATURES}
+        wanted = {key: _comparable(value) for key, value in self._features.items()}
+        if existing != wanted:
+            raise SettingsError(
+                f"dataset {self.target} has features {sorted(existing)} of other types, shapes or names "
+                f"than this recording ({sorted(wanted)}); choose another output_directory"
+            )
+
+
+def _comparable(feature: dict) -> tuple:
+    return feature["dtype"], tuple(feature["shape"]), tuple(feature.get("names") or ())

@@ -1,0 +1,161 @@
+"""INFERENCE node: serve a LeRobot policy (ACT, Diffusion) as a ROS 2 node.
+
+Settings used: `model_path` (a policy directory saved by LeRobot, or `registry:NAME[@REV]`),
+`policy_type` (optional check against the saved config), `device` (`cpu` / `cuda`), `inputs`
+(Image and JointState topics, mapped to policy features as described in `observation_mapper.py`),
+`topic` (sensor_msgs/msg/JointState actions), `joint_names` (names of the published joints; when
+empty, the policy's action feature names without `.pos`), `rate_hz` (inference and publish rate).
+
+The policy is loaded and warmed up (one inference on a blank observation, then reset) in a
+background thread while the node keeps answering signals; "ready" is logged after the warm-up.
+At each tick, when an input has not published yet or its last message is older than
+`INPUT_STALE_AFTER_S`, nothing is published and the reason is logged (throttled); when inputs come
+back, the policy is reset first so that actions queued before the gap are never executed.
+"""
+
+import math
+import threading
+import time
+
+from joshua_runtime.ai import features as keys
+from joshua_runtime.ai import model_files, registry
+from joshua_runtime.ai.latest_samples import LatestSamples
+from joshua_runtime.ai.ros_arrays import joint_state
+from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.node import JoshuaNode
+
+INPUT_STALE_AFTER_S = 0.5
+PROBLEM_LOG_PERIOD_S = 2.0
+DEFAULT_RATE_HZ = 30.0
+
+
+def resolve_model_path(model_path: str):
+    """The policy directory named by a settings `model_path` (a directory or `registry:NAME[@REV]`)."""
+    if not model_path:
+        raise SettingsError("model_path is empty")
+    if registry.is_reference(model_path):
+        try:
+            return model_files.policy_directory(registry.resolve(model_path).path)
+        except registry.RegistryError as exc:
+            raise SettingsError(str(exc)) from exc
+    return model_files.policy_directory(model_path)
+
+
+class InferenceNode(JoshuaNode):
+    """Subscribes to sensor inputs, runs `select_action` at rate_hz, publishes JointState actions."""
+
+    def start(self) -> None:
+        topic = self.settings.get("topic")
+        if not topic or topic["message_type"] != keys.JOINT_STATE:
+            raise SettingsError(f"{self.name}: the action topic must be {keys.JOINT_STATE}")
+        inputs = self.settings.get("inputs") or []
+        if not inputs:
+            raise SettingsError(f"{self.name}: no input topics")
+        keys.check_inputs(self.name, inputs)
+        self.policy_dir = resolve_model_path(self.settings.get("model_path", ""))
+        saved_type = model_files.policy_type(self.policy_dir)
+        if saved_type not in model_files.SUPPORTED_POLICY_TYPES:
+            raise SettingsError(
+                f"policy type {saved_type!r} is not supported "
+                f"(supported: {', '.join(model_files.SUPPORTED_POLICY_TYPES)})"
+            )
+        wanted = self.settings.get("policy_type") or ""
+        if wanted and wanted.lower() != saved_type:
+            raise SettingsError(f"policy_type is {wanted!r} but the policy in {self.policy_dir} is {saved_type!r}")
+        rate = float(self.settings.get("rate_hz") or 0)
+        self.rate_hz = rate if rate > 0 else DEFAULT_RATE_HZ
+        self.samples = LatestSamples([t["name"] for t in inputs])
+        self.subscriptions = [self.subscription(t, self.samples.callback(t["name"])) for t in inputs]
+        self.action_publisher = self.publisher(topic)
+        self.runner = None
+        self.mapper = None
+        self.joint_names: list[str] = []
+        self.ready = threading.Event()
+        self.load_error: BaseException | None = None
+        self.inputs_interrupted = False
+        self.published = 0
+        self.started_s = time.monotonic()
+        self.loader = threading.Thread(target=self._load, name="policy-loader", daemon=True)
+        self.loader.start()
+        self.timer = self.ros.create_timer(1.0 / self.rate_hz, self._tick)
+
+    def _load(self) -> None:
+        try:
+            from joshua_runtime.ai.observation_mapper import ObservationMapper
+            from joshua_runtime.ai.policy_runner import PolicyRunner
+
+            runner = PolicyRunner(self.policy_dir, self.settings.get("device") or "cpu")
+            names = model_files.feature_names(self.policy_dir)
+            self.joint_names = self._action_joint_names(runner.shapes.action_size, names.get(keys.ACTION))
+            self.mapper = ObservationMapper(
+                self.name, self.settings["inputs"], runner.shapes.images, runner.shapes.state_size,
+                names.get(keys.STATE),
+            )
+            for unused in self.mapper.unused_topics:
+                self.log.warning(f"input {unused} feeds no policy feature and is ignored")
+            warm_up_s = runner.warm_up()
+            self.runner = runner
+            self.ready.set()
+            self.log.info(
+                f"ready: {runner.config.type} policy from {self.policy_dir} on {runner.device} "
+                f"(load+warm-up {time.monotonic() - self.started_s:.2f} s, first inference {warm_up_s:.3f} s); "
+                f"publishing {len(self.joint_names)} joints on {self.settings['topic']['name']} at {self.rate_hz:g} Hz"
+            )
+        except JoshuaError as exc:
+            self.load_error = exc
+        except Exception as exc:  # a broken checkpoint surfaces as many library exception types
+            self.load_error = JoshuaError(f"cannot load policy from {self.policy_dir}: {type(exc).__name__}: {exc}")
+
+    def _action_joint_names(self, size: int, feature_names: list[str] | None) -> list[str]:
+        names = list(self.settings.get("joint_names") or [])
+        if names:
+            if len(names) != size:
+                raise SettingsError(f"joint_names has {len(names)} names but the policy outputs {size} actions")
+            return names
+        if feature_names and len(feature_names) == size:
+            return [keys.joint_name(name) for name in feature_names]
+        raise SettingsError(
+            f"the policy does not record its {size} action names; set joint_names on the INFERENCE node"
+        )
+
+    def _tick(self) -> None:
+        if self.load_error is not None:
+            error, self.load_error = self.load_error, None
+            raise error
+        if not self.ready.is_set():
+            return
+        problems = self.samples.problems(INPUT_STALE_AFTER_S)
+        if problems:
+            self._hold("; ".join(problems))
+            return
+        from joshua_runtime.ai.observation_mapper import ObservationUnavailable
+
+        try:
+            observation = self.mapper.observation(self.samples.message)
+        except ObservationUnavailable as exc:
+            self._hold(str(exc))
+            return
+        if self.inputs_interrupted:
+            self.runner.reset()
+            self.inputs_interrupted = False
+        try:
+            action = self.runner.act(observation)
+        except Exception as exc:
+            raise JoshuaError(f"inference failed: {type(exc).__name__}: {exc}") from exc
+        if not all(math.isfinite(float(v)) for v in action):
+            self._hold("the policy returned a non-finite action")
+            return
+        self.action_publisher.publish(joint_state(self.joint_names, action, self.stamp()))
+        self.published += 1
+        if self.published == 1:
+            self.log.info(f"first action published {time.monotonic() - self.started_s:.2f} s after start")
+
+    def _hold(self, reason: str) -> None:
+        """Publish nothing this tick, remember the gap and say why (at most every PROBLEM_LOG_PERIOD_S)."""
+        self.inputs_interrupted = True
+        self.log.warning(f"no action: {reason}", throttle_duration_sec=PROBLEM_LOG_PERIOD_S)
+
+    def close(self) -> None:
+        timer = getattr(self, "timer", None)
+        if timer is not None:
+            timer.cancel()

@@ -1,0 +1,110 @@
+"""Load a saved LeRobot policy with its own processor pipelines and run one inference step.
+
+Normalisation, batching and device placement are done by the `policy_preprocessor` /
+`policy_postprocessor` pipelines saved with the policy (`make_pre_post_processors` with the
+policy directory as `pretrained_path`); the observation is prepared with LeRobot's
+`predict_action` (images HWC uint8 -> CHW float in [0, 1], batch dimension added).
+Importing this module imports torch and LeRobot.
+"""
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from joshua_runtime.ai import features as keys
+from joshua_runtime.ai.model_files import SUPPORTED_POLICY_TYPES
+from joshua_runtime.errors import SettingsError
+
+
+@dataclass(frozen=True)
+class PolicyShapes:
+    """What the policy reads and writes: image features (key -> (C, H, W)), state and action sizes."""
+
+    images: dict[str, tuple[int, ...]]
+    state_size: int | None
+    action_size: int
+
+
+def check_device(device: str) -> torch.device:
+    """The torch device for `cpu`, `cuda` or `cuda:N`; a SettingsError when CUDA is asked and absent."""
+    name = device or "cpu"
+    if name == "cpu":
+        return torch.device("cpu")
+    if name == "cuda" or name.startswith("cuda:"):
+        if not torch.cuda.is_available():
+            raise SettingsError(f"device {name!r} requested but CUDA is not available on this machine")
+        return torch.device(name)
+    raise SettingsError(f"unsupported device {name!r} (use cpu or cuda)")
+
+
+class PolicyRunner:
+    """A policy, its pre/post-processors and its device, ready for `act(observation)`."""
+
+    def __init__(self, policy_dir: Path, device: str):
+        from lerobot.configs.policies import PreTrainedConfig
+        from lerobot.policies.factory import get_policy_class, make_pre_post_processors
+
+        self.device = check_device(device)
+        config = PreTrainedConfig.from_pretrained(policy_dir)
+        if config.type not in SUPPORTED_POLICY_TYPES:
+            raise SettingsError(
+                f"policy type {config.type!r} is not supported (supported: {', '.join(SUPPORTED_POLICY_TYPES)})"
+            )
+        config.device = self.device.type
+        config.pretrained_path = policy_dir
+        if hasattr(config, "pretrained_backbone_weights"):
+            # The checkpoint holds the backbone weights; never fetch torchvision's.
+            config.pretrained_backbone_weights = None
+        self.config = config
+        self.policy = get_policy_class(config.type).from_pretrained(policy_dir, config=config)
+        self.preprocessor, self.postprocessor = make_pre_post_processors(
+            config,
+            pretrained_path=str(policy_dir),
+            preprocessor_overrides={"device_processor": {"device": str(self.device)}},
+        )
+        self.shapes = _shapes(config)
+
+    def reset(self) -> None:
+        """Forget queued actions and observation history (after a gap in the inputs)."""
+        self.policy.reset()
+
+    def act(self, observation: dict[str, np.ndarray]) -> np.ndarray:
+        """One action (float32 vector) for an observation of HWC uint8 images and a float32 state."""
+        from lerobot.utils.control_utils import predict_action
+
+        action = predict_action(
+            dict(observation), self.policy, self.device, self.preprocessor, self.postprocessor,
+            use_amp=False, task="", robot_type="",
+        )
+        return action.squeeze(0).to("cpu").numpy().astype(np.float32)
+
+    def warm_up(self) -> float:
+        """Run one inference on a blank observation, then reset; return its duration in seconds."""
+        blank = {key: np.zeros((shape[1], shape[2], shape[0]), np.uint8) for key, shape in self.shapes.images.items()}
+        if self.shapes.state_size is not None:
+            blank[keys.STATE] = np.zeros(self.shapes.state_size, np.float32)
+        start = time.perf_counter()
+        self.act(blank)
+        elapsed = time.perf_counter() - start
+        self.reset()
+        return elapsed
+
+
+def _shapes(config) -> PolicyShapes:
+    images = {}
+    state_size = None
+    for key, feature in config.input_features.items():
+        kind = feature.type.name
+        if kind == "VISUAL" and key.startswith(keys.IMAGE_PREFIX):
+            images[key] = tuple(feature.shape)
+        elif kind == "STATE" and key == keys.STATE:
+            state_size = int(feature.shape[0])
+        else:
+            raise SettingsError(f"policy input {key} ({kind}) has no ROS source (supported: images and state)")
+    action = config.output_features.get(keys.ACTION)
+    if action is None or len(action.shape) != 1:
+        raise SettingsError("policy has no one-dimensional 'action' output")
+    return PolicyShapes(images=images, state_size=state_size, action_size=int(action.shape[0]))

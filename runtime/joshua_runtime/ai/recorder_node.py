@@ -1,0 +1,138 @@
+"""DATA_SUBSCRIBER node: record a JointState topic and sensor inputs into a LeRobotDataset v3.0.
+
+Settings used: `topic` (sensor_msgs/msg/JointState, recorded as `action`), `inputs` (Image and
+JointState topics, recorded as `observation.images.<key>` / `observation.state`, see `features.py`),
+`rate_hz` (frames per second, rounded to an integer), `output_directory`, `output_format`:
+- `lerobot`: images are video features (AV1 mp4 files, encoded while recording);
+- `parquet`: the same dataset with images stored as image features (PNG inside the parquet files),
+  no video files. Without Image inputs both formats are identical.
+
+Frames: at every tick the latest message of each topic is held; when one has not published yet or
+its last message is older than `SAMPLE_STALE_AFTER_S`, the frame is skipped and reported (throttled).
+
+Episodes: one starts when the node starts. Commands on the std_msgs/String topic `~/episode`
+(i.e. `/<node name>/episode`) control them: `start` or `start <task>` begins an episode (task text
+defaults to the robot name), `stop` saves the current one, `discard` drops it. SIGINT/SIGTERM save
+the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
+"""
+
+from joshua_runtime.ai import features as keys
+from joshua_runtime.ai.episode_writer import EpisodeWriter
+from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
+from joshua_runtime.ai.latest_samples import LatestSamples
+from joshua_runtime.errors import SettingsError
+from joshua_runtime.node import JoshuaNode
+
+SAMPLE_STALE_AFTER_S = 0.5
+PROBLEM_LOG_PERIOD_S = 2.0
+DEFAULT_RATE_HZ = 30.0
+OUTPUT_FORMATS = ("lerobot", "parquet")
+COMMAND_TOPIC = "~/episode"
+COMMAND_QOS_DEPTH = 10
+
+
+class RecorderNode(JoshuaNode):
+    """Samples its topics at rate_hz into episodes written by an EpisodeWriter thread."""
+
+    def start(self) -> None:
+        topic = self.settings.get("topic")
+        if not topic or topic["message_type"] != keys.JOINT_STATE:
+            raise SettingsError(f"{self.name}: the recorded topic must be {keys.JOINT_STATE} (it becomes the action)")
+        inputs = self.settings.get("inputs") or []
+        keys.check_inputs(self.name, inputs)
+        output_format = self.settings.get("output_format") or OUTPUT_FORMATS[0]
+        if output_format not in OUTPUT_FORMATS:
+            raise SettingsError(f"output_format {output_format!r} is not one of {', '.join(OUTPUT_FORMATS)}")
+        if not self.settings.get("output_directory"):
+            raise SettingsError(f"{self.name}: output_directory is empty")
+        rate = float(self.settings.get("rate_hz") or 0)
+        self.fps = max(1, round(rate)) if rate > 0 else int(DEFAULT_RATE_HZ)
+        use_videos = output_format == "lerobot"
+        self.sampler = FrameSampler(topic["name"], inputs, use_videos)
+        self.samples = LatestSamples(self.sampler.topic_names)
+        self.subscriptions = [self.subscription(t, self.samples.callback(t["name"])) for t in [topic, *inputs]]
+        self.writer = EpisodeWriter(
+            self.settings["output_directory"], self.fps, self.settings.get("robot") or "", use_videos, self.log,
+        )
+        from std_msgs.msg import String
+
+        self.commands = self.ros.create_subscription(String, COMMAND_TOPIC, self._command, COMMAND_QOS_DEPTH)
+        self.recording = False
+        self.frames = 0
+        self.skipped = 0
+        self._begin(self._default_task())
+        self.timer = self.ros.create_timer(1.0 / self.fps, self._tick)
+        self.log.info(
+            f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
+            f"{self.settings['output_directory']} ({output_format}); episode commands on "
+            f"{self.ros.resolve_topic_name(COMMAND_TOPIC)}"
+        )
+
+    def _default_task(self) -> str:
+        return self.settings.get("robot") or self.name
+
+    def _begin(self, task: str) -> None:
+        self.writer.start_episode(task)
+        self.recording = True
+        self.frames = 0
+        self.skipped = 0
+
+    def _end(self, save: bool) -> None:
+        if save:
+            self.writer.end_episode()
+        else:
+            self.writer.discard_episode()
+        self.recording = False
+        self.log.info(f"episode {'stopped' if save else 'discarded'} after {self.frames} frames ({self.skipped} skipped)")
+
+    def _command(self, msg) -> None:
+        word, _, argument = msg.data.strip().partition(" ")
+        if word == "start":
+            if self.recording:
+                self.log.warning("episode command 'start' ignored: an episode is already recording")
+                return
+            self._begin(argument.strip() or self._default_task())
+            self.log.info("episode started")
+        elif word in ("stop", "discard"):
+            if not self.recording:
+                self.log.warning(f"episode command {word!r} ignored: no episode is recording")
+                return
+            self._end(save=word == "stop")
+        else:
+            self.log.warning(f"unknown episode command {msg.data!r} (use start [task], stop, discard)")
+
+    def _tick(self) -> None:
+        if self.writer.error is not None:
+            raise self.writer.error
+        if not self.recording:
+            return
+        problems = self.samples.problems(SAMPLE_STALE_AFTER_S)
+        first = self.sampler.features is None
+        if not problems:
+            try:
+                frame = self.sampler.frame(self.samples.message)
+            except FrameUnavailable as exc:
+                problems = [str(exc)]
+        if problems:
+            self.skipped += 1
+            self.log.warning(f"frame skipped: {'; '.join(problems)}", throttle_duration_sec=PROBLEM_LOG_PERIOD_S)
+            return
+        if first:
+            self.writer.configure(self.sampler.features)
+        self.writer.add_frame(frame)
+        self.frames += 1
+        if self.frames == 1:
+            self.log.info("first frame of the episode recorded")
+
+    def close(self) -> None:
+        timer = getattr(self, "timer", None)
+        if timer is not None:
+            timer.cancel()
+        writer = getattr(self, "writer", None)
+        if writer is None:
+            return
+        if self.recording:
+            self._end(save=True)
+        writer.close()
+        if writer.error is not None:
+            raise writer.error

@@ -1,0 +1,210 @@
+"""Local registry of LeRobot policies by name and revision, usable offline.
+
+Layout (root: $JOSHUA_MODEL_REGISTRY, default ~/.cache/joshua/models):
+
+    <root>/<name>/<revision>/            the policy files, as saved by LeRobot
+    <root>/<name>/<revision>/joshua_model.json   name, revision, type, import order, source, digest
+
+`registry:NAME` resolves to the revision imported last, `registry:NAME@REVISION` to that one.
+A revision defaults to the first 12 hex digits of the SHA-256 of the policy files, so importing the
+same files twice is a no-op. Entries appear atomically (copied aside, then renamed into place).
+The Hugging Face Hub is used only by `pull`, never by resolution.
+"""
+
+import hashlib
+import json
+import os
+import re
+import shutil
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from joshua_runtime.ai import model_files
+from joshua_runtime.errors import JoshuaError
+
+REGISTRY_ENV = "JOSHUA_MODEL_REGISTRY"
+DEFAULT_ROOT = "~/.cache/joshua/models"
+REF_PREFIX = "registry:"
+ENTRY_FILE = "joshua_model.json"
+DIGEST_LENGTH = 12
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,127}$")
+
+
+class RegistryError(JoshuaError):
+    """A registry entry is missing, malformed or in conflict."""
+
+
+@dataclass(frozen=True)
+class Entry:
+    name: str
+    revision: str
+    path: Path
+    policy_type: str
+    sequence: int
+    imported_at: str
+    source: str
+    digest: str
+
+
+def root() -> Path:
+    return Path(os.environ.get(REGISTRY_ENV) or DEFAULT_ROOT).expanduser()
+
+
+def is_reference(model_path: str) -> bool:
+    return model_path.startswith(REF_PREFIX)
+
+
+def parse_reference(reference: str) -> tuple[str, str | None]:
+    """`registry:NAME@REV` -> (NAME, REV); `registry:NAME` -> (NAME, None)."""
+    body = reference[len(REF_PREFIX):] if is_reference(reference) else reference
+    name, _, revision = body.partition("@")
+    check_name(name, "model name")
+    if revision:
+        check_name(revision, "revision")
+    return name, revision or None
+
+
+def check_name(text: str, what: str) -> None:
+    if not _NAME.match(text or ""):
+        raise RegistryError(f"invalid {what} {text!r}: use letters, digits, '.', '_' or '-'")
+
+
+def entries(name: str | None = None) -> list[Entry]:
+    """Every entry (of one name), oldest import first."""
+    base = root()
+    if name:
+        names = [name]
+    elif base.is_dir():
+        names = sorted(p.name for p in base.iterdir() if p.is_dir())
+    else:
+        names = []
+    found = []
+    for model in names:
+        directory = base / model
+        if not directory.is_dir():
+            continue
+        for revision_dir in directory.iterdir():
+            entry = _read_entry(revision_dir)
+            if entry is not None:
+                found.append(entry)
+    return sorted(found, key=lambda e: (e.name, e.sequence, e.imported_at))
+
+
+def resolve(reference: str) -> Entry:
+    """The entry named by `registry:NAME[@REV]` (the latest import when no revision is given)."""
+    name, revision = parse_reference(reference)
+    if revision is not None:
+        entry = _read_entry(root() / name / revision)
+        if entry is None:
+            raise RegistryError(f"{REF_PREFIX}{name}@{revision} is not in the registry at {root()}")
+        return entry
+    found = entries(name)
+    if not found:
+        raise RegistryError(f"{REF_PREFIX}{name} is not in the registry at {root()}")
+    return found[-1]
+
+
+def import_policy(path: str | Path, name: str, revision: str | None = None, source: str | None = None) -> Entry:
+    """Copy the policy at `path` into the registry as NAME@REVISION; return the entry."""
+    check_name(name, "model name")
+    if revision is not None:
+        check_name(revision, "revision")
+    policy_dir = model_files.policy_directory(path)
+    policy_type = model_files.policy_type(policy_dir)
+    digest = _digest(policy_dir)
+    revision = revision or digest[:DIGEST_LENGTH]
+    target = root() / name / revision
+    existing = _read_entry(target)
+    if existing is not None:
+        if existing.digest == digest:
+            return existing
+        raise RegistryError(f"{name}@{revision} already exists with different files")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".import-{revision}-", dir=target.parent))
+    try:
+        copy = staging / "policy"
+        shutil.copytree(policy_dir, copy, ignore=shutil.ignore_patterns(ENTRY_FILE))
+        names = model_files.feature_names(policy_dir)
+        if names:
+            model_files.write_feature_names(copy, names)
+        record = {
+            "name": name,
+            "revision": revision,
+            "policy_type": policy_type,
+            "sequence": 1 + max((e.sequence for e in entries(name)), default=0),
+            "imported_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "source": source or str(Path(path).resolve()),
+            "digest": digest,
+        }
+        (copy / ENTRY_FILE).write_text(json.dumps(record, indent=2) + "\n")
+        try:
+            os.rename(copy, target)
+        except OSError as exc:
+            raise RegistryError(f"cannot add {name}@{revision}: {exc}") from exc
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    entry = _read_entry(target)
+    assert entry is not None
+    return entry
+
+
+def pull(repo_id: str, name: str | None = None, hub_revision: str | None = None) -> Entry:
+    """Download a policy from the Hugging Face Hub and import it (the only networked operation)."""
+    from huggingface_hub import snapshot_download
+    from huggingface_hub.errors import HfHubHTTPError, LocalEntryNotFoundError
+
+    name = name or repo_id.rsplit("/", 1)[-1]
+    check_name(name, "model name")
+    with tempfile.TemporaryDirectory(prefix="joshua-pull-") as download:
+        try:
+            snapshot_download(repo_id=repo_id, revision=hub_revision, local_dir=download)
+        except (HfHubHTTPError, LocalEntryNotFoundError, OSError, ValueError) as exc:
+            first_line = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+            raise RegistryError(f"cannot download {repo_id} from the Hugging Face Hub: {first_line}") from exc
+        source = f"hf://{repo_id}" + (f"@{hub_revision}" if hub_revision else "")
+        return import_policy(download, name, source=source)
+
+
+def remove(reference: str) -> Entry:
+    """Delete one revision (`registry:NAME@REV` or NAME@REV)."""
+    name, revision = parse_reference(reference)
+    if revision is None:
+        raise RegistryError("give the revision to remove: NAME@REVISION")
+    entry = resolve(f"{REF_PREFIX}{name}@{revision}")
+    shutil.rmtree(entry.path)
+    if not any((root() / name).iterdir()):
+        (root() / name).rmdir()
+    return entry
+
+
+def _digest(directory: Path) -> str:
+    """SHA-256 over the relative paths and contents of the policy files (metadata files excluded)."""
+    sha = hashlib.sha256()
+    for file in sorted(p for p in directory.rglob("*") if p.is_file()):
+        relative = file.relative_to(directory).as_posix()
+        if relative in (ENTRY_FILE, model_files.FEATURE_NAMES_FILE):
+            continue
+        sha.update(relative.encode() + b"\0")
+        with open(file, "rb") as stream:
+            for block in iter(lambda: stream.read(1 << 20), b""):
+                sha.update(block)
+    return sha.hexdigest()
+
+
+def _read_entry(directory: Path) -> Entry | None:
+    try:
+        record = json.loads((directory / ENTRY_FILE).read_text())
+        return Entry(
+            name=record["name"],
+            revision=record["revision"],
+            path=directory,
+            policy_type=record["policy_type"],
+            sequence=int(record["sequence"]),
+            imported_at=record["imported_at"],
+            source=record.get("source", ""),
+            digest=record["digest"],
+        )
+    except (OSError, ValueError, KeyError, TypeError):
+        return None

@@ -1,0 +1,66 @@
+"""Conversions between sensor_msgs (Image, JointState) and the numpy arrays LeRobot works with."""
+
+import numpy as np
+
+# Image encodings accepted, with their channel count and the channel order to get RGB.
+_ENCODINGS = {
+    "rgb8": (3, (0, 1, 2)),
+    "bgr8": (3, (2, 1, 0)),
+    "rgba8": (4, (0, 1, 2)),
+    "bgra8": (4, (2, 1, 0)),
+    "mono8": (1, (0, 0, 0)),
+    "8UC1": (1, (0, 0, 0)),
+    "8UC3": (3, (2, 1, 0)),  # OpenCV's default channel order is BGR
+}
+
+
+class ImageFormatError(ValueError):
+    """An Image message this module cannot turn into an RGB array."""
+
+
+def image_to_rgb(msg) -> np.ndarray:
+    """An (height, width, 3) uint8 RGB array copied from a sensor_msgs/Image."""
+    spec = _ENCODINGS.get(msg.encoding)
+    if spec is None:
+        raise ImageFormatError(f"unsupported image encoding {msg.encoding!r} (supported: {', '.join(_ENCODINGS)})")
+    channels, order = spec
+    height, width, step = msg.height, msg.width, msg.step
+    raw = np.frombuffer(msg.data, dtype=np.uint8)
+    if height * width == 0 or step < width * channels or raw.size < step * height:
+        raise ImageFormatError(f"image {width}x{height} {msg.encoding} with step {step} has {raw.size} bytes")
+    rows = raw[: step * height].reshape(height, step)[:, : width * channels]
+    pixels = rows.reshape(height, width, channels)
+    return np.ascontiguousarray(pixels[:, :, list(order)])
+
+
+def rgb_to_image(pixels: np.ndarray, stamp=None, frame_id: str = "camera"):
+    """A sensor_msgs/Image (rgb8) holding an (height, width, 3) uint8 array."""
+    from sensor_msgs.msg import Image
+
+    msg = Image()
+    if stamp is not None:
+        msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    msg.height, msg.width = int(pixels.shape[0]), int(pixels.shape[1])
+    msg.encoding = "rgb8"
+    msg.is_bigendian = 0
+    msg.step = msg.width * 3
+    msg.data = np.ascontiguousarray(pixels, dtype=np.uint8).tobytes()
+    return msg
+
+
+def joint_positions(msg) -> tuple[list[str], np.ndarray]:
+    """The joint names and float32 positions of a sensor_msgs/JointState."""
+    return list(msg.name), np.asarray(msg.position, dtype=np.float32)
+
+
+def joint_state(names: list[str], positions, stamp=None):
+    """A sensor_msgs/JointState with these names and positions (velocity and effort left empty)."""
+    from sensor_msgs.msg import JointState
+
+    msg = JointState()
+    if stamp is not None:
+        msg.header.stamp = stamp
+    msg.name = list(names)
+    msg.position = [float(value) for value in positions]
+    return msg

@@ -1,0 +1,59 @@
+"""Fixtures of the AI tests: an offline environment for LeRobot, shared bytecode, a ROS peer."""
+
+import os
+import sys
+
+import pytest
+
+from ai_support import RosPeer
+
+OFFLINE = {"HF_HUB_OFFLINE": "1", "HF_DATASETS_OFFLINE": "1", "TRANSFORMERS_OFFLINE": "1"}
+
+
+@pytest.fixture(scope="session")
+def bytecode_cache(request, tmp_path_factory):
+    """A bytecode cache kept across runs in pytest's cache directory.
+
+    The environment disables bytecode writing, which makes every process compile torch and LeRobot
+    from source (over ten seconds each); node processes and this one share compiled modules here.
+    """
+    cache = getattr(request.config, "cache", None)
+    directory = cache.mkdir("joshua-ai-bytecode") if cache is not None else tmp_path_factory.mktemp("bytecode")
+    sys.pycache_prefix = str(directory)
+    sys.dont_write_bytecode = False
+    return directory
+
+
+@pytest.fixture(scope="session")
+def lerobot_offline(tmp_path_factory, bytecode_cache):
+    """Make this process offline for Hugging Face libraries before any of them is imported."""
+    saved = {key: os.environ.get(key) for key in [*OFFLINE, "HF_DATASETS_CACHE", "HF_LEROBOT_HOME"]}
+    os.environ.update(OFFLINE)
+    os.environ["HF_DATASETS_CACHE"] = str(tmp_path_factory.mktemp("hf-datasets-cache"))
+    os.environ["HF_LEROBOT_HOME"] = str(tmp_path_factory.mktemp("lerobot-home"))
+    yield
+    for key, value in saved.items():
+        if value is None:
+            os.environ.pop(key, None)
+        else:
+            os.environ[key] = value
+
+
+@pytest.fixture
+def ai_env(ros_env, tmp_path, bytecode_cache) -> dict:
+    """Environment of node and tool processes: the test's ROS domain, offline, private caches."""
+    env = dict(ros_env)
+    env.update(OFFLINE)
+    env["HF_DATASETS_CACHE"] = str(tmp_path / "hf-datasets-cache")
+    env["HF_LEROBOT_HOME"] = str(tmp_path / "lerobot-home")
+    env["JOSHUA_MODEL_REGISTRY"] = str(tmp_path / "registry")
+    env["PYTHONPYCACHEPREFIX"] = str(bytecode_cache)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    return env
+
+
+@pytest.fixture
+def ros_peer(ros_domain):
+    peer = RosPeer()
+    yield peer
+    peer.close()
