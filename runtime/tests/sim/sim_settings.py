@@ -1,6 +1,15 @@
 """Settings dicts shaped like joshuac's, for a simulated SO-100 with encoder, actuator, camera and lidar."""
 
 SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+# spec/protocols.md section 3.
+SO100_RANGES = {
+    "shoulder_pan": (-1.92, 1.92),
+    "shoulder_lift": (-1.75, 1.75),
+    "elbow_flex": (-1.69, 1.69),
+    "wrist_flex": (-1.66, 1.66),
+    "wrist_roll": (-2.74, 2.74),
+    "gripper": (-0.17, 1.75),
+}
 DEFAULT_QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
 SENSOR_QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
 

@@ -5,17 +5,7 @@ import pytest
 
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.sim.model import BUILTIN_MODELS, camera_id, joint_names, load_model, model_path
-
-# spec/protocols.md section 3.
-SO100_RANGES = {
-    "shoulder_pan": (-1.92, 1.92),
-    "shoulder_lift": (-1.75, 1.75),
-    "elbow_flex": (-1.69, 1.69),
-    "wrist_flex": (-1.66, 1.66),
-    "wrist_roll": (-2.74, 2.74),
-    "gripper": (-0.17, 1.75),
-}
-
+from sim_settings import SO100_RANGES
 
 @pytest.fixture(scope="module")
 def so100():
