@@ -1,6 +1,9 @@
 """Escaping of values that enter generated files: one function per target language."""
 
 import json
+import posixpath
+import re
+import shlex
 
 
 def python_literal(value, indent: int = 0) -> str:
@@ -44,3 +47,73 @@ def mermaid_label(text: str) -> str:
     """A quoted Mermaid label; quotes and brackets become HTML entities Mermaid understands."""
     replacements = {"&": "&amp;", '"': "&quot;", "<": "&lt;", ">": "&gt;", "\n": " ", "#": "&num;"}
     return '"' + "".join(replacements.get(ch, ch) for ch in text) + '"'
+
+
+_SYSTEMD_BARE = re.compile(r"[A-Za-z0-9_@%+=:,./~-]+")
+_SYSTEMD_ESCAPES = {"\\": "\\\\", '"': '\\"', "\n": "\\n", "\t": "\\t", "\r": "\\r"}
+
+
+def systemd_quote(text: str, exec_line: bool = True) -> str:
+    """One word of a systemd unit setting: an Exec*= argument, or (exec_line=False) an Environment=
+    assignment. `%` specifiers become `%%`; in Exec lines `$` variables become `$$`; anything else
+    than plain path characters is double-quoted with C escapes, control characters as \\xNN."""
+    text = text.replace("%", "%%")
+    if exec_line:
+        text = text.replace("$", "$$")
+    if _SYSTEMD_BARE.fullmatch(text):
+        return text
+    escaped = "".join(
+        _SYSTEMD_ESCAPES.get(ch, f"\\x{ord(ch):02x}" if ord(ch) < 0x20 or ord(ch) == 0x7F else ch) for ch in text
+    )
+    return f'"{escaped}"'
+
+
+def systemd_command(words: list[str]) -> str:
+    """An Exec*= command line. systemd takes the program path literally and refuses odd characters
+    in it, so an unusual path is run through `/bin/sh -c 'exec "$0" "$@"'` instead."""
+    program, args = words[0], list(words[1:])
+    if not (_SYSTEMD_BARE.fullmatch(program) and program.startswith("/") and posixpath.normpath(program) == program):
+        program, args = "/bin/sh", ["-c", 'exec "$0" "$@"', program, *args]
+    return " ".join([program.replace("%", "%%"), *(systemd_quote(arg) for arg in args)])
+
+
+def systemd_raw(text: str) -> str:
+    """A setting systemd takes as raw text, unquoted (WorkingDirectory=, Description=): `%` specifiers
+    escaped. A control character would end or corrupt the line: ValueError."""
+    if any(ord(ch) < 0x20 or ord(ch) == 0x7F for ch in text):
+        raise ValueError(f"a systemd setting cannot hold control characters: {text!r}")
+    return text.replace("%", "%%")
+
+
+_SUPERVISOR_BARE = re.compile(r"[A-Za-z0-9_@%+=:,./-]+")
+_INI_BREAKS = "\n\r\0"
+
+
+def supervisor_value(text: str) -> str:
+    """A value of supervisord's `environment=` (KEY=<this>,...), `%` doubled for its %(name)s
+    expansion. Its parser (non-POSIX shlex) knows no escapes, and its INI reader cuts a line at a
+    `;` or `#` after whitespace, so values holding line breaks, both quote characters, a quote at
+    either end, or such a comment marker raise ValueError (pass those through `command=` instead)."""
+    quote = '"' if '"' not in text else "'"
+    if (any(ch in text for ch in _INI_BREAKS) or quote in text or re.search(r"\s[;#]", text)
+            or (text and (text[0] in "'\"" or text[-1] in "'\""))):
+        raise ValueError(f"supervisord's environment= cannot hold {text!r}")
+    return quote + text.replace("%", "%%") + quote
+
+
+def supervisor_command(words: list[str]) -> str:
+    """supervisord's `command=`: POSIX shell words (it splits with shlex), single-quoted when needed,
+    `%` doubled. Its INI reader takes a `;` or `#` after whitespace for a comment, so those are escaped
+    outside the quotes; it strips the lines of a value, so a line break is written as a continuation
+    line with the quotes closed around it. It reads a carriage return as a line break and no argument
+    can hold NUL: ValueError."""
+    quoted = []
+    for word in words:
+        if "\r" in word or "\0" in word:
+            raise ValueError(f"supervisord's command= cannot hold a carriage return or NUL: {word!r}")
+        if _SUPERVISOR_BARE.fullmatch(word):
+            quoted.append(word)
+            continue
+        inner = re.sub(r"(\s)([;#])", r"\1'\\\2'", word.replace("'", "'\\''"))
+        quoted.append("'" + inner.replace("\n", "''\n  ''") + "'")
+    return " ".join(quoted).replace("%", "%%")

@@ -1,6 +1,6 @@
 """Emitters: each turns the model into some of the output files. Order does not matter."""
 
-from joshua_codegen.emitters import entrypoints, fastdds, manifest, supervisor, topology
+from joshua_codegen.emitters import entrypoints, fastdds, manifest, supervisor, supervisord, systemd, topology
 
 EMITTERS = [
     manifest.emit,
@@ -8,4 +8,6 @@ EMITTERS = [
     entrypoints.emit,
     fastdds.emit,
     supervisor.emit,
+    systemd.emit,
+    supervisord.emit,
 ]

@@ -21,11 +21,11 @@ POLL_S = 0.01
 
 # A node program: records what happens to it in a log file, reacts to signals as told.
 # argv: LOG NAME [SIGINT=exit|ignore] [SIGTERM=exit|ignore] [exit_after=S] [code=N]
-#       [grandchild=same|ignore|escape] [argv_file=PATH] [env_file=PATH]
+#       [grandchild=same|ignore|escape] [env_file=PATH (environment, arguments and directory as JSON)]
 BEHAVE = r'''
 import json, os, signal, sys, time
 log_path, name = sys.argv[1], sys.argv[2]
-options = dict(arg.split("=", 1) for arg in sys.argv[3:])
+options = dict(arg.split("=", 1) for arg in sys.argv[3:] if "=" in arg)
 
 def note(text):
     with open(log_path, "a") as log:
@@ -42,7 +42,7 @@ for number in (signal.SIGINT, signal.SIGTERM):
     signal.signal(number, on_signal)
 if "env_file" in options:
     with open(options["env_file"], "w") as out:
-        json.dump(dict(os.environ), out)
+        json.dump({"env": dict(os.environ), "argv": sys.argv[3:], "cwd": os.getcwd()}, out)
 kind = options.get("grandchild")
 if kind and os.fork() == 0:
     if kind == "escape":
@@ -81,12 +81,17 @@ def build(directory: Path, config: str, source: str = "robot.pbtxt", prefix: str
     return out
 
 
+def quoted(text: str) -> str:
+    """A text-format string literal."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
 def custom_node(name: str, log: Path, *options: str, **fields: str) -> str:
     """A CUSTOM node running the BEHAVE program with `options`."""
     script = log.parent / "behave.py"
     if not script.exists():
         script.write_text(BEHAVE)
-    args = ", ".join(f'"{a}"' for a in ["-I", "-S", str(script), str(log), name, *options])
+    args = ", ".join(quoted(a) for a in ["-I", "-S", str(script), str(log), name, *options])
     extra = " ".join(f"{key}: {value}" for key, value in fields.items())
     return f'node {{ name: "{name}" type: CUSTOM executable: "{PYTHON}" args: [{args}] {extra} }}'
 

@@ -136,7 +136,7 @@ def test_nodes_get_the_dds_profile_domain_and_description_environment_even_after
         assert supervisor.wait() == 0
     finally:
         supervisor.close()
-    env = json.loads(env_file.read_text())
+    env = json.loads(env_file.read_text())["env"]
     assert env["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(moved / "fastdds_profile.xml")
     assert (moved / "fastdds_profile.xml").is_file()
     assert env["PYTHONUNBUFFERED"] == "1"

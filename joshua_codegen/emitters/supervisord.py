@@ -1,0 +1,52 @@
+"""supervisord.conf: every process as a [program:] of one group, with the closest cascade and restarts."""
+
+import math
+
+from joshua_codegen import escape
+from joshua_codegen.emitters import fastdds, process_launch
+from joshua_codegen.model import Process, Robot
+from joshua_codegen.render import Context, template
+
+CONF_PATH = "supervisord.conf"
+HERE = "\x01here\x01"  # stands for supervisord's %(here)s (the directory of the conf) until escaping is done
+STARTSECS = 1  # a node must run this long to count as started; earlier exits use up startretries
+
+
+def group_name(robot: Robot) -> str:
+    return f"joshua-{robot.name}"
+
+
+def _here(text: str) -> str:
+    return text.replace(HERE, "%(here)s")
+
+
+def program(robot: Robot, process: Process) -> dict:
+    """The settings of one [program:] section."""
+    words = process_launch.launch_words(robot, process, HERE, [], HERE)
+    variables = process_launch.node_environment(robot, process, f"{HERE}/{fastdds.PROFILE_PATH}")
+    environment, through_env = [], []
+    for key, value in variables:
+        try:
+            environment.append(f"{key}={escape.supervisor_value(value)}")
+        except ValueError:
+            through_env.append(f"{key}={value}")
+    if through_env:  # values environment= cannot hold reach the node through env(1) instead
+        words = [process_launch.ENV_COMMAND, *through_env, *words]
+    never = process.restart == "RESTART_NEVER" or process.max_restarts == 0
+    return {
+        "name": process.name,
+        "command": _here(escape.supervisor_command(words)),
+        "environment": _here(",".join(environment)),
+        "autorestart": "false" if never else {"RESTART_ON_FAILURE": "unexpected", "RESTART_ALWAYS": "true"}[process.restart],
+        "startsecs": 0 if never else STARTSECS,
+        "startretries": 0 if never else process.max_restarts,
+    }
+
+
+def emit(robot: Robot, context: Context) -> dict[str, str]:
+    stop_wait = math.ceil(robot.sigint_grace_s + robot.sigterm_grace_s)
+    programs = [program(robot, process) for process in robot.processes]
+    text = template("supervisord.conf.j2", robot=robot, group=group_name(robot), programs=programs,
+                    stop_wait=max(1, stop_wait), startsecs=STARTSECS,
+                    initial_delay=process_launch.RESTART_DELAY_INITIAL_S)
+    return {CONF_PATH: text}

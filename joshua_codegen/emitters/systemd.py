@@ -1,0 +1,68 @@
+"""systemd/: one target per robot and one service per process, with supervisor.py's cascade and restarts."""
+
+import posixpath
+
+from joshua_codegen import escape
+from joshua_codegen.emitters import fastdds, process_launch
+from joshua_codegen.model import Process, Robot
+from joshua_codegen.render import Context, template
+
+SYSTEMD_RESTART = {"RESTART_NEVER": "no", "RESTART_ON_FAILURE": "on-failure", "RESTART_ALWAYS": "always"}
+MIN_TIMESPAN_MS = 1  # systemd reads 0 as "no timeout at all"
+
+
+def target_name(robot: Robot) -> str:
+    return f"joshua-{robot.name}.target"
+
+
+def service_name(robot: Robot, process: Process) -> str:
+    return f"joshua-{robot.name}-{process.name}.service"
+
+
+def timespan(seconds: float) -> str:
+    """A systemd time span: whole seconds as `5s`, else milliseconds (`300ms`)."""
+    milliseconds = max(MIN_TIMESPAN_MS, round(seconds * 1000))
+    return f"{milliseconds // 1000}s" if milliseconds % 1000 == 0 else f"{milliseconds}ms"
+
+
+def restart(process: Process) -> str:
+    return "no" if process.max_restarts == 0 else SYSTEMD_RESTART[process.restart]
+
+
+def service(robot: Robot, process: Process, prefix: str) -> dict:
+    """The values of one service unit."""
+    words = process_launch.launch_words(robot, process, prefix, [process_launch.ENV_COMMAND], prefix)
+    environment = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.PROFILE_PATH))
+    delays = process_launch.backoff_delays(process.max_restarts)
+    return {
+        "name": service_name(robot, process),
+        "description": escape.systemd_raw(f"joshua robot {robot.name}: node {process.name} ({process.node_type})"),
+        "syslog_identifier": escape.systemd_raw(process.name),
+        "exec_start": escape.systemd_command(words),
+        "environment": [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment],
+        "restart": restart(process),
+        "restart_sec": timespan(process_launch.RESTART_DELAY_INITIAL_S),
+        "restart_steps": max(1, sum(1 for before, after in zip(delays, delays[1:]) if after > before)),
+        "restart_max_delay": timespan(delays[-1] if delays else process_launch.RESTART_DELAY_INITIAL_S),
+        "start_limit_burst": process.max_restarts + 1,
+        "start_limit_interval": timespan((process.max_restarts + 1) * process_launch.RESTART_RESET_AFTER_S),
+        "working_directory": escape.systemd_raw(prefix),
+        "uses_cpp": bool(process.cpp_binary),
+        "cpp_binary": process_launch.cpp_binary_path(robot, process, prefix) if process.cpp_binary else "",
+    }
+
+
+def emit(robot: Robot, context: Context) -> dict[str, str]:
+    shutdown = {"sigint": timespan(robot.sigint_grace_s), "sigterm": timespan(robot.sigterm_grace_s)}
+    files = {}
+    for process in robot.processes:
+        unit = service(robot, process, context.prefix)
+        files[f"systemd/{unit['name']}"] = template(
+            "node.service.j2", robot=robot, process=process, unit=unit, shutdown=shutdown,
+            target=target_name(robot), policy=process_launch)
+    critical = [service_name(robot, p) for p in robot.processes if p.critical]
+    optional = [service_name(robot, p) for p in robot.processes if not p.critical]
+    files[f"systemd/{target_name(robot)}"] = template(
+        "robot.target.j2", robot=robot, critical=critical, optional=optional, shutdown=shutdown,
+        description=escape.systemd_raw(f"joshua robot {robot.name}"))
+    return files
