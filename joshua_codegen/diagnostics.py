@@ -97,15 +97,22 @@ def _snippet(source: str | None, line: int, column: int, end_line: int | None, e
     return [text, pad + "^" + "~" * (width - 1)]
 
 
+def _one_line(text: str) -> str:
+    """Text with control characters escaped (`\\n`, `\\x01`), so a message stays on one line."""
+    if all(c.isprintable() for c in text):
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 def format_text(diags: Iterable[Diagnostic], sources: dict[str, str]) -> str:
     """`path:line:col: error[CODE]: message`, the source line and a caret, notes, then a summary line."""
     diags = sort_diagnostics(diags)
     out: list[str] = []
     for d in diags:
-        out.append(f"{d.path}:{d.line}:{d.column}: {d.severity}[{d.code}]: {d.message}")
+        out.append(f"{_one_line(d.path)}:{d.line}:{d.column}: {d.severity}[{d.code}]: {_one_line(d.message)}")
         out.extend(_snippet(sources.get(d.path), d.line, d.column, d.end_line, d.end_column))
         for note in d.related:
-            out.append(f"{note.path}:{note.line}:{note.column}: note: {note.message}")
+            out.append(f"{_one_line(note.path)}:{note.line}:{note.column}: note: {_one_line(note.message)}")
             out.extend(_snippet(sources.get(note.path), note.line, note.column, None, None))
     out.append(summary(diags))
     return "\n".join(out) + "\n"

@@ -33,6 +33,8 @@ NOT_TEXT = "E008"
 MAX_INTEGER_DIGITS = 64
 SUGGESTION_CUTOFF = 0.6
 _C_OCTAL = re.compile(r"-?0\d+$")
+# Escapes text format defines; any other backslash sequence is refused rather than kept literally.
+_ESCAPE = re.compile(r"\\(?:[abfnrtv\\'\"]|[0-7]{1,3}|x[0-9A-Fa-f]{1,2}|u[0-9A-Fa-f]{4}|U[0-9A-Fa-f]{8})")
 _INTEGER_RANGES = {
     FieldDescriptor.TYPE_INT32: ("a 32-bit integer", -(2**31), 2**31 - 1),
     FieldDescriptor.TYPE_SINT32: ("a 32-bit integer", -(2**31), 2**31 - 1),
@@ -78,11 +80,24 @@ def _parse_integer(text: str) -> int:
     return int(text, 0)
 
 
+def _check_escapes(body: str) -> None:
+    index = body.find("\\")
+    while index >= 0:
+        match = _ESCAPE.match(body, index)
+        if match is None:
+            escape = body[index:index + 2]
+            raise ValueProblem(f'invalid escape "{escape}" in a string (write "\\\\" for a backslash)')
+        index = body.find("\\", match.end())
+
+
 def unquote(scalar: Scalar) -> bytes:
+    """The bytes of a (possibly multi-token) string literal; ValueProblem for a bad escape."""
     parts = []
     for token in scalar.tokens:
+        body = token.text[1:-1]
+        _check_escapes(body)
         try:
-            parts.append(text_encoding.CUnescape(token.text[1:-1]))
+            parts.append(text_encoding.CUnescape(body))
         except ValueError as exc:
             raise ValueProblem(f"invalid escape sequence in string {token.text}: {exc}") from None
     return b"".join(parts)

@@ -1,0 +1,128 @@
+"""`joshuac fmt`: canonical layout, comments kept, idempotent, meaning unchanged."""
+
+import re
+from pathlib import Path
+
+import pytest
+from google.protobuf import text_format
+
+from joshua_codegen.fmt import format_description, quote
+from joshua_codegen.schema import RobotDescription
+
+HERE = Path(__file__).parent
+SEEDS = sorted((HERE / "seeds").glob("*.pbtxt"))
+# Fixtures that parse as text format (all but the syntax, encoding and unreadable-file ones).
+FIXTURES = sorted(p for p in HERE.glob("[EW]*/bad.pbtxt") if p.is_file() and p.parent.name not in ("E001", "E008"))
+
+MESSY = """\
+# Header comment.
+
+robot_config <  # the robot
+    name: 'so100' "_arm" , # joined strings
+  mode: MODE_TELEOPERATION;
+  node {
+        type: CAMERA_PUBLISHER
+    # the servos
+    device_ids: [1, # first
+      2]
+    args: ["tab\\there", "\\303\\251t\\u00e9", "\\\\q", 'it\\'s']
+
+
+  }
+  node: [{type: ENCODER_PUBLISHER}, <type: INFERENCE>]  # two nodes
+  # before shutdown
+  shutdown {}
+  simulation { # sim
+  }
+>
+# Trailer.
+"""
+
+CANONICAL = """\
+# Header comment.
+
+robot_config {  # the robot
+  name: "so100_arm"  # joined strings
+  mode: MODE_TELEOPERATION
+
+  node {
+    type: CAMERA_PUBLISHER
+    # the servos
+    # first
+    device_ids: [1, 2]
+    args: ["tab\\there", "été", "\\\\q", "it's"]
+  }
+
+  node {
+    type: ENCODER_PUBLISHER
+  }
+
+  node {
+    type: INFERENCE
+  }  # two nodes
+
+  # before shutdown
+  shutdown {}
+  simulation {  # sim
+  }
+}
+# Trailer.
+"""
+
+
+def comments(text):
+    return [line.split("#", 1)[1].strip() for line in text.splitlines() if "#" in line]
+
+
+def test_messy_text_gets_the_canonical_layout():
+    formatted, diagnostics = format_description(MESSY, "r.pbtxt")
+    assert diagnostics == []
+    assert formatted == CANONICAL
+
+
+@pytest.mark.parametrize("path", SEEDS + FIXTURES, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_formatting_is_idempotent_and_keeps_meaning_and_comments(path):
+    text = path.read_text()
+    formatted, diagnostics = format_description(text, path.name)
+    assert diagnostics == []
+    assert format_description(formatted, path.name) == (formatted, [])
+    assert comments(formatted) == comments(text)
+    try:
+        original = text_format.Parse(text, RobotDescription())
+    except text_format.ParseError:
+        return  # fixtures with unknown fields or bad values: layout only
+    assert text_format.Parse(formatted, RobotDescription()) == original
+
+
+def test_seeds_are_already_canonical_apart_from_nothing():
+    for path in SEEDS:
+        assert format_description(path.read_text(), path.name)[0] == path.read_text()
+
+
+def test_messy_text_keeps_its_meaning():
+    formatted, _ = format_description(MESSY, "r.pbtxt")
+    assert text_format.Parse(formatted, RobotDescription()) == text_format.Parse(MESSY, RobotDescription())
+    assert format_description(formatted, "r.pbtxt")[0] == formatted
+
+
+@pytest.mark.parametrize(
+    ("text", "code", "line", "column"),
+    [
+        ("robot_config {", "E001", 1, 15),
+        ('robot_config { name: "x }', "E001", 1, 22),
+        ('robot_config { name: "\\x" }', "E003", 1, 22),
+        ('robot_config { name: "\\q" }', "E003", 1, 22),
+        ("robot_config {\n\0}", "E008", 2, 1),
+    ],
+)
+def test_unformattable_text_gives_diagnostics(text, code, line, column):
+    formatted, diagnostics = format_description(text, "r.pbtxt")
+    assert formatted is None
+    assert [(d.code, d.line, d.column) for d in diagnostics] == [(code, line, column)]
+
+
+def test_quote_escapes_canonically():
+    assert quote("a\"b\\c\nd\te\r".encode()) == '"a\\"b\\\\c\\nd\\te\\r"'
+    assert quote("é\x01\x7f\u2028".encode()) == '"é\\001\\177\\342\\200\\250"'
+    assert quote(b"\xff") == '"\\377"'
+    assert re.fullmatch(r'"[^\n]*"', quote(bytes(range(256))))
