@@ -1,8 +1,10 @@
 """ROS side of each simulated hardware node: the same topics, message types and QoS as the real node.
 
 One bridge per replaced node, built from that node's own settings dict:
-- ENCODER_PUBLISHER (and OPERATIONAL_LIMIT_CALIBRATION, which in simulation only reports present
-  positions): JointState of `joint_names` on `topic` at `rate_hz`.
+- ENCODER_PUBLISHER: JointState of `joint_names` on `topic` at `rate_hz`.
+- OPERATIONAL_LIMIT_CALIBRATION: the ranges a full sweep of the simulated arm would record, as the
+  real node publishes them (`<joint>.range_min` / `.range_max`, raw ticks with the middle of each
+  range at 2047) at `rate_hz`. No calibration file is written: the model knows its limits.
 - ACTUATOR_SUBSCRIBER: JointState commands from `topic` become position-actuator goals; present
   states go to `state_topic` at `rate_hz` when one is set.
 - CAMERA_PUBLISHER: rendered frames at `width` x `height`, `rate_hz`; Image with encoding rgb8
@@ -19,7 +21,9 @@ import cv2
 import numpy as np
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
+from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, RADIANS_PER_TICK
 from joshua_runtime.errors import SettingsError
+from joshua_runtime.nodes.operational_limit_calibration import RANGE_MAX_SUFFIX, RANGE_MIN_SUFFIX
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.cameras import CameraStream
 from joshua_runtime.sim.engine import JointGroup, SimulationEngine
@@ -78,6 +82,31 @@ class EncoderBridge:
 
     def publish(self) -> None:
         self.publisher.publish(self.source.message())
+
+
+class CalibrationBridge:
+    """Publishes the model's joint ranges like OPERATIONAL_LIMIT_CALIBRATION after a full sweep."""
+
+    def __init__(self, node, engine: SimulationEngine, settings: dict):
+        self.node, self.frame_id = node, settings["frame_id"]
+        names = _joint_names(settings)
+        engine.joints(names)  # every name must be a joint of the model
+        self.names, self.limits = [], []
+        for name in names:
+            low, high = engine.model.joint(name).range
+            self.names += [name + RANGE_MIN_SUFFIX, name + RANGE_MAX_SUFFIX]
+            self.limits += [float(round(HALF_TURN_TICKS + low / RADIANS_PER_TICK)),
+                            float(round(HALF_TURN_TICKS + high / RADIANS_PER_TICK))]
+        self.publisher = node.publisher(_topic(settings))
+        self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish)
+        if settings.get("calibration_file"):
+            node.log.info(f"{settings['name']}: simulated, {settings['calibration_file']} is left as it is")
+
+    def publish(self) -> None:
+        msg = JointState(name=self.names, position=self.limits)
+        msg.header.stamp = self.node.stamp()
+        msg.header.frame_id = self.frame_id
+        self.publisher.publish(msg)
 
 
 class ActuatorBridge:
@@ -196,8 +225,10 @@ def _camera_for(engine: SimulationEngine, frame_id: str, default_camera: str) ->
 def make_bridge(node, engine: SimulationEngine, settings: dict, default_camera: str):
     """The bridge that stands in for one hardware node, from that node's settings."""
     kind = settings["type"]
-    if kind in ("ENCODER_PUBLISHER", "OPERATIONAL_LIMIT_CALIBRATION"):
+    if kind == "ENCODER_PUBLISHER":
         return EncoderBridge(node, engine, settings)
+    if kind == "OPERATIONAL_LIMIT_CALIBRATION":
+        return CalibrationBridge(node, engine, settings)
     if kind == "ACTUATOR_SUBSCRIBER":
         return ActuatorBridge(node, engine, settings)
     if kind == "CAMERA_PUBLISHER":

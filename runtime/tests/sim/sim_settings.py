@@ -40,6 +40,15 @@ def encoder(rate_hz: float = 100.0) -> dict:
     )
 
 
+def calibration() -> dict:
+    return node_settings(
+        "arm_calibration", "OPERATIONAL_LIMIT_CALIBRATION",
+        topic=_topic("/arm/limits", "sensor_msgs/msg/JointState", DEFAULT_QOS), serial_port="/dev/ttyACM0",
+        baud_rate=1_000_000, device_ids=[1, 6], joint_names=["shoulder_pan", "gripper"], rate_hz=10.0,
+        calibration_file="arm.json",
+    )
+
+
 def actuator(state_topic: bool = True) -> dict:
     return node_settings(
         "arm_actuator", "ACTUATOR_SUBSCRIBER", topic=_topic("/arm/command", "sensor_msgs/msg/JointState", DEFAULT_QOS),
@@ -53,6 +62,15 @@ def camera(width: int = 320, height: int = 240, rate_hz: float = 10.0) -> dict:
     return node_settings(
         "front_camera", "CAMERA_PUBLISHER", topic=_topic("/camera/image_raw", "sensor_msgs/msg/Image", SENSOR_QOS),
         qos=dict(SENSOR_QOS), camera_index=0, width=width, height=height, rate_hz=rate_hz, frame_id="camera",
+    )
+
+
+def wrist_camera() -> dict:
+    """A second camera, JPEG-compressed, whose frame_id names the model's wrist camera."""
+    return node_settings(
+        "wrist_camera", "CAMERA_PUBLISHER",
+        topic=_topic("/wrist/image/compressed", "sensor_msgs/msg/CompressedImage", SENSOR_QOS),
+        qos=dict(SENSOR_QOS), camera_index=1, width=160, height=120, rate_hz=5.0, frame_id="wrist",
     )
 
 

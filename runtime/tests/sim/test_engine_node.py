@@ -12,10 +12,11 @@ import signal
 import subprocess
 import time
 
+import cv2
 import numpy as np
 import pytest
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
-from sensor_msgs.msg import Image, JointState, LaserScan
+from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
 import sim_settings
 from sim_ros import RELIABLE, SENSOR, STARTUP_TIMEOUT_S, Client, start_node, stop_node
@@ -37,7 +38,8 @@ def client(ros_domain):
 @pytest.fixture
 def arm_process(ros_env):
     settings = sim_settings.simulation(
-        [sim_settings.encoder(), sim_settings.actuator(), sim_settings.camera(320, 240, 10.0), sim_settings.lidar()]
+        [sim_settings.encoder(), sim_settings.actuator(), sim_settings.camera(320, 240, 10.0),
+         sim_settings.wrist_camera(), sim_settings.lidar()]
     )
     process = start_node(settings, ros_env)
     yield process
@@ -59,9 +61,10 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
     client.listen("/arm/joint_states", JointState, RELIABLE)
     client.listen("/arm/present", JointState, RELIABLE)
     client.listen("/camera/image_raw", Image, SENSOR)
+    client.listen("/wrist/image/compressed", CompressedImage, SENSOR)
     client.listen("/scan", LaserScan, SENSOR)
     command = client.node.create_publisher(JointState, "/arm/command", RELIABLE)
-    topics = ("/arm/joint_states", "/arm/present", "/camera/image_raw", "/scan")
+    topics = ("/arm/joint_states", "/arm/present", "/camera/image_raw", "/wrist/image/compressed", "/scan")
     started = client.spin_until(lambda: all(t in client.last for t in topics), STARTUP_TIMEOUT_S)
     assert started, f"no message on {[t for t in topics if t not in client.last]}; stderr: {_stderr(arm_process)}"
 
@@ -70,6 +73,7 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
     assert list(state.name) == sim_settings.SO100_JOINTS
     assert state.header.frame_id == "base_link"
     assert _positions(state) == pytest.approx([0.0] * 6, abs=TRACKING_TOLERANCE_RAD)
+    assert len(state.velocity) == 6 and len(state.effort) == 6
     assert all(abs(e) <= 1.0 for e in state.effort)
 
     # Commands by name, in a different order than the node's joints, converge on both state topics.
@@ -89,6 +93,14 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
     assert image.header.frame_id == "camera"
     pixels = np.frombuffer(bytes(image.data), dtype=np.uint8).reshape(240, 320, 3)
     assert pixels.std() > MIN_PIXEL_STD
+
+    # The wrist camera renders the model's "wrist" camera (its frame_id) as JPEG.
+    jpeg = client.last["/wrist/image/compressed"]
+    assert jpeg.format == "rgb8; jpeg compressed bgr8"
+    assert jpeg.header.frame_id == "wrist"
+    wrist = cv2.imdecode(np.frombuffer(bytes(jpeg.data), dtype=np.uint8), cv2.IMREAD_COLOR)
+    assert wrist.shape == (120, 160, 3)
+    assert wrist.std() > MIN_PIXEL_STD
 
     scan = client.last["/scan"]
     assert len(scan.ranges) == 360 and len(scan.intensities) == 360
@@ -125,6 +137,7 @@ def _assert_endpoints(node) -> None:
         "/arm/joint_states": ("sensor_msgs/msg/JointState", ReliabilityPolicy.RELIABLE),
         "/arm/present": ("sensor_msgs/msg/JointState", ReliabilityPolicy.RELIABLE),
         "/camera/image_raw": ("sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT),
+        "/wrist/image/compressed": ("sensor_msgs/msg/CompressedImage", ReliabilityPolicy.BEST_EFFORT),
         "/scan": ("sensor_msgs/msg/LaserScan", ReliabilityPolicy.BEST_EFFORT),
     }
     for topic, (message_type, reliability) in expected.items():
@@ -145,19 +158,20 @@ def _stderr(process: subprocess.Popen) -> str:
     return process.stderr.read()
 
 
-def test_sigterm_also_stops_with_exit_code_zero(ros_env):
-    process = start_node(sim_settings.simulation([sim_settings.encoder()]), ros_env)
-    assert _wait_for_start_line(process), process.stderr.read()
-    code, stderr, _ = stop_node(process, signal.SIGTERM)
+def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(ros_env, client):
+    process = start_node(sim_settings.simulation([sim_settings.calibration()]), ros_env)
+    try:
+        client.listen("/arm/limits", JointState, RELIABLE)
+        assert client.spin_until(lambda: "/arm/limits" in client.last, STARTUP_TIMEOUT_S), _stderr(process)
+        limits = client.last["/arm/limits"]
+        assert list(limits.name) == ["shoulder_pan.range_min", "shoulder_pan.range_max",
+                                     "gripper.range_min", "gripper.range_max"]
+        # +-1.92 rad and -0.17..1.75 rad in ticks of 2 pi / 4095, the middle of each range at 2047.
+        assert list(limits.position) == [796.0, 3298.0, 1936.0, 3188.0]
+    finally:
+        code, stderr, _ = stop_node(process, signal.SIGTERM)
     assert code == 0, stderr
-
-
-def _wait_for_start_line(process: subprocess.Popen) -> bool:
-    """Read stderr (where ROS logs go) until the node's start-up line, or until it ends."""
-    for line in process.stderr:
-        if "simulating arm_encoder" in line:
-            return True
-    return False
+    assert "arm.json is left as it is" in stderr
 
 
 @pytest.mark.parametrize(
