@@ -48,6 +48,7 @@ class BusGuard:
         self.on_reconnect = on_reconnect
         self._connections = bus.connections
         self._failing_since: float | None = None
+        self._last_error: DeviceError | None = None
         self._next_attempt = 0.0
         self._next_log = 0.0
 
@@ -73,13 +74,13 @@ class BusGuard:
     def _failed(self, now: float, exc: DeviceError) -> None:
         if self._failing_since is None:
             self._failing_since = now
+        self._last_error = exc
         self._next_attempt = now + RECONNECT_INTERVAL_S
         if now >= self._next_log:
             self._next_log = now + LOG_INTERVAL_S
             self.log.warning(str(exc))
-        self._check_grace(now, exc)
+        self._check_grace(now)
 
-    def _check_grace(self, now: float, exc: DeviceError | None = None) -> None:
+    def _check_grace(self, now: float) -> None:
         if now - self._failing_since >= DEVICE_LOST_GRACE_S:
-            detail = f": {exc}" if exc else ""
-            raise DeviceError(f"{self.bus.port}: bus failing for {DEVICE_LOST_GRACE_S:g} s{detail}")
+            raise DeviceError(f"{self.bus.port}: bus failing for {DEVICE_LOST_GRACE_S:g} s: {self._last_error}")

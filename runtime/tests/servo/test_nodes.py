@@ -164,3 +164,28 @@ def test_nodes_release_the_port_and_exit_0_on_sigint(emulators, start_node):
         code, _, stderr = node.stop(signal.SIGINT)
         assert code == 0, stderr
         assert stderr == ""
+
+
+def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulators, start_node, probe):
+    leader = emulators("ttyREPLUG", ids=[1])
+    node = start_node(node_settings("ENCODER_PUBLISHER", "leader", leader.link, "/leader/joint_states",
+                                    device_ids=[1], joint_names=["j"]))
+    probe.listen("/leader/joint_states", JointState, RELIABLE)
+    assert probe.spin_until(lambda: probe.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
+
+    leader.stop()
+    probe.spin_until(lambda: False, 0.5)
+    leader.move_by_hand(1, 3000)
+    leader.write_register(1, "Goal_Position", 3000)
+    leader.write_register(1, "Torque_Enable", 1)  # a power-cycled leader must be released again
+    leader.start()
+    expected = (3000 - UNCALIBRATED_MIDDLE) * RADIANS_PER_TICK
+    assert probe.spin_until(lambda: abs(probe.last("/leader/joint_states").position[0] - expected) < 1e-9, DATA_TIMEOUT_S)
+    assert node.process.poll() is None
+    assert wait_for(lambda: leader.read_register(1, "Torque_Enable") == 0, DATA_TIMEOUT_S)
+
+    leader.stop()
+    _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
+    assert node.process.returncode == 3
+    assert stderr.splitlines()[-1] == (
+        f"leader: error: {leader.link}: bus failing for 3 s: serial port {leader.link} not found")

@@ -1,0 +1,156 @@
+"""Leader-to-follower latency (p50/p99) and sustained loop rate of SO-100 teleoperation on emulated buses.
+
+    .venv/bin/python bench/teleop.py [--rate-hz 200] [--samples 300]
+
+Two STS3215 emulators (6 servos each, 1 Mbaud wire time emulated) run in this process; an
+ENCODER_PUBLISHER process reads the leader bus and publishes /leader/joint_states (RELIABLE), an
+ACTUATOR_SUBSCRIBER process SYNC_WRITEs the follower bus from it, both at --rate-hz. Each sample
+turns the leader's servo 1 by hand and measures until the follower emulator receives that goal.
+Samples are spaced by a random fraction of the period so they land at every phase of the leader's
+read cycle. The loop rate is the rate of goal SYNC_WRITEs the follower bus receives.
+"""
+
+import argparse
+import os
+import random
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+from joshua_runtime.drivers.sts3215_table import register
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+
+ROOT = Path(__file__).resolve().parent.parent
+PYTHON = str(ROOT / ".venv" / "bin" / "python")
+TOPIC = "/leader/joint_states"
+QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
+IDS = [1, 2, 3, 4, 5, 6]
+JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+STARTUP_TIMEOUT_S = 60.0
+SAMPLE_TIMEOUT_S = 1.0
+SETTLE_S = 0.02  # pause after a sample so the follower has finished writing it
+RATE_WINDOW_S = 5.0
+STOP_TIMEOUT_S = 5.0
+GOAL_ADDRESS = register("Goal_Position").address
+LOW_TICKS, HIGH_TICKS = 1500, 2600
+
+
+def settings(node_type: str, name: str, port: Path, rate_hz: float) -> dict:
+    return {
+        "robot": "bench_teleop", "mode": "MODE_TELEOPERATION", "name": name, "type": node_type,
+        "topic": {"name": TOPIC, "message_type": "sensor_msgs/msg/JointState", "qos": QOS},
+        "state_topic": None, "inputs": [], "qos": QOS, "serial_port": str(port), "baud_rate": 1_000_000,
+        "device_ids": IDS, "joint_names": JOINTS, "calibration_file": "", "camera_index": -1, "video_source": "",
+        "width": 640, "height": 480, "rate_hz": rate_hz, "frame_id": "base_link", "model_path": "",
+        "policy_type": "", "device": "cpu", "output_format": "lerobot", "output_directory": "", "simulation": None,
+    }
+
+
+def start(node_settings: dict, env: dict) -> subprocess.Popen:
+    code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({node_settings!r}))"
+    return subprocess.Popen([PYTHON, "-c", code], env=env, stderr=subprocess.PIPE, text=True)
+
+
+def stop(process: subprocess.Popen) -> int:
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+    try:
+        process.communicate(timeout=STOP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.communicate()
+    return process.returncode
+
+
+class GoalWatch:
+    """Timestamps, in the follower emulator's thread, each goal servo 1 receives."""
+
+    def __init__(self):
+        self.condition = threading.Condition()
+        self.last_goal: tuple[int, float] | None = None
+        self.writes = 0
+
+    def __call__(self, servo_id: int, address: int, data: bytes, now: float) -> None:
+        if servo_id != 1 or address != GOAL_ADDRESS:
+            return
+        with self.condition:
+            self.writes += 1
+            self.last_goal = (int.from_bytes(data[:2], "little"), now)
+            self.condition.notify_all()
+
+    def wait_for(self, goal: int, timeout_s: float) -> float | None:
+        deadline = time.monotonic() + timeout_s
+        with self.condition:
+            while self.last_goal is None or self.last_goal[0] != goal:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return None
+                self.condition.wait(remaining)
+            return self.last_goal[1]
+
+
+def percentile(values: list[float], fraction: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rate-hz", type=float, default=200.0)
+    parser.add_argument("--samples", type=int, default=300)
+    args = parser.parse_args()
+    env = dict(os.environ, ROS_DOMAIN_ID=str(150 + os.getpid() % 80), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    period = 1.0 / args.rate_hz
+    jitter = random.Random(0)
+    with tempfile.TemporaryDirectory() as directory:
+        leader_bus = Sts3215Emulator(Path(directory) / "ttyLEADER", IDS).start()
+        follower_bus = Sts3215Emulator(Path(directory) / "ttyFOLLOWER", IDS).start()
+        watch = GoalWatch()
+        follower_bus.write_listeners.append(watch)
+        nodes = [
+            start(settings("ENCODER_PUBLISHER", "bench_leader", leader_bus.link, args.rate_hz), env),
+            start(settings("ACTUATOR_SUBSCRIBER", "bench_follower", follower_bus.link, args.rate_hz), env),
+        ]
+        try:
+            if watch.wait_for(2048, STARTUP_TIMEOUT_S) is None:
+                print("no goal reached the follower; node stderr:", [n.stderr.read() for n in nodes if n.poll() is not None])
+                return 1
+            leader_reads_before, writes_before, window_start = leader_bus.stats["packets"], watch.writes, time.monotonic()
+            time.sleep(RATE_WINDOW_S)
+            window = time.monotonic() - window_start
+            read_rate = (leader_bus.stats["packets"] - leader_reads_before) / window
+            write_rate = (watch.writes - writes_before) / window
+
+            latencies, missed = [], 0
+            for index in range(args.samples):
+                goal = HIGH_TICKS if index % 2 == 0 else LOW_TICKS
+                time.sleep(SETTLE_S + jitter.random() * period)
+                moved_at = time.monotonic()
+                leader_bus.move_by_hand(1, goal)
+                arrived_at = watch.wait_for(goal, SAMPLE_TIMEOUT_S)
+                if arrived_at is None:
+                    missed += 1
+                else:
+                    latencies.append(arrived_at - moved_at)
+        finally:
+            codes = [stop(node) for node in nodes]
+            leader_bus.stop()
+            follower_bus.stop()
+    ms = [1000 * value for value in latencies]
+    print(f"teleop over emulated 1 Mbaud STS3215 buses, 6 servos, nodes at {args.rate_hz:g} Hz")
+    print(f"  leader-to-follower latency over {len(ms)} samples ({missed} missed): "
+          f"p50 {percentile(ms, 0.5):.2f} ms, p99 {percentile(ms, 0.99):.2f} ms, "
+          f"mean {statistics.fmean(ms):.2f} ms, max {max(ms):.2f} ms")
+    print(f"  sustained loop rate: {write_rate:.1f} goal writes/s on the follower, "
+          f"{read_rate:.1f} bus transactions/s on the leader")
+    print(f"  node exit codes on SIGINT: {codes}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
