@@ -13,6 +13,7 @@ from joshua_codegen import defaults, msg_catalog
 from joshua_codegen.positions import Path, SourceMap, node_path
 from joshua_codegen.ros_names import resolve_topic, topic_problem
 from joshua_codegen.schema import Node, RobotDescription
+from joshua_codegen.schema import robot_config_pb2 as pb
 
 
 @dataclass(frozen=True)
@@ -76,7 +77,7 @@ class RuleContext:
     @cached_property
     def typed_nodes(self) -> list[NodeView]:
         """Nodes whose type is set; per-type rules skip the others (E103 reports them)."""
-        return [view for view in self.nodes if view.node.type != defaults.NodeType.Value("NODE_TYPE_UNSPECIFIED")]
+        return [view for view in self.nodes if view.node.type != pb.NODE_TYPE_UNSPECIFIED]
 
     def _topic(self, view: NodeView, name: str) -> str | None:
         if topic_problem(name, view.name) is not None:

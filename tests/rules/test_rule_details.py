@@ -1,0 +1,59 @@
+"""Rule behaviour the fixtures do not show: exemptions, topic resolution, defaults, many endpoints."""
+
+from joshua_codegen.check import check_text
+
+
+def codes(text: str, overrides=()) -> list[tuple[str, int, int]]:
+    return [(d.code, d.line, d.column) for d in check_text("r.pbtxt", text, overrides).diagnostics]
+
+
+def robot(*nodes: str, mode: str = "MODE_TELEOPERATION", extra: str = "") -> str:
+    body = "".join(f"  node {{ {node} }}\n" for node in nodes)
+    return f'robot_config {{\n  name: "r"\n  mode: {mode}\n{extra}{body}}}\n'
+
+
+def test_serial_ports_are_not_required_in_simulation():
+    text = robot('type: ENCODER_PUBLISHER topic_name: "/a"', 'type: ACTUATOR_SUBSCRIBER topic_name: "/a"',
+                 mode="MODE_SIMULATION", extra='  simulation { model: "builtin:so100" }\n')
+    assert codes(text) == []
+    assert codes(text, ["mode=MODE_TELEOPERATION"]) == [("E105", 5, 3), ("E105", 6, 3)]
+
+
+def test_relative_absolute_and_private_names_of_one_topic_match():
+    text = robot('name: "enc" type: MOCK_ENCODER_PUBLISHER topic_name: "arm/state"',
+                 'type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/arm/state" state_topic: "~/out"',
+                 'type: DATA_SUBSCRIBER topic_name: "/mock_actuator_subscriber/out" output_directory: "/d" '
+                 'input_topics: ["arm/state"]', mode="MODE_DATA_COLLECTION")
+    assert codes(text) == []
+
+
+def test_an_untyped_recorder_takes_the_publishers_type_and_a_typed_one_is_checked():
+    camera = 'type: MOCK_CAMERA_PUBLISHER topic_name: "/c"'
+    untyped = 'type: DATA_SUBSCRIBER topic_name: "/c" qos_reliability: BEST_EFFORT output_directory: "/d"'
+    assert codes(robot(camera, untyped)) == []
+    typed = untyped.replace("type: DATA_SUBSCRIBER", 'type: DATA_SUBSCRIBER message_type: "std_msgs/msg/String"')
+    assert codes(robot(camera, typed)) == [("E207", 5, 32)]
+
+
+def test_custom_nodes_declare_no_topics():
+    text = robot('type: CUSTOM executable: "/bin/tool" topic_name: "/a"', 'type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/a"')
+    assert codes(text) == [("W202", 5, 41)]
+
+
+def test_one_finding_per_subscriber_however_many_publishers():
+    publishers = [f'name: "p{i}" type: MOCK_CAMERA_PUBLISHER topic_name: "/c"' for i in range(300)]
+    subscriber = 'type: DATA_SUBSCRIBER topic_name: "/c" output_directory: "/d"'
+    result = check_text("r.pbtxt", robot(*publishers, subscriber))
+    assert [d.code for d in result.diagnostics] == ["E301"]
+    assert result.diagnostics[0].message == ('publisher "p0" (and 299 more) offers BEST_EFFORT, '
+                                             'subscriber "data_subscriber" requires RELIABLE on "/c"')
+
+
+def test_best_effort_subscription_of_a_reliable_publisher_is_fine():
+    text = robot('type: MOCK_ENCODER_PUBLISHER topic_name: "/a" qos_durability: TRANSIENT_LOCAL',
+                 'type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/a" qos_reliability: BEST_EFFORT')
+    assert codes(text) == []
+
+
+def test_nodes_without_a_type_are_left_to_e103():
+    assert codes(robot('name: "x"')) == [("E103", 4, 3)]
