@@ -148,6 +148,11 @@ class SimulationEngine:
             self._thread = None
             self._wall_stopped, self._sim_stopped = time.monotonic(), self.data.time
 
+    @property
+    def started(self) -> bool:
+        """True once start() has run."""
+        return self._wall_started is not None
+
     def run_stats(self) -> tuple[float, float]:
         """(simulated seconds, wall-clock seconds) since start(), up to stop() once stopped."""
         if self._wall_started is None:

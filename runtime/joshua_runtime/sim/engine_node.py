@@ -55,7 +55,8 @@ class SimulationEngineNode(JoshuaNode):
             self.cameras.stop()
         if self.engine is not None:
             self.engine.stop()
-            self.log.info(self.summary())
+            if self.engine.started:
+                self.log.info(self.summary())
 
     def summary(self) -> str:
         """One line on how the run went: real-time factor reached, time dropped, frames rendered."""

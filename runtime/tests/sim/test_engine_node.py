@@ -201,3 +201,13 @@ def test_unknown_joint_exits_with_settings_error(ros_env):
     assert process.returncode == 2
     assert "simulation: error: simulation model has no hinge or slide joint 'elbow'" in stderr
     assert "Traceback" not in stderr
+
+
+def test_failing_offscreen_context_is_one_device_error(ros_env):
+    env = dict(ros_env, __EGL_VENDOR_LIBRARY_FILENAMES="/nonexistent/egl_vendor.json")  # no EGL driver at all
+    process = start_node(sim_settings.simulation([sim_settings.camera()]), env)
+    _, stderr = process.communicate(timeout=STARTUP_TIMEOUT_S)
+    assert process.returncode == 3
+    assert stderr.strip().startswith("simulation: error: offscreen rendering with MUJOCO_GL=egl failed (")
+    assert stderr.strip().endswith('try simulation gl_backend "osmesa" (Debian packages: libosmesa6)')
+    assert len(stderr.strip().splitlines()) == 1
