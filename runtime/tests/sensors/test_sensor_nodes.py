@@ -13,7 +13,7 @@ import numpy as np
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 
-from conftest import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, node_settings
+from sensor_support import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, node_settings
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.nodes import mock_arm
