@@ -4,7 +4,7 @@ export UV_PYTHON_DOWNLOADS := never
 export PATH := $(HOME)/.local/bin:$(PATH)
 VENV := .venv/bin
 ROBOTS := $(basename $(notdir $(wildcard config/robots/*.pbtxt)))
-RUN_CONFIG ?= config/robots/mock_arm.pbtxt
+RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 PYTEST_ARGS ?=
 
@@ -16,7 +16,7 @@ setup:
 ## run: build the demo description into a temporary directory and run it (Ctrl-C stops it;
 ## DURATION=10 makes it stop by itself).
 run: setup
-	$(VENV)/joshuac run $(RUN_CONFIG) $(if $(DURATION),--duration $(DURATION)) --skip-preflight
+	$(VENV)/joshuac run $(RUN_CONFIG) --status-interval 2 $(if $(DURATION),--duration $(DURATION))
 
 test: setup
 	$(VENV)/pytest $(PYTEST_ARGS)

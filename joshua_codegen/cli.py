@@ -147,7 +147,8 @@ def fmt(config, check_only, write_back) -> None:
 @set_option
 @click.option("--duration", type=float, default=None, help="Stop with the shutdown cascade after this many seconds.")
 @click.option("--skip-preflight", is_flag=True, help="Start even when devices or models are missing.")
-def run(config, overrides, duration, skip_preflight) -> None:
+@click.option("--status-interval", type=float, default=None, help="Print one status line per node this often.")
+def run(config, overrides, duration, skip_preflight, status_interval) -> None:
     """Build into a temporary directory and run the supervisor in the foreground."""
     from joshua_codegen.run import run_supervisor
     from joshua_codegen.write import write_tree
@@ -161,6 +162,8 @@ def run(config, overrides, duration, skip_preflight) -> None:
             extra += ["--duration", str(duration)]
         if skip_preflight:
             extra.append("--skip-preflight")
+        if status_interval is not None:
+            extra += ["--status-interval", str(status_interval)]
         sys.exit(run_supervisor(out, extra))
 
 
