@@ -230,6 +230,7 @@ def test_a_stalled_partial_frame_is_dropped(bus):
 def test_forced_and_seeded_faults(emulators):
     emulator = emulators("ttyFAULT", ids=[1], drop_rate=0.5, seed=7)
     port = RawPort(emulator.link)
+    port.serial.timeout = SILENCE_S
     try:
         answers = [port.ask(proto.encode(1, proto.INST_PING), 6) for _ in range(20)]
     finally:

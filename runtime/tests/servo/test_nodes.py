@@ -25,10 +25,12 @@ def graph_info(probe, query, topic_name):
 
 
 def test_missing_serial_port_is_one_line_and_exit_code_3(tmp_path, start_node):
+    nodes = []
     for node_type in ("ENCODER_PUBLISHER", "ACTUATOR_SUBSCRIBER", "OPERATIONAL_LIMIT_CALIBRATION"):
         written = str(tmp_path / "calibration.json") if node_type == "OPERATIONAL_LIMIT_CALIBRATION" else ""
         settings = node_settings(node_type, "arm", tmp_path / "ttyUSB9", "/arm/joint_states", calibration_file=written)
-        node = start_node(settings)
+        nodes.append(start_node(settings))
+    for node in nodes:
         _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
         assert node.process.returncode == 3
         assert stderr == f"arm: error: serial port {tmp_path / 'ttyUSB9'} not found\n"
