@@ -164,6 +164,22 @@ def test_lidar_publisher_stops_on_sigint_too(tmp_path, start_node, ros_client):
         assert_clean_stop(node, signal.SIGINT)
 
 
+def test_lidar_publisher_exits_3_when_the_device_disappears(tmp_path, start_node, ros_client):
+    link = tmp_path / "ttyUNPLUG"
+    emulator = Lds01Emulator(link).start()
+    try:
+        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
+                                 serial_port=str(link), baud_rate=230400, rate_hz=5.0, frame_id="laser")
+        node = start_node(settings)
+        ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 1, timeout=30.0)
+    finally:
+        emulator.stop()
+    code, stderr = node.wait()
+    assert code == 3
+    assert stderr.splitlines() == [stderr.strip()]
+    assert stderr.startswith(f"lidar: error: LDS-01 lidar at {link} stopped answering: ")
+
+
 def test_lidar_publisher_without_its_port_exits_3_with_one_line(tmp_path, start_node):
     port = tmp_path / "ttyUSB9"
     settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
