@@ -32,7 +32,7 @@ def report(results, output_format: str, stream) -> None:
     elif output_format == "github":
         click.echo(format_github(diagnostics), file=stream, nl=False)
     elif diagnostics:
-        sources = {r.path: r.text for r in results}
+        sources = {path: text for r in results for path, text in r.sources.items()}
         click.echo(format_text(diagnostics, sources), file=stream, nl=False)
 
 

@@ -3,6 +3,7 @@
 import os
 
 from joshua_codegen import defaults
+from joshua_codegen.ros_names import resolve_topic
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
 from joshua_codegen.schema import robot_config_pb2 as pb
 
@@ -24,7 +25,8 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     mode = pb.Mode.Name(config.mode)
     names = defaults.node_names(config)
     simulating = config.mode == pb.MODE_SIMULATION
-    engine = _engine_name(names) if simulating and any(n.type in defaults.HARDWARE for n in config.node) else ""
+    hardware = any(node.type in defaults.HARDWARE for node in config.node)
+    engine = defaults.SIMULATION_NAME if simulating and hardware else ""  # a reserved name there (E205)
     publishers = _publishers(config, names)
     nodes = tuple(
         _node(config, node, name, index, publishers, engine if node.type in defaults.HARDWARE else "")
@@ -57,14 +59,6 @@ def _grace(shutdown: pb.Shutdown, field: str, default: float) -> float:
     return getattr(shutdown, field) if shutdown.HasField(field) else default
 
 
-def _engine_name(names: list[str]) -> str:
-    name, suffix = defaults.SIMULATION_NAME, 1
-    while name in names:
-        suffix += 1
-        name = f"{defaults.SIMULATION_NAME}_{suffix}"
-    return name
-
-
 def _publishers(config: pb.RobotConfig, names: list[str]) -> dict[str, list[Endpoint]]:
     """Every publisher of the description, by topic name."""
     by_topic: dict[str, list[Endpoint]] = {}
@@ -78,9 +72,11 @@ def _published(node: pb.Node, name: str) -> list[Endpoint]:
     endpoints = []
     qos = QoS(**defaults.qos(node))
     if node.type in defaults.PUBLISHES_TOPIC:
-        endpoints.append(Endpoint(name, node.topic_name, defaults.message_type(node), qos, "publisher"))
+        topic = resolve_topic(node.topic_name, name)
+        endpoints.append(Endpoint(name, topic, defaults.message_type(node), qos, "publisher"))
     if node.type in defaults.ACTUATORS and node.state_topic:
-        endpoints.append(Endpoint(name, node.state_topic, defaults.STATE_MESSAGE_TYPE, qos, "publisher"))
+        topic = resolve_topic(node.state_topic, name)
+        endpoints.append(Endpoint(name, topic, defaults.STATE_MESSAGE_TYPE, qos, "publisher"))
     return endpoints
 
 
@@ -99,12 +95,13 @@ def _subscribed(node: pb.Node, name: str, publishers: dict[str, list[Endpoint]])
     """(subscription of topic_name, subscriptions of input_topics) of one node."""
     main = []
     if node.type in defaults.SUBSCRIBES_TOPIC:
-        found = publishers.get(node.topic_name, [])
+        topic = resolve_topic(node.topic_name, name)
+        found = publishers.get(topic, [])
         message_type = defaults.message_type(node) or (found[0].message_type if found else "")
-        main.append(Endpoint(name, node.topic_name, message_type, QoS(**defaults.qos(node)), "subscriber"))
+        main.append(Endpoint(name, topic, message_type, QoS(**defaults.qos(node)), "subscriber"))
     inputs = []
     if node.type in defaults.READS_INPUTS:
-        for topic in dict.fromkeys(node.input_topics):
+        for topic in dict.fromkeys(resolve_topic(t, name) for t in node.input_topics):
             found = publishers.get(topic, [])
             message_type = found[0].message_type if found else ""
             inputs.append(Endpoint(name, topic, message_type, _matching_qos(found), "subscriber"))
@@ -115,9 +112,10 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int,
           publishers: dict[str, list[Endpoint]], simulated_by: str) -> NodeModel:
     published = _published(node, name)
     main, inputs = _subscribed(node, name, publishers)
-    topic = next((e for e in published + main if e.topic == node.topic_name), None)
-    state = next((e for e in published if node.state_topic and e.topic == node.state_topic
-                  and node.type in defaults.ACTUATORS), None)
+    topic = next((e for e in published + main if e.topic == resolve_topic(node.topic_name, name)), None)
+    state = None
+    if node.type in defaults.ACTUATORS and node.state_topic:
+        state = next(e for e in published if e.topic == resolve_topic(node.state_topic, name))
     devices = tuple(_devices(node, name))
     settings = {
         "robot": config.name,

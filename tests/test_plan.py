@@ -86,3 +86,13 @@ def test_simulation_replaces_hardware_nodes_by_one_engine_on_the_same_topics_typ
     assert "nodes/simulation.py" in files and "nodes/camera_publisher.py" not in files
     assert "simulated by simulation" in files["topology.dot"]
     assert "'simulates': [" in files["nodes/simulation.py"]
+
+
+def test_relative_and_private_topic_names_resolve_to_one_topic():
+    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "joints" }
+        node { name: "follow" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/joints" state_topic: "~/state" } }"""),
+        "r.pbtxt")
+    assert [(t.name, [e.node for e in t.publishers], [e.node for e in t.subscribers]) for t in robot.topics] == [
+        ("/follow/state", ["follow"], []), ("/joints", ["arm"], ["follow"])]
+    assert robot.node("follow").settings["state_topic"]["name"] == "/follow/state"
