@@ -118,12 +118,14 @@ def main() -> int:
         ]
         try:
             if watch.wait_for(2048, STARTUP_TIMEOUT_S) is None:
-                print("no goal reached the follower; node stderr:", [n.stderr.read() for n in nodes if n.poll() is not None])
+                failed = [n.stderr.read() for n in nodes if n.poll() is not None]
+                print("no goal reached the follower; node stderr:", failed)
                 return 1
-            leader_reads_before, writes_before, window_start = leader_bus.stats["packets"], watch.writes, time.monotonic()
+            reads_before, writes_before = leader_bus.stats["packets"], watch.writes
+            window_start = time.monotonic()
             time.sleep(RATE_WINDOW_S)
             window = time.monotonic() - window_start
-            read_rate = (leader_bus.stats["packets"] - leader_reads_before) / window
+            read_rate = (leader_bus.stats["packets"] - reads_before) / window
             write_rate = (watch.writes - writes_before) / window
 
             latencies, missed = [], 0

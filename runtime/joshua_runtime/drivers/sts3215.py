@@ -230,7 +230,7 @@ class Sts3215Driver(Driver):
                 self.disable_torque()
             else:
                 raise ValueError(f"unknown preset command {command!r}")
-        self._write_per_joint("Torque_Limit", action.torque, lambda motor, v: round(min(max(v, 0.0), 1.0) * LOAD_FULL_SCALE))
+        self._write_per_joint("Torque_Limit", action.torque, _torque_limit)
         self._write_per_joint("Goal_Velocity", action.speed, MotorCalibration.speed_to_ticks)
         self._write_per_joint("Goal_Position", action.position, MotorCalibration.to_ticks)
 
@@ -245,3 +245,8 @@ class Sts3215Driver(Driver):
             if not math.isnan(value)
         }
         self.sync_write(name, raw)
+
+
+def _torque_limit(_motor: MotorCalibration, fraction: float) -> int:
+    """Torque_Limit register value for a fraction (0-1) of the maximum torque."""
+    return round(min(max(fraction, 0.0), 1.0) * LOAD_FULL_SCALE)

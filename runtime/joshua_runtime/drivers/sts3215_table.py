@@ -71,7 +71,10 @@ REGISTERS = [
 BY_NAME = {register.name: register for register in REGISTERS}
 BY_ADDRESS = {register.address: register for register in REGISTERS}
 READ_ONLY_BYTES = frozenset(
-    address for register in REGISTERS if not register.writable for address in range(register.address, register.address + register.size)
+    address
+    for register in REGISTERS
+    if not register.writable
+    for address in range(register.address, register.address + register.size)
 )
 
 # Block read every control cycle: Present_Position, Present_Velocity, Present_Load.

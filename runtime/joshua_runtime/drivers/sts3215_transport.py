@@ -47,7 +47,9 @@ class _Corrupt(Exception):
 class SerialTransport:
     """A serial port speaking the SCS protocol. `stats` counts timeouts, checksum errors and retries."""
 
-    def __init__(self, port: str, baud_rate: int, reply_timeout_s: float = REPLY_TIMEOUT_S, max_retries: int = MAX_RETRIES):
+    def __init__(
+        self, port: str, baud_rate: int, reply_timeout_s: float = REPLY_TIMEOUT_S, max_retries: int = MAX_RETRIES
+    ):
         self.port = port
         self.baud_rate = baud_rate
         self.reply_timeout_s = reply_timeout_s
@@ -103,9 +105,8 @@ class SerialTransport:
             except _Corrupt as exc:
                 self.stats["checksum_errors"] += 1
                 failure = exc
-        if isinstance(failure, _Corrupt):
-            raise DeviceError(f"{self.port}: corrupt replies from servo id {failure.servo_id} after {attempts} attempts")
-        raise DeviceError(f"{self.port}: no answer from servo id {failure.servo_id} after {attempts} attempts")
+        what = "corrupt replies from" if isinstance(failure, _Corrupt) else "no answer from"
+        raise DeviceError(f"{self.port}: {what} servo id {failure.servo_id} after {attempts} attempts")
 
     def _write(self, packet: bytes) -> None:
         if self._serial is None:

@@ -170,7 +170,8 @@ class Sts3215Emulator:
         parser = proto.PacketParser()
         last_byte_at = time.monotonic()
         while not self._stop.is_set():
-            readable, _, _ = select.select([fd], [], [], POLL_INTERVAL_S if not parser.pending else PARTIAL_FRAME_TIMEOUT_S)
+            wait_s = PARTIAL_FRAME_TIMEOUT_S if parser.pending else POLL_INTERVAL_S
+            readable, _, _ = select.select([fd], [], [], wait_s)
             now = time.monotonic()
             if readable:
                 try:

@@ -62,7 +62,10 @@ def test_bus_order_and_identity_without_file(tmp_path):
         (None, r"calibration file .*arm.json not found$"),
         ("[1]", r"expected an object of motor names$"),
         ('{"a": {"id": 1}}', r"motor 'a' needs integer fields id, drive_mode, homing_offset, range_min, range_max$"),
-        ('{"a": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 9, "range_max": 9}}', r"range_min >= range_max$"),
+        (
+            '{"a": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 9, "range_max": 9}}',
+            r"range_min >= range_max$",
+        ),
         ("{not json", r"is unreadable"),
     ],
 )

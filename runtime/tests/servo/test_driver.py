@@ -169,3 +169,17 @@ def test_port_disappearing_raises_then_reconnects(emulators):
         assert driver.connections == 2
     finally:
         driver.close()
+
+
+def test_preset_commands_switch_torque(emulators):
+    emulator = emulators("ttyPRESET", ids=[1, 2])
+    with open_driver(emulator, ids=(1, 2)) as driver:
+        action = ActionPacket(preset_commands=["torque_on"])
+        action.torque.extend([0.5, 1.5])
+        driver.write_action(action)
+        assert driver.torque_enabled() == {1: True, 2: True}
+        assert driver.sync_read("Torque_Limit") == {1: 500, 2: 1000}
+        driver.write_action(ActionPacket(preset_commands=["torque_off"]))
+        assert driver.torque_enabled() == {1: False, 2: False}
+        with pytest.raises(ValueError, match="unknown preset command 'dance'"):
+            driver.write_action(ActionPacket(preset_commands=["dance"]))

@@ -182,7 +182,11 @@ def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulato
     leader.write_register(1, "Torque_Enable", 1)  # a power-cycled leader must be released again
     leader.start()
     expected = (3000 - UNCALIBRATED_MIDDLE) * RADIANS_PER_TICK
-    assert probe.spin_until(lambda: abs(probe.last("/leader/joint_states").position[0] - expected) < 1e-9, DATA_TIMEOUT_S)
+
+    def shows_new_position():
+        return abs(probe.last("/leader/joint_states").position[0] - expected) < 1e-9
+
+    assert probe.spin_until(shows_new_position, DATA_TIMEOUT_S)
     assert node.process.poll() is None
     assert wait_for(lambda: leader.read_register(1, "Torque_Enable") == 0, DATA_TIMEOUT_S)
 

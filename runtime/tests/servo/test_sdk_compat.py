@@ -57,7 +57,8 @@ def test_lerobot_feetech_bus_connects_and_sync_reads(emulators):
     for servo_id, ticks in zip(SO100_IDS, (1000, 1500, 2000, 2500, 3000, 3500)):
         emulator.move_by_hand(servo_id, ticks)
     motors = {
-        name: Motor(servo_id, "sts3215", MotorNormMode.RANGE_M100_100) for name, servo_id in zip(SO100_JOINTS, SO100_IDS)
+        name: Motor(servo_id, "sts3215", MotorNormMode.RANGE_M100_100)
+        for name, servo_id in zip(SO100_JOINTS, SO100_IDS)
     }
     bus = FeetechMotorsBus(str(emulator.link), motors)
     bus.connect()
