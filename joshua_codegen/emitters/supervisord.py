@@ -3,7 +3,7 @@
 import math
 
 from joshua_codegen import escape
-from joshua_codegen.emitters import fastdds, process_launch
+from joshua_codegen.emitters import fastdds, process_launch, supervisor
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.render import Context, template
 
@@ -43,10 +43,18 @@ def program(robot: Robot, process: Process) -> dict:
     }
 
 
+def listener_command(robot: Robot) -> str:
+    """supervisor.py in its supervisord event listener mode (stops supervisord when a critical node fails)."""
+    words = [*process_launch.program(robot.python_executable, HERE, []), f"{HERE}/{supervisor.SUPERVISOR_PATH}",
+             "--supervisord-listener"]
+    return _here(escape.supervisor_command(words))
+
+
 def emit(robot: Robot, context: Context) -> dict[str, str]:
     stop_wait = math.ceil(robot.sigint_grace_s + robot.sigterm_grace_s)
     programs = [program(robot, process) for process in robot.processes]
+    listener = listener_command(robot) if any(process.critical for process in robot.processes) else ""
     text = template("supervisord.conf.j2", robot=robot, group=group_name(robot), programs=programs,
-                    stop_wait=max(1, stop_wait), startsecs=STARTSECS,
+                    stop_wait=max(1, stop_wait), startsecs=STARTSECS, listener=listener,
                     initial_delay=process_launch.RESTART_DELAY_INITIAL_S)
     return {CONF_PATH: text}

@@ -113,13 +113,13 @@ def events(log: Path) -> list[tuple[str, int, str]]:
     return lines
 
 
-def wait_until(predicate, what: str, timeout: float = WAIT_S):
+def wait_until(predicate, what: str, timeout: float = WAIT_S, poll: float = POLL_S):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         value = predicate()
         if value:
             return value
-        time.sleep(POLL_S)
+        time.sleep(poll)
     raise AssertionError(f"timed out after {timeout} s waiting for {what}")
 
 
