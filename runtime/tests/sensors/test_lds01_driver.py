@@ -7,6 +7,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from joshua_runtime.drivers import lds01_protocol as proto
@@ -24,9 +25,7 @@ KNOWN_RANGES = {0: 0.8, 45: 2.121, 90: 1.5, 180: 0.0, 270: 1.0}
 
 def f32(value: float) -> float:
     """A float as it survives a protobuf float field."""
-    import struct
-
-    return struct.unpack("<f", struct.pack("<f", value))[0]
+    return float(np.float32(value))
 
 
 def readings_of_packet(k: int) -> list[int]:
@@ -34,7 +33,8 @@ def readings_of_packet(k: int) -> list[int]:
 
 
 def test_full_turn_from_the_emulator_has_exact_ranges_at_known_angles(tmp_path):
-    with Lds01Emulator(tmp_path / "ttyLDS") as emulator, Lds01Driver(str(tmp_path / "ttyLDS"), frame_id="lidar") as lidar:
+    port = str(tmp_path / "ttyLDS")
+    with Lds01Emulator(port) as emulator, Lds01Driver(port, frame_id="lidar") as lidar:
         scans = [lidar.read_scan() for _ in range(2)]
         assert emulator.stream.spinning
     for scan in scans:
@@ -105,7 +105,8 @@ def test_checksum_check_is_opt_in(tmp_path):
     turn = bytearray(_counting_turn())
     turn[7 * 42 + 6] ^= 0x01  # flip a range bit of packet 7, checksum unchanged
     for verify, expected_good in ((False, 60), (True, 59)):
-        with PtyLink(tmp_path / "ttyRAW") as link, Lds01Driver(str(tmp_path / "ttyRAW"), verify_checksum=verify) as lidar:
+        port = str(tmp_path / "ttyRAW")
+        with PtyLink(port) as link, Lds01Driver(port, verify_checksum=verify) as lidar:
             os.write(link.master_fd, bytes(turn))
             scan = lidar.read_scan()
         assert lidar.packets_good == expected_good
