@@ -1,0 +1,140 @@
+"""Start and stop times of the generated supervisor.py beside real supervisord on the generated config.
+
+    .venv/bin/python bench/supervisor.py [--runs 5] [--sizes 1,8,32]
+
+For 1, 8 and 32 cooperative CUSTOM nodes (`sh` that reports its pid on a FIFO, then execs `sleep`,
+which exits on SIGINT), built once through plan() + render(): the time from launching the manager to
+every node running (all pids read from the FIFO), and from SIGINT to the manager's exit after every
+node exited. supervisord runs `supervisord -c OUT/supervisord.conf` (foreground, as generated, with its
+critical-node event listener). Medians of --runs runs; "per node" is the marginal cost of one more
+node between the smallest and the largest size.
+"""
+
+import argparse
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from google.protobuf import text_format  # noqa: E402
+
+from joshua_codegen.plan import plan  # noqa: E402
+from joshua_codegen.render import render  # noqa: E402
+from joshua_codegen.schema import RobotDescription  # noqa: E402
+from joshua_codegen.write import write_tree  # noqa: E402
+
+BIN = Path(sys.executable).parent
+NODE_SCRIPT = 'echo $$ > "$1"; exec sleep 3600'
+TIMEOUT_S = 30.0  # any single start or stop taking longer than this aborts the benchmark
+
+
+def quoted(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def description(nodes: int, fifo: Path) -> str:
+    lines = ['robot_config { name: "bench" mode: MODE_TELEOPERATION shutdown { sigint_grace_s: 5 sigterm_grace_s: 2 }']
+    args = ", ".join(quoted(arg) for arg in ["-c", NODE_SCRIPT, "sh", str(fifo)])
+    for i in range(nodes):
+        lines.append(f'  node {{ name: "sleeper{i}" type: CUSTOM executable: "/bin/sh" args: [{args}] }}')
+    return "\n".join(lines + ["}"])
+
+
+def read_pids(fifo_fd: int, count: int, deadline: float) -> list[int]:
+    buffer = b""
+    while buffer.count(b"\n") < count:
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"only {len(buffer.split())} of {count} nodes reported within {TIMEOUT_S} s")
+        try:
+            chunk = os.read(fifo_fd, 4096)
+        except BlockingIOError:
+            time.sleep(0.0005)
+            continue
+        buffer += chunk
+    return [int(line) for line in buffer.split()]
+
+
+def gone(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return True
+    return state == "Z"
+
+
+def measure(command: list[str], fifo: Path, count: int) -> tuple[float, float]:
+    """(seconds to every node running, seconds from SIGINT to the manager's exit with every node gone)."""
+    fifo_fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    keep_open = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)  # no EOF between writers
+    started = time.monotonic()
+    manager = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        pids = read_pids(fifo_fd, count, started + TIMEOUT_S)
+        running = time.monotonic() - started
+        time.sleep(0.2)  # let the manager settle before asking it to stop
+        stopping = time.monotonic()
+        manager.send_signal(signal.SIGINT)
+        manager.wait(TIMEOUT_S)
+        stopped = time.monotonic() - stopping
+        if not all(gone(pid) for pid in pids):
+            raise RuntimeError("a node outlived its manager")
+        return running, stopped
+    finally:
+        if manager.poll() is None:
+            manager.kill()
+            manager.wait()
+        os.close(fifo_fd)
+        os.close(keep_open)
+
+
+def bench(sizes: list[int], runs: int) -> None:
+    managers = {
+        "supervisor.py": lambda out: [sys.executable, str(out / "supervisor.py")],
+        "supervisord": lambda out: [str(BIN / "supervisord"), "-c", str(out / "supervisord.conf")],
+    }
+    results: dict[tuple[str, int], tuple[float, float]] = {}
+    for size in sizes:
+        with tempfile.TemporaryDirectory(prefix="bench-supervisor-") as tmp:
+            fifo = Path(tmp) / "ready"
+            os.mkfifo(fifo)
+            out = Path(tmp) / "out"
+            robot = plan(text_format.Parse(description(size, fifo), RobotDescription()), "bench.pbtxt")
+            write_tree(render(robot, prefix=str(out)), out)
+            samples = {name: [] for name in managers}
+            for _ in range(runs):
+                for name, command in managers.items():  # interleaved, so both see the same machine load
+                    samples[name].append(measure(command(out), fifo, size))
+            for name in managers:
+                results[name, size] = (statistics.median(s[0] for s in samples[name]),
+                                       statistics.median(s[1] for s in samples[name]))
+    print(f"{'nodes':>5}  {'manager':<14} {'start -> all running':>21} {'SIGINT -> all exited':>21}")
+    for size in sizes:
+        for name in managers:
+            running, stopped = results[name, size]
+            print(f"{size:>5}  {name:<14} {running * 1000:>18.1f} ms {stopped * 1000:>18.1f} ms")
+    if len(sizes) > 1:
+        low, high = min(sizes), max(sizes)
+        print(f"\nmarginal cost of one more node ({low} -> {high} nodes):")
+        for name in managers:
+            start = (results[name, high][0] - results[name, low][0]) / (high - low)
+            stop = (results[name, high][1] - results[name, low][1]) / (high - low)
+            print(f"  {name:<14} start {start * 1000:6.2f} ms/node   stop {stop * 1000:6.2f} ms/node")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--sizes", default="1,8,32")
+    options = parser.parse_args()
+    bench([int(size) for size in options.sizes.split(",")], options.runs)
+
+
+if __name__ == "__main__":
+    main()
