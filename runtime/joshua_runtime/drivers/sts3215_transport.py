@@ -87,7 +87,7 @@ class SerialTransport:
 
     def send(self, packet: bytes) -> None:
         """Write a packet that has no reply (SYNC_WRITE, broadcast)."""
-        self._write(packet)
+        self._write(packet, discard_input=False)
 
     def transact(self, packet: bytes, expected: list[Expected]) -> list[proto.Packet]:
         """Write `packet` and return its status packets in order, retrying timeouts and bad checksums."""
@@ -108,12 +108,14 @@ class SerialTransport:
         what = "corrupt replies from" if isinstance(failure, _Corrupt) else "no answer from"
         raise DeviceError(f"{self.port}: {what} servo id {failure.servo_id} after {attempts} attempts")
 
-    def _write(self, packet: bytes) -> None:
+    def _write(self, packet: bytes, discard_input: bool = True) -> None:
+        """Write one packet; before a transaction, drop unread bytes (late replies to earlier requests)."""
         if self._serial is None:
             raise DeviceError(f"serial port {self.port} is not open")
         try:
-            self._serial.reset_input_buffer()
-            self._parser.clear()
+            if discard_input:
+                self._serial.reset_input_buffer()
+                self._parser.clear()
             self._serial.write(packet)
         except (serial.SerialException, OSError, termios.error) as exc:
             self._lost(exc)

@@ -119,6 +119,7 @@ class Sts3215Emulator:
         """Turn a servo's shaft to `position` ticks (present-position frame)."""
         with self._lock:
             self._servos[servo_id].move_by_hand(position, time.monotonic())
+            self._handled.notify_all()
 
     def position(self, servo_id: int) -> int:
         return self.read_register(servo_id, "Present_Position")
@@ -134,16 +135,19 @@ class Sts3215Emulator:
         reg = register(name)
         with self._lock:
             self._servos[servo_id].write(reg.address, encode_value(reg, value), time.monotonic())
+            self._handled.notify_all()
 
     def set_sensor(self, servo_id: int, name: str, value: int) -> None:
         """Set Present_Voltage or Present_Temperature, e.g. to trigger the voltage or overheat bit."""
         with self._lock:
             self._servos[servo_id].set_sensor(name, value, time.monotonic())
+            self._handled.notify_all()
 
     def inject_error(self, servo_id: int, bits: int) -> None:
         """Report these status error bits (e.g. proto.ERROR_OVERLOAD) until cleared with 0."""
         with self._lock:
             self._servos[servo_id].inject_errors(bits, time.monotonic())
+            self._handled.notify_all()
 
     def drop_next_replies(self, count: int) -> None:
         with self._lock:
