@@ -154,5 +154,8 @@ class SerialTransport:
 
 def _reason(exc: Exception) -> str:
     """The useful part of a pyserial/OS error message, on one line."""
-    text = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
-    return " ".join(str(text).split())
+    number = getattr(exc, "errno", None)
+    if isinstance(exc, termios.error) and len(exc.args) == 2:
+        number = exc.args[0]
+    text = os.strerror(number) if isinstance(number, int) else str(exc) or type(exc).__name__
+    return " ".join(text.split())
