@@ -83,14 +83,18 @@ def run_node(settings: dict, exit_process: bool = True) -> int:
     Ends the process with the node's exit code (`end_process`); with exit_process=False it
     returns the code instead.
     """
-    from joshua_runtime.node import run
+    from joshua_runtime.node import StopRequested, StopSignal, run
 
+    stop = StopSignal().install()  # before the imports: a heavy node may be stopped while loading
     try:
         cls = node_class(settings["type"])
+    except StopRequested:
+        cls, code = None, 0
     except JoshuaError as exc:
         print(f"{settings.get('name', '?')}: error: {exc}", file=sys.stderr, flush=True)
-        return exc.exit_code
-    code = run(cls, settings)
+        cls, code = None, exc.exit_code
+    if cls is not None:
+        code = run(cls, settings, stop)
     if exit_process:
         end_process(code)
     return code

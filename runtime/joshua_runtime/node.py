@@ -56,35 +56,66 @@ class JoshuaNode:
         return self.ros.get_clock().now().to_msg()
 
 
-def run(node_class: type[JoshuaNode], settings: dict) -> int:
-    """Run one node until SIGINT or SIGTERM; return the process exit code."""
-    stop = threading.Event()
+class StopRequested(BaseException):
+    """Raised by the signal handler while a node is still starting (importing, opening devices).
 
-    def request_stop(signum, _frame):
-        stop.set()
+    A BaseException, so that no `except Exception` in start-up code swallows it.
+    """
 
-    signal.signal(signal.SIGINT, request_stop)
-    signal.signal(signal.SIGTERM, request_stop)
-    rclpy.init(args=None, signal_handler_options=SignalHandlerOptions.NO)
-    ros_node = rclpy.create_node(settings["name"])
-    executor = SingleThreadedExecutor()
-    executor.add_node(ros_node)
-    node = node_class(settings, ros_node)
+
+class StopSignal:
+    """SIGINT/SIGTERM handler: sets `event`; while `starting`, also abandons start-up at once."""
+
+    def __init__(self):
+        self.event = threading.Event()
+        self.starting = True
+
+    def install(self) -> "StopSignal":
+        signal.signal(signal.SIGINT, self)
+        signal.signal(signal.SIGTERM, self)
+        return self
+
+    def __call__(self, signum, _frame) -> None:
+        self.event.set()
+        if self.starting:
+            raise StopRequested(signum)
+
+
+def run(node_class: type[JoshuaNode], settings: dict, stop: StopSignal | None = None) -> int:
+    """Run one node until SIGINT or SIGTERM; return the process exit code.
+
+    A signal during start-up ends the node cleanly too (exit code 0): a robot stopped while a node
+    is still importing its libraries or opening its device must not wait for that to finish.
+    """
+    stop = stop or StopSignal().install()
+    ros_node = executor = node = None
     code = 0
     try:
+        rclpy.init(args=None, signal_handler_options=SignalHandlerOptions.NO)
+        ros_node = rclpy.create_node(settings["name"])
+        executor = SingleThreadedExecutor()
+        executor.add_node(ros_node)
+        node = node_class(settings, ros_node)
         node.start()
-        while not stop.is_set():
+        stop.starting = False
+        while not stop.event.is_set():
             executor.spin_once(timeout_sec=SHUTDOWN_POLL_S)
+    except StopRequested:
+        pass
     except JoshuaError as exc:
         print(f"{settings['name']}: error: {exc}", file=sys.stderr, flush=True)
         code = exc.exit_code
     finally:
-        try:
-            node.close()
-        except JoshuaError as exc:
-            print(f"{settings['name']}: error while closing: {exc}", file=sys.stderr, flush=True)
-            code = code or exc.exit_code
-        executor.shutdown(timeout_sec=0)
-        ros_node.destroy_node()
+        stop.starting = False
+        if node is not None:
+            try:
+                node.close()
+            except JoshuaError as exc:
+                print(f"{settings['name']}: error while closing: {exc}", file=sys.stderr, flush=True)
+                code = code or exc.exit_code
+        if executor is not None:
+            executor.shutdown(timeout_sec=0)
+        if ros_node is not None:
+            ros_node.destroy_node()
         rclpy.try_shutdown()
     return code

@@ -1,0 +1,153 @@
+"""Descriptions of config/robots built by joshuac and run by their generated supervisor, end to end."""
+
+import signal
+import subprocess
+import sys
+import time
+
+import cv2
+import numpy as np
+import pytest
+import rclpy
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import Image, JointState, LaserScan
+
+from conftest import ROOT, joshuac
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+
+STARTUP_TIMEOUT_S = 40.0
+TRACKING_TIMEOUT_S = 15.0
+SHUTDOWN_TIMEOUT_S = 10.0
+TRACKING_TOLERANCE_TICKS = 3
+SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
+RELIABLE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+class Listener:
+    """An in-process rclpy client that keeps the last message of each topic it listens to."""
+
+    def __init__(self):
+        rclpy.init()
+        self.node = rclpy.create_node("e2e_listener")
+        self.last: dict[str, object] = {}
+        self.counts: dict[str, int] = {}
+
+    def listen(self, topic: str, message_class, qos: QoSProfile) -> None:
+        def keep(message, topic=topic):
+            self.last[topic] = message
+            self.counts[topic] = self.counts.get(topic, 0) + 1
+
+        self.node.create_subscription(message_class, topic, keep, qos)
+
+    def spin_until(self, predicate, timeout_s: float) -> bool:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            rclpy.spin_once(self.node, timeout_sec=0.05)
+            if predicate():
+                return True
+        return False
+
+    def close(self) -> None:
+        self.node.destroy_node()
+        rclpy.try_shutdown()
+
+
+@pytest.fixture
+def listener(ros_domain):
+    client = Listener()
+    yield client
+    client.close()
+
+
+def build(config: str, out, *overrides: str) -> None:
+    args = [arg for override in overrides for arg in ("--set", override)]
+    result = joshuac("build", ROOT / "config" / "robots" / config, "-o", out, *args)
+    assert result.returncode == 0, result.stderr
+
+
+def start_supervisor(out, env) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, str(out / "supervisor.py")], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+
+
+def stop(supervisor: subprocess.Popen) -> tuple[int, str]:
+    supervisor.send_signal(signal.SIGINT)
+    try:
+        output, _ = supervisor.communicate(timeout=SHUTDOWN_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        supervisor.kill()
+        output, _ = supervisor.communicate()
+        pytest.fail(f"supervisor did not stop within {SHUTDOWN_TIMEOUT_S} s:\n{output}")
+    return supervisor.returncode, output
+
+
+def test_mock_robot_publishes_every_topic_with_its_declared_types_and_qos(tmp_path, ros_env, listener):
+    out = tmp_path / "out"
+    build("mock_arm.pbtxt", out)
+    supervisor = start_supervisor(out, ros_env)
+    try:
+        listener.listen("/camera/image_raw", Image, SENSOR_QOS)
+        listener.listen("/scan", LaserScan, SENSOR_QOS)
+        listener.listen("/leader/joint_states", JointState, RELIABLE_QOS)
+        listener.listen("/follower/joint_states", JointState, RELIABLE_QOS)
+        assert listener.spin_until(lambda: len(listener.last) == 4, STARTUP_TIMEOUT_S), sorted(listener.last)
+        image = listener.last["/camera/image_raw"]
+        assert (image.width, image.height) == (320, 240)
+        assert len(listener.last["/scan"].ranges) == 360
+        leader = listener.last["/leader/joint_states"]
+        assert list(leader.name) == ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll",
+                                     "gripper"]
+        infos = listener.node.get_publishers_info_by_topic("/camera/image_raw")
+        assert [(i.node_name, i.topic_type, i.qos_profile.reliability, i.qos_profile.durability) for i in infos] == [
+            ("camera", "sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)]
+        infos = listener.node.get_publishers_info_by_topic("/follower/joint_states")
+        assert [(i.node_name, i.qos_profile.reliability) for i in infos] == [("follower", ReliabilityPolicy.RELIABLE)]
+    finally:
+        code, output = stop(supervisor)
+    assert code == 0, output
+    for node in ("leader", "follower", "camera", "lidar"):
+        assert f"{node}: pid" in output and "exited with code 0" in output
+
+
+def write_video(path, frames: int = 30) -> None:
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 30, (320, 240))
+    for i in range(frames):
+        frame = np.full((240, 320, 3), (i * 8) % 256, dtype=np.uint8)
+        cv2.rectangle(frame, (10 + i * 5, 60), (60 + i * 5, 120), (0, 0, 255), -1)
+        writer.write(frame)
+    writer.release()
+
+
+def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_env, listener):
+    leader_bus = Sts3215Emulator(tmp_path / "ttyLEADER").start()
+    follower_bus = Sts3215Emulator(tmp_path / "ttyFOLLOWER").start()
+    video = tmp_path / "camera.avi"
+    write_video(video)
+    out = tmp_path / "out"
+    build("so100_leader_follower.pbtxt", out,
+          f"encoder_publisher.serial_port={leader_bus.link}",
+          f"actuator_subscriber.serial_port={follower_bus.link}",
+          f"camera_publisher.video_source={video}",
+          f"data_subscriber.output_directory={tmp_path / 'episodes'}",
+          f"cpp_bin_dir={tmp_path / 'bin'}")
+    supervisor = start_supervisor(out, ros_env)
+    try:
+        listener.listen("/leader/joint_states", JointState, RELIABLE_QOS)
+        listener.listen("/camera/image_raw", Image, SENSOR_QOS)
+        assert listener.spin_until(lambda: len(listener.last) == 2, STARTUP_TIMEOUT_S), sorted(listener.last)
+        pose = {1: 1500, 2: 2500, 3: 1800, 4: 2300, 5: 1000, 6: 2600}
+        for servo_id, ticks in pose.items():
+            leader_bus.move_by_hand(servo_id, ticks)
+
+        def follower_tracks() -> bool:
+            return all(abs(follower_bus.position(i) - ticks) <= TRACKING_TOLERANCE_TICKS for i, ticks in pose.items())
+
+        assert follower_bus.wait_until(follower_tracks, TRACKING_TIMEOUT_S), {
+            i: follower_bus.position(i) for i in pose}
+    finally:
+        code, output = stop(supervisor)
+        leader_bus.stop()
+        follower_bus.stop()
+    assert code == 0, output
+    assert "C++ binary" in output  # CPP preferred, no binary in cpp_bin_dir: the Python fallback is logged
+    assert follower_bus.read_register(1, "Torque_Enable") == 0  # released on shutdown
