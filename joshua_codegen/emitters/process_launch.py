@@ -2,6 +2,7 @@
 command lines systemd and supervisord run (supervisor.py decides the same things at run time)."""
 
 import posixpath
+import re
 import shlex
 
 from joshua_codegen.model import Process, Robot
@@ -15,6 +16,7 @@ RESTART_DELAY_CAP_S = 30.0
 RESTART_RESET_AFTER_S = 60.0
 
 FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
+ENVIRONMENT_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")  # what Environment= and environment= accept as a key
 ENV_COMMAND = "/usr/bin/env"
 SHELL = "/bin/sh"
 
@@ -26,6 +28,11 @@ def node_environment(robot: Robot, process: Process, profile_path: str) -> list[
         variables["ROS_DOMAIN_ID"] = str(robot.ros_domain_id)
     variables.update(process.env)
     return list(variables.items())
+
+
+def through_env(words: list[str], assignments: list[str]) -> list[str]:
+    """`words` run by env(1) with `assignments` (KEY=VALUE) that a unit format cannot express itself."""
+    return [ENV_COMMAND, *assignments, *words] if assignments else words
 
 
 def under(base: str, path: str) -> str:

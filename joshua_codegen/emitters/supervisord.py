@@ -24,14 +24,15 @@ def program(robot: Robot, process: Process) -> dict:
     """The settings of one [program:] section."""
     words = process_launch.launch_words(robot, process, HERE, [], HERE)
     variables = process_launch.node_environment(robot, process, f"{HERE}/{fastdds.PROFILE_PATH}")
-    environment, through_env = [], []
-    for key, value in variables:
+    environment, others = [], []
+    for key, value in variables:  # what environment= cannot hold reaches the node through env(1)
         try:
+            if not process_launch.ENVIRONMENT_NAME.fullmatch(key):
+                raise ValueError(key)
             environment.append(f"{key}={escape.supervisor_value(value)}")
         except ValueError:
-            through_env.append(f"{key}={value}")
-    if through_env:  # values environment= cannot hold reach the node through env(1) instead
-        words = [process_launch.ENV_COMMAND, *through_env, *words]
+            others.append(f"{key}={value}")
+    words = process_launch.through_env(words, others)
     never = process.restart == "RESTART_NEVER" or process.max_restarts == 0
     return {
         "name": process.name,

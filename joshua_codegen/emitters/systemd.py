@@ -32,7 +32,10 @@ def restart(process: Process) -> str:
 def service(robot: Robot, process: Process, prefix: str) -> dict:
     """The values of one service unit."""
     words = process_launch.launch_words(robot, process, prefix, [process_launch.ENV_COMMAND], prefix)
-    environment = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.PROFILE_PATH))
+    variables = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.PROFILE_PATH))
+    environment = [(key, value) for key, value in variables if process_launch.ENVIRONMENT_NAME.fullmatch(key)]
+    words = process_launch.through_env(  # keys Environment= would refuse reach the node through env(1)
+        words, [f"{key}={value}" for key, value in variables if not process_launch.ENVIRONMENT_NAME.fullmatch(key)])
     delays = process_launch.backoff_delays(process.max_restarts)
     return {
         "name": service_name(robot, process),

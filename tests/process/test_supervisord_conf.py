@@ -122,6 +122,7 @@ def test_arguments_and_environment_reach_the_node_unchanged(tmp_path):
     env_file = tmp_path / "env.json"
     values = ODD + ['"quoted"', "both ' and \""]
     env = " ".join(f"env {{ key: {quoted(f'V{i}')} value: {quoted(v)} }}" for i, v in enumerate(values))
+    env += ' env { key: "DASH-KEY" value: "d" }'
     node = custom_node("odd", log, f"env_file={env_file}", *ODD)[:-1] + f" {env} }}"
     out = build(tmp_path, robot([node], extra="ros_domain_id: 3"))
     supervisord = Supervisord(out)
@@ -134,6 +135,7 @@ def test_arguments_and_environment_reach_the_node_unchanged(tmp_path):
     assert seen["argv"] == [f"env_file={env_file}", *ODD]
     assert {key: seen["env"][key] for key in (f"V{i}" for i in range(len(values)))} == {
         f"V{i}": v for i, v in enumerate(values)}
+    assert seen["env"]["DASH-KEY"] == "d"
     assert seen["env"]["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(out / "fastdds_profile.xml")
     assert (seen["env"]["PYTHONUNBUFFERED"], seen["env"]["ROS_DOMAIN_ID"]) == ("1", "3")
     assert seen["cwd"] == str(out)

@@ -69,11 +69,13 @@ def test_units_of_every_seed_description_pass_systemd_analyze_verify(config, tmp
 def test_units_with_odd_values_pass_verify_and_keep_every_value(tmp_path):
     log = tmp_path / "events.log"
     env = " ".join(f"env {{ key: {quoted(f'V{i}')} value: {quoted(v)} }}" for i, v in enumerate(NASTY))
+    env += ' env { key: "DASH-KEY" value: "d e" }'
     node = custom_node("odd", log, *NASTY)[:-1] + f" {env} }}"
     out = build(tmp_path, robot([node]), prefix=str(tmp_path / "out"))
     result = verify(out)
     assert (result.returncode, result.stderr) == (0, "")
     unit = dict(settings_of((out / "systemd" / "joshua-r-odd.service").read_text()))
+    assert unquote(unit["ExecStart"])[:3] == ["/usr/bin/env", "DASH-KEY=d e", PYTHON]  # not a valid Environment= key
     assert unquote(unit["ExecStart"])[-len(NASTY):] == NASTY
     text = (out / "systemd" / "joshua-r-odd.service").read_text()
     environment = [unquote(value, exec_line=False)[0] for key, value in settings_of(text) if key == "Environment"]
