@@ -43,6 +43,7 @@ class EpisodeWriter:
         self._task = ""
         self._frames = 0
         self._cache = tempfile.mkdtemp(prefix="joshua-recorder-cache-")
+        self._import_lerobot()
         self._thread = threading.Thread(target=self._run, name="episode-writer", daemon=True)
         self._thread.start()
 
@@ -72,11 +73,18 @@ class EpisodeWriter:
     def pending(self) -> int:
         return self._commands.qsize()
 
-    # The writing thread.
-    def _run(self) -> None:
+    def _import_lerobot(self) -> None:
+        """Import LeRobot now: an import in the writing thread would starve the ROS thread for seconds."""
         # Keep the Hugging Face datasets cache of this process private (LeRobot reloads the dataset
         # when it resumes it), and delete it at close.
         os.environ["HF_DATASETS_CACHE"] = self._cache
+        import datasets.config
+        import lerobot.datasets.lerobot_dataset  # noqa: F401
+
+        datasets.config.HF_DATASETS_CACHE = Path(self._cache)
+
+    # The writing thread.
+    def _run(self) -> None:
         try:
             staged_directory.recover(self.target)
             while True:
@@ -143,10 +151,8 @@ class EpisodeWriter:
 
     def _open(self):
         """The LeRobotDataset to write the next episode into, in a fresh staging copy."""
-        import datasets.config
         from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
-        datasets.config.HF_DATASETS_CACHE = Path(self._cache)
         if self._features is None:
             raise JoshuaError("a frame arrived before the dataset features were known")
         staging = staged_directory.prepare(self.target)

@@ -5,7 +5,7 @@
 - `sensor_msgs/msg/JointState` inputs become `observation.state`: the positions of every JointState
   input, concatenated in the order the inputs are listed, each in the order of the message's `name`.
   Feature names are `<joint>.pos` (LeRobot's SO-100 convention).
-- `sensor_msgs/msg/Image` inputs become `observation.images.<key>`, where `<key>` is the topic name
+- `sensor_msgs/msg/Image` (or `CompressedImage`) inputs become `observation.images.<key>`, where `<key>` is the topic name
   without its leading slash and without a last segment starting with `image` (`image_raw`,
   `image_rect`, ...), the remaining segments joined by `_`:
   `/camera/image_raw` -> `camera`, `/arm/wrist/image` -> `arm_wrist`, `/front` -> `front`.
@@ -17,7 +17,9 @@ from joshua_runtime.errors import SettingsError
 
 JOINT_STATE = "sensor_msgs/msg/JointState"
 IMAGE = "sensor_msgs/msg/Image"
-SUPPORTED_INPUT_TYPES = (IMAGE, JOINT_STATE)
+COMPRESSED_IMAGE = "sensor_msgs/msg/CompressedImage"
+IMAGE_TYPES = (IMAGE, COMPRESSED_IMAGE)
+SUPPORTED_INPUT_TYPES = (IMAGE, COMPRESSED_IMAGE, JOINT_STATE)
 
 ACTION = "action"
 STATE = "observation.state"
@@ -61,7 +63,7 @@ def check_inputs(node_name: str, inputs: list[dict]) -> None:
                 f"{node_name}: input {topic['name']} has message type {kind or '(unknown)'}; "
                 f"supported: {', '.join(SUPPORTED_INPUT_TYPES)}"
             )
-        if kind == IMAGE:
+        if kind in IMAGE_TYPES:
             feature = image_feature(topic["name"])
             if feature in seen:
                 raise SettingsError(

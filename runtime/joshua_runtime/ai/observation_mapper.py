@@ -26,7 +26,7 @@ class ObservationMapper:
 
     def __init__(self, node_name: str, inputs: list[dict], images: dict[str, tuple[int, ...]],
                  state_size: int | None, state_names: list[str] | None = None):
-        image_topics = [t["name"] for t in inputs if t["message_type"] == keys.IMAGE]
+        image_topics = [t["name"] for t in inputs if t["message_type"] in keys.IMAGE_TYPES]
         self.state_topics = [t["name"] for t in inputs if t["message_type"] == keys.JOINT_STATE]
         self.image_sources = _pair_images(node_name, image_topics, images)
         self.image_shapes = images

@@ -44,10 +44,11 @@ class PolicyRunner:
     """A policy, its pre/post-processors and its device, ready for `act(observation)`."""
 
     def __init__(self, policy_dir: Path, device: str):
+        self.device = check_device(device)  # before importing LeRobot, so a missing GPU is reported at once
+
         from lerobot.configs.policies import PreTrainedConfig
         from lerobot.policies.factory import get_policy_class, make_pre_post_processors
 
-        self.device = check_device(device)
         config = PreTrainedConfig.from_pretrained(policy_dir)
         if config.type not in SUPPORTED_POLICY_TYPES:
             raise SettingsError(

@@ -48,12 +48,12 @@ class RecorderNode(JoshuaNode):
         rate = float(self.settings.get("rate_hz") or 0)
         self.fps = max(1, round(rate)) if rate > 0 else int(DEFAULT_RATE_HZ)
         use_videos = output_format == "lerobot"
-        self.sampler = FrameSampler(topic["name"], inputs, use_videos)
-        self.samples = LatestSamples(self.sampler.topic_names)
-        self.subscriptions = [self.subscription(t, self.samples.callback(t["name"])) for t in [topic, *inputs]]
         self.writer = EpisodeWriter(
             self.settings["output_directory"], self.fps, self.settings.get("robot") or "", use_videos, self.log,
         )
+        self.sampler = FrameSampler(topic["name"], inputs, use_videos)
+        self.samples = LatestSamples(self.sampler.topic_names)
+        self.subscriptions = [self.subscription(t, self.samples.callback(t["name"])) for t in [topic, *inputs]]
         from std_msgs.msg import String
 
         self.commands = self.ros.create_subscription(String, COMMAND_TOPIC, self._command, COMMAND_QOS_DEPTH)

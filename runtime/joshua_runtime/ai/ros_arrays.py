@@ -1,5 +1,6 @@
 """Conversions between sensor_msgs (Image, JointState) and the numpy arrays LeRobot works with."""
 
+import cv2
 import numpy as np
 
 # Image encodings accepted, with their channel count and the channel order to get RGB.
@@ -19,7 +20,9 @@ class ImageFormatError(ValueError):
 
 
 def image_to_rgb(msg) -> np.ndarray:
-    """An (height, width, 3) uint8 RGB array copied from a sensor_msgs/Image."""
+    """An (height, width, 3) uint8 RGB array copied from a sensor_msgs/Image or CompressedImage."""
+    if hasattr(msg, "format"):
+        return _decompress(msg)
     spec = _ENCODINGS.get(msg.encoding)
     if spec is None:
         raise ImageFormatError(f"unsupported image encoding {msg.encoding!r} (supported: {', '.join(_ENCODINGS)})")
@@ -31,6 +34,13 @@ def image_to_rgb(msg) -> np.ndarray:
     rows = raw[: step * height].reshape(height, step)[:, : width * channels]
     pixels = rows.reshape(height, width, channels)
     return np.ascontiguousarray(pixels[:, :, list(order)])
+
+
+def _decompress(msg) -> np.ndarray:
+    pixels = cv2.imdecode(np.frombuffer(msg.data, dtype=np.uint8), cv2.IMREAD_COLOR)
+    if pixels is None:
+        raise ImageFormatError(f"cannot decode compressed image (format {msg.format!r})")
+    return cv2.cvtColor(pixels, cv2.COLOR_BGR2RGB)
 
 
 def rgb_to_image(pixels: np.ndarray, stamp=None, frame_id: str = "camera"):

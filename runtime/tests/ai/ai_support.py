@@ -126,6 +126,13 @@ class RosPeer:
 
         return self.node.create_publisher(message_class(message_type), name, qos_profile(RELIABLE))
 
+    def send_text(self, publisher, text: str, timeout: float = LINE_TIMEOUT_S) -> None:
+        """Publish a std_msgs/String once a subscriber has matched (a volatile message sent earlier is lost)."""
+        from std_msgs.msg import String
+
+        wait_until(lambda: publisher.get_subscription_count() > 0, timeout, f"a subscriber of {publisher.topic_name}")
+        publisher.publish(String(data=text))
+
     def publish_periodically(self, name: str, message_type: str, rate_hz: float, make_message):
         """Publish `make_message()` on a topic at `rate_hz` until `close()`; returns the timer."""
         publisher = self.publisher(name, message_type)
@@ -136,7 +143,8 @@ class RosPeer:
         from joshua_runtime.qos import qos_profile
 
         box = self.received.setdefault(name, deque())
-        self.node.create_subscription(message_class(message_type), name, box.append, qos_profile(RELIABLE))
+        self.node.create_subscription(
+            message_class(message_type), name, lambda message: box.append(message), qos_profile(RELIABLE))
         return box
 
     def close(self) -> None:

@@ -60,9 +60,7 @@ def recorder_settings(output, output_format):
 
 
 def send(peer, publisher, text):
-    from std_msgs.msg import String
-
-    publisher.publish(String(data=text))
+    peer.send_text(publisher, text)
 
 
 def record_one(node, mark):
