@@ -10,6 +10,7 @@ Video datasets use LeRobot's streaming encoder (frames are encoded while recordi
 episode at SIGINT is quick); image datasets write PNG files through LeRobot's threaded image writer.
 """
 
+import json
 import os
 import queue
 import shutil
@@ -172,8 +173,6 @@ class EpisodeWriter:
         return dataset
 
     def _check_compatible(self, staging: Path) -> None:
-        import json
-
         info = json.loads((staging / "meta" / "info.json").read_text())
         if info.get("fps") != self.fps:
             raise SettingsError(f"dataset {self.target} was recorded at {info.get('fps')} fps, not {self.fps}")

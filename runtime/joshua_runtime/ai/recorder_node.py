@@ -16,6 +16,8 @@ defaults to the robot name), `stop` saves the current one, `discard` drops it. S
 the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
 """
 
+import time
+
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
@@ -76,6 +78,7 @@ class RecorderNode(JoshuaNode):
         self.recording = True
         self.frames = 0
         self.skipped = 0
+        self.first_frame_s = None
 
     def _end(self, save: bool) -> None:
         if save:
@@ -83,7 +86,11 @@ class RecorderNode(JoshuaNode):
         else:
             self.writer.discard_episode()
         self.recording = False
-        self.log.info(f"episode {'stopped' if save else 'discarded'} after {self.frames} frames ({self.skipped} skipped)")
+        span = time.monotonic() - self.first_frame_s if self.first_frame_s is not None else 0.0
+        self.log.info(
+            f"episode {'stopped' if save else 'discarded'} after {self.frames} frames "
+            f"({self.skipped} skipped) over {span:.3f} s"
+        )
 
     def _command(self, msg) -> None:
         word, _, argument = msg.data.strip().partition(" ")
@@ -103,6 +110,7 @@ class RecorderNode(JoshuaNode):
 
     def _tick(self) -> None:
         if self.writer.error is not None:
+            self.error_reported = True
             raise self.writer.error
         if not self.recording:
             return
@@ -122,6 +130,7 @@ class RecorderNode(JoshuaNode):
         self.writer.add_frame(frame)
         self.frames += 1
         if self.frames == 1:
+            self.first_frame_s = time.monotonic()
             self.log.info("first frame of the episode recorded")
 
     def close(self) -> None:
@@ -131,8 +140,8 @@ class RecorderNode(JoshuaNode):
         writer = getattr(self, "writer", None)
         if writer is None:
             return
-        if self.recording:
+        if getattr(self, "recording", False):
             self._end(save=True)
         writer.close()
-        if writer.error is not None:
+        if writer.error is not None and not getattr(self, "error_reported", False):
             raise writer.error

@@ -1,0 +1,198 @@
+"""ACT inference on CPU: select_action latency p50/p99 and the INFERENCE node's start-to-first-action time.
+
+    .venv/bin/python bench/inference.py [--calls 30] [--height 480 --width 640] [--starts 1]
+
+An ACT policy with LeRobot's default architecture (ResNet-18 backbone without downloaded weights,
+dim_model 512, 4 encoder layers, chunk 100), one camera and a 6-joint state, is saved with its
+processors and loaded with the node's own loader (`PolicyRunner`). Latency is measured on the
+node's whole inference path (LeRobot's predict_action: preprocessing, select_action,
+postprocessing): once with n_action_steps=1 (the model runs at every call) and once with the
+default n_action_steps=100 (99 of 100 calls pop a queued action). Then an INFERENCE node process
+is started on the same policy while this process publishes the camera and joint state; the time
+from process start to the first action received is reported, with Python compiling every
+module from source (the environment sets PYTHONDONTWRITEBYTECODE) and with a warm bytecode cache.
+"""
+
+import argparse
+import json
+import os
+import re
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import zlib
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+PYTHON = str(ROOT / ".venv" / "bin" / "python")
+JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
+WARMUP_CALLS = 3
+CHUNKED_CALLS = 200
+PUBLISH_HZ = 30.0
+FIRST_ACTION_TIMEOUT_S = 300.0
+STOP_TIMEOUT_S = 10.0
+
+
+def save_act(directory: Path, height: int, width: int, n_action_steps: int) -> Path:
+    import torch
+    from lerobot.configs.types import FeatureType, PolicyFeature
+    from lerobot.policies.act.configuration_act import ACTConfig
+    from lerobot.policies.act.modeling_act import ACTPolicy
+    from lerobot.policies.factory import make_pre_post_processors
+
+    config = ACTConfig(
+        device="cpu", push_to_hub=False, pretrained_backbone_weights=None, n_action_steps=n_action_steps,
+        input_features={"observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, height, width)),
+                        "observation.state": PolicyFeature(FeatureType.STATE, (len(JOINTS),))},
+        output_features={"action": PolicyFeature(FeatureType.ACTION, (len(JOINTS),))},
+    )
+    ones = torch.ones(len(JOINTS))
+    stats = {
+        "observation.images.camera": {"mean": torch.full((3, 1, 1), 0.5), "std": torch.full((3, 1, 1), 0.25)},
+        "observation.state": {"mean": 0 * ones, "std": ones},
+        "action": {"mean": 0 * ones, "std": ones},
+    }
+    torch.manual_seed(0)
+    policy = ACTPolicy(config)
+    preprocessor, postprocessor = make_pre_post_processors(config, dataset_stats=stats)
+    policy.save_pretrained(directory)
+    preprocessor.save_pretrained(directory)
+    postprocessor.save_pretrained(directory)
+    (directory / "joshua_features.json").write_text(json.dumps({"action": [j + ".pos" for j in JOINTS]}))
+    return directory
+
+
+def observation(height: int, width: int) -> dict:
+    rng = np.random.default_rng(0)
+    return {"observation.images.camera": rng.integers(0, 256, (height, width, 3), dtype=np.uint8),
+            "observation.state": rng.normal(size=len(JOINTS)).astype(np.float32)}
+
+
+def latency_ms(policy_dir: Path, obs: dict, calls: int) -> list[float]:
+    from joshua_runtime.ai.policy_runner import PolicyRunner
+
+    runner = PolicyRunner(policy_dir, "cpu")
+    for _ in range(WARMUP_CALLS):
+        runner.act(obs)
+    runner.reset()
+    samples = []
+    for _ in range(calls):
+        start = time.perf_counter()
+        runner.act(obs)
+        samples.append((time.perf_counter() - start) * 1000)
+    return samples
+
+
+def percentile(samples: list[float], fraction: float) -> float:
+    ordered = sorted(samples)
+    return ordered[min(len(ordered) - 1, int(round(fraction * (len(ordered) - 1))))]
+
+
+def start_to_first_action(policy_dir: Path, obs: dict, env: dict) -> tuple[float, float]:
+    """Seconds from process start to 'ready' and to the first action received, publishing `obs`."""
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from sensor_msgs.msg import Image, JointState
+
+    from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
+    from joshua_runtime.qos import qos_profile
+
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node("bench_inference_peer", context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    image = rgb_to_image(obs["observation.images.camera"])
+    state = joint_state(JOINTS, obs["observation.state"])
+    images = node.create_publisher(Image, "/camera/image_raw", qos_profile(QOS))
+    states = node.create_publisher(JointState, "/follower/joint_states", qos_profile(QOS))
+    node.create_timer(1 / PUBLISH_HZ, lambda: (images.publish(image), states.publish(state)))
+    first = threading.Event()
+    node.create_subscription(JointState, "/arm/commands", lambda _msg: first.set(), qos_profile(QOS))
+    settings = {
+        "robot": "bench", "mode": "MODE_INFERENCE", "name": "policy", "type": "INFERENCE",
+        "topic": {"name": "/arm/commands", "message_type": "sensor_msgs/msg/JointState", "qos": QOS},
+        "state_topic": None, "qos": QOS, "serial_port": "", "baud_rate": 0, "device_ids": [], "joint_names": [],
+        "inputs": [{"name": "/camera/image_raw", "message_type": "sensor_msgs/msg/Image", "qos": QOS},
+                   {"name": "/follower/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": QOS}],
+        "calibration_file": "", "camera_index": -1, "video_source": "", "width": 640, "height": 480,
+        "rate_hz": 30.0, "frame_id": "base_link", "model_path": str(policy_dir), "policy_type": "act",
+        "device": "cpu", "output_format": "", "output_directory": "", "simulation": None,
+    }
+    code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({settings!r}))"
+    started = time.monotonic()
+    process = subprocess.Popen([PYTHON, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines: list[str] = []
+    ready_at: list[float] = []
+
+    def read():
+        for line in process.stdout:
+            lines.append(line)
+            if not ready_at and re.search(r"\bready: ", line):
+                ready_at.append(time.monotonic() - started)
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        while not first.is_set():
+            executor.spin_once(timeout_sec=0.01)
+            if time.monotonic() - started > FIRST_ACTION_TIMEOUT_S or process.poll() is not None:
+                raise RuntimeError("no action received:\n" + "".join(lines))
+        first_action_s = time.monotonic() - started
+    finally:
+        process.send_signal(signal.SIGINT)
+        try:
+            process.wait(STOP_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+        executor.shutdown(timeout_sec=0)
+        node.destroy_node()
+        context.try_shutdown()
+    return (ready_at[0] if ready_at else float("nan")), first_action_s
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--calls", type=int, default=30, help="timed calls that run the model")
+    parser.add_argument("--height", type=int, default=480)
+    parser.add_argument("--width", type=int, default=640)
+    parser.add_argument("--starts", type=int, default=1, help="node starts measured per bytecode setting")
+    args = parser.parse_args()
+    os.environ.setdefault("HF_HUB_OFFLINE", "1")
+    with tempfile.TemporaryDirectory(prefix="joshua-bench-inference-") as tmp:
+        workdir = Path(tmp)
+        obs = observation(args.height, args.width)
+        print(f"ACT (default architecture), 1 camera {args.width}x{args.height}, {len(JOINTS)}-joint state, CPU, "
+              f"torch threads {__import__('torch').get_num_threads()}")
+        every_call = save_act(workdir / "act_every_call", args.height, args.width, n_action_steps=1)
+        chunked = save_act(workdir / "act_chunked", args.height, args.width, n_action_steps=100)
+        for label, policy_dir, calls in (("model at every call", every_call, args.calls),
+                                         ("chunk of 100 actions", chunked, CHUNKED_CALLS)):
+            samples = latency_ms(policy_dir, obs, calls)
+            print(f"select_action ({label:<20}) calls {calls:>4}  p50 {percentile(samples, 0.5):8.2f} ms  "
+                  f"p99 {percentile(samples, 0.99):8.2f} ms  max {max(samples):8.2f} ms")
+        domain = zlib.crc32(b"bench/inference") % 100 + 120
+        os.environ["ROS_DOMAIN_ID"] = str(domain)
+        os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+        base = dict(os.environ, PYTHONUNBUFFERED="1")
+        cache = workdir / "bytecode"
+        warm = dict(base, PYTHONPYCACHEPREFIX=str(cache))
+        warm.pop("PYTHONDONTWRITEBYTECODE", None)
+        subprocess.run([PYTHON, "-c", "import joshua_runtime.ai.policy_runner, rclpy"], env=warm, check=True)
+        for label, env in (("no bytecode cache", base), ("warm bytecode cache", warm)):
+            for _ in range(args.starts):
+                ready_s, first_s = start_to_first_action(every_call, obs, env)
+                print(f"INFERENCE node start ({label:<19}): ready after {ready_s:6.2f} s, first action after {first_s:6.2f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
