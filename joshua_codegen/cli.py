@@ -22,6 +22,17 @@ format_option = click.option(
 config_argument = click.argument("config", type=click.Path(exists=True, dir_okay=False))
 
 
+def _absolute_prefix(_ctx, _param, value):
+    """--prefix must be an absolute, printable path: units and configs refer to files under it."""
+    if value is None:
+        return None
+    if not value.startswith("/"):
+        raise click.BadParameter(f"{value!r} is not an absolute path")
+    if not value.isprintable():
+        raise click.BadParameter(f"{value!r} contains control characters")
+    return value
+
+
 def report(results, output_format: str, stream) -> None:
     """Print the diagnostics of one or more check results."""
     from joshua_codegen.diagnostics import format_github, format_json, format_text, sort_diagnostics
@@ -68,7 +79,8 @@ def check(configs, overrides, output_format) -> None:
 @cli.command()
 @config_argument
 @click.option("-o", "--out", "out", required=True, type=click.Path(file_okay=False), help="Output directory.")
-@click.option("--prefix", default=None, help="Where OUT lives on the robot. Default /opt/joshua/<robot>.")
+@click.option("--prefix", default=None, callback=_absolute_prefix,
+              help="Absolute path where OUT lives on the robot. Default /opt/joshua/<robot>.")
 @click.option("--check", "check_only", is_flag=True, help="Write nothing; exit 1 with a diff when OUT differs.")
 @set_option
 @format_option

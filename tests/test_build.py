@@ -108,3 +108,11 @@ def test_set_overrides_a_field_before_validation(tmp_path):
     text = (out / "nodes" / "camera.py").read_text()
     assert "'robot': 'other_arm'," in text
     assert "'depth': 2," in text
+
+
+@pytest.mark.parametrize("prefix", ["relative/dir", "/opt/robot\nExecStart=/bin/evil"])
+def test_prefix_must_be_an_absolute_printable_path(prefix, tmp_path):
+    result = joshuac("build", ROOT / "config/robots/mock_arm.pbtxt", "-o", tmp_path / "out", "--prefix", prefix)
+    assert result.returncode == 2
+    assert "Invalid value for '--prefix'" in result.stderr
+    assert not (tmp_path / "out").exists()
