@@ -24,7 +24,9 @@ if ! command -v uv >/dev/null 2>&1; then
   python3 -m pip install --quiet --user uv 2>/dev/null || python3 -m pip install --quiet uv
   export PATH="$HOME/.local/bin:$PATH"
 fi
+# --inexact: the ROS 2 wheels ship setuptools egg-info folders that uv takes for extraneous
+# distributions; removing them would delete rclpy and the message packages themselves.
 # Bytecode is compiled up front: with PYTHONDONTWRITEBYTECODE set, every node process would
 # otherwise compile rclpy, torch and the project from source at each start.
-uv sync --locked --quiet --compile-bytecode
+uv sync --locked --inexact --quiet --compile-bytecode
 .venv/bin/python -m compileall -q joshua_codegen runtime/joshua_runtime bench >/dev/null
