@@ -1,16 +1,19 @@
 """Leader-to-follower latency (p50/p99) and sustained loop rate of SO-100 teleoperation on emulated buses.
 
-    .venv/bin/python bench/teleop.py [--rate-hz 200] [--samples 300]
+    .venv/bin/python bench/teleop.py [--rate-hz 200] [--samples 600]
 
 Two STS3215 emulators (6 servos each, 1 Mbaud wire time emulated) run in this process; an
 ENCODER_PUBLISHER process reads the leader bus and publishes /leader/joint_states (RELIABLE), an
 ACTUATOR_SUBSCRIBER process SYNC_WRITEs the follower bus from it, both at --rate-hz. Each sample
 turns the leader's servo 1 by hand and measures until the follower emulator receives that goal.
 Samples are spaced by a random fraction of the period so they land at every phase of the leader's
-read cycle. The loop rate is the rate of goal SYNC_WRITEs the follower bus receives.
+read cycle. Each latency is split into the wait for the leader's next SYNC_READ (about half a
+period on average, whatever the software) and the pipeline from that read to the follower's goal
+(wire time, both processes, DDS). The loop rate is the rate of goal SYNC_WRITEs the follower receives.
 """
 
 import argparse
+import bisect
 import os
 import random
 import signal
@@ -22,6 +25,7 @@ import threading
 import time
 from pathlib import Path
 
+from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
@@ -94,6 +98,21 @@ class GoalWatch:
             return self.last_goal[1]
 
 
+class ReadLog:
+    """Monotonic times of the SYNC_READs the leader bus serves."""
+
+    def __init__(self):
+        self.times: list[float] = []
+
+    def __call__(self, packet: proto.Packet, now: float) -> None:
+        if packet.code == proto.INST_SYNC_READ:
+            self.times.append(now)
+
+    def first_after(self, moment: float) -> float | None:
+        index = bisect.bisect_left(self.times, moment)
+        return self.times[index] if index < len(self.times) else None
+
+
 def percentile(values: list[float], fraction: float) -> float:
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))]
@@ -102,7 +121,7 @@ def percentile(values: list[float], fraction: float) -> float:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rate-hz", type=float, default=200.0)
-    parser.add_argument("--samples", type=int, default=300)
+    parser.add_argument("--samples", type=int, default=600)
     args = parser.parse_args()
     env = dict(os.environ, ROS_DOMAIN_ID=str(150 + os.getpid() % 80), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
     period = 1.0 / args.rate_hz
@@ -112,6 +131,8 @@ def main() -> int:
         follower_bus = Sts3215Emulator(Path(directory) / "ttyFOLLOWER", IDS).start()
         watch = GoalWatch()
         follower_bus.write_listeners.append(watch)
+        reads = ReadLog()
+        leader_bus.packet_listeners.append(reads)
         nodes = [
             start(settings("ENCODER_PUBLISHER", "bench_leader", leader_bus.link, args.rate_hz), env),
             start(settings("ACTUATOR_SUBSCRIBER", "bench_follower", follower_bus.link, args.rate_hz), env),
@@ -128,7 +149,7 @@ def main() -> int:
             read_rate = (leader_bus.stats["packets"] - reads_before) / window
             write_rate = (watch.writes - writes_before) / window
 
-            latencies, missed = [], 0
+            latencies, waits, missed = [], [], 0
             for index in range(args.samples):
                 goal = HIGH_TICKS if index % 2 == 0 else LOW_TICKS
                 time.sleep(SETTLE_S + jitter.random() * period)
@@ -139,15 +160,20 @@ def main() -> int:
                     missed += 1
                 else:
                     latencies.append(arrived_at - moved_at)
+                    waits.append(reads.first_after(moved_at) - moved_at)
         finally:
             codes = [stop(node) for node in nodes]
             leader_bus.stop()
             follower_bus.stop()
     ms = [1000 * value for value in latencies]
+    wait_ms = [1000 * value for value in waits]
+    pipeline_ms = [total - wait for total, wait in zip(ms, wait_ms)]
     print(f"teleop over emulated 1 Mbaud STS3215 buses, 6 servos, nodes at {args.rate_hz:g} Hz")
     print(f"  leader-to-follower latency over {len(ms)} samples ({missed} missed): "
           f"p50 {percentile(ms, 0.5):.2f} ms, p99 {percentile(ms, 0.99):.2f} ms, "
           f"mean {statistics.fmean(ms):.2f} ms, max {max(ms):.2f} ms")
+    print(f"    of which waiting for the leader's next read: p50 {percentile(wait_ms, 0.5):.2f} ms; read to "
+          f"follower goal: p50 {percentile(pipeline_ms, 0.5):.2f} ms, p99 {percentile(pipeline_ms, 0.99):.2f} ms")
     print(f"  sustained loop rate: {write_rate:.1f} goal writes/s on the follower, "
           f"{read_rate:.1f} bus transactions/s on the leader")
     print(f"  node exit codes on SIGINT: {codes}")

@@ -37,6 +37,8 @@ CORRUPTION_MASK = 0x5A  # XORed into the checksum byte of a corrupted reply
 
 # Called from the serving thread after a write lands: (servo id, address, data, monotonic time).
 WriteListener = Callable[[int, int, bytes, float], None]
+# Called from the serving thread for each well-formed packet, before it runs: (packet, monotonic time).
+PacketListener = Callable[[proto.Packet, float], None]
 
 
 class Sts3215Emulator:
@@ -64,6 +66,7 @@ class Sts3215Emulator:
         self.emulate_wire_time = emulate_wire_time
         self.stats = Counter()  # packets, bad_checksums, replies, dropped, corrupted
         self.write_listeners: list[WriteListener] = []
+        self.packet_listeners: list[PacketListener] = []
         self._random = random.Random(seed)
         self._forced = Counter()
         self._lock = threading.RLock()
@@ -197,6 +200,8 @@ class Sts3215Emulator:
             if not packet.checksum_ok:
                 self.stats["bad_checksums"] += 1
                 return
+            for listener in self.packet_listeners:
+                listener(packet, time.monotonic())
             replies, delay_s = self._dispatch(packet)
             wire = b"".join(self._with_faults(reply) for reply in replies)
             self._handled.notify_all()
