@@ -1,7 +1,9 @@
 """Fixtures of the AI tests: an offline environment for LeRobot, shared bytecode, a ROS peer."""
 
+import importlib.util
 import os
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -10,13 +12,22 @@ from ai_support import RosPeer
 OFFLINE = {"HF_HUB_OFFLINE": "1", "HF_DATASETS_OFFLINE": "1", "TRANSFORMERS_OFFLINE": "1"}
 
 
+def installed_bytecode() -> bool:
+    """Whether LeRobot was installed with its compiled bytecode."""
+    spec = importlib.util.find_spec("lerobot")
+    return bool(spec and spec.origin) and Path(importlib.util.cache_from_source(spec.origin)).exists()
+
+
 @pytest.fixture(scope="session")
 def bytecode_cache(request, tmp_path_factory):
-    """A bytecode cache kept across runs in pytest's cache directory.
+    """A bytecode cache kept across runs in pytest's cache directory, or None when not needed.
 
-    The environment disables bytecode writing, which makes every process compile torch and LeRobot
-    from source (over ten seconds each); node processes and this one share compiled modules here.
+    When the environment has no compiled bytecode and forbids writing it (PYTHONDONTWRITEBYTECODE),
+    every process compiles torch and LeRobot from source (over ten seconds each); node processes and
+    this one then share compiled modules here.
     """
+    if installed_bytecode() or not sys.flags.dont_write_bytecode:
+        return None
     cache = getattr(request.config, "cache", None)
     directory = cache.mkdir("joshua-ai-bytecode") if cache is not None else tmp_path_factory.mktemp("bytecode")
     sys.pycache_prefix = str(directory)
@@ -47,8 +58,9 @@ def ai_env(ros_env, tmp_path, bytecode_cache) -> dict:
     env["HF_DATASETS_CACHE"] = str(tmp_path / "hf-datasets-cache")
     env["HF_LEROBOT_HOME"] = str(tmp_path / "lerobot-home")
     env["JOSHUA_MODEL_REGISTRY"] = str(tmp_path / "registry")
-    env["PYTHONPYCACHEPREFIX"] = str(bytecode_cache)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    if bytecode_cache is not None:
+        env["PYTHONPYCACHEPREFIX"] = str(bytecode_cache)
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
     return env
 
 
