@@ -1,4 +1,4 @@
-"""Shared fixtures of the runtime tests: an isolated ROS 2 environment per test."""
+"""Fixtures shared by every test: an isolated ROS 2 environment per test."""
 
 import os
 import zlib
