@@ -4,6 +4,7 @@
 """
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 from joshua_codegen import defaults
 from joshua_codegen.schema import robot_config_pb2 as pb
@@ -105,7 +106,23 @@ class Robot:
     simulation: dict | None = field(hash=False, compare=False)
 
     def node(self, name: str) -> NodeModel:
-        return next(node for node in self.nodes if node.name == name)
+        return self._nodes_by_name[name]
+
+    @cached_property
+    def _nodes_by_name(self) -> dict[str, NodeModel]:
+        return {node.name: node for node in self.nodes}
+
+    def simulated_by(self, process: str) -> list[NodeModel]:
+        """The described nodes a simulation process stands in for."""
+        return self._simulated.get(process, [])
+
+    @cached_property
+    def _simulated(self) -> dict[str, list[NodeModel]]:
+        simulated: dict[str, list[NodeModel]] = {}
+        for node in self.nodes:
+            if node.simulated_by:
+                simulated.setdefault(node.simulated_by, []).append(node)
+        return simulated
 
     def process_settings(self, process: Process) -> dict:
         """The settings dict of a python process (a node's, or the simulation engine's)."""

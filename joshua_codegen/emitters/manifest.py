@@ -52,7 +52,7 @@ def manifest(robot: Robot, context: Context) -> dict:
                 "executable": process.executable or None,
                 "args": list(process.args),
                 "cpp_binary": process.cpp_binary or None,
-                "simulates": [n.name for n in robot.nodes if n.simulated_by == process.name],
+                "simulates": [node.name for node in robot.simulated_by(process.name)],
             }
             for process in robot.processes
         ],
