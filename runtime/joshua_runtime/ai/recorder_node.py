@@ -16,7 +16,9 @@ defaults to the robot name), `stop` saves the current one, `discard` drops it. S
 the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
 """
 
+import json
 import time
+from pathlib import Path
 
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
@@ -31,6 +33,22 @@ DEFAULT_RATE_HZ = 30.0
 OUTPUT_FORMATS = ("lerobot", "parquet")
 COMMAND_TOPIC = "~/episode"
 COMMAND_QOS_DEPTH = 10
+
+
+def check_output_directory(directory: Path, fps: int) -> None:
+    """Refuse a directory that holds something else than a LeRobot dataset, or one recorded at another fps."""
+    info = directory / "meta" / "info.json"
+    if info.is_file():
+        try:
+            recorded_fps = json.loads(info.read_text()).get("fps")
+        except (OSError, ValueError) as exc:
+            raise SettingsError(f"output_directory {directory}: unreadable {info}: {exc}") from exc
+        if recorded_fps != fps:
+            raise SettingsError(f"output_directory {directory} holds a dataset recorded at {recorded_fps} fps, not {fps}")
+    elif directory.is_dir() and any(directory.iterdir()):
+        raise SettingsError(f"output_directory {directory} is not empty and holds no LeRobot dataset")
+    elif directory.exists() and not directory.is_dir():
+        raise SettingsError(f"output_directory {directory} is not a directory")
 
 
 class RecorderNode(JoshuaNode):
@@ -49,6 +67,7 @@ class RecorderNode(JoshuaNode):
             raise SettingsError(f"{self.name}: output_directory is empty")
         rate = float(self.settings.get("rate_hz") or 0)
         self.fps = max(1, round(rate)) if rate > 0 else int(DEFAULT_RATE_HZ)
+        check_output_directory(Path(self.settings["output_directory"]).expanduser(), self.fps)
         use_videos = output_format == "lerobot"
         self.writer = EpisodeWriter(
             self.settings["output_directory"], self.fps, self.settings.get("robot") or "", use_videos, self.log,

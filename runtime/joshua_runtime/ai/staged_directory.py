@@ -46,10 +46,10 @@ def recover(target: Path) -> None:
 
 
 def prepare(target: Path) -> Path:
-    """A fresh staging copy of `target` (an empty path when `target` does not exist yet)."""
+    """A fresh staging copy of `target` (a path that does not exist when `target` is absent or empty)."""
     staging = staging_path(target)
     shutil.rmtree(staging, ignore_errors=True)
-    if not target.exists():
+    if not target.exists() or not any(target.iterdir()):
         return staging
     for source in sorted(target.rglob("*")):
         relative = source.relative_to(target)

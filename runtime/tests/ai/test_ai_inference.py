@@ -58,11 +58,11 @@ def save_tiny_diffusion(directory):
 def inference_settings(model_path, **overrides):
     values = {
         "mode": "MODE_INFERENCE", "rate_hz": INFERENCE_HZ, "model_path": str(model_path),
-        "topic": topic("/arm/commands", JOINT_STATE),
-        "inputs": [topic("/camera/image_raw", IMAGE), topic("/arm/state", JOINT_STATE)],
+        "topic": topic("/inf/arm/commands", JOINT_STATE),
+        "inputs": [topic("/inf/camera/image_raw", IMAGE), topic("/inf/arm/state", JOINT_STATE)],
     }
     values.update(overrides)
-    return node_settings("policy", "INFERENCE", **values)
+    return node_settings("inf_policy", "INFERENCE", **values)
 
 
 def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp_path, ai_env, ros_peer, lerobot_offline):
@@ -70,18 +70,18 @@ def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp
 
     policy_dir = save_tiny_diffusion(tmp_path / "diffusion")
     image = pattern_image(HEIGHT, WIDTH, 30)
-    ros_peer.publish_periodically("/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
-    actions = ros_peer.collect("/arm/commands", JOINT_STATE)
+    ros_peer.publish_periodically("/inf/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
+    actions = ros_peer.collect("/inf/arm/commands", JOINT_STATE)
     node = NodeProcess(inference_settings(policy_dir, joint_names=["wrist", "gripper"], policy_type="diffusion"), ai_env)
     try:
         node.wait_for(r"ready: diffusion policy from .* on cpu")
         mark = node.count()
-        node.wait_for(r"no action: /arm/state has not published yet", after=mark)
+        node.wait_for(r"no action: /inf/arm/state has not published yet", after=mark)
         time.sleep(1.0 / INFERENCE_HZ * 3)
         assert len(actions) == 0
 
         ros_peer.publish_periodically(
-            "/arm/state", JOINT_STATE, SENSOR_HZ, lambda: joint_state(["wrist", "gripper"], [0.1, 0.2]))
+            "/inf/arm/state", JOINT_STATE, SENSOR_HZ, lambda: joint_state(["wrist", "gripper"], [0.1, 0.2]))
         wait_until(lambda: len(actions) >= ACTIONS_TO_CHECK, what="actions on /arm/commands")
         for message in list(actions)[:ACTIONS_TO_CHECK]:
             assert list(message.name) == ["wrist", "gripper"]
@@ -106,12 +106,12 @@ def fake_policy(directory, policy_type):
 @pytest.mark.parametrize(
     ("case", "message"),
     [
-        ("missing", "policy: error: model path {tmp}/missing is not a directory"),
-        ("unregistered", "policy: error: registry:nothing is not in the registry at {tmp}/registry"),
-        ("mismatch", "policy: error: policy_type is 'diffusion' but the policy in {tmp}/act is 'act'"),
-        ("unsupported", "policy: error: policy type 'pi0' is not supported (supported: act, diffusion)"),
-        ("cuda", "policy: error: device 'cuda' requested but CUDA is not available on this machine"),
-        ("action_topic", "policy: error: policy: the action topic must be sensor_msgs/msg/JointState"),
+        ("missing", "inf_policy: error: model path {tmp}/missing is not a directory"),
+        ("unregistered", "inf_policy: error: registry:nothing is not in the registry at {tmp}/registry"),
+        ("mismatch", "inf_policy: error: policy_type is 'diffusion' but the policy in {tmp}/act is 'act'"),
+        ("unsupported", "inf_policy: error: policy type 'pi0' is not supported (supported: act, diffusion)"),
+        ("cuda", "inf_policy: error: device 'cuda' requested but CUDA is not available on this machine"),
+        ("action_topic", "inf_policy: error: inf_policy: the action topic must be sensor_msgs/msg/JointState"),
     ],
 )
 def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, case, message):
@@ -122,7 +122,7 @@ def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, case, message)
         "mismatch": inference_settings(act, policy_type="diffusion"),
         "unsupported": inference_settings(fake_policy(tmp_path / "pi0", "pi0")),
         "cuda": inference_settings(act, device="cuda"),
-        "action_topic": inference_settings(act, topic=topic("/arm/commands", IMAGE)),
+        "action_topic": inference_settings(act, topic=topic("/inf/arm/commands", IMAGE)),
     }[case]
     env = dict(ai_env, CUDA_VISIBLE_DEVICES="")
     node = NodeProcess(settings, env)

@@ -147,8 +147,12 @@ def test_recover_after_a_crash_between_renames(tmp_path):
     staged_directory.recover(target)
     assert (target / "meta" / "info.json").read_text() == "committed"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dataset"]
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert not staged_directory.prepare(empty).exists()      # LeRobot creates the dataset there
     first = tmp_path / "new"
     assert staged_directory.prepare(first) == tmp_path / "new.staging"
     write(tmp_path / "new.staging" / "meta" / "info.json", "first episode")
     staged_directory.commit(first)
     assert (first / "meta" / "info.json").read_text() == "first episode"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dataset", "empty", "new"]

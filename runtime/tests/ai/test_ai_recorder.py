@@ -27,11 +27,11 @@ class Sensors:
         self.phase = 0
         self.timers = {
             "leader": peer.publish_periodically(
-                "/leader/joint_states", JOINT_STATE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
+                "/rec/leader/joint_states", JOINT_STATE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
             "follower": peer.publish_periodically(
-                "/follower/joint_states", JOINT_STATE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
+                "/rec/follower/joint_states", JOINT_STATE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
             "camera": peer.publish_periodically(
-                "/camera/image_raw", IMAGE, PUBLISH_HZ, lambda: rgb_to_image(self.image())),
+                "/rec/camera/image_raw", IMAGE, PUBLISH_HZ, lambda: rgb_to_image(self.image())),
         }
 
     def action(self, phase=None):
@@ -52,9 +52,9 @@ class Sensors:
 
 def recorder_settings(output, output_format):
     return node_settings(
-        "recorder", "DATA_SUBSCRIBER",
-        topic=topic("/leader/joint_states", JOINT_STATE),
-        inputs=[topic("/camera/image_raw", IMAGE), topic("/follower/joint_states", JOINT_STATE)],
+        "ai_recorder", "DATA_SUBSCRIBER",
+        topic=topic("/rec/leader/joint_states", JOINT_STATE),
+        inputs=[topic("/rec/camera/image_raw", IMAGE), topic("/rec/follower/joint_states", JOINT_STATE)],
         rate_hz=RATE_HZ, output_directory=str(output), output_format=output_format,
     )
 
@@ -89,7 +89,7 @@ def check_episode(dataset, episode, phase, frames, sensors, exact_images):
         assert np.array_equal(row["action"].numpy(), sensors.action(phase))
         assert np.array_equal(row["observation.state"].numpy(), sensors.state(phase))
     for row in (rows[0], rows[-1]):
-        pixels = (row["observation.images.camera"].permute(1, 2, 0).numpy() * 255).round()
+        pixels = (row["observation.images.rec_camera"].permute(1, 2, 0).numpy() * 255).round()
         expected = sensors.image(phase).astype(np.float64)
         if exact_images:
             assert np.array_equal(pixels, expected)
@@ -100,10 +100,10 @@ def check_episode(dataset, episode, phase, frames, sensors, exact_images):
 def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, ai_env, ros_peer, lerobot_offline):
     output = tmp_path / "dataset"
     sensors = Sensors(ros_peer)
-    commands = ros_peer.publisher("/recorder/episode", "std_msgs/msg/String")
+    commands = ros_peer.publisher("/ai_recorder/episode", "std_msgs/msg/String")
     node = NodeProcess(recorder_settings(output, "lerobot"), ai_env)
     try:
-        node.wait_for(r"recording 3 topics at 10 fps .*episode commands on /recorder/episode")
+        node.wait_for(r"recording 3 topics at 10 fps .*episode commands on /ai_recorder/episode")
         record_one(node, 0)                                  # episode 0 starts with the node
         mark = node.count()
         send(ros_peer, commands, "stop")
@@ -128,7 +128,7 @@ def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, 
         send(ros_peer, commands, "start")
         record_one(node, mark)
         sensors.timers["camera"].cancel()                    # the camera goes silent: frames are skipped
-        node.wait_for(r"frame skipped: /camera/image_raw is stale", after=mark)
+        node.wait_for(r"frame skipped: /rec/camera/image_raw is stale", after=mark)
         assert node.stop(signal.SIGINT) == 0
         saved.append(int(node.wait_for(r"episode 2 saved: (\d+) frames", after=mark).group(1)))
     finally:
@@ -142,9 +142,9 @@ def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, 
     features = dataset.meta.features
     assert features["action"]["names"] == ["shoulder_pan.pos", "gripper.pos"]
     assert features["observation.state"]["names"] == ["shoulder_pan.pos", "gripper.pos"]
-    assert features["observation.images.camera"]["dtype"] == "video"
-    assert tuple(features["observation.images.camera"]["shape"]) == (HEIGHT, WIDTH, 3)
-    assert dataset.meta.video_keys == ["observation.images.camera"]
+    assert features["observation.images.rec_camera"]["dtype"] == "video"
+    assert tuple(features["observation.images.rec_camera"]["shape"]) == (HEIGHT, WIDTH, 3)
+    assert dataset.meta.video_keys == ["observation.images.rec_camera"]
     for episode, phase in enumerate((0, 2, 3)):
         check_episode(dataset, episode, phase, saved[episode], sensors, exact_images=False)
     assert [dataset.meta.episodes[e]["tasks"] for e in range(3)] == [["test_arm"], ["pick the cube"], ["test_arm"]]
@@ -154,7 +154,7 @@ def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, 
 def test_sigkill_loses_only_the_episode_in_progress_and_recording_resumes(tmp_path, ai_env, ros_peer, lerobot_offline):
     output = tmp_path / "dataset"
     sensors = Sensors(ros_peer)
-    commands = ros_peer.publisher("/recorder/episode", "std_msgs/msg/String")
+    commands = ros_peer.publisher("/ai_recorder/episode", "std_msgs/msg/String")
     node = NodeProcess(recorder_settings(output, "parquet"), ai_env)
     try:
         record_one(node, 0)
@@ -186,7 +186,7 @@ def test_sigkill_loses_only_the_episode_in_progress_and_recording_resumes(tmp_pa
     dataset = load(output)
     assert dataset.meta.total_episodes == 2 and len(dataset) == first + second
     features = dataset.meta.features
-    assert features["observation.images.camera"]["dtype"] == "image"
+    assert features["observation.images.rec_camera"]["dtype"] == "image"
     assert dataset.meta.video_keys == []
     check_episode(dataset, 0, 0, first, sensors, exact_images=True)
     check_episode(dataset, 1, 2, second, sensors, exact_images=True)
@@ -194,21 +194,38 @@ def test_sigkill_loses_only_the_episode_in_progress_and_recording_resumes(tmp_pa
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith("dataset")) == ["dataset"]
 
 
+def other_files(output):
+    output.mkdir()
+    (output / "notes.txt").write_text("not a dataset")
+
+
+def dataset_at_30_fps(output):
+    (output / "meta").mkdir(parents=True)
+    (output / "meta" / "info.json").write_text('{"fps": 30}')
+
+
 @pytest.mark.parametrize(
-    ("overrides", "message"),
+    ("overrides", "prepare", "message"),
     [
-        ({"output_format": "hdf5"}, "output_format 'hdf5' is not one of lerobot, parquet"),
-        ({"output_directory": ""}, "recorder: output_directory is empty"),
-        ({"topic": topic("/camera/image_raw", IMAGE)}, "the recorded topic must be sensor_msgs/msg/JointState"),
-        ({"inputs": [topic("/scan", "sensor_msgs/msg/LaserScan")]}, "input /scan has message type sensor_msgs/msg/LaserScan"),
+        ({"output_format": "hdf5"}, None, "output_format 'hdf5' is not one of lerobot, parquet"),
+        ({"output_directory": ""}, None, "ai_recorder: output_directory is empty"),
+        ({"topic": topic("/rec/camera/image_raw", IMAGE)}, None, "the recorded topic must be sensor_msgs/msg/JointState"),
+        ({"inputs": [topic("/scan", "sensor_msgs/msg/LaserScan")]}, None,
+         "input /scan has message type sensor_msgs/msg/LaserScan"),
+        ({}, other_files, "output_directory {output} is not empty and holds no LeRobot dataset"),
+        ({}, dataset_at_30_fps, "output_directory {output} holds a dataset recorded at 30 fps, not 10"),
     ],
 )
-def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, overrides, message):
-    settings = recorder_settings(tmp_path / "dataset", "lerobot")
+def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, overrides, prepare, message):
+    output = tmp_path / "dataset"
+    if prepare is not None:
+        prepare(output)
+    before = sorted(output.rglob("*")) if output.exists() else None
+    settings = recorder_settings(output, "lerobot")
     settings.update(overrides)
     node = NodeProcess(settings, ai_env)
     assert node.process.wait(timeout=60) == 2
     node._reader.join()
-    assert node.lines == [f"recorder: error: {node.lines[0].split('error: ', 1)[1]}"]
-    assert message in node.lines[0]
-    assert not (tmp_path / "dataset").exists()
+    assert len(node.lines) == 1 and node.lines[0].startswith("ai_recorder: error: ")
+    assert message.format(output=output) in node.lines[0]
+    assert (sorted(output.rglob("*")) if output.exists() else None) == before

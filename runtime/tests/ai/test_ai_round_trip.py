@@ -30,12 +30,12 @@ def mock_sensors(env):
     common = {"rate_hz": SENSOR_HZ, "mode": "MODE_DATA_COLLECTION"}
     sensor_qos = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
     return [
-        NodeProcess(node_settings("camera", "MOCK_CAMERA_PUBLISHER", width=WIDTH, height=HEIGHT,
-                                  topic=topic("/camera/image_raw", IMAGE, sensor_qos), **common), env),
-        NodeProcess(node_settings("leader", "MOCK_ENCODER_PUBLISHER", joint_names=SO100_JOINTS,
-                                  topic=topic("/leader/joint_states", JOINT_STATE), **common), env),
-        NodeProcess(node_settings("follower", "MOCK_ENCODER_PUBLISHER", joint_names=SO100_JOINTS,
-                                  topic=topic("/follower/joint_states", JOINT_STATE), **common), env),
+        NodeProcess(node_settings("rt_camera", "MOCK_CAMERA_PUBLISHER", width=WIDTH, height=HEIGHT,
+                                  topic=topic("/rt/camera/image_raw", IMAGE, sensor_qos), **common), env),
+        NodeProcess(node_settings("rt_leader", "MOCK_ENCODER_PUBLISHER", joint_names=SO100_JOINTS,
+                                  topic=topic("/rt/leader/joint_states", JOINT_STATE), **common), env),
+        NodeProcess(node_settings("rt_follower", "MOCK_ENCODER_PUBLISHER", joint_names=SO100_JOINTS,
+                                  topic=topic("/rt/follower/joint_states", JOINT_STATE), **common), env),
     ]
 
 
@@ -43,11 +43,11 @@ def record(tmp_path, env, ros_peer):
     output = tmp_path / "dataset"
     sensor_qos = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
     settings = node_settings(
-        "recorder", "DATA_SUBSCRIBER", rate_hz=RECORD_HZ, output_directory=str(output),
-        topic=topic("/leader/joint_states", JOINT_STATE),
-        inputs=[topic("/camera/image_raw", IMAGE, sensor_qos), topic("/follower/joint_states", JOINT_STATE)],
+        "rt_recorder", "DATA_SUBSCRIBER", rate_hz=RECORD_HZ, output_directory=str(output),
+        topic=topic("/rt/leader/joint_states", JOINT_STATE),
+        inputs=[topic("/rt/camera/image_raw", IMAGE, sensor_qos), topic("/rt/follower/joint_states", JOINT_STATE)],
     )
-    commands = ros_peer.publisher("/recorder/episode", "std_msgs/msg/String")
+    commands = ros_peer.publisher("/rt_recorder/episode", "std_msgs/msg/String")
     sensors = mock_sensors(env)
     recorder = NodeProcess(settings, env)
     try:
@@ -117,28 +117,28 @@ def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offli
     image = pattern_image(HEIGHT, WIDTH, 90)
     state = np.linspace(-0.5, 0.5, len(SO100_JOINTS)).astype(np.float32)
     shuffled = list(reversed(range(len(SO100_JOINTS))))
-    camera = ros_peer.publish_periodically("/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
+    camera = ros_peer.publish_periodically("/rt/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
     ros_peer.publish_periodically(
-        "/follower/joint_states", JOINT_STATE, SENSOR_HZ,
+        "/rt/follower/joint_states", JOINT_STATE, SENSOR_HZ,
         lambda: joint_state([SO100_JOINTS[i] for i in shuffled], state[shuffled]))
-    actions = ros_peer.collect("/arm/commands", JOINT_STATE)
+    actions = ros_peer.collect("/rt/arm/commands", JOINT_STATE)
     settings = node_settings(
-        "policy", "INFERENCE", mode="MODE_INFERENCE", rate_hz=INFERENCE_HZ, model_path="registry:tiny_act",
-        policy_type="act", topic=topic("/arm/commands", JOINT_STATE),
-        inputs=[topic("/camera/image_raw", IMAGE), topic("/follower/joint_states", JOINT_STATE)],
+        "rt_policy", "INFERENCE", mode="MODE_INFERENCE", rate_hz=INFERENCE_HZ, model_path="registry:tiny_act",
+        policy_type="act", topic=topic("/rt/arm/commands", JOINT_STATE),
+        inputs=[topic("/rt/camera/image_raw", IMAGE), topic("/rt/follower/joint_states", JOINT_STATE)],
     )
     node = NodeProcess(settings, ai_env)
     try:
         node.wait_for(r"ready: act policy from .*tiny_act.* on cpu")
         wait_until(lambda: len(actions) >= ACTIONS_TO_COMPARE, what="actions on /arm/commands")
-        expected = in_process_action(policy_dir, {"observation.images.camera": image, "observation.state": state})
+        expected = in_process_action(policy_dir, {"observation.images.rt_camera": image, "observation.state": state})
         for message in list(actions)[:ACTIONS_TO_COMPARE]:
             assert list(message.name) == SO100_JOINTS
             np.testing.assert_allclose(np.array(message.position), expected, rtol=1e-5, atol=1e-5)
 
         camera.cancel()                                        # stale camera: no more actions
         mark = node.count()
-        node.wait_for(r"no action: /camera/image_raw is stale", after=mark)
+        node.wait_for(r"no action: /rt/camera/image_raw is stale", after=mark)
         time.sleep(0.2)                                        # let actions already sent arrive
         silent_from = len(actions)
         time.sleep(0.5)
