@@ -1,9 +1,14 @@
-"""Fixtures shared by every test: an isolated ROS 2 environment per test."""
+"""Fixtures shared by every test: an isolated ROS 2 environment per test, and nodes started in it.
+
+Modules beside this file (compiled_settings.py, node_process.py) are importable from every test.
+"""
 
 import os
 import zlib
 
 import pytest
+
+from node_process import NodeProcess
 
 
 @pytest.fixture
@@ -23,3 +28,18 @@ def ros_domain(ros_env, monkeypatch) -> int:
     for key in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE"):
         monkeypatch.setenv(key, ros_env[key])
     return int(ros_env["ROS_DOMAIN_ID"])
+
+
+@pytest.fixture
+def start_node(ros_env):
+    """Factory: start_node(settings, **extra_env) -> a NodeProcess in the test's ROS domain; killed at teardown."""
+    started = []
+
+    def start(settings: dict, **extra_env) -> NodeProcess:
+        node = NodeProcess(settings, dict(ros_env, **extra_env))
+        started.append(node)
+        return node
+
+    yield start
+    for node in started:
+        node.kill()

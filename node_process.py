@@ -1,0 +1,55 @@
+"""A node run in its own process the way a generated entrypoint runs it: `run_node(SETTINGS)`.
+
+Shared by the runtime test suites (importable from every test, like compiled_settings.py beside it).
+"""
+
+import signal
+import subprocess
+import sys
+import time
+
+NODE_STOP_TIMEOUT_S = 5.0
+NODE_EXIT_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
+
+
+def stop_process(process: subprocess.Popen, signum=signal.SIGINT) -> tuple[int, float, str]:
+    """Send `signum` (if still running); return (exit code, seconds until exit, stderr). Kills it after a timeout."""
+    sent = time.monotonic()
+    if process.poll() is None:
+        process.send_signal(signum)
+    try:
+        _, stderr = process.communicate(timeout=NODE_STOP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        _, stderr = process.communicate()
+    return process.returncode, time.monotonic() - sent, stderr
+
+
+class NodeProcess:
+    """One node, from its settings dict, in `python -c "...run_node(SETTINGS)"` with `env`."""
+
+    def __init__(self, settings: dict, env: dict):
+        code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({settings!r}))\n"
+        self.process = subprocess.Popen([sys.executable, "-c", code], env=env, stdout=subprocess.PIPE,
+                                        stderr=subprocess.PIPE, text=True)
+
+    def stop(self, signum=signal.SIGINT) -> tuple[int, float, str]:
+        """Send `signum`; return (exit code, seconds until exit, stderr)."""
+        return stop_process(self.process, signum)
+
+    def wait(self, timeout: float = NODE_EXIT_TIMEOUT_S) -> tuple[int, str]:
+        """Wait for the process to end by itself; return (exit code, stderr)."""
+        _, stderr = self.process.communicate(timeout=timeout)
+        return self.process.returncode, stderr
+
+    def failure(self) -> str:
+        """Why the process is gone (exit code and stderr), or that it still runs."""
+        if self.process.poll() is None:
+            return "process still running"
+        return f"exit code {self.process.returncode}: {self.process.communicate()[1]}"
+
+    def kill(self) -> None:
+        """End it if it still runs, reap it and close its pipes."""
+        if self.process.poll() is None:
+            self.process.kill()
+        self.process.communicate()
