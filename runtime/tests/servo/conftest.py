@@ -1,7 +1,7 @@
-"""Fixtures of the servo tests: emulated STS3215 buses on ptys and node processes started from settings."""
+"""Fixtures of the servo tests: emulated STS3215 buses on ptys and an rclpy probe (start_node: root conftest)."""
 
 import pytest
-from servo_helpers import SO100_IDS, NodeProcess, RosProbe
+from servo_helpers import SO100_IDS, RosProbe
 
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
@@ -19,21 +19,6 @@ def emulators(tmp_path):
     yield make
     for emulator in started:
         emulator.stop()
-
-
-@pytest.fixture
-def start_node(ros_env):
-    """Factory: start_node(settings) -> NodeProcess in the test's ROS domain; killed at teardown."""
-    processes = []
-
-    def start(settings: dict) -> NodeProcess:
-        node = NodeProcess(settings, ros_env)
-        processes.append(node)
-        return node
-
-    yield start
-    for node in processes:
-        node.kill()
 
 
 @pytest.fixture

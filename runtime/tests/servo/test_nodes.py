@@ -6,8 +6,9 @@ import signal
 import pytest
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
-from servo_helpers import SO100_IDS, SO100_JOINTS, node_settings, topic, wait_for
+from servo_helpers import SO100_IDS, SO100_JOINTS, wait_for
 
+from compiled_settings import compiled_node
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK, load_calibration
 
 STARTUP_TIMEOUT_S = 30.0
@@ -25,10 +26,12 @@ def graph_info(probe, query, topic_name):
 
 
 def test_missing_serial_port_is_one_line_and_exit_code_3(tmp_path, start_node):
+    calibration = tmp_path / "calibration.json"
     nodes = []
     for node_type in ("ENCODER_PUBLISHER", "ACTUATOR_SUBSCRIBER", "OPERATIONAL_LIMIT_CALIBRATION"):
-        written = str(tmp_path / "calibration.json") if node_type == "OPERATIONAL_LIMIT_CALIBRATION" else ""
-        settings = node_settings(node_type, "arm", tmp_path / "ttyUSB9", "/arm/joint_states", calibration_file=written)
+        written = f'calibration_file: "{calibration}"' if node_type == "OPERATIONAL_LIMIT_CALIBRATION" else ""
+        settings = compiled_node(f'name: "arm" type: {node_type} topic_name: "/arm/joint_states" '
+                                 f'serial_port: "{tmp_path / "ttyUSB9"}" {written}')
         nodes.append(start_node(settings))
     for node in nodes:
         _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
@@ -38,7 +41,8 @@ def test_missing_serial_port_is_one_line_and_exit_code_3(tmp_path, start_node):
 
 def test_missing_servo_is_named(emulators, start_node):
     bus = emulators("ttyFIVE", ids=[1, 2, 3, 4, 5])
-    node = start_node(node_settings("ENCODER_PUBLISHER", "leader", bus.link, "/leader/joint_states"))
+    node = start_node(compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+                                    f'serial_port: "{bus.link}"'))
     _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
     assert node.process.returncode == 3
     assert stderr == f"leader: error: {bus.link}: no answer from servo id 6\n"
@@ -47,8 +51,8 @@ def test_missing_servo_is_named(emulators, start_node):
 def test_encoder_publisher(emulators, start_node, probe):
     leader = emulators("ttyLEADER")
     leader.write_register(1, "Torque_Enable", 1)
-    node = start_node(node_settings("ENCODER_PUBLISHER", "leader_arm", leader.link, "/leader/joint_states",
-                                    frame_id="leader_base", rate_hz=50.0))
+    node = start_node(compiled_node(f'name: "leader_arm" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+                                    f'serial_port: "{leader.link}" frame_id: "leader_base" rate_hz: 50'))
     probe.listen("/leader/joint_states", JointState, RELIABLE)
     assert probe.spin_until(lambda: probe.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
 
@@ -83,9 +87,9 @@ def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_n
         for name, i in zip(SO100_JOINTS, SO100_IDS)
     }
     (tmp_path / "follower.json").write_text(json.dumps(calibration))
-    settings = node_settings("ACTUATOR_SUBSCRIBER", "follower_arm", follower.link, "/follower/command",
-                             state_topic=topic("/follower/joint_states"),
-                             calibration_file=str(tmp_path / "follower.json"))
+    settings = compiled_node(f'name: "follower_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
+                             f'serial_port: "{follower.link}" state_topic: "/follower/joint_states" '
+                             f'calibration_file: "{tmp_path / "follower.json"}"')
     node = start_node(settings)
     probe.listen("/follower/joint_states", JointState, RELIABLE)
     command = probe.node.create_publisher(JointState, "/follower/command", RELIABLE)
@@ -124,8 +128,9 @@ def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, star
     arm.move_by_hand(1, 2500)
     arm.move_by_hand(2, 1000)
     path = tmp_path / "calibration" / "arm.json"
-    settings = node_settings("OPERATIONAL_LIMIT_CALIBRATION", "calibrate", arm.link, "/arm/limits",
-                             device_ids=[1, 2], joint_names=["pan", "lift"], calibration_file=str(path), rate_hz=50.0)
+    settings = compiled_node(f'name: "calibrate" type: OPERATIONAL_LIMIT_CALIBRATION topic_name: "/arm/limits" '
+                             f'serial_port: "{arm.link}" device_ids: [1, 2] joint_names: ["pan", "lift"] '
+                             f'calibration_file: "{path}" rate_hz: 50')
     node = start_node(settings)
     probe.listen("/arm/limits", JointState, RELIABLE)
     assert probe.spin_until(lambda: probe.last("/arm/limits"), STARTUP_TIMEOUT_S), node.failure()
@@ -157,8 +162,8 @@ def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, star
 
 def test_nodes_release_the_port_and_exit_0_on_sigint(emulators, start_node):
     bus = emulators("ttyRELEASE", ids=[1])
-    settings = node_settings("ENCODER_PUBLISHER", "leader", bus.link, "/leader/joint_states",
-                             device_ids=[1], joint_names=["j"])
+    settings = compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+                             f'serial_port: "{bus.link}" device_ids: [1] joint_names: ["j"]')
     for _ in range(2):  # the second run can only open the port if the first released it
         node = start_node(settings)
         assert wait_for(lambda: bus.stats["packets"] > 5, STARTUP_TIMEOUT_S), node.failure()
@@ -170,8 +175,8 @@ def test_nodes_release_the_port_and_exit_0_on_sigint(emulators, start_node):
 
 def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulators, start_node, probe):
     leader = emulators("ttyREPLUG", ids=[1])
-    node = start_node(node_settings("ENCODER_PUBLISHER", "leader", leader.link, "/leader/joint_states",
-                                    device_ids=[1], joint_names=["j"]))
+    node = start_node(compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+                                    f'serial_port: "{leader.link}" device_ids: [1] joint_names: ["j"]'))
     probe.listen("/leader/joint_states", JointState, RELIABLE)
     assert probe.spin_until(lambda: probe.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
 

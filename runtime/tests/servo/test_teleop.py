@@ -2,15 +2,17 @@
 
 The nodes get the settings joshuac writes for config/robots/so100_leader_follower.pbtxt (ENCODER_PUBLISHER
 on the leader bus publishing /leader/joint_states RELIABLE; ACTUATOR_SUBSCRIBER on the follower bus
-subscribing to it), with the serial ports pointed at the emulators' ptys.
+subscribing to it), with the serial ports set to the emulators' ptys as `--set` would.
 """
 
 import signal
+from pathlib import Path
 
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
-from servo_helpers import SO100_IDS, SO100_JOINTS, node_settings
+from servo_helpers import SO100_IDS, SO100_JOINTS
 
+from compiled_settings import compiled_settings
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK
 
 STARTUP_TIMEOUT_S = 30.0
@@ -19,13 +21,17 @@ TRACKING_TOLERANCE_TICKS = 2
 LEADER_TOPIC = "/leader/joint_states"
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 POSES = ([1200, 1800, 2600, 3000, 900, 2300], [2900, 2200, 1500, 1100, 3600, 1700])
+ROBOT = Path(__file__).resolve().parents[3] / "config" / "robots" / "so100_leader_follower.pbtxt"
 
 
 def test_follower_tracks_the_leader(emulators, start_node, probe):
     leader_bus = emulators("ttyUSB0")
     follower_bus = emulators("ttyUSB1")
-    leader = start_node(node_settings("ENCODER_PUBLISHER", "encoder_publisher", leader_bus.link, LEADER_TOPIC))
-    follower = start_node(node_settings("ACTUATOR_SUBSCRIBER", "actuator_subscriber", follower_bus.link, LEADER_TOPIC))
+    settings = compiled_settings(ROBOT.read_text(), [f"encoder_publisher.serial_port={leader_bus.link}",
+                                                     f"actuator_subscriber.serial_port={follower_bus.link}"],
+                                 path=str(ROBOT))
+    leader = start_node(settings["encoder_publisher"])
+    follower = start_node(settings["actuator_subscriber"])
     probe.listen(LEADER_TOPIC, JointState, RELIABLE)
 
     def endpoints_known():
