@@ -1,23 +1,8 @@
-"""Fixtures of the sensor tests: node processes and an in-process rclpy client (see sensor_support)."""
+"""Fixtures of the sensor tests: an in-process rclpy client (see sensor_support; start_node: root conftest)."""
 
 import pytest
 
-from sensor_support import NodeProcess, RosClient
-
-
-@pytest.fixture
-def start_node(ros_env):
-    """Start node processes in the test's ROS domain; kill the ones still running at the end."""
-    started = []
-
-    def start(settings: dict, **extra_env) -> NodeProcess:
-        node = NodeProcess(settings, dict(ros_env, **extra_env))
-        started.append(node)
-        return node
-
-    yield start
-    for node in started:
-        node.kill()
+from sensor_support import RosClient
 
 
 @pytest.fixture

@@ -1,11 +1,12 @@
 """Sensor and mock nodes run as real processes, checked by an in-process rclpy client.
 
-Each test starts a node with `run_node(SETTINGS)`, checks its topic name, type and QoS from the
-ROS graph, the values of what it publishes, and that it exits 0 within the shutdown contract
-after SIGINT or SIGTERM. (DDS discovery carries reliability and durability; history and depth
+Each test starts a node with `run_node(SETTINGS)`, SETTINGS compiled by joshuac from a one-node
+description, checks its topic name, type and QoS from the ROS graph, the values of what it
+publishes, and that it exits 0 within the shutdown contract after SIGINT or SIGTERM. (DDS discovery carries reliability and durability; history and depth
 are local to each endpoint and are not visible from another process.)
 """
 
+import json
 import math
 import signal
 
@@ -13,7 +14,8 @@ import numpy as np
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 
-from sensor_support import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, node_settings
+from compiled_settings import compiled_node
+from sensor_support import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.nodes import mock_arm
@@ -31,8 +33,8 @@ def assert_endpoint(infos, node_name: str, message_type: str, qos: dict) -> None
 
 
 def assert_clean_stop(node, signum) -> None:
-    code, seconds = node.stop(signum)
-    assert code == 0, node.wait()[1]
+    code, seconds, stderr = node.stop(signum)
+    assert code == 0, stderr
     assert seconds < SHUTDOWN_CONTRACT_S, f"exit took {seconds:.3f} s after {signal.Signals(signum).name}"
 
 
@@ -40,11 +42,18 @@ def f32(value: float) -> float:
     return float(np.float32(value))
 
 
+def lidar(port, topic: str = "/scan", frame_id: str = "laser") -> dict:
+    """Settings of an LDS-01 LIDAR_PUBLISHER named "lidar" on `port`."""
+    return compiled_node(f'name: "lidar" type: LIDAR_PUBLISHER topic_name: "{topic}" serial_port: "{port}" '
+                         f'baud_rate: 230400 rate_hz: 5 frame_id: "{frame_id}"')
+
+
 def test_mock_camera_publishes_the_moving_pattern_as_jpeg(start_node, ros_client):
     width, height = 320, 240
-    settings = node_settings("MOCK_CAMERA_PUBLISHER", "mock_cam", "/cam/compressed",
-                             "sensor_msgs/msg/CompressedImage", RELIABLE_QOS, width=width, height=height,
-                             rate_hz=20.0, frame_id="cam_optical")
+    settings = compiled_node(f'name: "mock_cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/cam/compressed" '
+                             'message_type: "sensor_msgs/msg/CompressedImage" '
+                             'qos_depth: 3 qos_reliability: RELIABLE qos_durability: TRANSIENT_LOCAL '
+                             f'width: {width} height: {height} rate_hz: 20 frame_id: "cam_optical"')
     node = start_node(settings)
     assert_endpoint(ros_client.publishers("/cam/compressed", process=node), "mock_cam",
                     "sensor_msgs/msg/CompressedImage", RELIABLE_QOS)
@@ -68,8 +77,8 @@ def test_mock_camera_publishes_the_moving_pattern_as_jpeg(start_node, ros_client
 
 
 def test_mock_lidar_publishes_the_synthetic_room(start_node, ros_client):
-    settings = node_settings("MOCK_LIDAR_PUBLISHER", "mock_lidar", "/scan", "sensor_msgs/msg/LaserScan",
-                             SENSOR_QOS, rate_hz=10.0, frame_id="laser")
+    settings = compiled_node('name: "mock_lidar" type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" rate_hz: 10 '
+                             'frame_id: "laser"')
     node = start_node(settings)
     assert_endpoint(ros_client.publishers("/scan", process=node), "mock_lidar", "sensor_msgs/msg/LaserScan",
                     SENSOR_QOS)
@@ -83,8 +92,9 @@ def test_mock_lidar_publishes_the_synthetic_room(start_node, ros_client):
 
 def test_mock_encoder_swings_every_joint_within_its_range(start_node, ros_client):
     names = SO100_JOINTS + ["extra_joint"]
-    settings = node_settings("MOCK_ENCODER_PUBLISHER", "mock_leader", "/leader/joint_states",
-                             "sensor_msgs/msg/JointState", DEFAULT_QOS, joint_names=names, rate_hz=50.0)
+    ids = list(range(1, len(names) + 1))  # one per joint name: the compiler holds a mock to its real type's rules
+    settings = compiled_node(f'name: "mock_leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+                             f'device_ids: {ids} joint_names: {json.dumps(names)} rate_hz: 50')
     node = start_node(settings)
     assert_endpoint(ros_client.publishers("/leader/joint_states", process=node), "mock_leader",
                     "sensor_msgs/msg/JointState", DEFAULT_QOS)
@@ -101,10 +111,9 @@ def test_mock_encoder_swings_every_joint_within_its_range(start_node, ros_client
 
 
 def test_mock_actuator_follows_commands_and_publishes_its_state(start_node, ros_client):
-    state_topic = {"name": "/follower/state", "message_type": "sensor_msgs/msg/JointState", "qos": DEFAULT_QOS}
-    settings = node_settings("MOCK_ACTUATOR_SUBSCRIBER", "mock_follower", "/follower/command",
-                             "sensor_msgs/msg/JointState", DEFAULT_QOS, joint_names=SO100_JOINTS,
-                             state_topic=state_topic, rate_hz=100.0)
+    # Six servos by default, so the SO-100 joint names.
+    settings = compiled_node('name: "mock_follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
+                             'state_topic: "/follower/state" rate_hz: 100')
     node = start_node(settings)
     assert_endpoint(ros_client.publishers("/follower/state", process=node), "mock_follower",
                     "sensor_msgs/msg/JointState", DEFAULT_QOS)
@@ -135,9 +144,7 @@ def test_mock_actuator_follows_commands_and_publishes_its_state(start_node, ros_
 def test_lidar_publisher_streams_emulated_turns_and_stops_the_motor(tmp_path, start_node, ros_client):
     link = tmp_path / "ttyLIDAR"
     with Lds01Emulator(link) as emulator:
-        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/base/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
-                                 serial_port=str(link), baud_rate=230400, rate_hz=5.0, frame_id="lidar_link")
-        node = start_node(settings)
+        node = start_node(lidar(link, topic="/base/scan", frame_id="lidar_link"))
         assert_endpoint(ros_client.publishers("/base/scan", process=node), "lidar", "sensor_msgs/msg/LaserScan",
                         SENSOR_QOS)
         scans = ros_client.collect(LaserScan, "/base/scan", SENSOR_QOS, 2)
@@ -157,9 +164,7 @@ def test_lidar_publisher_streams_emulated_turns_and_stops_the_motor(tmp_path, st
 def test_lidar_publisher_stops_on_sigint_too(tmp_path, start_node, ros_client):
     link = tmp_path / "ttyLIDAR"
     with Lds01Emulator(link):
-        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
-                                 serial_port=str(link), baud_rate=230400, rate_hz=5.0, frame_id="laser")
-        node = start_node(settings)
+        node = start_node(lidar(link))
         ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 1, timeout=30.0)
         assert_clean_stop(node, signal.SIGINT)
 
@@ -168,9 +173,7 @@ def test_lidar_publisher_exits_3_when_the_device_disappears(tmp_path, start_node
     link = tmp_path / "ttyUNPLUG"
     emulator = Lds01Emulator(link).start()
     try:
-        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
-                                 serial_port=str(link), baud_rate=230400, rate_hz=5.0, frame_id="laser")
-        node = start_node(settings)
+        node = start_node(lidar(link))
         ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 1, timeout=30.0)
     finally:
         emulator.stop()
@@ -182,9 +185,7 @@ def test_lidar_publisher_exits_3_when_the_device_disappears(tmp_path, start_node
 
 def test_lidar_publisher_without_its_port_exits_3_with_one_line(tmp_path, start_node):
     port = tmp_path / "ttyUSB9"
-    settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
-                             serial_port=str(port), baud_rate=230400, rate_hz=5.0)
-    code, stderr = start_node(settings).wait()
+    code, stderr = start_node(lidar(port)).wait()
     assert code == 3
     assert stderr.splitlines() == [stderr.strip()]
     assert stderr.startswith(f"lidar: error: cannot open LDS-01 lidar at {port}: ")
@@ -194,17 +195,15 @@ def test_lidar_publisher_on_a_silent_device_exits_3(tmp_path, start_node):
     from joshua_runtime.emulators.pty_link import PtyLink
 
     with PtyLink(tmp_path / "ttySILENT") as link:
-        settings = node_settings("LIDAR_PUBLISHER", "lidar", "/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS,
-                                 serial_port=str(link.link), baud_rate=230400, rate_hz=5.0)
-        code, stderr = start_node(settings).wait()
+        code, stderr = start_node(lidar(link.link)).wait()
     assert code == 3
     assert stderr.strip() == f"lidar: error: LDS-01 lidar at {link.link} sent no usable scan within 2 s " \
                              "(silent device, wrong baud rate or not an LDS-01)"
 
 
 def test_camera_publisher_without_its_camera_exits_3_with_one_line(start_node):
-    settings = node_settings("CAMERA_PUBLISHER", "front_camera", "/front/image", "sensor_msgs/msg/Image",
-                             SENSOR_QOS, camera_index=63, frame_id="camera")
+    settings = compiled_node('name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" camera_index: 63 '
+                             'frame_id: "camera"')
     code, stderr = start_node(settings).wait()
     assert code == 3
     assert stderr == "front_camera: error: cannot open camera 63 (/dev/video63): no such device\n"
@@ -224,9 +223,9 @@ def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tm
     writer.release()
     profile = tmp_path / "fastdds_profile.xml"
     profile.write_text(template("fastdds_profile.xml.j2"))
-    settings = node_settings("CAMERA_PUBLISHER", "front_camera", "/front/image", "sensor_msgs/msg/Image",
-                             SENSOR_QOS, video_source=str(video), width=width, height=height, rate_hz=30.0,
-                             frame_id="front_optical")
+    settings = compiled_node(f'name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" '
+                             f'video_source: "{video}" width: {width} height: {height} rate_hz: 30 '
+                             'frame_id: "front_optical"')
     node = start_node(settings, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
     assert_endpoint(ros_client.publishers("/front/image", process=node), "front_camera", "sensor_msgs/msg/Image",
                     SENSOR_QOS)
