@@ -1,8 +1,5 @@
-"""Helpers of the process tests: start a node the way a generated entrypoint does, and an rclpy client."""
+"""Helpers of the process tests: QoS profiles and an rclpy client (node processes: start_node, root conftest)."""
 
-import signal
-import subprocess
-import sys
 import time
 
 import rclpy
@@ -10,29 +7,10 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 STARTUP_TIMEOUT_S = 30.0
-EXIT_TIMEOUT_S = 5.0
 SPIN_SLICE_S = 0.05
 
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 SENSOR = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
-
-
-def start_node(settings: dict, env: dict) -> subprocess.Popen:
-    code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({settings!r}))"
-    return subprocess.Popen([sys.executable, "-c", code], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-
-
-def stop_node(process: subprocess.Popen, signum=signal.SIGINT) -> tuple[int, str, float]:
-    """Send `signum`; return the exit code, stderr and seconds taken to exit."""
-    sent = time.monotonic()
-    process.send_signal(signum)
-    try:
-        _, stderr = process.communicate(timeout=EXIT_TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        _, stderr = process.communicate()
-    return process.returncode, stderr, time.monotonic() - sent
 
 
 class Client:

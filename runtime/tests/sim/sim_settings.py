@@ -1,4 +1,10 @@
-"""Settings dicts shaped like joshuac's, for a simulated SO-100 with encoder, actuator, camera and lidar."""
+"""Settings of the SIMULATION process, compiled by joshuac from an SO-100 description in MODE_SIMULATION.
+
+Each hardware node is a `node { }` block of the description; `simulation(...)` puts the chosen ones
+in a robot and returns the settings of the engine that stands in for them.
+"""
+
+from compiled_settings import compiled_settings
 
 SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
 # spec/protocols.md section 3.
@@ -10,82 +16,79 @@ SO100_RANGES = {
     "wrist_roll": (-2.74, 2.74),
     "gripper": (-0.17, 1.75),
 }
-DEFAULT_QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-SENSOR_QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
+
+ENCODER = """
+  node {
+    name: "arm_encoder"
+    type: ENCODER_PUBLISHER
+    topic_name: "/arm/joint_states"
+    serial_port: "/dev/ttyACM0"
+    rate_hz: 100
+  }
+"""
+CALIBRATION = """
+  node {
+    name: "arm_calibration"
+    type: OPERATIONAL_LIMIT_CALIBRATION
+    topic_name: "/arm/limits"
+    serial_port: "/dev/ttyACM0"
+    device_ids: [1, 6]
+    joint_names: ["shoulder_pan", "gripper"]
+    rate_hz: 10
+    calibration_file: "arm.json"
+  }
+"""
+ACTUATOR = """
+  node {
+    name: "arm_actuator"
+    type: ACTUATOR_SUBSCRIBER
+    topic_name: "/arm/command"
+    state_topic: "/arm/present"
+    serial_port: "/dev/ttyACM1"
+    rate_hz: 50
+  }
+"""
+CAMERA = """
+  node {
+    name: "front_camera"
+    type: CAMERA_PUBLISHER
+    topic_name: "/camera/image_raw"
+    camera_index: 0
+    width: 320
+    height: 240
+    rate_hz: 10
+    frame_id: "camera"
+  }
+"""
+# A second camera, JPEG-compressed, whose frame_id names the model's wrist camera.
+WRIST_CAMERA = """
+  node {
+    name: "wrist_camera"
+    type: CAMERA_PUBLISHER
+    topic_name: "/wrist/image/compressed"
+    message_type: "sensor_msgs/msg/CompressedImage"
+    camera_index: 1
+    width: 160
+    height: 120
+    rate_hz: 5
+    frame_id: "wrist"
+  }
+"""
+LIDAR = """
+  node {
+    name: "lidar"
+    type: LIDAR_PUBLISHER
+    topic_name: "/scan"
+    serial_port: "/dev/ttyUSB0"
+    baud_rate: 230400
+    rate_hz: 5
+    frame_id: "laser"
+  }
+"""
 
 
-def _topic(name: str, message_type: str, qos: dict) -> dict:
-    return {"name": name, "message_type": message_type, "qos": dict(qos)}
-
-
-def node_settings(name: str, node_type: str, **fields) -> dict:
-    """One node's settings with every key of the entrypoint contract."""
-    settings = {
-        "robot": "sim_test", "mode": "MODE_SIMULATION", "name": name, "type": node_type,
-        "topic": None, "state_topic": None, "inputs": [], "qos": dict(DEFAULT_QOS),
-        "serial_port": "", "baud_rate": 0, "device_ids": [], "joint_names": [], "calibration_file": "",
-        "camera_index": -1, "video_source": "", "width": 640, "height": 480, "rate_hz": 100.0,
-        "frame_id": "base_link", "model_path": "", "policy_type": "", "device": "cpu",
-        "output_format": "lerobot", "output_directory": "", "simulation": None,
-    }
-    settings.update(fields)
-    return settings
-
-
-def encoder(rate_hz: float = 100.0) -> dict:
-    return node_settings(
-        "arm_encoder", "ENCODER_PUBLISHER", topic=_topic("/arm/joint_states", "sensor_msgs/msg/JointState", DEFAULT_QOS),
-        serial_port="/dev/ttyACM0", baud_rate=1_000_000, device_ids=[1, 2, 3, 4, 5, 6],
-        joint_names=list(SO100_JOINTS), rate_hz=rate_hz,
-    )
-
-
-def calibration() -> dict:
-    return node_settings(
-        "arm_calibration", "OPERATIONAL_LIMIT_CALIBRATION",
-        topic=_topic("/arm/limits", "sensor_msgs/msg/JointState", DEFAULT_QOS), serial_port="/dev/ttyACM0",
-        baud_rate=1_000_000, device_ids=[1, 6], joint_names=["shoulder_pan", "gripper"], rate_hz=10.0,
-        calibration_file="arm.json",
-    )
-
-
-def actuator(state_topic: bool = True) -> dict:
-    return node_settings(
-        "arm_actuator", "ACTUATOR_SUBSCRIBER", topic=_topic("/arm/command", "sensor_msgs/msg/JointState", DEFAULT_QOS),
-        state_topic=_topic("/arm/present", "sensor_msgs/msg/JointState", DEFAULT_QOS) if state_topic else None,
-        serial_port="/dev/ttyACM1", baud_rate=1_000_000, device_ids=[1, 2, 3, 4, 5, 6],
-        joint_names=list(SO100_JOINTS), rate_hz=50.0,
-    )
-
-
-def camera(width: int = 320, height: int = 240, rate_hz: float = 10.0) -> dict:
-    return node_settings(
-        "front_camera", "CAMERA_PUBLISHER", topic=_topic("/camera/image_raw", "sensor_msgs/msg/Image", SENSOR_QOS),
-        qos=dict(SENSOR_QOS), camera_index=0, width=width, height=height, rate_hz=rate_hz, frame_id="camera",
-    )
-
-
-def wrist_camera() -> dict:
-    """A second camera, JPEG-compressed, whose frame_id names the model's wrist camera."""
-    return node_settings(
-        "wrist_camera", "CAMERA_PUBLISHER",
-        topic=_topic("/wrist/image/compressed", "sensor_msgs/msg/CompressedImage", SENSOR_QOS),
-        qos=dict(SENSOR_QOS), camera_index=1, width=160, height=120, rate_hz=5.0, frame_id="wrist",
-    )
-
-
-def lidar() -> dict:
-    return node_settings(
-        "lidar", "LIDAR_PUBLISHER", topic=_topic("/scan", "sensor_msgs/msg/LaserScan", SENSOR_QOS),
-        qos=dict(SENSOR_QOS), serial_port="/dev/ttyUSB0", baud_rate=230_400, rate_hz=5.0, frame_id="laser",
-    )
-
-
-def simulation(simulates: list[dict], model: str = "builtin:so100", realtime_factor: float = 1.0,
-               timestep_s: float | None = None, camera_name: str = "", gl_backend: str = "egl") -> dict:
-    """The settings of the SIMULATION process that replaces `simulates`."""
-    return node_settings(
-        "simulation", "SIMULATION",
-        simulation={"model": model, "timestep_s": timestep_s, "realtime_factor": realtime_factor,
-                    "camera": camera_name, "gl_backend": gl_backend, "simulates": simulates},
-    )
+def simulation(*nodes: str, overrides=()) -> dict:
+    """The settings of the SIMULATION process of a robot made of the `node { }` blocks given."""
+    text = ('robot_config {\n  name: "sim_test"\n  mode: MODE_SIMULATION\n'
+            '  simulation { model: "builtin:so100" }\n' + "".join(nodes) + "}\n")
+    return compiled_settings(text, overrides)["simulation"]

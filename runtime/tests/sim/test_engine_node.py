@@ -1,15 +1,14 @@
 """The SIMULATION node as a real process, observed by an in-process rclpy client.
 
-The process is started the way a generated entrypoint starts it (`run_node(SETTINGS)`), simulating an
-encoder, an actuator with a state topic, a camera and a lidar of an SO-100. The client commands the
-arm and checks the simulated states converge, that frames are real renders of the configured size,
+The process is started the way a generated entrypoint starts it (`run_node(SETTINGS)`, SETTINGS
+compiled by joshuac from a description in MODE_SIMULATION), simulating an encoder, an actuator with
+a state topic, a camera and a lidar of an SO-100. The client commands the arm and checks the simulated states converge, that frames are real renders of the configured size,
 that scans see the room, that every topic has the type and QoS the real node would offer, and that
 SIGINT ends the process with exit code 0.
 """
 
 import math
 import signal
-import subprocess
 import time
 
 import cv2
@@ -19,7 +18,7 @@ from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
 import sim_settings
-from sim_ros import RELIABLE, SENSOR, STARTUP_TIMEOUT_S, Client, start_node, stop_node
+from sim_ros import RELIABLE, SENSOR, STARTUP_TIMEOUT_S, Client
 
 GOAL = [0.8, 0.3, 0.2, -0.4, 1.2, 0.7]
 TRACKING_TOLERANCE_RAD = 0.02
@@ -36,16 +35,9 @@ def client(ros_domain):
 
 
 @pytest.fixture
-def arm_process(ros_env):
-    settings = sim_settings.simulation(
-        [sim_settings.encoder(), sim_settings.actuator(), sim_settings.camera(320, 240, 10.0),
-         sim_settings.wrist_camera(), sim_settings.lidar()]
-    )
-    process = start_node(settings, ros_env)
-    yield process
-    if process.poll() is None:
-        process.kill()
-        process.communicate()
+def arm_process(start_node):
+    return start_node(sim_settings.simulation(sim_settings.ENCODER, sim_settings.ACTUATOR, sim_settings.CAMERA,
+                                              sim_settings.WRIST_CAMERA, sim_settings.LIDAR))
 
 
 def _positions(msg: JointState | None) -> list[float] | None:
@@ -66,7 +58,7 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
     command = client.node.create_publisher(JointState, "/arm/command", RELIABLE)
     topics = ("/arm/joint_states", "/arm/present", "/camera/image_raw", "/wrist/image/compressed", "/scan")
     started = client.spin_until(lambda: all(t in client.last for t in topics), STARTUP_TIMEOUT_S)
-    assert started, f"no message on {[t for t in topics if t not in client.last]}; stderr: {_stderr(arm_process)}"
+    assert started, f"no message on {[t for t in topics if t not in client.last]}; {arm_process.failure()}"
 
     # Present states: SO-100 names, at rest near zero, efforts as fractions of the force limit.
     state = client.last["/arm/joint_states"]
@@ -113,7 +105,7 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
 
     _assert_endpoints(client.node)
 
-    code, stderr, _ = stop_node(arm_process)
+    code, _, stderr = arm_process.stop(signal.SIGINT)
     assert code == 0, stderr
     assert "Traceback" not in stderr
 
@@ -152,62 +144,58 @@ def _assert_endpoints(node) -> None:
     assert subscriptions[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
 
 
-def _stderr(process: subprocess.Popen) -> str:
-    if process.poll() is None:
-        return "(still running)"
-    return process.stderr.read()
-
-
-def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(ros_env, client):
-    process = start_node(sim_settings.simulation([sim_settings.calibration()]), ros_env)
+def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node, client):
+    process = start_node(sim_settings.simulation(sim_settings.CALIBRATION))
     try:
         client.listen("/arm/limits", JointState, RELIABLE)
-        assert client.spin_until(lambda: "/arm/limits" in client.last, STARTUP_TIMEOUT_S), _stderr(process)
+        assert client.spin_until(lambda: "/arm/limits" in client.last, STARTUP_TIMEOUT_S), process.failure()
         limits = client.last["/arm/limits"]
         assert list(limits.name) == ["shoulder_pan.range_min", "shoulder_pan.range_max",
                                      "gripper.range_min", "gripper.range_max"]
         # +-1.92 rad and -0.17..1.75 rad in ticks of 2 pi / 4095, the middle of each range at 2047.
         assert list(limits.position) == [796.0, 3298.0, 1936.0, 3188.0]
     finally:
-        code, stderr, _ = stop_node(process, signal.SIGTERM)
+        code, _, stderr = process.stop(signal.SIGTERM)
     assert code == 0, stderr
     assert "arm.json is left as it is" in stderr
 
 
 @pytest.mark.parametrize(
-    "simulation, code, message",
+    "overrides, unchecked, code, message",
     [
-        ({"model": "builtin:so101"}, 2, "simulation: error: unknown built-in simulation model 'builtin:so101'"),
-        ({"realtime_factor": -2.0}, 2, "simulation: error: simulation realtime_factor must be >= 0, got -2.0"),
-        ({"gl_backend": "glx"}, 2, "simulation: error: gl_backend 'glx' is not one of egl, osmesa"),
+        (["simulation.model=builtin:so101"], {}, 2,
+         "simulation: error: unknown built-in simulation model 'builtin:so101'"),
+        # joshuac rejects these two (E506): they are written into the compiled settings, as a hand-edited
+        # entrypoint would have them, to reach the runtime's own check.
+        ([], {"realtime_factor": -2.0}, 2, "simulation: error: simulation realtime_factor must be >= 0, got -2.0"),
+        ([], {"gl_backend": "glx"}, 2, "simulation: error: gl_backend 'glx' is not one of egl, osmesa"),
     ],
+    ids=["unknown-model", "negative-realtime-factor", "unknown-gl-backend"],
 )
-def test_unusable_settings_exit_with_one_line(ros_env, simulation, code, message):
-    settings = sim_settings.simulation([sim_settings.encoder(), sim_settings.camera()])
-    settings["simulation"].update(simulation)
-    process = start_node(settings, ros_env)
-    _, stderr = process.communicate(timeout=STARTUP_TIMEOUT_S)
-    assert process.returncode == code
+def test_unusable_settings_exit_with_one_line(start_node, overrides, unchecked, code, message):
+    settings = sim_settings.simulation(sim_settings.ENCODER, sim_settings.CAMERA, overrides=overrides)
+    settings["simulation"].update(unchecked)
+    returncode, stderr = start_node(settings).wait(STARTUP_TIMEOUT_S)
+    assert returncode == code
     assert stderr.strip().startswith(message)
     assert len(stderr.strip().splitlines()) == 1
     assert "Traceback" not in stderr
 
 
-def test_unknown_joint_exits_with_settings_error(ros_env):
-    encoder = sim_settings.encoder()
-    encoder["joint_names"] = ["shoulder_pan", "elbow"]
-    process = start_node(sim_settings.simulation([encoder]), ros_env)
-    _, stderr = process.communicate(timeout=STARTUP_TIMEOUT_S)
-    assert process.returncode == 2
+def test_unknown_joint_exits_with_settings_error(start_node):
+    settings = sim_settings.simulation(
+        sim_settings.ENCODER, overrides=["arm_encoder.device_ids=1,2", "arm_encoder.joint_names=shoulder_pan,elbow"])
+    returncode, stderr = start_node(settings).wait(STARTUP_TIMEOUT_S)
+    assert returncode == 2
     assert "simulation: error: simulation model has no hinge or slide joint 'elbow'" in stderr
     assert "Traceback" not in stderr
 
 
-def test_failing_offscreen_context_is_one_device_error(ros_env):
-    env = dict(ros_env, __EGL_VENDOR_LIBRARY_FILENAMES="/nonexistent/egl_vendor.json")  # no EGL driver at all
-    process = start_node(sim_settings.simulation([sim_settings.camera()]), env)
-    _, stderr = process.communicate(timeout=STARTUP_TIMEOUT_S)
-    assert process.returncode == 3
+def test_failing_offscreen_context_is_one_device_error(start_node):
+    settings = sim_settings.simulation(sim_settings.CAMERA)
+    no_egl_driver = "/nonexistent/egl_vendor.json"  # no EGL driver at all
+    returncode, stderr = start_node(settings, __EGL_VENDOR_LIBRARY_FILENAMES=no_egl_driver).wait(STARTUP_TIMEOUT_S)
+    assert returncode == 3
     assert stderr.strip().startswith("simulation: error: offscreen rendering with MUJOCO_GL=egl failed (")
     assert stderr.strip().endswith('try simulation gl_backend "osmesa" (Debian packages: libosmesa6)')
     assert len(stderr.strip().splitlines()) == 1

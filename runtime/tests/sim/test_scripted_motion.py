@@ -9,7 +9,8 @@ from sensor_msgs.msg import JointState
 
 import sim_settings
 from joshua_runtime.sim.scripted_motion import CYCLE_S, KEYFRAMES, SO100_JOINTS, scripted_positions
-from sim_ros import RELIABLE, STARTUP_TIMEOUT_S, Client, start_node, stop_node
+from node_process import stop_process
+from sim_ros import RELIABLE, STARTUP_TIMEOUT_S, Client
 from sim_settings import SO100_RANGES
 
 # Sample spacing of the smoothness check and the largest joint change allowed over it.
@@ -41,8 +42,8 @@ def test_motion_is_smooth_and_inside_the_joint_ranges():
         previous = pose
 
 
-def test_scripted_motion_drives_the_simulated_arm(ros_env, ros_domain):
-    simulation = start_node(sim_settings.simulation([sim_settings.actuator()]), ros_env)
+def test_scripted_motion_drives_the_simulated_arm(ros_env, ros_domain, start_node):
+    simulation = start_node(sim_settings.simulation(sim_settings.ACTUATOR)).process
     motion = subprocess.Popen(
         [sys.executable, "-m", "joshua_runtime.sim.scripted_motion", "--topic", "/arm/command", "--rate-hz", "50"],
         env=ros_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -65,5 +66,5 @@ def test_scripted_motion_drives_the_simulated_arm(ros_env, ros_domain):
     finally:
         client.close()
         for process in (motion, simulation):
-            code, stderr, _ = stop_node(process, signal.SIGINT)
+            code, _, stderr = stop_process(process, signal.SIGINT)
             assert code == 0, stderr
