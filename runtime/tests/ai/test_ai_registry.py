@@ -40,7 +40,8 @@ def registry_root(tmp_path, monkeypatch):
 
 
 def cli(*args, env_root):
-    env = {"PATH": "/usr/bin:/bin", registry.REGISTRY_ENV: str(env_root)}
+    env = {"PATH": "/usr/bin:/bin", registry.REGISTRY_ENV: str(env_root), "HF_HUB_OFFLINE": "1",
+           "HF_HOME": str(env_root.parent / "hf-home")}
     return subprocess.run(
         [sys.executable, "-m", "joshua_runtime.ai.registry_cli", *args], env=env, capture_output=True, text=True,
     )
@@ -109,6 +110,10 @@ def test_command_line(tmp_path):
     removed = cli("remove", "pusher@r1", env_root=root)
     assert (removed.returncode, removed.stdout) == (0, "removed pusher@r1\n")
     assert cli("list", env_root=root).stdout == f"no models in {root}\n"
+    offline = cli("pull", "some-org/some-policy", env_root=root)   # the Hub is used only by pull
+    assert offline.returncode == 1
+    assert offline.stderr.startswith("joshua-registry: error: cannot download some-org/some-policy from the Hugging Face Hub: ")
+    assert len(offline.stderr.splitlines()) == 1
 
 
 def test_resolution_never_touches_the_network(tmp_path, registry_root, monkeypatch):
