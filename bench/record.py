@@ -84,19 +84,17 @@ class Process:
 
 def run_case(width, height, rate, output_format, seconds, env, workdir) -> dict:
     output = workdir / f"{width}x{height}_{rate:g}_{output_format}"
+    camera = {"name": "/camera/image_raw", "message_type": "sensor_msgs/msg/Image", "qos": SENSOR}
+    leader = {"name": "/leader/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}
+    follower = {"name": "/follower/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}
     sensors = [
-        Process(settings("camera", "MOCK_CAMERA_PUBLISHER", width=width, height=height, rate_hz=rate,
-                         topic={"name": "/camera/image_raw", "message_type": "sensor_msgs/msg/Image", "qos": SENSOR}), env),
-        Process(settings("leader", "MOCK_ENCODER_PUBLISHER", joint_names=JOINTS, rate_hz=rate,
-                         topic={"name": "/leader/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}), env),
-        Process(settings("follower", "MOCK_ENCODER_PUBLISHER", joint_names=JOINTS, rate_hz=rate,
-                         topic={"name": "/follower/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}), env),
+        Process(settings("camera", "MOCK_CAMERA_PUBLISHER", width=width, height=height, rate_hz=rate, topic=camera), env),
+        Process(settings("leader", "MOCK_ENCODER_PUBLISHER", joint_names=JOINTS, rate_hz=rate, topic=leader), env),
+        Process(settings("follower", "MOCK_ENCODER_PUBLISHER", joint_names=JOINTS, rate_hz=rate, topic=follower), env),
     ]
     recorder = Process(settings(
         "recorder", "DATA_SUBSCRIBER", rate_hz=rate, output_directory=str(output), output_format=output_format,
-        topic={"name": "/leader/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE},
-        inputs=[{"name": "/camera/image_raw", "message_type": "sensor_msgs/msg/Image", "qos": SENSOR},
-                {"name": "/follower/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}],
+        topic=leader, inputs=[camera, follower],
     ), env)
     try:
         recorder.wait_for(FIRST_FRAME, STARTUP_TIMEOUT_S)
@@ -146,7 +144,8 @@ def main() -> int:
                    ROS_DOMAIN_ID=str(zlib.crc32(b"bench/record") % 100 + 120),
                    ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
         print(f"episode of {args.seconds:g} s per case; rate = (frames - 1) / span of the episode")
-        print(f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} {'loaded':>6} {'SIGINT->exit s':>14}")
+        print(f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} "
+              f"{'loaded':>6} {'SIGINT->exit s':>14}")
         for text in args.cases.split(","):
             for output_format in args.formats.split(","):
                 r = run_case(*parse_case(text), output_format, args.seconds, env, workdir)

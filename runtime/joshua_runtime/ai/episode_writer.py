@@ -70,10 +70,6 @@ class EpisodeWriter:
         self._thread.join()
         shutil.rmtree(self._cache, ignore_errors=True)
 
-    @property
-    def pending(self) -> int:
-        return self._commands.qsize()
-
     def _import_lerobot(self) -> None:
         """Import LeRobot now: an import in the writing thread would starve the ROS thread for seconds."""
         # Keep the Hugging Face datasets cache of this process private (LeRobot reloads the dataset
@@ -92,10 +88,11 @@ class EpisodeWriter:
                 command, argument = self._commands.get()
                 if command == "close":
                     return
-                if self.error is None:
-                    getattr(self, f"_{command}")(argument)
+                getattr(self, f"_{command}")(argument)
         except BaseException as exc:  # reported by the node through `error`
-            self.error = exc if isinstance(exc, JoshuaError) else JoshuaError(f"recording failed: {type(exc).__name__}: {exc}")
+            if not isinstance(exc, JoshuaError):
+                exc = JoshuaError(f"recording failed: {type(exc).__name__}: {exc}")
+            self.error = exc
         finally:
             if self.error is not None:
                 self._drop_dataset()

@@ -25,7 +25,9 @@ class FrameSampler:
     def __init__(self, action_topic: str, inputs: list[dict], use_videos: bool):
         self.action_topic = action_topic
         self.state_topics = [t["name"] for t in inputs if t["message_type"] == keys.JOINT_STATE]
-        self.image_topics = {keys.image_feature(t["name"]): t["name"] for t in inputs if t["message_type"] in keys.IMAGE_TYPES}
+        self.image_topics = {
+            keys.image_feature(t["name"]): t["name"] for t in inputs if t["message_type"] in keys.IMAGE_TYPES
+        }
         self.image_dtype = "video" if use_videos else "image"
         self.joints: dict[str, list[str]] = {}
         self.image_shapes: dict[str, tuple[int, int, int]] = {}

@@ -107,7 +107,8 @@ def test_observations_pair_images_and_pick_state_by_joint_name():
         unnamed.observation(latest.__getitem__)
     with pytest.raises(SettingsError, match="no Image input for policy feature observation.images.side"):
         ObservationMapper("n", inputs, {"observation.images.side": (3, 2, 2), **images}, 3)
-    single = ObservationMapper("n", [{"name": "/any/topic", "message_type": IMAGE}], {"observation.images.x": (3, 4, 6)}, None)
+    any_name = [{"name": "/any/topic", "message_type": IMAGE}]
+    single = ObservationMapper("n", any_name, {"observation.images.x": (3, 4, 6)}, None)
     assert single.image_sources == {"observation.images.x": "/any/topic"}
 
 

@@ -112,7 +112,8 @@ def test_command_line(tmp_path):
     assert cli("list", env_root=root).stdout == f"no models in {root}\n"
     offline = cli("pull", "some-org/some-policy", env_root=root)   # the Hub is used only by pull
     assert offline.returncode == 1
-    assert offline.stderr.startswith("joshua-registry: error: cannot download some-org/some-policy from the Hugging Face Hub: ")
+    assert offline.stderr.startswith(
+        "joshua-registry: error: cannot download some-org/some-policy from the Hugging Face Hub: ")
     assert len(offline.stderr.splitlines()) == 1
 
 
