@@ -41,6 +41,17 @@ def resolve_model_path(model_path: str):
     return model_files.policy_directory(model_path)
 
 
+def action_joint_names(joint_names: list[str], size: int, feature_names: list[str] | None) -> list[str]:
+    """Names of the published joints: `joint_names` when set, else the policy's action names without `.pos`."""
+    if joint_names:
+        if len(joint_names) != size:
+            raise SettingsError(f"joint_names has {len(joint_names)} names but the policy outputs {size} actions")
+        return list(joint_names)
+    if feature_names and len(feature_names) == size:
+        return [keys.joint_name(name) for name in feature_names]
+    raise SettingsError(f"the policy does not record its {size} action names; set joint_names on the INFERENCE node")
+
+
 class InferenceNode(JoshuaNode):
     """Subscribes to sensor inputs, runs `select_action` at rate_hz, publishes JointState actions."""
 
@@ -86,7 +97,8 @@ class InferenceNode(JoshuaNode):
 
             runner = PolicyRunner(self.policy_dir, self.settings.get("device") or "cpu")
             names = model_files.feature_names(self.policy_dir)
-            self.joint_names = self._action_joint_names(runner.shapes.action_size, names.get(keys.ACTION))
+            self.joint_names = action_joint_names(
+                self.settings.get("joint_names") or [], runner.shapes.action_size, names.get(keys.ACTION))
             self.mapper = ObservationMapper(
                 self.name, self.settings["inputs"], runner.shapes.images, runner.shapes.state_size,
                 names.get(keys.STATE),
@@ -105,18 +117,6 @@ class InferenceNode(JoshuaNode):
             self.load_error = exc
         except Exception as exc:  # a broken checkpoint surfaces as many library exception types
             self.load_error = JoshuaError(f"cannot load policy from {self.policy_dir}: {type(exc).__name__}: {exc}")
-
-    def _action_joint_names(self, size: int, feature_names: list[str] | None) -> list[str]:
-        names = list(self.settings.get("joint_names") or [])
-        if names:
-            if len(names) != size:
-                raise SettingsError(f"joint_names has {len(names)} names but the policy outputs {size} actions")
-            return names
-        if feature_names and len(feature_names) == size:
-            return [keys.joint_name(name) for name in feature_names]
-        raise SettingsError(
-            f"the policy does not record its {size} action names; set joint_names on the INFERENCE node"
-        )
 
     def _tick(self) -> None:
         if self.load_error is not None:

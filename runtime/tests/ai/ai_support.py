@@ -1,4 +1,9 @@
-"""Helpers of the AI tests: node settings, node processes, and an in-process ROS peer."""
+"""Helpers of the AI tests: settings compiled by joshuac, node processes with live output, a ROS peer.
+
+Node settings come from compiled_settings.py at the repository root (the real compiler). The
+NodeProcess here streams each output line as it comes, because these tests wait for log lines
+while a node runs (episode saved, ready); node_process.NodeProcess there reads output at exit.
+"""
 
 import re
 import subprocess
@@ -11,33 +16,53 @@ import numpy as np
 
 LINE_TIMEOUT_S = 90.0
 EXIT_TIMEOUT_S = 30.0
+ROBOT = "test_arm"
 RELIABLE = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
 JOINT_STATE = "sensor_msgs/msg/JointState"
 IMAGE = "sensor_msgs/msg/Image"
 
 
 def topic(name: str, message_type: str, qos: dict = RELIABLE) -> dict:
+    """A topic entry of a settings dict (for settings the compiler would never write)."""
     return {"name": name, "message_type": message_type, "qos": dict(qos)}
 
 
-def node_settings(name: str, node_type: str, **overrides) -> dict:
-    """A settings dict shaped exactly as documented in joshua_runtime/entrypoint.py."""
-    settings = {
-        "robot": "test_arm", "mode": "MODE_DATA_COLLECTION", "name": name, "type": node_type,
-        "topic": None, "state_topic": None, "inputs": [], "qos": dict(RELIABLE),
-        "serial_port": "", "baud_rate": 0, "device_ids": [], "joint_names": [], "calibration_file": "",
-        "camera_index": -1, "video_source": "", "width": 640, "height": 480, "rate_hz": 10.0,
-        "frame_id": "base_link", "model_path": "", "policy_type": "", "device": "cpu",
-        "output_format": "lerobot", "output_directory": "", "simulation": None,
-    }
-    unknown = set(overrides) - set(settings)
-    assert not unknown, f"not a settings key: {unknown}"
-    settings.update(overrides)
-    return settings
+def _fields(**values) -> str:
+    """pbtxt fields: strings quoted, lists bracketed, everything else as is."""
+    parts = []
+    for key, value in values.items():
+        if isinstance(value, (list, tuple)):
+            value = "[" + ", ".join(f'"{v}"' if isinstance(v, str) else str(v) for v in value) + "]"
+        elif isinstance(value, str) and not value.isupper():
+            value = f'"{value}"'
+        parts.append(f"{key}: {value}")
+    return " ".join(parts)
+
+
+def node_block(name: str, node_type: str, **fields) -> str:
+    """One `node { }` block of a description."""
+    return f'  node {{ name: "{name}" type: {node_type} {_fields(**fields)} }}\n'
+
+
+def mock_camera(name: str, topic_name: str, width: int, height: int, rate_hz: float) -> str:
+    return node_block(name, "MOCK_CAMERA_PUBLISHER", topic_name=topic_name, width=width, height=height, rate_hz=rate_hz)
+
+
+def mock_encoder(name: str, topic_name: str, joints: list[str], rate_hz: float) -> str:
+    ids = list(range(1, len(joints) + 1))
+    return node_block(name, "MOCK_ENCODER_PUBLISHER", topic_name=topic_name, joint_names=joints, device_ids=ids,
+                rate_hz=rate_hz)
+
+
+def compiled(mode: str, *nodes: str) -> dict[str, dict]:
+    """Every node's settings, written by joshuac from a description of these nodes."""
+    from compiled_settings import compiled_settings
+
+    return compiled_settings(f'robot_config {{\n  name: "{ROBOT}"\n  mode: {mode}\n{"".join(nodes)}}}\n')
 
 
 class NodeProcess:
-    """A node run the way a generated entrypoint runs it, with its output collected line by line."""
+    """A node run the way a generated entrypoint runs it, stdout and stderr collected line by line."""
 
     def __init__(self, settings: dict, env: dict):
         code = (

@@ -7,7 +7,9 @@ import time
 import numpy as np
 import pytest
 
-from ai_support import IMAGE, JOINT_STATE, NodeProcess, node_settings, pattern_image, topic, wait_until
+from ai_support import (
+    IMAGE, JOINT_STATE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic, wait_until,
+)
 
 HEIGHT, WIDTH = 24, 32
 SENSOR_HZ = 30.0
@@ -52,17 +54,20 @@ def save_tiny_diffusion(directory):
     policy.save_pretrained(directory)
     preprocessor.save_pretrained(directory)
     postprocessor.save_pretrained(directory)
+    # What `joshua-registry import` keeps from the training dataset: the action names.
+    (directory / "joshua_features.json").write_text(json.dumps({"action": ["wrist.pos", "gripper.pos"]}))
     return directory
 
 
-def inference_settings(model_path, **overrides):
-    values = {
-        "mode": "MODE_INFERENCE", "rate_hz": INFERENCE_HZ, "model_path": str(model_path),
-        "topic": topic("/inf/arm/commands", JOINT_STATE),
-        "inputs": [topic("/inf/camera/image_raw", IMAGE), topic("/inf/arm/state", JOINT_STATE)],
-    }
-    values.update(overrides)
-    return node_settings("inf_policy", "INFERENCE", **values)
+def inference_settings(model_path, **fields):
+    """The INFERENCE node's settings as joshuac writes them (this test publishes the sensors itself)."""
+    return compiled(
+        "MODE_INFERENCE",
+        mock_camera("inf_camera", "/inf/camera/image_raw", WIDTH, HEIGHT, SENSOR_HZ),
+        mock_encoder("inf_arm", "/inf/arm/state", ["wrist", "gripper"], SENSOR_HZ),
+        node_block("inf_policy", "INFERENCE", topic_name="/inf/arm/commands", model_path=str(model_path),
+                   input_topics=["/inf/camera/image_raw", "/inf/arm/state"], rate_hz=INFERENCE_HZ, **fields),
+    )["inf_policy"]
 
 
 def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp_path, ai_env, ros_peer, lerobot_offline):
@@ -72,7 +77,7 @@ def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp
     image = pattern_image(HEIGHT, WIDTH, 30)
     ros_peer.publish_periodically("/inf/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
     actions = ros_peer.collect("/inf/arm/commands", JOINT_STATE)
-    node = NodeProcess(inference_settings(policy_dir, joint_names=["wrist", "gripper"], policy_type="diffusion"), ai_env)
+    node = NodeProcess(inference_settings(policy_dir, policy_type="diffusion"), ai_env)
     try:
         node.wait_for(r"ready: diffusion policy from .* on cpu")
         mark = node.count()
@@ -117,13 +122,13 @@ def fake_policy(directory, policy_type):
 def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, case, message):
     act = fake_policy(tmp_path / "act", "act")
     settings = {
-        "missing": inference_settings(tmp_path / "missing"),
-        "unregistered": inference_settings("registry:nothing"),
-        "mismatch": inference_settings(act, policy_type="diffusion"),
-        "unsupported": inference_settings(fake_policy(tmp_path / "pi0", "pi0")),
-        "cuda": inference_settings(act, device="cuda"),
-        "action_topic": inference_settings(act, topic=topic("/inf/arm/commands", IMAGE)),
-    }[case]
+        "missing": lambda: inference_settings(tmp_path / "missing"),
+        "unregistered": lambda: inference_settings("registry:nothing"),
+        "mismatch": lambda: inference_settings(act, policy_type="diffusion"),
+        "unsupported": lambda: inference_settings(fake_policy(tmp_path / "pi0", "pi0")),
+        "cuda": lambda: inference_settings(act, device="cuda"),
+        "action_topic": lambda: dict(inference_settings(act), topic=topic("/inf/arm/commands", IMAGE)),
+    }[case]()
     env = dict(ai_env, CUDA_VISIBLE_DEVICES="")
     node = NodeProcess(settings, env)
     assert node.process.wait(timeout=120) == 2

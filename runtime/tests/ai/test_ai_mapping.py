@@ -9,6 +9,7 @@ import pytest
 
 from joshua_runtime.ai import features, staged_directory
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
+from joshua_runtime.ai.inference_node import action_joint_names
 from joshua_runtime.ai.observation_mapper import ObservationMapper, ObservationUnavailable
 from joshua_runtime.ai.ros_arrays import ImageFormatError, image_to_rgb
 from joshua_runtime.errors import SettingsError
@@ -110,6 +111,15 @@ def test_observations_pair_images_and_pick_state_by_joint_name():
     any_name = [{"name": "/any/topic", "message_type": IMAGE}]
     single = ObservationMapper("n", any_name, {"observation.images.x": (3, 4, 6)}, None)
     assert single.image_sources == {"observation.images.x": "/any/topic"}
+
+
+def test_published_joint_names_come_from_settings_then_from_the_policy():
+    assert action_joint_names(["j1", "j2"], 2, ["a.pos", "b.pos"]) == ["j1", "j2"]
+    assert action_joint_names([], 2, ["a.pos", "b"]) == ["a", "b"]
+    with pytest.raises(SettingsError, match="joint_names has 1 names but the policy outputs 2 actions"):
+        action_joint_names(["j1"], 2, None)
+    with pytest.raises(SettingsError, match="the policy does not record its 2 action names; set joint_names"):
+        action_joint_names([], 2, ["a.pos"])
 
 
 def write(path, text):

@@ -6,12 +6,13 @@ import time
 import numpy as np
 import pytest
 
-from ai_support import IMAGE, JOINT_STATE, NodeProcess, node_settings, pattern_image, topic
+from ai_support import IMAGE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic
 
 RATE_HZ = 10.0
 PUBLISH_HZ = 30.0
 HEIGHT, WIDTH = 24, 32
 JOINTS = ["shoulder_pan", "gripper"]
+JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 RECORDING_S = 0.6
 SETTLE_S = 0.3
 # Largest mean absolute pixel error allowed after AV1 encoding of the smooth test image.
@@ -27,9 +28,9 @@ class Sensors:
         self.phase = 0
         self.timers = {
             "leader": peer.publish_periodically(
-                "/rec/leader/joint_states", JOINT_STATE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
+                "/rec/leader/joint_states", JOINT_STATE_TYPE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
             "follower": peer.publish_periodically(
-                "/rec/follower/joint_states", JOINT_STATE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
+                "/rec/follower/joint_states", JOINT_STATE_TYPE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
             "camera": peer.publish_periodically(
                 "/rec/camera/image_raw", IMAGE, PUBLISH_HZ, lambda: rgb_to_image(self.image())),
         }
@@ -51,12 +52,17 @@ class Sensors:
 
 
 def recorder_settings(output, output_format):
-    return node_settings(
-        "ai_recorder", "DATA_SUBSCRIBER",
-        topic=topic("/rec/leader/joint_states", JOINT_STATE),
-        inputs=[topic("/rec/camera/image_raw", IMAGE), topic("/rec/follower/joint_states", JOINT_STATE)],
-        rate_hz=RATE_HZ, output_directory=str(output), output_format=output_format,
-    )
+    """The recorder's settings as joshuac writes them; the mock publishers only give the topics their
+    types (this test publishes the values itself, to know them)."""
+    return compiled(
+        "MODE_DATA_COLLECTION",
+        mock_camera("camera", "/rec/camera/image_raw", WIDTH, HEIGHT, PUBLISH_HZ),
+        mock_encoder("leader", "/rec/leader/joint_states", JOINTS, PUBLISH_HZ),
+        mock_encoder("follower", "/rec/follower/joint_states", JOINTS, PUBLISH_HZ),
+        node_block("ai_recorder", "DATA_SUBSCRIBER", topic_name="/rec/leader/joint_states",
+             input_topics=["/rec/camera/image_raw", "/rec/follower/joint_states"],
+             output_directory=str(output), output_format=output_format, rate_hz=RATE_HZ),
+    )["ai_recorder"]
 
 
 def send(peer, publisher, text):
@@ -217,6 +223,7 @@ def dataset_at_30_fps(output):
     ],
 )
 def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, overrides, prepare, message):
+    """Settings joshuac refuses (changed after compiling) and unusable output directories: one line, exit 2."""
     output = tmp_path / "dataset"
     if prepare is not None:
         prepare(output)

@@ -7,7 +7,9 @@ import time
 
 import numpy as np
 
-from ai_support import IMAGE, JOINT_STATE, NodeProcess, node_settings, pattern_image, topic, wait_until
+from ai_support import (
+    IMAGE, JOINT_STATE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, wait_until,
+)
 
 SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
 HEIGHT, WIDTH = 24, 32
@@ -26,30 +28,37 @@ TINY_ACT = [
 ]
 
 
-def mock_sensors(env):
-    common = {"rate_hz": SENSOR_HZ, "mode": "MODE_DATA_COLLECTION"}
-    sensor_qos = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
-    return [
-        NodeProcess(node_settings("rt_camera", "MOCK_CAMERA_PUBLISHER", width=WIDTH, height=HEIGHT,
-                                  topic=topic("/rt/camera/image_raw", IMAGE, sensor_qos), **common), env),
-        NodeProcess(node_settings("rt_leader", "MOCK_ENCODER_PUBLISHER", joint_names=SO100_JOINTS,
-                                  topic=topic("/rt/leader/joint_states", JOINT_STATE), **common), env),
-        NodeProcess(node_settings("rt_follower", "MOCK_ENCODER_PUBLISHER", joint_names=SO100_JOINTS,
-                                  topic=topic("/rt/follower/joint_states", JOINT_STATE), **common), env),
-    ]
+def recording_settings(output) -> dict[str, dict]:
+    return compiled(
+        "MODE_DATA_COLLECTION",
+        mock_camera("rt_camera", "/rt/camera/image_raw", WIDTH, HEIGHT, SENSOR_HZ),
+        mock_encoder("rt_leader", "/rt/leader/joint_states", SO100_JOINTS, SENSOR_HZ),
+        mock_encoder("rt_follower", "/rt/follower/joint_states", SO100_JOINTS, SENSOR_HZ),
+        node_block("rt_recorder", "DATA_SUBSCRIBER", topic_name="/rt/leader/joint_states",
+             input_topics=["/rt/camera/image_raw", "/rt/follower/joint_states"],
+             output_directory=str(output), rate_hz=RECORD_HZ),
+    )
+
+
+def inference_settings() -> dict:
+    """The INFERENCE node of a robot with the same sensors (published by this test in that phase)."""
+    return compiled(
+        "MODE_INFERENCE",
+        mock_camera("rt_camera", "/rt/camera/image_raw", WIDTH, HEIGHT, SENSOR_HZ),
+        mock_encoder("rt_follower", "/rt/follower/joint_states", SO100_JOINTS, SENSOR_HZ),
+        node_block("rt_policy", "INFERENCE", topic_name="/rt/arm/commands", model_path="registry:tiny_act",
+             input_topics=["/rt/camera/image_raw", "/rt/follower/joint_states"], policy_type="act",
+             rate_hz=INFERENCE_HZ),
+    )["rt_policy"]
 
 
 def record(tmp_path, env, ros_peer):
+    """Two episodes of the mock camera and encoders, recorded by a DATA_SUBSCRIBER process."""
     output = tmp_path / "dataset"
-    sensor_qos = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
-    settings = node_settings(
-        "rt_recorder", "DATA_SUBSCRIBER", rate_hz=RECORD_HZ, output_directory=str(output),
-        topic=topic("/rt/leader/joint_states", JOINT_STATE),
-        inputs=[topic("/rt/camera/image_raw", IMAGE, sensor_qos), topic("/rt/follower/joint_states", JOINT_STATE)],
-    )
+    settings = recording_settings(output)
     commands = ros_peer.publisher("/rt_recorder/episode", "std_msgs/msg/String")
-    sensors = mock_sensors(env)
-    recorder = NodeProcess(settings, env)
+    sensors = [NodeProcess(settings[name], env) for name in ("rt_camera", "rt_leader", "rt_follower")]
+    recorder = NodeProcess(settings["rt_recorder"], env)
     try:
         recorder.wait_for("first frame of the episode recorded")
         time.sleep(EPISODE_S)
@@ -122,11 +131,7 @@ def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offli
         "/rt/follower/joint_states", JOINT_STATE, SENSOR_HZ,
         lambda: joint_state([SO100_JOINTS[i] for i in shuffled], state[shuffled]))
     actions = ros_peer.collect("/rt/arm/commands", JOINT_STATE)
-    settings = node_settings(
-        "rt_policy", "INFERENCE", mode="MODE_INFERENCE", rate_hz=INFERENCE_HZ, model_path="registry:tiny_act",
-        policy_type="act", topic=topic("/rt/arm/commands", JOINT_STATE),
-        inputs=[topic("/rt/camera/image_raw", IMAGE), topic("/rt/follower/joint_states", JOINT_STATE)],
-    )
+    settings = inference_settings()
     node = NodeProcess(settings, ai_env)
     try:
         node.wait_for(r"ready: act policy from .*tiny_act.* on cpu")
