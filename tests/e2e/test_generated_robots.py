@@ -1,5 +1,6 @@
 """Descriptions of config/robots built by joshuac and run by their generated supervisor, end to end."""
 
+import re
 import signal
 import subprocess
 import sys
@@ -18,6 +19,8 @@ from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 STARTUP_TIMEOUT_S = 40.0
 TRACKING_TIMEOUT_S = 15.0
 SHUTDOWN_TIMEOUT_S = 10.0
+DISCOVERY_TIMEOUT_S = 10.0
+UNKNOWN_NODE_NAME = "_NODE_NAME_UNKNOWN_"  # what the graph says before a node's announcement arrives
 TRACKING_TOLERANCE_TICKS = 3
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 RELIABLE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -46,6 +49,18 @@ class Listener:
             if predicate():
                 return True
         return False
+
+    def publishers_once_named(self, topic: str, timeout_s: float) -> list:
+        """The topic's publisher infos, once discovery has delivered every publisher's node name."""
+        infos = []
+
+        def named() -> bool:
+            nonlocal infos
+            infos = self.node.get_publishers_info_by_topic(topic)
+            return bool(infos) and all(i.node_name != UNKNOWN_NODE_NAME for i in infos)
+
+        self.spin_until(named, timeout_s)
+        return infos
 
     def close(self) -> None:
         self.node.destroy_node()
@@ -97,16 +112,16 @@ def test_mock_robot_publishes_every_topic_with_its_declared_types_and_qos(tmp_pa
         leader = listener.last["/leader/joint_states"]
         assert list(leader.name) == ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll",
                                      "gripper"]
-        infos = listener.node.get_publishers_info_by_topic("/camera/image_raw")
-        assert [(i.node_name, i.topic_type, i.qos_profile.reliability, i.qos_profile.durability) for i in infos] == [
+        camera = listener.publishers_once_named("/camera/image_raw", DISCOVERY_TIMEOUT_S)
+        assert [(i.node_name, i.topic_type, i.qos_profile.reliability, i.qos_profile.durability) for i in camera] == [
             ("camera", "sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)]
-        infos = listener.node.get_publishers_info_by_topic("/follower/joint_states")
-        assert [(i.node_name, i.qos_profile.reliability) for i in infos] == [("follower", ReliabilityPolicy.RELIABLE)]
+        follower = listener.publishers_once_named("/follower/joint_states", DISCOVERY_TIMEOUT_S)
+        assert [(i.node_name, i.qos_profile.reliability) for i in follower] == [("follower", ReliabilityPolicy.RELIABLE)]
     finally:
         code, output = stop(supervisor)
     assert code == 0, output
     for node in ("leader", "follower", "camera", "lidar"):
-        assert f"{node}: pid" in output and "exited with code 0" in output
+        assert re.search(rf"^\[ *[0-9.]+\] {node}: pid [0-9]+ exited with code 0 ", output, re.M), output
 
 
 def write_video(path, frames: int = 30) -> None:
