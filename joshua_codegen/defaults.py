@@ -11,6 +11,10 @@ MAX_RESTARTS = 5
 CPP_BIN_DIR = "/opt/joshua/bin"
 PYTHON_EXECUTABLE = "python3"
 SIMULATION_NAME = "simulation"
+# MJCF models shipped with joshua_runtime (`builtin:NAME`), and the offscreen GL backends it can use.
+BUILTIN_PREFIX = "builtin:"
+BUILTIN_MODELS = ("so100",)
+GL_BACKENDS = ("egl", "osmesa")
 
 NodeType = pb.NodeType
 CAMERAS = {pb.CAMERA_PUBLISHER, pb.MOCK_CAMERA_PUBLISHER}

@@ -3,7 +3,7 @@
 What it checks:
     In `simulation`: `timestep_s`, when set, is a finite number above 0 and at most 1 s;
     `realtime_factor`, when set, is finite and from 0 to 1000 (0 = as fast as possible);
-    `gl_backend` is empty, `egl`, `osmesa` or `glfw`; a `builtin:` model names a model.
+    `gl_backend` is empty, `egl` or `osmesa`; a `builtin:` model names a model joshua_runtime ships.
 
 Why it matters:
     MuJoCo would diverge or refuse to render; these values are only read when the simulation
@@ -18,6 +18,7 @@ Example:
 
 import math
 
+from joshua_codegen.defaults import BUILTIN_MODELS, BUILTIN_PREFIX, GL_BACKENDS
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
@@ -28,8 +29,6 @@ SEVERITY = ERROR
 STAGE = "check"
 MAX_TIMESTEP_S = 1.0
 MAX_REALTIME_FACTOR = 1000.0
-GL_BACKENDS = ("egl", "osmesa", "glfw")
-BUILTIN_PREFIX = "builtin:"
 SIMULATION = ROBOT + ("simulation",)
 
 
@@ -46,5 +45,6 @@ def check(ctx):
     if sim.gl_backend and sim.gl_backend not in GL_BACKENDS:
         yield Finding(SIMULATION + ("gl_backend",),
                       f'unknown gl_backend "{sim.gl_backend}"; use one of {", ".join(GL_BACKENDS)}')
-    if sim.model == BUILTIN_PREFIX:
-        yield Finding(SIMULATION + ("model",), 'model "builtin:" names no model; e.g. "builtin:so100"')
+    if sim.model.startswith(BUILTIN_PREFIX) and sim.model[len(BUILTIN_PREFIX):] not in BUILTIN_MODELS:
+        known = ", ".join(f'"{BUILTIN_PREFIX}{name}"' for name in BUILTIN_MODELS)
+        yield Finding(SIMULATION + ("model",), f'model "{sim.model}" is not a built-in model; built-in: {known}')

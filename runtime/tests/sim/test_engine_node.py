@@ -163,10 +163,10 @@ def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node
 @pytest.mark.parametrize(
     "overrides, unchecked, code, message",
     [
-        (["simulation.model=builtin:so101"], {}, 2,
-         "simulation: error: unknown built-in simulation model 'builtin:so101'"),
-        # joshuac rejects these two (E506): they are written into the compiled settings, as a hand-edited
+        # joshuac rejects these three (E506): they are written into the compiled settings, as a hand-edited
         # entrypoint would have them, to reach the runtime's own check.
+        ([], {"model": "builtin:so101"}, 2,
+         "simulation: error: unknown built-in simulation model 'builtin:so101'"),
         ([], {"realtime_factor": -2.0}, 2, "simulation: error: simulation realtime_factor must be >= 0, got -2.0"),
         ([], {"gl_backend": "glx"}, 2, "simulation: error: gl_backend 'glx' is not one of egl, osmesa"),
     ],
