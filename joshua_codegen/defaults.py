@@ -56,7 +56,7 @@ FIELD_APPLIES_TO = {
     "serial_port": SERIAL | (MOCKS - CAMERAS),
     "baud_rate": SERIAL | (MOCKS - CAMERAS),
     "device_ids": SERVO_BUS | ENCODERS | ACTUATORS,
-    "joint_names": SERVO_BUS | ENCODERS | ACTUATORS,
+    "joint_names": SERVO_BUS | ENCODERS | ACTUATORS | {pb.INFERENCE},
     "calibration_file": SERVO_BUS | ENCODERS | ACTUATORS,
     "camera_index": CAMERAS,
     "video_source": CAMERAS,
@@ -158,6 +158,8 @@ def rate_hz(node: pb.Node) -> float:
         return 30.0
     if node.type in LIDARS:
         return 5.0
+    if node.type in READS_INPUTS:
+        return 30.0
     return 100.0
 
 

@@ -19,6 +19,10 @@ CPP_PARAMETERS = {
 }
 
 
+# Value of a setting whose field does not apply to the node type ("" / [] / 0 unless named here).
+_NOT_APPLICABLE = {"camera_index": -1}
+
+
 def plan(description: pb.RobotDescription, source: str) -> Robot:
     """Build the model of a description the rules accepted. `source` is the description's path."""
     config = description.robot_config
@@ -144,6 +148,9 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int,
         "output_directory": node.output_directory,
         "simulation": None,
     }
+    for key in settings.keys() & defaults.FIELD_APPLIES_TO.keys():
+        if node.type not in defaults.FIELD_APPLIES_TO[key]:
+            settings[key] = _NOT_APPLICABLE.get(key, type(settings[key])())
     return NodeModel(
         name=name,
         type=defaults.type_name(node.type),

@@ -29,7 +29,7 @@ STAGE = "check"
 def check(ctx):
     for view in ctx.typed_nodes:
         node = view.node
-        if not node.joint_names or node.type not in defaults.FIELD_APPLIES_TO["joint_names"]:
+        if not node.joint_names or node.type not in defaults.FIELD_APPLIES_TO["device_ids"]:
             continue
         ids = defaults.device_ids(node)
         if len(node.joint_names) != len(ids):

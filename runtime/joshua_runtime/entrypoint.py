@@ -14,8 +14,12 @@ a field does not apply to the node type):
     serial_port str, baud_rate int, device_ids [int], joint_names [str], calibration_file str
     camera_index int, video_source str, width int, height int, rate_hz float, frame_id str
     model_path str, policy_type str, device str, output_format str, output_directory str
-    simulation   None, or for type "SIMULATION": {"model", "timestep_s", "realtime_factor",
-                 "camera", "gl_backend", "simulates": [settings of each replaced hardware node]}
+    simulation   None
+
+A field that does not apply to the node type holds "", [], 0 (camera_index: -1). The simulation
+engine of MODE_SIMULATION (type "SIMULATION") gets only robot, mode, name, type and
+    simulation   {"model", "timestep_s", "realtime_factor", "camera", "gl_backend",
+                  "simulates": [settings of each replaced hardware node]}
 
 Exit codes: 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device failure.
 

@@ -41,8 +41,8 @@ SETTINGS = {
     'frame_id': 'camera',
     'model_path': '',
     'policy_type': '',
-    'device': 'cpu',
-    'output_format': 'lerobot',
+    'device': '',
+    'output_format': '',
     'output_directory': '',
     'simulation': None,
 }
