@@ -176,7 +176,8 @@ def parse_enum(field: FieldDescriptor, text: str) -> tuple[int | None, str]:
     except ValueError:
         number = None
     if number is not None:
-        if number in enum.values_by_number:
+        # Compared value by value: upb's values_by_number wraps numbers to 32 bits (2**32 + 1 finds 1).
+        if any(value.number == number for value in enum.values):
             return number, ""
         return None, f"{field.name} has no value numbered {number}; expected one of {', '.join(enum_names(field))}"
     bare = text.strip("'\"")

@@ -136,6 +136,8 @@ robot_config {
         ("mode: MODE_TELEOPERATION", ("E006", 1, 1, '"mode" belongs inside robot_config { ... }: the file root holds one robot_config block')),
         ("\x00\x01binary", ("E008", 1, 1, "the file contains a NUL character: is it a binary file?")),
         ("robot_config { name: \"a\" }\x7f", ("E001", 1, 27, 'expected a field name, found "\x7f"')),
+        ("robot_config { node { preferred_backend: -4294967294 } }",
+         ("E004", 1, 42, "preferred_backend has no value numbered -4294967294; expected one of CPP, PYTHON")),
     ],
 )
 def test_load_errors_have_positions_and_clear_messages(text, expected):
