@@ -65,6 +65,7 @@ FIELD_APPLIES_TO = {
     "rate_hz": ALL_TYPES - {pb.CUSTOM},
     "frame_id": PUBLISHES_TOPIC | ACTUATORS,
     "state_topic": ACTUATORS,
+    "keep_torque_on_exit": {pb.ACTUATOR_SUBSCRIBER},
     "input_topics": READS_INPUTS,
     "model_path": {pb.INFERENCE},
     "policy_type": {pb.INFERENCE},

@@ -11,7 +11,8 @@ a field does not apply to the node type):
                                                            chosen to match their publishers)
     qos          {"history": "KEEP_LAST"|"KEEP_ALL", "depth": int,
                   "reliability": "RELIABLE"|"BEST_EFFORT", "durability": "VOLATILE"|"TRANSIENT_LOCAL"}
-    serial_port str, baud_rate int, device_ids [int], joint_names [str], calibration_file str
+    serial_port str, baud_rate int, device_ids [int], joint_names [str], calibration_file str,
+    keep_torque_on_exit bool
     camera_index int, video_source str, width int, height int, rate_hz float, frame_id str
     model_path str, policy_type str, device str, output_format str, output_directory str
     simulation   None

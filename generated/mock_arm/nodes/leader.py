@@ -33,6 +33,7 @@ SETTINGS = {
     'device_ids': [1, 2, 3, 4, 5, 6],
     'joint_names': ['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper'],
     'calibration_file': '',
+    'keep_torque_on_exit': False,
     'camera_index': -1,
     'video_source': '',
     'width': 0,

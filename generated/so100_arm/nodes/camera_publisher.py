@@ -33,6 +33,7 @@ SETTINGS = {
     'device_ids': [],
     'joint_names': [],
     'calibration_file': '',
+    'keep_torque_on_exit': False,
     'camera_index': 0,
     'video_source': '',
     'width': 640,

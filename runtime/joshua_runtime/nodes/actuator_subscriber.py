@@ -4,7 +4,7 @@ On start the servos hold their present pose and torque goes on. Each command on 
 `joint_names` by name (absent joints keep their goal), converted to raw goals clamped to the
 calibrated range, and sent at once in one SYNC_WRITE. Only positions are used: a leader's present
 velocity is no speed limit. With `state_topic` set, the bus's present joint states are published
-there every 1/rate_hz. Torque goes off when the node stops.
+there every 1/rate_hz. Torque goes off when the node stops, unless keep_torque_on_exit is set.
 """
 
 from joshua_runtime.convert.joint_state import joint_state_to_action, perception_to_joint_state
@@ -43,7 +43,7 @@ class ActuatorSubscriber(JoshuaNode):
         if self.bus is None:
             return
         try:
-            if self.bus.is_open:
+            if self.bus.is_open and not self.settings["keep_torque_on_exit"]:
                 self.bus.disable_torque()
         except DeviceError as exc:
             self.log.warning(f"torque left on: {exc}")

@@ -200,3 +200,16 @@ def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulato
     assert node.process.returncode == 3
     assert stderr.splitlines()[-1] == (
         f"leader: error: {leader.link}: bus failing for 3 s: serial port {leader.link} not found")
+
+
+def test_actuator_keeps_torque_on_at_exit_when_configured(emulators, start_node, probe):
+    follower = emulators("ttyHOLD")
+    settings = compiled_node(f'name: "holding_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/hold/command" '
+                             f'serial_port: "{follower.link}" state_topic: "/hold/joint_states" '
+                             f'keep_torque_on_exit: true')
+    node = start_node(settings)
+    probe.listen("/hold/joint_states", JointState, RELIABLE)
+    assert probe.spin_until(lambda: probe.last("/hold/joint_states"), STARTUP_TIMEOUT_S), node.failure()
+    code, _, stderr = node.stop(signal.SIGINT)
+    assert code == 0, stderr
+    assert [follower.read_register(i, "Torque_Enable") for i in SO100_IDS] == [1] * 6
