@@ -6,14 +6,11 @@ that the runtime does not follow breaks the runtime tests too. Importable by eve
 puts this directory on sys.path for the conftest.py beside it.
 """
 
-import copy
 from collections.abc import Sequence
 
 import pytest
 
-from joshua_codegen.check import check_text
-from joshua_codegen.diagnostics import format_text
-from joshua_codegen.plan import plan
+from joshua_codegen.compile import DescriptionError, node_settings
 
 # The file name diagnostics of a description given as text are reported against.
 DESCRIPTION_PATH = "test_description.pbtxt"
@@ -26,19 +23,12 @@ def compiled_settings(description_text: str, overrides: Sequence[str] = (),
 
     `overrides` are `--set` values (`NODE.serial_port=/dev/pts/3`). A description with errors fails
     the test with joshuac's diagnostics; warnings are allowed, as they are for `joshuac build`.
+    Every dict is its own copy, so a test may change one node's settings freely.
     """
-    result = check_text(path, description_text, overrides)
-    if result.has_errors or result.description is None:
-        pytest.fail(f"the test description does not compile:\n{format_text(result.diagnostics, result.sources)}",
-                    pytrace=False)
-    robot = plan(result.description, path)
-    settings = {node.name: node.settings for node in robot.nodes}
-    for process in robot.processes:
-        if process.node_type == "SIMULATION":
-            settings[process.name] = robot.process_settings(process)
-    # Each its own copy: the engine's settings hold the very dicts of the nodes it simulates, and a
-    # test that changes one node's settings must not change the engine's too.
-    return {name: copy.deepcopy(value) for name, value in settings.items()}
+    try:
+        return node_settings(description_text, overrides, path)
+    except DescriptionError as exc:
+        pytest.fail(f"the test description does not compile:\n{exc}", pytrace=False)
 
 
 def compiled_node(node_fields: str, overrides: Sequence[str] = ()) -> dict:

@@ -1,8 +1,10 @@
 """The whole compiler as one pure function: description text in, diagnostics and files out."""
 
+import copy
 from dataclasses import dataclass
 
-from joshua_codegen.check import CheckResult, check_file
+from joshua_codegen.check import CheckResult, check_file, check_text
+from joshua_codegen.diagnostics import format_text
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
 
@@ -24,3 +26,24 @@ def compile_file(path: str, overrides=(), prefix: str | None = None) -> Compilat
     if result.has_errors or result.description is None:
         return Compilation(result, None)
     return Compilation(result, render(plan(result.description, path), prefix))
+
+
+class DescriptionError(Exception):
+    """A description given as text has errors; the message holds joshuac's diagnostics."""
+
+
+def node_settings(text: str, overrides=(), path: str = "description.pbtxt") -> dict[str, dict]:
+    """What the generated entrypoints would pass to run_node, by process name, for a description text.
+
+    For tools and tests that start nodes without writing a build. Includes the simulation engine's
+    settings in MODE_SIMULATION. Raises DescriptionError when the description has errors.
+    """
+    result = check_text(path, text, overrides)
+    if result.has_errors or result.description is None:
+        raise DescriptionError(format_text(result.diagnostics, result.sources))
+    robot = plan(result.description, path)
+    settings = {node.name: node.settings for node in robot.nodes}
+    for process in robot.processes:
+        settings[process.name] = robot.process_settings(process)
+    # Each its own copy: the engine's settings hold the very dicts of the nodes it simulates.
+    return {name: copy.deepcopy(value) for name, value in settings.items()}

@@ -43,7 +43,7 @@ class ActuatorSubscriber(JoshuaNode):
         if self.bus is None:
             return
         try:
-            if self.bus.is_open and not self.settings["keep_torque_on_exit"]:
+            if self.bus.is_open and not self.settings.get("keep_torque_on_exit", False):
                 self.bus.disable_torque()
         except DeviceError as exc:
             self.log.warning(f"torque left on: {exc}")
