@@ -13,7 +13,8 @@ It needs only valid syntax and valid string escapes (unknown fields are formatte
 from __future__ import annotations
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic
-from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, SYNTAX_ERROR, ValueProblem, unquote
+from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, SYNTAX_ERROR
+from joshua_codegen.values import ValueProblem, unquote
 from joshua_codegen.syntax import Block, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, parse_syntax
 
 INDENT = "  "

@@ -15,7 +15,7 @@ from google.protobuf.descriptor import FieldDescriptor
 
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR, Diagnostic
-from joshua_codegen.load import ValueProblem, parse_enum, parse_scalar, suggest
+from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, suggest
 from joshua_codegen.positions import Location, Path, SourceMap
 from joshua_codegen.schema import RobotConfig, RobotDescription
 from joshua_codegen.syntax import Scalar, Token
