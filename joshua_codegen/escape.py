@@ -3,7 +3,6 @@
 import json
 import posixpath
 import re
-import shlex
 
 
 def python_literal(value, indent: int = 0) -> str:

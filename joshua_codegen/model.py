@@ -6,8 +6,6 @@
 from dataclasses import dataclass, field
 from functools import cached_property
 
-from joshua_codegen import defaults
-from joshua_codegen.schema import robot_config_pb2 as pb
 
 
 @dataclass(frozen=True)

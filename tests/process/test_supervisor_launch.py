@@ -35,7 +35,7 @@ def test_preflight_lists_every_problem_and_starts_nothing(tmp_path):
     (bin_dir / "encoder_publisher").write_text("not executable")
     nodes = [
         encoder(tmp_path, tmp_path / "ttyMISSING"),
-        f'node {{ name: "cam" type: CAMERA_PUBLISHER topic_name: "/image" camera_index: 63 }}',
+        'node { name: "cam" type: CAMERA_PUBLISHER topic_name: "/image" camera_index: 63 }',
         f'node {{ name: "clip" type: CAMERA_PUBLISHER topic_name: "/clip" video_source: "{tmp_path}/none.mp4" }}',
         f'node {{ name: "policy" type: INFERENCE topic_name: "/joints_cmd" input_topics: ["/joints"] '
         f'model_path: "{tmp_path}/no_model" }}',
