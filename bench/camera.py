@@ -20,11 +20,24 @@ import time
 import zlib
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-PYTHON = str(ROOT / ".venv" / "bin" / "python")
+from support.described_nodes import PYTHON, compiled_settings, node_command
+
 WIDTH, HEIGHT, RATE_HZ = 640, 480, 30.0
-TOPIC = "/bench/camera/image"
-QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
+# The publisher; it and the subscriber use its topic and the camera's default QoS.
+DESCRIPTION = f"""
+robot_config {{
+  name: "bench"
+  mode: MODE_TELEOPERATION
+  node {{
+    name: "bench_camera"
+    type: MOCK_CAMERA_PUBLISHER
+    topic_name: "/bench/camera/image"
+    width: {WIDTH}
+    height: {HEIGHT}
+    rate_hz: {RATE_HZ}
+  }}
+}}
+"""
 WARMUP_S = 2.0  # frames received during discovery and start-up are not counted
 SUBSCRIBER_GRACE_S = 30.0
 STOP_TIMEOUT_S = 5.0
@@ -33,14 +46,7 @@ PATTERN_PERIOD = WIDTH // SCROLL_PX
 
 
 def publisher_settings() -> dict:
-    return {
-        "robot": "bench", "mode": "MODE_TELEOPERATION", "name": "bench_camera", "type": "MOCK_CAMERA_PUBLISHER",
-        "topic": {"name": TOPIC, "message_type": "sensor_msgs/msg/Image", "qos": QOS},
-        "state_topic": None, "inputs": [], "qos": QOS, "serial_port": "", "baud_rate": 0, "device_ids": [],
-        "joint_names": [], "calibration_file": "", "camera_index": 0, "video_source": "", "width": WIDTH,
-        "height": HEIGHT, "rate_hz": RATE_HZ, "frame_id": "camera", "model_path": "", "policy_type": "",
-        "device": "cpu", "output_format": "", "output_directory": "", "simulation": None,
-    }
+    return compiled_settings(DESCRIPTION, path="bench_camera.pbtxt")["bench_camera"]
 
 
 def frame_number(data) -> int:
@@ -55,8 +61,9 @@ def frame_number(data) -> int:
 def subscribe(seconds: float) -> None:
     """Subscriber process: print one JSON line of measurements after `seconds` of counted frames."""
     import rclpy
-    from rclpy.qos import QoSProfile, ReliabilityPolicy
     from sensor_msgs.msg import Image
+
+    from joshua_runtime.qos import qos_profile
 
     rclpy.init()
     node = rclpy.create_node("bench_camera_subscriber")
@@ -71,8 +78,8 @@ def subscribe(seconds: float) -> None:
         latencies_ms.append((now - stamp) / 1e6)
         numbers.append(frame_number(message.data))
 
-    qos = QoSProfile(depth=QOS["depth"], reliability=ReliabilityPolicy.BEST_EFFORT)
-    node.create_subscription(Image, TOPIC, received, qos)
+    topic = publisher_settings()["topic"]
+    node.create_subscription(Image, topic["name"], received, qos_profile(topic["qos"]))
     deadline = time.monotonic() + SUBSCRIBER_GRACE_S + seconds
     while time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)
@@ -89,20 +96,18 @@ def percentile(values: list[float], fraction: float) -> float:
     return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))] if ordered else float("nan")
 
 
-def run_case(profile: Path | None, seconds: float, domain: int) -> dict:
+def run_case(publisher: dict, profile: Path | None, seconds: float, domain: int) -> dict:
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
     env.pop("FASTRTPS_DEFAULT_PROFILES_FILE", None)
     if profile is not None:
         env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(profile)
-    code = ("import sys; from joshua_runtime.entrypoint import run_node; "
-            f"sys.exit(run_node({publisher_settings()!r}))")
-    publisher = subprocess.Popen([PYTHON, "-c", code], env=env, stderr=subprocess.DEVNULL)
+    process = subprocess.Popen(node_command(publisher), env=env, stderr=subprocess.DEVNULL)
     try:
         result = subprocess.run([PYTHON, __file__, "--subscribe", "--seconds", str(seconds)], env=env,
                                 capture_output=True, text=True, timeout=SUBSCRIBER_GRACE_S + seconds + WARMUP_S + 10)
     finally:
-        publisher.send_signal(signal.SIGINT)
-        publisher.wait(STOP_TIMEOUT_S)
+        process.send_signal(signal.SIGINT)
+        process.wait(STOP_TIMEOUT_S)
     data = json.loads(result.stdout.strip().splitlines()[-1])
     expected = data["received"] + data["missing"]
     return {
@@ -131,6 +136,7 @@ def main() -> int:
     if args.subscribe:
         subscribe(args.seconds)
         return 0
+    publisher = publisher_settings()
     domain = zlib.crc32(str(os.getpid()).encode()) % 100 + 120
     with tempfile.TemporaryDirectory() as tmp:
         profile = render_profile(Path(tmp))
@@ -141,7 +147,7 @@ def main() -> int:
         for name, path in cases:
             if args.only and name != args.only:
                 continue
-            r = run_case(path, args.seconds, domain)
+            r = run_case(publisher, path, args.seconds, domain)
             print(f"{name:<8} {r['received']:>8} {r['missing']:>8} {100 * r['drop_rate']:>7.1f} "
                   f"{r['p50_ms']:>8.2f} {r['p99_ms']:>8.2f}", flush=True)
     return 0

@@ -30,10 +30,34 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-PYTHON = str(ROOT / ".venv" / "bin" / "python")
+from support.described_nodes import compiled_settings, node_command
+
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
-QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
+# Only the policy node runs: this process publishes in place of the camera and the follower arm,
+# with their topics and QoS (the camera reliable, as the policy's image input has always been
+# published here). The policy directory and the image size are set per run (`--set`).
+DESCRIPTION = """
+robot_config {
+  name: "bench"
+  mode: MODE_INFERENCE
+  node {
+    name: "camera"
+    type: MOCK_CAMERA_PUBLISHER
+    topic_name: "/camera/image_raw"
+    qos_reliability: RELIABLE
+    qos_depth: 10
+  }
+  node { name: "follower" type: MOCK_ENCODER_PUBLISHER topic_name: "/follower/joint_states" }
+  node {
+    name: "policy"
+    type: INFERENCE
+    topic_name: "/arm/commands"
+    input_topics: ["/camera/image_raw", "/follower/joint_states"]
+    policy_type: "act"
+  }
+}
+"""
+POLICY = "policy"
 WARMUP_CALLS = 3
 CHUNKED_CALLS = 200
 PUBLISH_HZ = 30.0
@@ -96,7 +120,13 @@ def percentile(samples: list[float], fraction: float) -> float:
     return ordered[min(len(ordered) - 1, int(round(fraction * (len(ordered) - 1))))]
 
 
-def start_to_first_action(policy_dir: Path, obs: dict, env: dict) -> tuple[float, float]:
+def described_settings(policy_dir: Path, height: int, width: int) -> dict[str, dict]:
+    """Settings of the policy node and of the publishers this process stands in for, by node name."""
+    overrides = [f"{POLICY}.model_path={policy_dir}", f"camera.height={height}", f"camera.width={width}"]
+    return compiled_settings(DESCRIPTION, overrides, "bench_inference.pbtxt")
+
+
+def start_to_first_action(settings: dict[str, dict], obs: dict, env: dict) -> tuple[float, float]:
     """Seconds from process start to 'ready' and to the first action received, publishing `obs`."""
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
@@ -112,24 +142,15 @@ def start_to_first_action(policy_dir: Path, obs: dict, env: dict) -> tuple[float
     executor.add_node(node)
     image = rgb_to_image(obs["observation.images.camera"])
     state = joint_state(JOINTS, obs["observation.state"])
-    images = node.create_publisher(Image, "/camera/image_raw", qos_profile(QOS))
-    states = node.create_publisher(JointState, "/follower/joint_states", qos_profile(QOS))
+    camera, follower, actions = settings["camera"]["topic"], settings["follower"]["topic"], settings[POLICY]["topic"]
+    images = node.create_publisher(Image, camera["name"], qos_profile(camera["qos"]))
+    states = node.create_publisher(JointState, follower["name"], qos_profile(follower["qos"]))
     node.create_timer(1 / PUBLISH_HZ, lambda: (images.publish(image), states.publish(state)))
     first = threading.Event()
-    node.create_subscription(JointState, "/arm/commands", lambda _msg: first.set(), qos_profile(QOS))
-    settings = {
-        "robot": "bench", "mode": "MODE_INFERENCE", "name": "policy", "type": "INFERENCE",
-        "topic": {"name": "/arm/commands", "message_type": "sensor_msgs/msg/JointState", "qos": QOS},
-        "state_topic": None, "qos": QOS, "serial_port": "", "baud_rate": 0, "device_ids": [], "joint_names": [],
-        "inputs": [{"name": "/camera/image_raw", "message_type": "sensor_msgs/msg/Image", "qos": QOS},
-                   {"name": "/follower/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": QOS}],
-        "calibration_file": "", "camera_index": -1, "video_source": "", "width": 640, "height": 480,
-        "rate_hz": 30.0, "frame_id": "base_link", "model_path": str(policy_dir), "policy_type": "act",
-        "device": "cpu", "output_format": "", "output_directory": "", "simulation": None,
-    }
-    code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({settings!r}))"
+    node.create_subscription(JointState, actions["name"], lambda _msg: first.set(), qos_profile(actions["qos"]))
     started = time.monotonic()
-    process = subprocess.Popen([PYTHON, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    process = subprocess.Popen(node_command(settings[POLICY]), env=env, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True)
     lines: list[str] = []
     ready_at: list[float] = []
 
@@ -170,10 +191,12 @@ def main() -> int:
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
     with tempfile.TemporaryDirectory(prefix="joshua-bench-inference-") as tmp:
         workdir = Path(tmp)
+        every_call_dir = workdir / "act_every_call"
+        settings = described_settings(every_call_dir, args.height, args.width)
         obs = observation(args.height, args.width)
         print(f"ACT (default architecture), 1 camera {args.width}x{args.height}, {len(JOINTS)}-joint state, CPU, "
               f"torch threads {__import__('torch').get_num_threads()}")
-        every_call = save_act(workdir / "act_every_call", args.height, args.width, n_action_steps=1)
+        every_call = save_act(every_call_dir, args.height, args.width, n_action_steps=1)
         chunked = save_act(workdir / "act_chunked", args.height, args.width, n_action_steps=100)
         for label, policy_dir, calls in (("model at every call", every_call, args.calls),
                                          ("chunk of 100 actions", chunked, CHUNKED_CALLS)):
@@ -185,7 +208,7 @@ def main() -> int:
         os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
         env = dict(os.environ, PYTHONUNBUFFERED="1")
         for start in range(1, args.starts + 1):
-            ready_s, first_s = start_to_first_action(every_call, obs, env)
+            ready_s, first_s = start_to_first_action(settings, obs, env)
             print(f"INFERENCE node start {start}: ready after {ready_s:6.2f} s, first action after {first_s:6.2f} s")
     return 0
 

@@ -23,11 +23,26 @@ import time
 import zlib
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-PYTHON = str(ROOT / ".venv" / "bin" / "python")
-JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
-RELIABLE = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-SENSOR = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
+from support.described_nodes import PYTHON, compiled_settings, node_command
+
+# Each case sets the image size, every node's rate and the recorder's output (`--set`). The
+# encoders publish the SO-100's six joints; QoS is each node type's default.
+DESCRIPTION = """
+robot_config {
+  name: "bench"
+  mode: MODE_DATA_COLLECTION
+  node { name: "camera" type: MOCK_CAMERA_PUBLISHER topic_name: "/camera/image_raw" }
+  node { name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" }
+  node { name: "follower" type: MOCK_ENCODER_PUBLISHER topic_name: "/follower/joint_states" }
+  node {
+    name: "recorder"
+    type: DATA_SUBSCRIBER
+    topic_name: "/leader/joint_states"
+    input_topics: ["/camera/image_raw", "/follower/joint_states"]
+  }
+}
+"""
+RECORDER = "recorder"
 STARTUP_TIMEOUT_S = 180.0
 SAVE_TIMEOUT_S = 120.0
 FIRST_FRAME = "first frame of the episode recorded"
@@ -35,24 +50,21 @@ STOPPED = re.compile(r"episode stopped after (\d+) frames \((\d+) skipped\) over
 SAVED = re.compile(r"episode (\d+) saved: (\d+) frames")
 
 
-def settings(name, node_type, **values) -> dict:
-    base = {
-        "robot": "bench", "mode": "MODE_DATA_COLLECTION", "name": name, "type": node_type, "topic": None,
-        "state_topic": None, "inputs": [], "qos": RELIABLE, "serial_port": "", "baud_rate": 0, "device_ids": [],
-        "joint_names": [], "calibration_file": "", "camera_index": -1, "video_source": "", "width": 640,
-        "height": 480, "rate_hz": 30.0, "frame_id": "base_link", "model_path": "", "policy_type": "",
-        "device": "cpu", "output_format": "lerobot", "output_directory": "", "simulation": None,
-    }
-    base.update(values)
-    return base
+def case_settings(case: str, output_format: str, workdir: Path) -> dict[str, dict]:
+    """Settings of the publishers and the recorder of one case (`WIDTHxHEIGHT@FPS`), by node name."""
+    width, height, rate = parse_case(case)
+    output = workdir / f"{width}x{height}_{rate:g}_{output_format}"
+    overrides = [f"camera.width={width}", f"camera.height={height}",
+                 *(f"{name}.rate_hz={rate}" for name in ("camera", "leader", "follower", RECORDER)),
+                 f"{RECORDER}.output_format={output_format}", f"{RECORDER}.output_directory={output}"]
+    return compiled_settings(DESCRIPTION, overrides, "bench_record.pbtxt")
 
 
 class Process:
     """A node process whose output lines are collected."""
 
-    def __init__(self, node_settings: dict, env: dict):
-        code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({node_settings!r}))"
-        self.popen = subprocess.Popen([PYTHON, "-c", code], env=env, stdout=subprocess.PIPE,
+    def __init__(self, settings: dict, env: dict):
+        self.popen = subprocess.Popen(node_command(settings), env=env, stdout=subprocess.PIPE,
                                       stderr=subprocess.STDOUT, text=True)
         self.lines: list[str] = []
         self.reader = threading.Thread(target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout),
@@ -82,20 +94,11 @@ class Process:
             self.popen.wait()
 
 
-def run_case(width, height, rate, output_format, seconds, env, workdir) -> dict:
-    output = workdir / f"{width}x{height}_{rate:g}_{output_format}"
-    camera = {"name": "/camera/image_raw", "message_type": "sensor_msgs/msg/Image", "qos": SENSOR}
-    leader = {"name": "/leader/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}
-    follower = {"name": "/follower/joint_states", "message_type": "sensor_msgs/msg/JointState", "qos": RELIABLE}
-    sensors = [
-        Process(settings("camera", "MOCK_CAMERA_PUBLISHER", width=width, height=height, rate_hz=rate, topic=camera), env),
-        Process(settings("leader", "MOCK_ENCODER_PUBLISHER", joint_names=JOINTS, rate_hz=rate, topic=leader), env),
-        Process(settings("follower", "MOCK_ENCODER_PUBLISHER", joint_names=JOINTS, rate_hz=rate, topic=follower), env),
-    ]
-    recorder = Process(settings(
-        "recorder", "DATA_SUBSCRIBER", rate_hz=rate, output_directory=str(output), output_format=output_format,
-        topic=leader, inputs=[camera, follower],
-    ), env)
+def run_case(settings: dict[str, dict], seconds, env) -> dict:
+    camera, recording = settings["camera"], settings[RECORDER]
+    rate = recording["rate_hz"]
+    sensors = [Process(settings[name], env) for name in settings if name != RECORDER]
+    recorder = Process(settings[RECORDER], env)
     try:
         recorder.wait_for(FIRST_FRAME, STARTUP_TIMEOUT_S)
         time.sleep(seconds)
@@ -109,9 +112,10 @@ def run_case(width, height, rate, output_format, seconds, env, workdir) -> dict:
             process.stop()
     frames, skipped, span = int(stopped.group(1)), int(stopped.group(2)), float(stopped.group(3))
     return {
-        "case": f"{width}x{height}@{rate:g} {output_format}", "frames": frames, "expected": round(span * rate) + 1,
+        "case": f"{camera['width']}x{camera['height']}@{rate:g} {recording['output_format']}",
+        "frames": frames, "expected": round(span * rate) + 1,
         "skipped": skipped, "rate": (frames - 1) / span if span > 0 else 0.0, "saved": int(saved.group(2)),
-        "loaded": loaded_frames(output, env), "exit_s": exit_s,
+        "loaded": loaded_frames(Path(recording["output_directory"]), env), "exit_s": exit_s,
     }
 
 
@@ -143,14 +147,15 @@ def main() -> int:
         env = dict(os.environ, PYTHONUNBUFFERED="1", HF_HUB_OFFLINE="1", HF_DATASETS_CACHE=str(workdir / "hf-cache"),
                    ROS_DOMAIN_ID=str(zlib.crc32(b"bench/record") % 100 + 120),
                    ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
+        cases = [case_settings(case, output_format, workdir)
+                 for case in args.cases.split(",") for output_format in args.formats.split(",")]
         print(f"episode of {args.seconds:g} s per case; rate = (frames - 1) / span of the episode")
         print(f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} "
               f"{'loaded':>6} {'SIGINT->exit s':>14}")
-        for text in args.cases.split(","):
-            for output_format in args.formats.split(","):
-                r = run_case(*parse_case(text), output_format, args.seconds, env, workdir)
-                print(f"{r['case']:<26} {r['frames']:>6} {r['expected']:>8} {r['skipped']:>7} {r['rate']:>8.2f} "
-                      f"{r['saved']:>6} {r['loaded']:>6} {r['exit_s']:>14.2f}", flush=True)
+        for settings in cases:
+            r = run_case(settings, args.seconds, env)
+            print(f"{r['case']:<26} {r['frames']:>6} {r['expected']:>8} {r['skipped']:>7} {r['rate']:>8.2f} "
+                  f"{r['saved']:>6} {r['loaded']:>6} {r['exit_s']:>14.2f}", flush=True)
     return 0
 
 

@@ -22,18 +22,39 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-PYTHON = str(ROOT / ".venv" / "bin" / "python")
-JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+from support.described_nodes import compiled_settings, node_command
+
 ENCODER_RATE_HZ = 200.0
 WIDTH, HEIGHT, CAMERA_RATE_HZ = 640, 480, 30.0
-DEFAULT_QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-SENSOR_QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
 STATE_TOPIC, IMAGE_TOPIC = "/bench/joint_states", "/bench/image"
+# The simulated robot; the engine's realtime_factor is set per run (`--set`). Servo ids 1-6 and
+# SO-100 joint names are the encoder's defaults; QoS is each node type's default.
+DESCRIPTION = f"""
+robot_config {{
+  name: "bench"
+  mode: MODE_SIMULATION
+  simulation {{ model: "builtin:so100" }}
+  node {{
+    name: "encoder"
+    type: ENCODER_PUBLISHER
+    topic_name: "{STATE_TOPIC}"
+    rate_hz: {ENCODER_RATE_HZ}
+  }}
+  node {{
+    name: "camera"
+    type: CAMERA_PUBLISHER
+    topic_name: "{IMAGE_TOPIC}"
+    width: {WIDTH}
+    height: {HEIGHT}
+    rate_hz: {CAMERA_RATE_HZ}
+  }}
+}}
+"""
 PHYSICS_BATCH_STEPS = 100
 STARTUP_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 10.0
 SPIN_SLICE_S = 0.05
+REALTIME_FACTORS = (1.0, 0.0)  # real time, then as fast as possible
 SUMMARY = re.compile(r"simulated ([\d.]+) s in ([\d.]+) s \(real-time factor ([\d.]+)\), ([\d.]+) s dropped; "
                      r"camera (\d+) frames \((\d+) skipped\)")
 
@@ -58,33 +79,20 @@ def physics_alone(seconds: float) -> float:
     return data.time / (time.perf_counter() - start)
 
 
-def node_settings(realtime_factor: float) -> dict:
-    common = {"robot": "bench", "mode": "MODE_SIMULATION", "state_topic": None, "inputs": [], "serial_port": "",
-              "baud_rate": 0, "device_ids": [], "joint_names": [], "calibration_file": "", "camera_index": -1,
-              "video_source": "", "width": WIDTH, "height": HEIGHT, "rate_hz": 100.0, "frame_id": "",
-              "model_path": "", "policy_type": "", "device": "cpu", "output_format": "lerobot",
-              "output_directory": "", "simulation": None, "qos": DEFAULT_QOS, "topic": None}
-    encoder = dict(common, name="encoder", type="ENCODER_PUBLISHER", device_ids=[1, 2, 3, 4, 5, 6],
-                   joint_names=JOINTS, rate_hz=ENCODER_RATE_HZ, frame_id="base_link",
-                   topic={"name": STATE_TOPIC, "message_type": "sensor_msgs/msg/JointState", "qos": DEFAULT_QOS})
-    camera = dict(common, name="camera", type="CAMERA_PUBLISHER", camera_index=0, rate_hz=CAMERA_RATE_HZ,
-                  frame_id="camera", qos=SENSOR_QOS,
-                  topic={"name": IMAGE_TOPIC, "message_type": "sensor_msgs/msg/Image", "qos": SENSOR_QOS})
-    simulation = {"model": "builtin:so100", "timestep_s": None, "realtime_factor": realtime_factor,
-                  "camera": "", "gl_backend": "egl", "simulates": [encoder, camera]}
-    return dict(common, name="simulation", type="SIMULATION", simulation=simulation)
+def engine_settings(realtime_factor: float) -> dict:
+    """Settings of the SIMULATION process standing in for the encoder and the camera."""
+    settings = compiled_settings(DESCRIPTION, [f"simulation.realtime_factor={realtime_factor}"], "bench_sim.pbtxt")
+    return settings["simulation"]
 
 
-def loaded_run(realtime_factor: float, seconds: float, env: dict) -> dict:
+def loaded_run(engine: dict, seconds: float, env: dict) -> dict:
     """Run the node process for `seconds` while this process counts what it receives."""
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import QoSProfile, ReliabilityPolicy
     from sensor_msgs.msg import Image, JointState
 
-    code = ("from joshua_runtime.entrypoint import run_node; import sys; "
-            f"sys.exit(run_node({node_settings(realtime_factor)!r}))")
-    process = subprocess.Popen([PYTHON, "-c", code], env=env, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(node_command(engine), env=env, stderr=subprocess.PIPE, text=True)
     context = rclpy.Context()
     rclpy.init(context=context)
     node = rclpy.create_node("sim_bench", context=context)
@@ -124,6 +132,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=10.0, help="measurement time of each run")
     args = parser.parse_args()
+    engines = {factor: engine_settings(factor) for factor in REALTIME_FACTORS}
 
     print(f"cores: {os.cpu_count()}  load average: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     print(f"physics alone (mj_step, builtin:so100, 2 ms step): real-time factor {physics_alone(args.seconds):.1f}")
@@ -141,8 +150,8 @@ def main() -> None:
               f"{args.seconds:.0f} s per run, counted by a subscriber in this process")
         print(f"{'realtime_factor':>15} {'reached':>8} {'dropped s':>9} {'frames':>7} {'skipped':>7} "
               f"{'states/s rx':>11} {'images/s rx':>11}")
-        for factor in (1.0, 0.0):
-            r = loaded_run(factor, args.seconds, env)
+        for factor, engine in engines.items():
+            r = loaded_run(engine, args.seconds, env)
             print(f"{factor:>15.1f} {r['factor']:>8.2f} {r['dropped']:>9.3f} {r['frames']:>7} {r['skipped']:>7} "
                   f"{r['state_hz']:>11.1f} {r['image_hz']:>11.1f}")
 

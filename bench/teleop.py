@@ -28,13 +28,26 @@ from pathlib import Path
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+from support.described_nodes import compiled_settings, node_command
 
-ROOT = Path(__file__).resolve().parent.parent
-PYTHON = str(ROOT / ".venv" / "bin" / "python")
-TOPIC = "/leader/joint_states"
-QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-IDS = [1, 2, 3, 4, 5, 6]
-JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+# The follower mirrors the leader. Each run sets the serial ports (the emulators' links) and the
+# rates (--rate-hz) with `--set`; servo ids 1-6, SO-100 joint names and 1 Mbaud are the bus defaults.
+DESCRIPTION = """
+robot_config {
+  name: "bench_teleop"
+  mode: MODE_TELEOPERATION
+  node {
+    name: "bench_leader"
+    type: ENCODER_PUBLISHER
+    topic_name: "/leader/joint_states"
+  }
+  node {
+    name: "bench_follower"
+    type: ACTUATOR_SUBSCRIBER
+    topic_name: "/leader/joint_states"
+  }
+}
+"""
 STARTUP_TIMEOUT_S = 60.0
 SAMPLE_TIMEOUT_S = 1.0
 SETTLE_S = 0.02  # pause after a sample so the follower has finished writing it
@@ -44,20 +57,17 @@ GOAL_ADDRESS = register("Goal_Position").address
 LOW_TICKS, HIGH_TICKS = 1500, 2600
 
 
-def settings(node_type: str, name: str, port: Path, rate_hz: float) -> dict:
-    return {
-        "robot": "bench_teleop", "mode": "MODE_TELEOPERATION", "name": name, "type": node_type,
-        "topic": {"name": TOPIC, "message_type": "sensor_msgs/msg/JointState", "qos": QOS},
-        "state_topic": None, "inputs": [], "qos": QOS, "serial_port": str(port), "baud_rate": 1_000_000,
-        "device_ids": IDS, "joint_names": JOINTS, "calibration_file": "", "camera_index": -1, "video_source": "",
-        "width": 640, "height": 480, "rate_hz": rate_hz, "frame_id": "base_link", "model_path": "",
-        "policy_type": "", "device": "cpu", "output_format": "lerobot", "output_directory": "", "simulation": None,
-    }
+def node_settings(leader_port: Path, follower_port: Path, rate_hz: float) -> list[dict]:
+    """Settings of the leader and follower nodes on the given buses."""
+    settings = compiled_settings(DESCRIPTION, [
+        f"bench_leader.serial_port={leader_port}", f"bench_follower.serial_port={follower_port}",
+        f"bench_leader.rate_hz={rate_hz}", f"bench_follower.rate_hz={rate_hz}",
+    ], "bench_teleop.pbtxt")
+    return [settings["bench_leader"], settings["bench_follower"]]
 
 
-def start(node_settings: dict, env: dict) -> subprocess.Popen:
-    code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({node_settings!r}))"
-    return subprocess.Popen([PYTHON, "-c", code], env=env, stderr=subprocess.PIPE, text=True)
+def start(settings: dict, env: dict) -> subprocess.Popen:
+    return subprocess.Popen(node_command(settings), env=env, stderr=subprocess.PIPE, text=True)
 
 
 def stop(process: subprocess.Popen) -> int:
@@ -127,16 +137,15 @@ def main() -> int:
     period = 1.0 / args.rate_hz
     jitter = random.Random(0)
     with tempfile.TemporaryDirectory() as directory:
-        leader_bus = Sts3215Emulator(Path(directory) / "ttyLEADER", IDS).start()
-        follower_bus = Sts3215Emulator(Path(directory) / "ttyFOLLOWER", IDS).start()
+        leader_link, follower_link = Path(directory) / "ttyLEADER", Path(directory) / "ttyFOLLOWER"
+        leader, follower = node_settings(leader_link, follower_link, args.rate_hz)
+        leader_bus = Sts3215Emulator(leader_link, leader["device_ids"]).start()
+        follower_bus = Sts3215Emulator(follower_link, follower["device_ids"]).start()
         watch = GoalWatch()
         follower_bus.write_listeners.append(watch)
         reads = ReadLog()
         leader_bus.packet_listeners.append(reads)
-        nodes = [
-            start(settings("ENCODER_PUBLISHER", "bench_leader", leader_bus.link, args.rate_hz), env),
-            start(settings("ACTUATOR_SUBSCRIBER", "bench_follower", follower_bus.link, args.rate_hz), env),
-        ]
+        nodes = [start(leader, env), start(follower, env)]
         try:
             if watch.wait_for(2048, STARTUP_TIMEOUT_S) is None:
                 failed = [n.stderr.read() for n in nodes if n.poll() is not None]

@@ -1,0 +1,26 @@
+"""Start benchmark nodes as generated entrypoints do, with settings joshuac compiles from a description text."""
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from joshua_codegen.compile import DescriptionError, node_settings
+
+PYTHON = str(Path(__file__).resolve().parents[2] / ".venv" / "bin" / "python")
+
+
+def compiled_settings(description_text: str, overrides: Sequence[str] = (), path: str = "bench.pbtxt") -> dict[str, dict]:
+    """Every process's settings by name (the simulation engine's under "simulation"), as `joshuac build` writes them.
+
+    `overrides` are `--set` values (`NODE.serial_port=/tmp/x/ttyLEADER`), which need no quoting, so
+    runtime paths go there. A description with errors ends the benchmark with joshuac's diagnostics.
+    """
+    try:
+        return node_settings(description_text, overrides, path)
+    except DescriptionError as exc:
+        raise SystemExit(f"the benchmark's description has errors:\n{exc}") from None
+
+
+def node_command(settings: dict) -> list[str]:
+    """The command that runs one node process, calling `run_node` as a generated entrypoint does."""
+    code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({settings!r}))"
+    return [PYTHON, "-c", code]
