@@ -45,6 +45,7 @@ MESSAGE_TYPES = {
     pb.ACTUATOR_SUBSCRIBER: ("sensor_msgs/msg/JointState",),
     pb.MOCK_ACTUATOR_SUBSCRIBER: ("sensor_msgs/msg/JointState",),
     pb.INFERENCE: ("sensor_msgs/msg/JointState",),
+    pb.DATA_SUBSCRIBER: ("sensor_msgs/msg/JointState",),  # recorded as the dataset's action
     pb.OPERATIONAL_LIMIT_CALIBRATION: ("sensor_msgs/msg/JointState",),
 }
 STATE_MESSAGE_TYPE = "sensor_msgs/msg/JointState"

@@ -86,8 +86,8 @@ def _published(node: pb.Node, name: str) -> list[Endpoint]:
 
 def _matching_qos(publishers: list[Endpoint]) -> QoS:
     """A subscription QoS every publisher of a topic can serve, with the deepest publisher history."""
-    if not publishers:
-        return QoS("KEEP_LAST", 10, "RELIABLE", "VOLATILE")
+    if not publishers:  # published outside the description: best effort, volatile accepts any publisher
+        return QoS("KEEP_LAST", 10, "BEST_EFFORT", "VOLATILE")
     reliable = all(p.qos.reliability == "RELIABLE" for p in publishers)
     durable = all(p.qos.durability == "TRANSIENT_LOCAL" for p in publishers)
     depth = max(p.qos.depth for p in publishers) or 10

@@ -2,8 +2,9 @@
 
 What it checks:
     Node types with fixed messages use one of them (defaults.MESSAGE_TYPES): cameras
-    sensor_msgs/msg/Image or CompressedImage, lidars LaserScan, encoders, actuators, INFERENCE and
-    OPERATIONAL_LIMIT_CALIBRATION JointState. DATA_SUBSCRIBER and CUSTOM take any known type.
+    sensor_msgs/msg/Image or CompressedImage, lidars LaserScan, encoders, actuators, INFERENCE,
+    DATA_SUBSCRIBER (its topic is the recorded action) and OPERATIONAL_LIMIT_CALIBRATION
+    JointState. CUSTOM takes any known type.
 
 Why it matters:
     The node's code converts exactly these messages; any other type cannot be produced or read.

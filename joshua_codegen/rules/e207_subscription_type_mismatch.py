@@ -1,8 +1,9 @@
 """E207 subscription-type-mismatch: a subscriber expects a type that no publisher of its topic sends.
 
 What it checks:
-    A subscriber of `topic_name` (ACTUATOR_SUBSCRIBER, MOCK_ACTUATOR_SUBSCRIBER, DATA_SUBSCRIBER
-    with a message_type) uses a type that at least one publisher of that topic publishes.
+    A subscriber of `topic_name` (ACTUATOR_SUBSCRIBER, MOCK_ACTUATOR_SUBSCRIBER, and DATA_SUBSCRIBER,
+    whose topic is recorded as the JointState action) uses a type that at least one publisher of
+    that topic publishes.
 
 Why it matters:
     A subscription of another type never matches the publishers: no data flows, silently.

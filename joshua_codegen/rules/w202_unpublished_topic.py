@@ -6,7 +6,9 @@ What it checks:
     CUSTOM nodes declare no topics, and processes outside the description are not known.
 
 Why it matters:
-    Unless something outside the description publishes it, the node waits forever for data.
+    Unless something outside the description publishes it, the node waits forever for data. An
+    input_topics entry published outside gets a best-effort subscription (it accepts any
+    publisher), and its message type is learnt from the ROS graph when the node starts.
 
 Example:
     node {

@@ -27,12 +27,15 @@ def test_relative_absolute_and_private_names_of_one_topic_match():
     assert codes(text) == []
 
 
-def test_an_untyped_recorder_takes_the_publishers_type_and_a_typed_one_is_checked():
-    camera = 'type: MOCK_CAMERA_PUBLISHER topic_name: "/c"'
-    untyped = 'type: DATA_SUBSCRIBER topic_name: "/c" qos_reliability: BEST_EFFORT output_directory: "/d"'
-    assert codes(robot(camera, untyped)) == []
+def test_a_recorder_topic_is_the_joint_state_action_and_other_types_are_reported():
+    arm = 'type: MOCK_ENCODER_PUBLISHER topic_name: "/j"'
+    untyped = 'type: DATA_SUBSCRIBER topic_name: "/j" output_directory: "/d"'
+    assert codes(robot(arm, untyped)) == []
+    camera = 'type: MOCK_CAMERA_PUBLISHER topic_name: "/j"'
+    assert codes(robot(camera, untyped.replace('topic_name: "/j"', 'topic_name: "/j" qos_reliability: BEST_EFFORT'))) == [
+        ("E207", 5, 32)]
     typed = untyped.replace("type: DATA_SUBSCRIBER", 'type: DATA_SUBSCRIBER message_type: "std_msgs/msg/String"')
-    assert codes(robot(camera, typed)) == [("E207", 5, 32)]
+    assert codes(robot(arm, typed)) == [("E202", 5, 32), ("E207", 5, 32)]
 
 
 def test_custom_nodes_declare_no_topics():
@@ -41,7 +44,8 @@ def test_custom_nodes_declare_no_topics():
 
 
 def test_one_finding_per_subscriber_however_many_publishers():
-    publishers = [f'name: "p{i}" type: MOCK_CAMERA_PUBLISHER topic_name: "/c"' for i in range(300)]
+    publishers = [f'name: "p{i}" type: MOCK_ENCODER_PUBLISHER topic_name: "/c" qos_reliability: BEST_EFFORT'
+                  for i in range(300)]
     subscriber = 'type: DATA_SUBSCRIBER topic_name: "/c" output_directory: "/d"'
     result = check_text("r.pbtxt", robot(*publishers, subscriber))
     assert [d.code for d in result.diagnostics] == ["E301"]

@@ -22,6 +22,7 @@ from joshua_runtime.ai import model_files, registry
 from joshua_runtime.ai.latest_samples import LatestSamples
 from joshua_runtime.ai.ros_arrays import joint_state
 from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
 
 INPUT_STALE_AFTER_S = 0.5
@@ -59,7 +60,7 @@ class InferenceNode(JoshuaNode):
         topic = self.settings.get("topic")
         if not topic or topic["message_type"] != keys.JOINT_STATE:
             raise SettingsError(f"{self.name}: the action topic must be {keys.JOINT_STATE}")
-        inputs = self.settings.get("inputs") or []
+        self.inputs = inputs = with_discovered_types(self.ros, self.settings.get("inputs") or [])
         if not inputs:
             raise SettingsError(f"{self.name}: no input topics")
         keys.check_inputs(self.name, inputs)
@@ -100,7 +101,7 @@ class InferenceNode(JoshuaNode):
             self.joint_names = action_joint_names(
                 self.settings.get("joint_names") or [], runner.shapes.action_size, names.get(keys.ACTION))
             self.mapper = ObservationMapper(
-                self.name, self.settings["inputs"], runner.shapes.images, runner.shapes.state_size,
+                self.name, self.inputs, runner.shapes.images, runner.shapes.state_size,
                 names.get(keys.STATE),
             )
             for unused in self.mapper.unused_topics:

@@ -25,6 +25,7 @@ from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
 from joshua_runtime.ai.latest_samples import LatestSamples
 from joshua_runtime.errors import SettingsError
+from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
 
 SAMPLE_STALE_AFTER_S = 0.5
@@ -58,7 +59,7 @@ class RecorderNode(JoshuaNode):
         topic = self.settings.get("topic")
         if not topic or topic["message_type"] != keys.JOINT_STATE:
             raise SettingsError(f"{self.name}: the recorded topic must be {keys.JOINT_STATE} (it becomes the action)")
-        inputs = self.settings.get("inputs") or []
+        inputs = with_discovered_types(self.ros, self.settings.get("inputs") or [])
         keys.check_inputs(self.name, inputs)
         output_format = self.settings.get("output_format") or OUTPUT_FORMATS[0]
         if output_format not in OUTPUT_FORMATS:
