@@ -1,6 +1,6 @@
 """Fixtures shared by every test: an isolated ROS 2 environment per test, and nodes started in it.
 
-Modules beside this file (compiled_settings.py, node_process.py) are importable from every test.
+Shared helpers live in the package testsupport/ beside this file, importable from every test.
 """
 
 import os
@@ -8,7 +8,7 @@ import zlib
 
 import pytest
 
-from node_process import NodeProcess
+from testsupport.node_process import NodeProcess
 
 
 @pytest.fixture

@@ -6,7 +6,7 @@ import shutil
 
 import pytest
 
-from conftest import CONFIGS, ROOT, joshuac
+from testsupport.joshuac_cli import CONFIGS, ROOT, joshuac
 
 
 def tree(directory):

@@ -5,7 +5,7 @@ import subprocess
 
 import pytest
 
-from conftest import CONFIGS, ROOT, joshuac
+from testsupport.joshuac_cli import CONFIGS, ROOT, joshuac
 
 REFRESH_GENERATED = "make generate"
 REFRESH_PROTO = "make proto"

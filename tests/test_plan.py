@@ -4,7 +4,7 @@ import json
 
 from google.protobuf import text_format
 
-from conftest import ROOT
+from testsupport.joshuac_cli import ROOT
 from joshua_codegen.emitters.manifest import manifest
 from joshua_codegen.plan import plan
 from joshua_codegen.render import Context, render

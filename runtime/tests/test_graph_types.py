@@ -7,7 +7,7 @@ import rclpy
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
-from compiled_settings import compiled_settings
+from testsupport.compiled_settings import compiled_settings
 from joshua_runtime.errors import DeviceError
 from joshua_runtime.graph import with_discovered_types
 

@@ -13,7 +13,7 @@ import rclpy
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Image, JointState, LaserScan
 
-from conftest import ROOT, joshuac
+from testsupport.joshuac_cli import ROOT, joshuac
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
 STARTUP_TIMEOUT_S = 40.0

@@ -1,6 +1,6 @@
 """Helpers of the AI tests: settings compiled by joshuac, node processes with live output, a ROS peer.
 
-Node settings come from compiled_settings.py at the repository root (the real compiler). The
+Node settings come from testsupport/compiled_settings.py (the real compiler). The
 NodeProcess here streams each output line as it comes, because these tests wait for log lines
 while a node runs (episode saved, ready); node_process.NodeProcess there reads output at exit.
 """
@@ -56,7 +56,7 @@ def mock_encoder(name: str, topic_name: str, joints: list[str], rate_hz: float) 
 
 def compiled(mode: str, *nodes: str) -> dict[str, dict]:
     """Every node's settings, written by joshuac from a description of these nodes."""
-    from compiled_settings import compiled_settings
+    from testsupport.compiled_settings import compiled_settings
 
     return compiled_settings(f'robot_config {{\n  name: "{ROBOT}"\n  mode: {mode}\n{"".join(nodes)}}}\n')
 

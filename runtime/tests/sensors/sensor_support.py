@@ -1,12 +1,12 @@
 """Helpers of the sensor tests: expected QoS, timeouts and an in-process rclpy client.
 
-Node settings come from the compiler (compiled_settings.py at the repository root) and node
-processes from node_process.py there.
+Node settings come from the compiler (testsupport/compiled_settings.py) and node
+processes from testsupport/node_process.py.
 """
 
 import time
 
-from node_process import NodeProcess
+from testsupport.node_process import NodeProcess
 
 NODE_START_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
 MESSAGE_TIMEOUT_S = 15.0

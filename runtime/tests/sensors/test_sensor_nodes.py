@@ -14,7 +14,7 @@ import numpy as np
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 
-from compiled_settings import compiled_node
+from testsupport.compiled_settings import compiled_node
 from sensor_support import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator

@@ -1,7 +1,7 @@
 """Helpers of the servo tests: the SO-100 bus layout, polling, and an in-process rclpy client.
 
-Node settings come from the compiler (compiled_settings.py at the repository root) and node
-processes from node_process.py there.
+Node settings come from the compiler (testsupport/compiled_settings.py) and node
+processes from testsupport/node_process.py.
 """
 
 import time

@@ -8,7 +8,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from servo_helpers import SO100_IDS, SO100_JOINTS, wait_for
 
-from compiled_settings import compiled_node
+from testsupport.compiled_settings import compiled_node
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK, load_calibration
 
 STARTUP_TIMEOUT_S = 30.0

@@ -12,7 +12,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from servo_helpers import SO100_IDS, SO100_JOINTS
 
-from compiled_settings import compiled_settings
+from testsupport.compiled_settings import compiled_settings
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK
 
 STARTUP_TIMEOUT_S = 30.0

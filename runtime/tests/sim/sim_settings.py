@@ -4,7 +4,7 @@ Each hardware node is a `node { }` block of the description; `simulation(...)` p
 in a robot and returns the settings of the engine that stands in for them.
 """
 
-from compiled_settings import compiled_settings
+from testsupport.compiled_settings import compiled_settings
 
 SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
 # spec/protocols.md section 3.

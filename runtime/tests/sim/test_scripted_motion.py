@@ -9,7 +9,7 @@ from sensor_msgs.msg import JointState
 
 import sim_settings
 from joshua_runtime.sim.scripted_motion import CYCLE_S, KEYFRAMES, SO100_JOINTS, scripted_positions
-from node_process import stop_process
+from testsupport.node_process import stop_process
 from sim_ros import RELIABLE, STARTUP_TIMEOUT_S, Client
 from sim_settings import SO100_RANGES
 

@@ -1,6 +1,6 @@
 """A node run in its own process the way a generated entrypoint runs it: `run_node(SETTINGS)`.
 
-Shared by the runtime test suites (importable from every test, like compiled_settings.py beside it).
+Shared by the runtime test suites (importable from every test as testsupport.node_process).
 """
 
 import signal

@@ -2,8 +2,8 @@
 
 Tests that run nodes use these instead of settings dicts written by hand, so that a node's settings
 are exactly what a generated entrypoint passes to `run_node`: a change to the compiler's output
-that the runtime does not follow breaks the runtime tests too. Importable by every test, as pytest
-puts this directory on sys.path for the conftest.py beside it.
+that the runtime does not follow breaks the runtime tests too. Importable by every test as
+testsupport.compiled_settings: pytest puts the repository root on sys.path for its conftest.py.
 """
 
 from collections.abc import Sequence

@@ -1,11 +1,9 @@
-"""Shared helpers of the compiler tests: paths of the repository and a way to run joshuac."""
+"""Paths of the repository and a way to run the joshuac command line, for the compiler tests."""
 
 import os
 import subprocess
 import sys
 from pathlib import Path
-
-import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = sorted((ROOT / "config" / "robots").glob("*.pbtxt"))
@@ -16,8 +14,3 @@ def joshuac(*args, cwd=None, env=None, check=False) -> subprocess.CompletedProce
     """Run the joshuac command line in a subprocess, as a user would."""
     return subprocess.run([*JOSHUAC, *map(str, args)], cwd=cwd, env=env or dict(os.environ),
                           capture_output=True, text=True, check=check)
-
-
-@pytest.fixture
-def run_joshuac():
-    return joshuac

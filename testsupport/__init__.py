@@ -1,0 +1,1 @@
+"""Helpers shared by the test suites: compiled node settings, node processes and the joshuac command."""
