@@ -96,3 +96,11 @@ def test_relative_and_private_topic_names_resolve_to_one_topic():
     assert [(t.name, [e.node for e in t.publishers], [e.node for e in t.subscribers]) for t in robot.topics] == [
         ("/follow/state", ["follow"], []), ("/joints", ["arm"], ["follow"])]
     assert robot.node("follow").settings["state_topic"]["name"] == "/follow/state"
+
+
+def test_a_simulated_robot_needs_none_of_the_devices_of_the_nodes_it_simulates():
+    description = seed("so100_sim")
+    document = manifest(plan(description, "so100_sim.pbtxt"), Context(prefix="/opt/joshua/so100_sim"))
+    assert document["devices"] == []
+    follower = next(node for node in document["nodes"] if node["name"] == "follower")
+    assert follower["devices"] == [{"kind": "serial", "path": "/dev/ttyUSB0"}]
