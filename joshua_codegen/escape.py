@@ -37,6 +37,11 @@ def one_line(text: str) -> str:
     return json.dumps(text, ensure_ascii=True)[1:-1]
 
 
+def xml_comment(text: str) -> str:
+    """Text safe inside an XML comment: one line, and no `--`, which would end the comment."""
+    return re.sub(r"-(?=-)", "- ", one_line(text))
+
+
 def dot_id(text: str) -> str:
     """A quoted Graphviz DOT identifier."""
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'

@@ -37,6 +37,7 @@ def environment() -> jinja2.Environment:
     env.filters.update(
         py=escape.python_literal,
         one_line=escape.one_line,
+        xml_comment=escape.xml_comment,
         dot_id=escape.dot_id,
         mermaid=escape.mermaid_label,
     )

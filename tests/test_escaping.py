@@ -37,3 +37,15 @@ def test_strings_reach_the_entrypoint_unchanged(output_directory, model_path, vi
         assert settings_literal(text) == robot.node(node.name).settings
         header = text.splitlines()[:3]
         assert all(line.startswith(("#!", "# ")) for line in header)
+
+
+@settings(max_examples=100, deadline=None)
+@given(source=NASTY | st.text(alphabet="-<>!x", max_size=12))
+def test_source_names_cannot_break_the_xml_profile(source):
+    from xml.etree import ElementTree
+
+    description = RobotDescription()
+    description.robot_config.name, description.robot_config.mode = "robot", pb.MODE_TELEOPERATION
+    text = render(plan(description, source + ".pbtxt"))["fastdds_profile.xml"]
+    root = ElementTree.fromstring(text.encode())
+    assert root.tag == "{http://www.eprosima.com}dds"

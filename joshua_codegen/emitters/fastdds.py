@@ -7,4 +7,4 @@ PROFILE_PATH = "fastdds_profile.xml"
 
 
 def emit(robot: Robot, context: Context) -> dict[str, str]:
-    return {PROFILE_PATH: template("fastdds_profile.xml.j2")}
+    return {PROFILE_PATH: template("fastdds_profile.xml.j2", robot=robot)}
