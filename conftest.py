@@ -1,4 +1,4 @@
-"""Fixtures shared by every test: an isolated ROS 2 environment per test, and nodes started in it.
+"""Fixtures shared by every test: an isolated ROS 2 environment per test, nodes started in it, a client.
 
 Shared helpers live in the package testsupport/ beside this file, importable from every test.
 """
@@ -43,3 +43,12 @@ def start_node(ros_env):
     yield start
     for node in started:
         node.kill()
+
+
+@pytest.fixture
+def ros_client(ros_domain):
+    """An in-process rclpy client (testsupport.ros_client.RosClient) in the test's ROS domain; closed at teardown."""
+    from testsupport.ros_client import RosClient
+
+    with RosClient("test_client") as client:
+        yield client

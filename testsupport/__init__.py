@@ -1,1 +1,2 @@
-"""Helpers shared by the test suites: compiled node settings, node processes and the joshuac command."""
+"""Helpers shared by the test suites: compiled node settings, node processes, an in-process ROS client
+and the joshuac command."""

@@ -4,12 +4,10 @@ import re
 import signal
 import subprocess
 import sys
-import time
 
 import cv2
 import numpy as np
 import pytest
-import rclpy
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Image, JointState, LaserScan
 
@@ -20,58 +18,15 @@ STARTUP_TIMEOUT_S = 40.0
 TRACKING_TIMEOUT_S = 15.0
 SHUTDOWN_TIMEOUT_S = 10.0
 DISCOVERY_TIMEOUT_S = 10.0
-UNKNOWN_NODE_NAME = "_NODE_NAME_UNKNOWN_"  # what the graph says before a node's announcement arrives
 TRACKING_TOLERANCE_TICKS = 3
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 RELIABLE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
-class Listener:
-    """An in-process rclpy client that keeps the last message of each topic it listens to."""
-
-    def __init__(self):
-        rclpy.init()
-        self.node = rclpy.create_node("e2e_listener")
-        self.last: dict[str, object] = {}
-        self.counts: dict[str, int] = {}
-
-    def listen(self, topic: str, message_class, qos: QoSProfile) -> None:
-        def keep(message, topic=topic):
-            self.last[topic] = message
-            self.counts[topic] = self.counts.get(topic, 0) + 1
-
-        self.node.create_subscription(message_class, topic, keep, qos)
-
-    def spin_until(self, predicate, timeout_s: float) -> bool:
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            rclpy.spin_once(self.node, timeout_sec=0.05)
-            if predicate():
-                return True
-        return False
-
-    def publishers_once_named(self, topic: str, timeout_s: float) -> list:
-        """The topic's publisher infos, once discovery has delivered every publisher's node name."""
-        infos = []
-
-        def named() -> bool:
-            nonlocal infos
-            infos = self.node.get_publishers_info_by_topic(topic)
-            return bool(infos) and all(i.node_name != UNKNOWN_NODE_NAME for i in infos)
-
-        self.spin_until(named, timeout_s)
-        return infos
-
-    def close(self) -> None:
-        self.node.destroy_node()
-        rclpy.try_shutdown()
-
-
-@pytest.fixture
-def listener(ros_domain):
-    client = Listener()
-    yield client
-    client.close()
+def wait_for_messages(ros_client, topics: list[str]) -> None:
+    """Spin until a message arrived on every topic, failing with those still silent at the startup timeout."""
+    heard = ros_client.spin_until(lambda: all(ros_client.last(t) is not None for t in topics), STARTUP_TIMEOUT_S)
+    assert heard, f"no message on {[t for t in topics if ros_client.last(t) is None]}"
 
 
 def build(config: str, out, *overrides: str) -> None:
@@ -96,26 +51,26 @@ def stop(supervisor: subprocess.Popen) -> tuple[int, str]:
     return supervisor.returncode, output
 
 
-def test_mock_robot_publishes_every_topic_with_its_declared_types_and_qos(tmp_path, ros_env, listener):
+def test_mock_robot_publishes_every_topic_with_its_declared_types_and_qos(tmp_path, ros_env, ros_client):
     out = tmp_path / "out"
     build("mock_arm.pbtxt", out)
     supervisor = start_supervisor(out, ros_env)
     try:
-        listener.listen("/camera/image_raw", Image, SENSOR_QOS)
-        listener.listen("/scan", LaserScan, SENSOR_QOS)
-        listener.listen("/leader/joint_states", JointState, RELIABLE_QOS)
-        listener.listen("/follower/joint_states", JointState, RELIABLE_QOS)
-        assert listener.spin_until(lambda: len(listener.last) == 4, STARTUP_TIMEOUT_S), sorted(listener.last)
-        image = listener.last["/camera/image_raw"]
+        ros_client.listen("/camera/image_raw", Image, SENSOR_QOS)
+        ros_client.listen("/scan", LaserScan, SENSOR_QOS)
+        ros_client.listen("/leader/joint_states", JointState, RELIABLE_QOS)
+        ros_client.listen("/follower/joint_states", JointState, RELIABLE_QOS)
+        wait_for_messages(ros_client, ["/camera/image_raw", "/scan", "/leader/joint_states", "/follower/joint_states"])
+        image = ros_client.last("/camera/image_raw")
         assert (image.width, image.height) == (320, 240)
-        assert len(listener.last["/scan"].ranges) == 360
-        leader = listener.last["/leader/joint_states"]
+        assert len(ros_client.last("/scan").ranges) == 360
+        leader = ros_client.last("/leader/joint_states")
         assert list(leader.name) == ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll",
                                      "gripper"]
-        camera = listener.publishers_once_named("/camera/image_raw", DISCOVERY_TIMEOUT_S)
+        camera = ros_client.publishers_info("/camera/image_raw", DISCOVERY_TIMEOUT_S)
         assert [(i.node_name, i.topic_type, i.qos_profile.reliability, i.qos_profile.durability) for i in camera] == [
             ("camera", "sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)]
-        follower = listener.publishers_once_named("/follower/joint_states", DISCOVERY_TIMEOUT_S)
+        follower = ros_client.publishers_info("/follower/joint_states", DISCOVERY_TIMEOUT_S)
         assert [(i.node_name, i.qos_profile.reliability) for i in follower] == [("follower", ReliabilityPolicy.RELIABLE)]
     finally:
         code, output = stop(supervisor)
@@ -133,7 +88,7 @@ def write_video(path, frames: int = 30) -> None:
     writer.release()
 
 
-def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_env, listener):
+def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_env, ros_client):
     leader_bus = Sts3215Emulator(tmp_path / "ttyLEADER").start()
     follower_bus = Sts3215Emulator(tmp_path / "ttyFOLLOWER").start()
     video = tmp_path / "camera.avi"
@@ -147,9 +102,9 @@ def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_e
           f"cpp_bin_dir={tmp_path / 'bin'}")
     supervisor = start_supervisor(out, ros_env)
     try:
-        listener.listen("/leader/joint_states", JointState, RELIABLE_QOS)
-        listener.listen("/camera/image_raw", Image, SENSOR_QOS)
-        assert listener.spin_until(lambda: len(listener.last) == 2, STARTUP_TIMEOUT_S), sorted(listener.last)
+        ros_client.listen("/leader/joint_states", JointState, RELIABLE_QOS)
+        ros_client.listen("/camera/image_raw", Image, SENSOR_QOS)
+        wait_for_messages(ros_client, ["/leader/joint_states", "/camera/image_raw"])
         pose = {1: 1500, 2: 2500, 3: 1800, 4: 2300, 5: 1000, 6: 2600}
         for servo_id, ticks in pose.items():
             leader_bus.move_by_hand(servo_id, ticks)

@@ -1,8 +1,9 @@
 """Helpers of the AI tests: settings compiled by joshuac, node processes with live output, a ROS peer.
 
-Node settings come from testsupport/compiled_settings.py (the real compiler). The
-NodeProcess here streams each output line as it comes, because these tests wait for log lines
-while a node runs (episode saved, ready); node_process.NodeProcess there reads output at exit.
+Node settings come from testsupport/compiled_settings.py (the real compiler); the ROS peer is the
+client of testsupport/ros_client.py spun by a thread. The NodeProcess here streams each output line
+as it comes, because these tests wait for log lines while a node runs (episode saved, ready);
+node_process.NodeProcess there reads output at exit.
 """
 
 import re
@@ -10,15 +11,15 @@ import subprocess
 import sys
 import threading
 import time
-from collections import deque
 
 import numpy as np
+
+from testsupport.ros_client import SPIN_SLICE_S, RosClient
 
 LINE_TIMEOUT_S = 90.0
 EXIT_TIMEOUT_S = 30.0
 ROBOT = "test_arm"
 RELIABLE = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-JOINT_STATE = "sensor_msgs/msg/JointState"
 IMAGE = "sensor_msgs/msg/Image"
 
 
@@ -123,69 +124,48 @@ class NodeProcess:
             self.process.wait()
 
 
-class RosPeer:
-    """An in-process rclpy node that publishes synthetic sensors and collects messages."""
+class RosPeer(RosClient):
+    """A RosClient spun by a thread of its own, so that its timers publish synthetic sensors while a test
+    waits on a node's output; its waits only watch."""
 
     def __init__(self, name: str = "test_peer"):
-        import rclpy
-        from rclpy.executors import SingleThreadedExecutor
-
-        self.context = rclpy.Context()
-        rclpy.init(context=self.context)
-        self.node = rclpy.create_node(name, context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
-        self.executor.add_node(self.node)
-        self.received: dict[str, deque] = {}
-        self._lock = threading.Lock()
+        super().__init__(name)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 
     def _spin(self) -> None:
         while not self._stop.is_set():
-            self.executor.spin_once(timeout_sec=0.05)
+            self.executor.spin_once(timeout_sec=SPIN_SLICE_S)
 
-    def publisher(self, name: str, message_type: str):
-        from joshua_runtime.messages import message_class
-        from joshua_runtime.qos import qos_profile
+    def spin_until(self, condition, timeout_s: float, every=None) -> bool:
+        """Wait until `condition()` holds (the thread spins), calling `every()` each slice; whether it held."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if every is not None:
+                every()
+            time.sleep(SPIN_SLICE_S)
+            if condition():
+                return True
+        return False
 
-        return self.node.create_publisher(message_class(message_type), name, qos_profile(RELIABLE))
-
-    def send_text(self, publisher, text: str, timeout: float = LINE_TIMEOUT_S) -> None:
+    def send_text(self, publisher, text: str, timeout_s: float = LINE_TIMEOUT_S) -> None:
         """Publish a std_msgs/String once a subscriber has matched (a volatile message sent earlier is lost)."""
         from std_msgs.msg import String
 
-        wait_until(lambda: publisher.get_subscription_count() > 0, timeout, f"a subscriber of {publisher.topic_name}")
+        matched = self.spin_until(lambda: publisher.get_subscription_count() > 0, timeout_s)
+        assert matched, f"no subscriber of {publisher.topic_name} within {timeout_s} s"
         publisher.publish(String(data=text))
 
-    def publish_periodically(self, name: str, message_type: str, rate_hz: float, make_message):
+    def publish_periodically(self, topic_name: str, message_class, rate_hz: float, make_message):
         """Publish `make_message()` on a topic at `rate_hz` until `close()`; returns the timer."""
-        publisher = self.publisher(name, message_type)
+        publisher = self.publisher(topic_name, message_class, RELIABLE)
         return self.node.create_timer(1.0 / rate_hz, lambda: publisher.publish(make_message()))
-
-    def collect(self, name: str, message_type: str) -> deque:
-        from joshua_runtime.messages import message_class
-        from joshua_runtime.qos import qos_profile
-
-        box = self.received.setdefault(name, deque())
-        self.node.create_subscription(
-            message_class(message_type), name, lambda message: box.append(message), qos_profile(RELIABLE))
-        return box
 
     def close(self) -> None:
         self._stop.set()
         self._thread.join()
-        self.executor.shutdown(timeout_sec=0)
-        self.node.destroy_node()
-        self.context.try_shutdown()
-
-
-def wait_until(predicate, timeout: float = LINE_TIMEOUT_S, what: str = "condition") -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"timed out waiting for {what}")
-        time.sleep(0.05)
+        super().close()
 
 
 def pattern_image(height: int, width: int, level: int) -> np.ndarray:

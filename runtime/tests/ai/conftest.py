@@ -66,6 +66,6 @@ def ai_env(ros_env, tmp_path, bytecode_cache) -> dict:
 
 @pytest.fixture
 def ros_peer(ros_domain):
-    peer = RosPeer()
-    yield peer
-    peer.close()
+    """The test's ROS peer (see ai_support.RosPeer) in its ROS domain; closed at teardown."""
+    with RosPeer() as peer:
+        yield peer

@@ -7,14 +7,17 @@ import time
 import numpy as np
 import pytest
 
+from sensor_msgs.msg import Image, JointState
+
 from ai_support import (
-    IMAGE, JOINT_STATE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic, wait_until,
+    IMAGE, LINE_TIMEOUT_S, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic,
 )
 
 HEIGHT, WIDTH = 24, 32
 SENSOR_HZ = 30.0
 INFERENCE_HZ = 10.0
 ACTIONS_TO_CHECK = 3
+ACTIONS_TOPIC = "/inf/arm/commands"
 ACTION_MIN = np.array([-1.0, 0.0], np.float32)
 ACTION_MAX = np.array([1.0, 2.0], np.float32)
 
@@ -65,7 +68,7 @@ def inference_settings(model_path, **fields):
         "MODE_INFERENCE",
         mock_camera("inf_camera", "/inf/camera/image_raw", WIDTH, HEIGHT, SENSOR_HZ),
         mock_encoder("inf_arm", "/inf/arm/state", ["wrist", "gripper"], SENSOR_HZ),
-        node_block("inf_policy", "INFERENCE", topic_name="/inf/arm/commands", model_path=str(model_path),
+        node_block("inf_policy", "INFERENCE", topic_name=ACTIONS_TOPIC, model_path=str(model_path),
                    input_topics=["/inf/camera/image_raw", "/inf/arm/state"], rate_hz=INFERENCE_HZ, **fields),
     )["inf_policy"]
 
@@ -75,20 +78,21 @@ def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp
 
     policy_dir = save_tiny_diffusion(tmp_path / "diffusion")
     image = pattern_image(HEIGHT, WIDTH, 30)
-    ros_peer.publish_periodically("/inf/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
-    actions = ros_peer.collect("/inf/arm/commands", JOINT_STATE)
+    ros_peer.publish_periodically("/inf/camera/image_raw", Image, SENSOR_HZ, lambda: rgb_to_image(image))
+    ros_peer.listen(ACTIONS_TOPIC, JointState, RELIABLE, keep=ACTIONS_TO_CHECK)
     node = NodeProcess(inference_settings(policy_dir, policy_type="diffusion"), ai_env)
     try:
         node.wait_for(r"ready: diffusion policy from .* on cpu")
         mark = node.count()
         node.wait_for(r"no action: /inf/arm/state has not published yet", after=mark)
         time.sleep(1.0 / INFERENCE_HZ * 3)
-        assert len(actions) == 0
+        assert ros_peer.count(ACTIONS_TOPIC) == 0
 
         ros_peer.publish_periodically(
-            "/inf/arm/state", JOINT_STATE, SENSOR_HZ, lambda: joint_state(["wrist", "gripper"], [0.1, 0.2]))
-        wait_until(lambda: len(actions) >= ACTIONS_TO_CHECK, what="actions on /arm/commands")
-        for message in list(actions)[:ACTIONS_TO_CHECK]:
+            "/inf/arm/state", JointState, SENSOR_HZ, lambda: joint_state(["wrist", "gripper"], [0.1, 0.2]))
+        assert ros_peer.spin_until(lambda: ros_peer.count(ACTIONS_TOPIC) >= ACTIONS_TO_CHECK, LINE_TIMEOUT_S), (
+            f"no {ACTIONS_TO_CHECK} actions on {ACTIONS_TOPIC}")
+        for message in ros_peer.messages(ACTIONS_TOPIC):
             assert list(message.name) == ["wrist", "gripper"]
             position = np.array(message.position)
             # Diffusion clips its normalised samples to [-1, 1]: actions stay within the action range.
@@ -127,7 +131,7 @@ def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, case, message)
         "mismatch": lambda: inference_settings(act, policy_type="diffusion"),
         "unsupported": lambda: inference_settings(fake_policy(tmp_path / "pi0", "pi0")),
         "cuda": lambda: inference_settings(act, device="cuda"),
-        "action_topic": lambda: dict(inference_settings(act), topic=topic("/inf/arm/commands", IMAGE)),
+        "action_topic": lambda: dict(inference_settings(act), topic=topic(ACTIONS_TOPIC, IMAGE)),
     }[case]()
     env = dict(ai_env, CUDA_VISIBLE_DEVICES="")
     node = NodeProcess(settings, env)

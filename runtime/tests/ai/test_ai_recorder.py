@@ -6,13 +6,17 @@ import time
 import numpy as np
 import pytest
 
-from ai_support import IMAGE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic
+from sensor_msgs.msg import Image, JointState
+from std_msgs.msg import String
+
+from ai_support import (
+    IMAGE, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic,
+)
 
 RATE_HZ = 10.0
 PUBLISH_HZ = 30.0
 HEIGHT, WIDTH = 24, 32
 JOINTS = ["shoulder_pan", "gripper"]
-JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 RECORDING_S = 0.6
 SETTLE_S = 0.3
 # Largest mean absolute pixel error allowed after AV1 encoding of the smooth test image.
@@ -28,11 +32,11 @@ class Sensors:
         self.phase = 0
         self.timers = {
             "leader": peer.publish_periodically(
-                "/rec/leader/joint_states", JOINT_STATE_TYPE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
+                "/rec/leader/joint_states", JointState, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
             "follower": peer.publish_periodically(
-                "/rec/follower/joint_states", JOINT_STATE_TYPE, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
+                "/rec/follower/joint_states", JointState, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
             "camera": peer.publish_periodically(
-                "/rec/camera/image_raw", IMAGE, PUBLISH_HZ, lambda: rgb_to_image(self.image())),
+                "/rec/camera/image_raw", Image, PUBLISH_HZ, lambda: rgb_to_image(self.image())),
         }
 
     def action(self, phase=None):
@@ -106,7 +110,7 @@ def check_episode(dataset, episode, phase, frames, sensors, exact_images):
 def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, ai_env, ros_peer, lerobot_offline):
     output = tmp_path / "dataset"
     sensors = Sensors(ros_peer)
-    commands = ros_peer.publisher("/ai_recorder/episode", "std_msgs/msg/String")
+    commands = ros_peer.publisher("/ai_recorder/episode", String, RELIABLE)
     node = NodeProcess(recorder_settings(output, "lerobot"), ai_env)
     try:
         node.wait_for(r"recording 3 topics at 10 fps .*episode commands on /ai_recorder/episode")
@@ -160,7 +164,7 @@ def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, 
 def test_sigkill_loses_only_the_episode_in_progress_and_recording_resumes(tmp_path, ai_env, ros_peer, lerobot_offline):
     output = tmp_path / "dataset"
     sensors = Sensors(ros_peer)
-    commands = ros_peer.publisher("/ai_recorder/episode", "std_msgs/msg/String")
+    commands = ros_peer.publisher("/ai_recorder/episode", String, RELIABLE)
     node = NodeProcess(recorder_settings(output, "parquet"), ai_env)
     try:
         record_one(node, 0)

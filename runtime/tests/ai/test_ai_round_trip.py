@@ -7,8 +7,11 @@ import time
 
 import numpy as np
 
+from sensor_msgs.msg import Image, JointState
+from std_msgs.msg import String
+
 from ai_support import (
-    IMAGE, JOINT_STATE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, wait_until,
+    LINE_TIMEOUT_S, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image,
 )
 
 SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
@@ -19,6 +22,7 @@ INFERENCE_HZ = 20.0
 EPISODE_S = 1.0
 TRAIN_TIMEOUT_S = 300
 ACTIONS_TO_COMPARE = 3
+ACTIONS_TOPIC = "/rt/arm/commands"
 # Tiny ACT: small transformer, no pretrained backbone (nothing is downloaded), one action per inference.
 TINY_ACT = [
     "--policy.type=act", "--policy.device=cpu", "--policy.push_to_hub=false",
@@ -46,7 +50,7 @@ def inference_settings() -> dict:
         "MODE_INFERENCE",
         mock_camera("rt_camera", "/rt/camera/image_raw", WIDTH, HEIGHT, SENSOR_HZ),
         mock_encoder("rt_follower", "/rt/follower/joint_states", SO100_JOINTS, SENSOR_HZ),
-        node_block("rt_policy", "INFERENCE", topic_name="/rt/arm/commands", model_path="registry:tiny_act",
+        node_block("rt_policy", "INFERENCE", topic_name=ACTIONS_TOPIC, model_path="registry:tiny_act",
              input_topics=["/rt/camera/image_raw", "/rt/follower/joint_states"], policy_type="act",
              rate_hz=INFERENCE_HZ),
     )["rt_policy"]
@@ -56,7 +60,7 @@ def record(tmp_path, env, ros_peer):
     """Two episodes of the mock camera and encoders, recorded by a DATA_SUBSCRIBER process."""
     output = tmp_path / "dataset"
     settings = recording_settings(output)
-    commands = ros_peer.publisher("/rt_recorder/episode", "std_msgs/msg/String")
+    commands = ros_peer.publisher("/rt_recorder/episode", String, RELIABLE)
     sensors = [NodeProcess(settings[name], env) for name in ("rt_camera", "rt_leader", "rt_follower")]
     recorder = NodeProcess(settings["rt_recorder"], env)
     try:
@@ -126,18 +130,20 @@ def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offli
     image = pattern_image(HEIGHT, WIDTH, 90)
     state = np.linspace(-0.5, 0.5, len(SO100_JOINTS)).astype(np.float32)
     shuffled = list(reversed(range(len(SO100_JOINTS))))
-    camera = ros_peer.publish_periodically("/rt/camera/image_raw", IMAGE, SENSOR_HZ, lambda: rgb_to_image(image))
+    camera = ros_peer.publish_periodically("/rt/camera/image_raw", Image, SENSOR_HZ, lambda: rgb_to_image(image))
     ros_peer.publish_periodically(
-        "/rt/follower/joint_states", JOINT_STATE, SENSOR_HZ,
+        "/rt/follower/joint_states", JointState, SENSOR_HZ,
         lambda: joint_state([SO100_JOINTS[i] for i in shuffled], state[shuffled]))
-    actions = ros_peer.collect("/rt/arm/commands", JOINT_STATE)
+    ros_peer.listen(ACTIONS_TOPIC, JointState, RELIABLE, keep=ACTIONS_TO_COMPARE)
     settings = inference_settings()
     node = NodeProcess(settings, ai_env)
     try:
         node.wait_for(r"ready: act policy from .*tiny_act.* on cpu")
-        wait_until(lambda: len(actions) >= ACTIONS_TO_COMPARE, what="actions on /arm/commands")
+        assert ros_peer.spin_until(lambda: ros_peer.count(ACTIONS_TOPIC) >= ACTIONS_TO_COMPARE, LINE_TIMEOUT_S), (
+            f"no {ACTIONS_TO_COMPARE} actions on {ACTIONS_TOPIC}")
+        actions = ros_peer.messages(ACTIONS_TOPIC)
         expected = in_process_action(policy_dir, {"observation.images.rt_camera": image, "observation.state": state})
-        for message in list(actions)[:ACTIONS_TO_COMPARE]:
+        for message in actions:
             assert list(message.name) == SO100_JOINTS
             np.testing.assert_allclose(np.array(message.position), expected, rtol=1e-5, atol=1e-5)
 
@@ -145,9 +151,9 @@ def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offli
         mark = node.count()
         node.wait_for(r"no action: /rt/camera/image_raw is stale", after=mark)
         time.sleep(0.2)                                        # let actions already sent arrive
-        silent_from = len(actions)
+        silent_from = ros_peer.count(ACTIONS_TOPIC)
         time.sleep(0.5)
-        assert len(actions) == silent_from
+        assert ros_peer.count(ACTIONS_TOPIC) == silent_from
         assert node.stop(signal.SIGINT) == 0
     finally:
         node.kill()

@@ -15,7 +15,9 @@ from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 
 from testsupport.compiled_settings import compiled_node
-from sensor_support import DEFAULT_QOS, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS
+from sensor_support import (
+    DEFAULT_QOS, NODE_START_TIMEOUT_S, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, collect, publishers,
+)
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.nodes import mock_arm
@@ -55,9 +57,9 @@ def test_mock_camera_publishes_the_moving_pattern_as_jpeg(start_node, ros_client
                              'qos_depth: 3 qos_reliability: RELIABLE qos_durability: TRANSIENT_LOCAL '
                              f'width: {width} height: {height} rate_hz: 20 frame_id: "cam_optical"')
     node = start_node(settings)
-    assert_endpoint(ros_client.publishers("/cam/compressed", process=node), "mock_cam",
+    assert_endpoint(publishers(ros_client, "/cam/compressed", node), "mock_cam",
                     "sensor_msgs/msg/CompressedImage", RELIABLE_QOS)
-    messages = ros_client.collect(CompressedImage, "/cam/compressed", RELIABLE_QOS, 3)
+    messages = collect(ros_client, CompressedImage, "/cam/compressed", RELIABLE_QOS, 3)
     import cv2
 
     base = gradient(width, height)
@@ -80,9 +82,9 @@ def test_mock_lidar_publishes_the_synthetic_room(start_node, ros_client):
     settings = compiled_node('name: "mock_lidar" type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" rate_hz: 10 '
                              'frame_id: "laser"')
     node = start_node(settings)
-    assert_endpoint(ros_client.publishers("/scan", process=node), "mock_lidar", "sensor_msgs/msg/LaserScan",
+    assert_endpoint(publishers(ros_client, "/scan", node), "mock_lidar", "sensor_msgs/msg/LaserScan",
                     SENSOR_QOS)
-    scan = ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 2)[-1]
+    scan = collect(ros_client, LaserScan, "/scan", SENSOR_QOS, 2)[-1]
     assert scan.header.frame_id == "laser"
     assert list(scan.ranges) == [f32(mm / 1000.0) for mm in synthetic_room.scan_mm()]
     assert (scan.ranges[0], scan.ranges[90], scan.ranges[180], scan.ranges[270]) == (f32(0.8), 1.5, 0.0, 1.0)
@@ -96,9 +98,9 @@ def test_mock_encoder_swings_every_joint_within_its_range(start_node, ros_client
     settings = compiled_node(f'name: "mock_leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
                              f'device_ids: {ids} joint_names: {json.dumps(names)} rate_hz: 50')
     node = start_node(settings)
-    assert_endpoint(ros_client.publishers("/leader/joint_states", process=node), "mock_leader",
+    assert_endpoint(publishers(ros_client, "/leader/joint_states", node), "mock_leader",
                     "sensor_msgs/msg/JointState", DEFAULT_QOS)
-    messages = ros_client.collect(JointState, "/leader/joint_states", DEFAULT_QOS, 10)
+    messages = collect(ros_client, JointState, "/leader/joint_states", DEFAULT_QOS, 10)
     for message in messages:
         assert list(message.name) == names
         assert len(message.velocity) == len(names) and list(message.effort) == [0.0] * len(names)
@@ -115,21 +117,19 @@ def test_mock_actuator_follows_commands_and_publishes_its_state(start_node, ros_
     settings = compiled_node('name: "mock_follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
                              'state_topic: "/follower/state" rate_hz: 100')
     node = start_node(settings)
-    assert_endpoint(ros_client.publishers("/follower/state", process=node), "mock_follower",
+    assert_endpoint(publishers(ros_client, "/follower/state", node), "mock_follower",
                     "sensor_msgs/msg/JointState", DEFAULT_QOS)
-    subscribers = ros_client.subscribers("/follower/command")
+    subscribers = ros_client.subscriptions_info("/follower/command", NODE_START_TIMEOUT_S)
     assert_endpoint(subscribers, "mock_follower", "sensor_msgs/msg/JointState", DEFAULT_QOS)
 
-    from joshua_runtime.qos import qos_profile
-
-    commands = ros_client.node.create_publisher(JointState, "/follower/command", qos_profile(DEFAULT_QOS))
+    commands = ros_client.publisher("/follower/command", JointState, DEFAULT_QOS)
     command = JointState(name=["shoulder_pan", "gripper", "not_a_joint", "elbow_flex"],
                          position=[1.0, 5.0, 3.0, float("nan")])
     expected = {"shoulder_pan": 1.0, "gripper": 1.75}
     settled = None
     for _ in range(100):
         commands.publish(command)
-        state = ros_client.collect(JointState, "/follower/state", DEFAULT_QOS, 1)[0]
+        state = collect(ros_client, JointState, "/follower/state", DEFAULT_QOS, 1)[0]
         present = dict(zip(state.name, state.position))
         if all(abs(present[name] - value) < 1e-3 for name, value in expected.items()):
             settled = present
@@ -145,9 +145,9 @@ def test_lidar_publisher_streams_emulated_turns_and_stops_the_motor(tmp_path, st
     link = tmp_path / "ttyLIDAR"
     with Lds01Emulator(link) as emulator:
         node = start_node(lidar(link, topic="/base/scan", frame_id="lidar_link"))
-        assert_endpoint(ros_client.publishers("/base/scan", process=node), "lidar", "sensor_msgs/msg/LaserScan",
+        assert_endpoint(publishers(ros_client, "/base/scan", node), "lidar", "sensor_msgs/msg/LaserScan",
                         SENSOR_QOS)
-        scans = ros_client.collect(LaserScan, "/base/scan", SENSOR_QOS, 2)
+        scans = collect(ros_client, LaserScan, "/base/scan", SENSOR_QOS, 2)
         for scan in scans:
             assert scan.header.frame_id == "lidar_link"
             assert (scan.ranges[0], scan.ranges[45], scan.ranges[90], scan.ranges[180], scan.ranges[270]) == (
@@ -165,7 +165,7 @@ def test_lidar_publisher_stops_on_sigint_too(tmp_path, start_node, ros_client):
     link = tmp_path / "ttyLIDAR"
     with Lds01Emulator(link):
         node = start_node(lidar(link))
-        ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 1, timeout=30.0)
+        collect(ros_client, LaserScan, "/scan", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
         assert_clean_stop(node, signal.SIGINT)
 
 
@@ -174,7 +174,7 @@ def test_lidar_publisher_exits_3_when_the_device_disappears(tmp_path, start_node
     emulator = Lds01Emulator(link).start()
     try:
         node = start_node(lidar(link))
-        ros_client.collect(LaserScan, "/scan", SENSOR_QOS, 1, timeout=30.0)
+        collect(ros_client, LaserScan, "/scan", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
     finally:
         emulator.stop()
     code, stderr = node.wait()
@@ -227,11 +227,11 @@ def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tm
                              f'video_source: "{video}" width: {width} height: {height} rate_hz: 30 '
                              'frame_id: "front_optical"')
     node = start_node(settings, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
-    assert_endpoint(ros_client.publishers("/front/image", process=node), "front_camera", "sensor_msgs/msg/Image",
+    assert_endpoint(publishers(ros_client, "/front/image", node), "front_camera", "sensor_msgs/msg/Image",
                     SENSOR_QOS)
     # A deep queue on the reader side, so that only the transport could lose frames.
     deep = dict(SENSOR_QOS, depth=60)
-    messages = ros_client.collect(Image, "/front/image", deep, 25)
+    messages = collect(ros_client, Image, "/front/image", deep, 25)
     order = []
     for message in messages:
         assert (message.width, message.height, message.encoding, message.step) == (width, height, "bgr8", width * 3)

@@ -1,7 +1,7 @@
-"""Fixtures of the servo tests: emulated STS3215 buses on ptys and an rclpy probe (start_node: root conftest)."""
+"""Fixtures of the servo tests: emulated STS3215 buses on ptys (start_node and ros_client: root conftest)."""
 
 import pytest
-from servo_helpers import SO100_IDS, RosProbe
+from servo_helpers import SO100_IDS
 
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
@@ -20,10 +20,3 @@ def emulators(tmp_path):
     for emulator in started:
         emulator.stop()
 
-
-@pytest.fixture
-def probe(ros_domain):
-    """An in-process rclpy client in the test's ROS domain."""
-    client = RosProbe()
-    yield client
-    client.close()

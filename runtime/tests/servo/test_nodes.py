@@ -16,13 +16,6 @@ DATA_TIMEOUT_S = 5.0
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 HAND_POSE = [1000, 1500, 2048, 2500, 3000, 3500]
 UNCALIBRATED_MIDDLE = 2047.5
-UNKNOWN_NODE = "_NODE_NAME_UNKNOWN_"
-
-
-def graph_info(probe, query, topic_name):
-    """Endpoint infos of a topic once discovery has learnt the remote node's name."""
-    probe.spin_until(lambda: all(i.node_name != UNKNOWN_NODE for i in query(topic_name)), DATA_TIMEOUT_S)
-    return query(topic_name)
 
 
 def test_missing_serial_port_is_one_line_and_exit_code_3(tmp_path, start_node):
@@ -48,15 +41,15 @@ def test_missing_servo_is_named(emulators, start_node):
     assert stderr == f"leader: error: {bus.link}: no answer from servo id 6\n"
 
 
-def test_encoder_publisher(emulators, start_node, probe):
+def test_encoder_publisher(emulators, start_node, ros_client):
     leader = emulators("ttyLEADER")
     leader.write_register(1, "Torque_Enable", 1)
     node = start_node(compiled_node(f'name: "leader_arm" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
                                     f'serial_port: "{leader.link}" frame_id: "leader_base" rate_hz: 50'))
-    probe.listen("/leader/joint_states", JointState, RELIABLE)
-    assert probe.spin_until(lambda: probe.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
+    ros_client.listen("/leader/joint_states", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
 
-    publishers = graph_info(probe, probe.node.get_publishers_info_by_topic, "/leader/joint_states")
+    publishers = ros_client.publishers_info("/leader/joint_states", DATA_TIMEOUT_S)
     assert [(p.node_name, p.topic_type) for p in publishers] == [("leader_arm", "sensor_msgs/msg/JointState")]
     qos = publishers[0].qos_profile
     assert (qos.reliability, qos.durability) == (ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE)
@@ -67,11 +60,11 @@ def test_encoder_publisher(emulators, start_node, probe):
     expected = [(t - UNCALIBRATED_MIDDLE) * RADIANS_PER_TICK for t in HAND_POSE]
 
     def shows_hand_pose():
-        message = probe.last("/leader/joint_states")
+        message = ros_client.last("/leader/joint_states")
         return list(message.position) == pytest.approx(expected, abs=1e-9)
 
-    assert probe.spin_until(shows_hand_pose, DATA_TIMEOUT_S)
-    message = probe.last("/leader/joint_states")
+    assert ros_client.spin_until(shows_hand_pose, DATA_TIMEOUT_S)
+    message = ros_client.last("/leader/joint_states")
     assert list(message.name) == SO100_JOINTS
     assert message.header.frame_id == "leader_base"
     assert len(message.velocity) == len(message.effort) == 6
@@ -80,7 +73,7 @@ def test_encoder_publisher(emulators, start_node, probe):
     assert code == 0, stderr
 
 
-def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_node, probe, tmp_path):
+def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_node, ros_client, tmp_path):
     follower = emulators("ttyFOLLOWER")
     calibration = {
         name: {"id": i, "drive_mode": 0, "homing_offset": 0, "range_min": 1048, "range_max": 3048}
@@ -91,11 +84,11 @@ def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_n
                              f'serial_port: "{follower.link}" state_topic: "/follower/joint_states" '
                              f'calibration_file: "{tmp_path / "follower.json"}"')
     node = start_node(settings)
-    probe.listen("/follower/joint_states", JointState, RELIABLE)
-    command = probe.node.create_publisher(JointState, "/follower/command", RELIABLE)
-    assert probe.spin_until(lambda: probe.last("/follower/joint_states"), STARTUP_TIMEOUT_S), node.failure()
+    ros_client.listen("/follower/joint_states", JointState, RELIABLE)
+    command = ros_client.publisher("/follower/command", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/follower/joint_states"), STARTUP_TIMEOUT_S), node.failure()
     assert [follower.read_register(i, "Torque_Enable") for i in SO100_IDS] == [1] * 6
-    subscribers = graph_info(probe, probe.node.get_subscriptions_info_by_topic, "/follower/command")
+    subscribers = ros_client.subscriptions_info("/follower/command", DATA_TIMEOUT_S)
     assert [(s.node_name, s.topic_type) for s in subscribers] == [("follower_arm", "sensor_msgs/msg/JointState")]
     assert subscribers[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
 
@@ -107,15 +100,15 @@ def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_n
     def reached():
         return all(follower.position(i) == goal for i, goal in goals.items())
 
-    assert probe.spin_until(reached, DATA_TIMEOUT_S, every=lambda: command.publish(message))
+    assert ros_client.spin_until(reached, DATA_TIMEOUT_S, every=lambda: command.publish(message))
     assert follower.read_register(2, "Goal_Position") == 2048  # absent joints hold still
 
     def state_shows_goals():
-        state = probe.last("/follower/joint_states")
+        state = ros_client.last("/follower/joint_states")
         return state.position[0] == pytest.approx(-0.4, abs=RADIANS_PER_TICK) and state.position[2] == pytest.approx(
             1000 * RADIANS_PER_TICK, abs=1e-9)
 
-    assert probe.spin_until(state_shows_goals, DATA_TIMEOUT_S)
+    assert ros_client.spin_until(state_shows_goals, DATA_TIMEOUT_S)
     assert follower.read_register(1, "Min_Position_Limit") == 1048  # calibration stored in the servos
 
     code, _, stderr = node.stop(signal.SIGTERM)
@@ -123,7 +116,7 @@ def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_n
     assert [follower.read_register(i, "Torque_Enable") for i in SO100_IDS] == [0] * 6
 
 
-def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, start_node, probe, tmp_path):
+def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, start_node, ros_client, tmp_path):
     arm = emulators("ttyCALIB", ids=[1, 2])
     arm.move_by_hand(1, 2500)
     arm.move_by_hand(2, 1000)
@@ -132,22 +125,22 @@ def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, star
                              f'serial_port: "{arm.link}" device_ids: [1, 2] joint_names: ["pan", "lift"] '
                              f'calibration_file: "{path}" rate_hz: 50')
     node = start_node(settings)
-    probe.listen("/arm/limits", JointState, RELIABLE)
-    assert probe.spin_until(lambda: probe.last("/arm/limits"), STARTUP_TIMEOUT_S), node.failure()
+    ros_client.listen("/arm/limits", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/arm/limits"), STARTUP_TIMEOUT_S), node.failure()
     assert arm.position(1) == 2047 and arm.position(2) == 2047  # homed at the middle pose
     assert arm.read_register(1, "Homing_Offset") == 2500 - 2047
 
     def published(limit: str, ticks: int) -> bool:
-        message = probe.last("/arm/limits")
+        message = ros_client.last("/arm/limits")
         return dict(zip(message.name, message.position)).get(limit) == ticks
 
     for servo_id, joint, low, high in ((1, "pan", 1200, 2900), (2, "lift", 300, 3900)):
         arm.move_by_hand(servo_id, low)
-        assert probe.spin_until(lambda: published(f"{joint}.range_min", low), DATA_TIMEOUT_S)
+        assert ros_client.spin_until(lambda: published(f"{joint}.range_min", low), DATA_TIMEOUT_S)
         arm.move_by_hand(servo_id, high)
-        assert probe.spin_until(lambda: published(f"{joint}.range_max", high), DATA_TIMEOUT_S)
+        assert ros_client.spin_until(lambda: published(f"{joint}.range_max", high), DATA_TIMEOUT_S)
         arm.move_by_hand(servo_id, 2047)
-    message = probe.last("/arm/limits")
+    message = ros_client.last("/arm/limits")
     assert list(message.name) == ["pan.range_min", "pan.range_max", "lift.range_min", "lift.range_max"]
     assert list(message.position) == [1200.0, 2900.0, 300.0, 3900.0]
     code, _, stderr = node.stop(signal.SIGINT)
@@ -173,15 +166,15 @@ def test_nodes_release_the_port_and_exit_0_on_sigint(emulators, start_node):
         assert stderr == ""
 
 
-def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulators, start_node, probe):
+def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulators, start_node, ros_client):
     leader = emulators("ttyREPLUG", ids=[1])
     node = start_node(compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
                                     f'serial_port: "{leader.link}" device_ids: [1] joint_names: ["j"]'))
-    probe.listen("/leader/joint_states", JointState, RELIABLE)
-    assert probe.spin_until(lambda: probe.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
+    ros_client.listen("/leader/joint_states", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
 
     leader.stop()
-    probe.spin_until(lambda: False, 0.5)
+    ros_client.spin_until(lambda: False, 0.5)
     leader.move_by_hand(1, 3000)
     leader.write_register(1, "Goal_Position", 3000)
     leader.write_register(1, "Torque_Enable", 1)  # a power-cycled leader must be released again
@@ -189,9 +182,9 @@ def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulato
     expected = (3000 - UNCALIBRATED_MIDDLE) * RADIANS_PER_TICK
 
     def shows_new_position():
-        return abs(probe.last("/leader/joint_states").position[0] - expected) < 1e-9
+        return abs(ros_client.last("/leader/joint_states").position[0] - expected) < 1e-9
 
-    assert probe.spin_until(shows_new_position, DATA_TIMEOUT_S)
+    assert ros_client.spin_until(shows_new_position, DATA_TIMEOUT_S)
     assert node.process.poll() is None
     assert wait_for(lambda: leader.read_register(1, "Torque_Enable") == 0, DATA_TIMEOUT_S)
 
@@ -202,14 +195,14 @@ def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulato
         f"leader: error: {leader.link}: bus failing for 3 s: serial port {leader.link} not found")
 
 
-def test_actuator_keeps_torque_on_at_exit_when_configured(emulators, start_node, probe):
+def test_actuator_keeps_torque_on_at_exit_when_configured(emulators, start_node, ros_client):
     follower = emulators("ttyHOLD")
     settings = compiled_node(f'name: "holding_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/hold/command" '
                              f'serial_port: "{follower.link}" state_topic: "/hold/joint_states" '
                              f'keep_torque_on_exit: true')
     node = start_node(settings)
-    probe.listen("/hold/joint_states", JointState, RELIABLE)
-    assert probe.spin_until(lambda: probe.last("/hold/joint_states"), STARTUP_TIMEOUT_S), node.failure()
+    ros_client.listen("/hold/joint_states", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/hold/joint_states"), STARTUP_TIMEOUT_S), node.failure()
     code, _, stderr = node.stop(signal.SIGINT)
     assert code == 0, stderr
     assert [follower.read_register(i, "Torque_Enable") for i in SO100_IDS] == [1] * 6

@@ -24,7 +24,7 @@ POSES = ([1200, 1800, 2600, 3000, 900, 2300], [2900, 2200, 1500, 1100, 3600, 170
 ROBOT = Path(__file__).resolve().parents[3] / "config" / "robots" / "so100_leader_follower.pbtxt"
 
 
-def test_follower_tracks_the_leader(emulators, start_node, probe):
+def test_follower_tracks_the_leader(emulators, start_node, ros_client):
     leader_bus = emulators("ttyUSB0")
     follower_bus = emulators("ttyUSB1")
     settings = compiled_settings(ROBOT.read_text(), [f"encoder_publisher.serial_port={leader_bus.link}",
@@ -32,20 +32,14 @@ def test_follower_tracks_the_leader(emulators, start_node, probe):
                                  path=str(ROBOT))
     leader = start_node(settings["encoder_publisher"])
     follower = start_node(settings["actuator_subscriber"])
-    probe.listen(LEADER_TOPIC, JointState, RELIABLE)
-
-    def endpoints_known():
-        publishers = probe.node.get_publishers_info_by_topic(LEADER_TOPIC)
-        subscribers = probe.node.get_subscriptions_info_by_topic(LEADER_TOPIC)
-        names = {i.node_name for i in publishers + subscribers}
-        return probe.last(LEADER_TOPIC) is not None and {"encoder_publisher", "actuator_subscriber"} <= names
-
-    assert probe.spin_until(endpoints_known, STARTUP_TIMEOUT_S), (leader.failure(), follower.failure())
-    (publisher,) = probe.node.get_publishers_info_by_topic(LEADER_TOPIC)
+    ros_client.listen(LEADER_TOPIC, JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last(LEADER_TOPIC) is not None, STARTUP_TIMEOUT_S), (
+        leader.failure(), follower.failure())
+    (publisher,) = ros_client.publishers_info(LEADER_TOPIC, STARTUP_TIMEOUT_S)
     assert (publisher.node_name, publisher.topic_type) == ("encoder_publisher", "sensor_msgs/msg/JointState")
     assert publisher.qos_profile.reliability == ReliabilityPolicy.RELIABLE
     assert publisher.qos_profile.durability == DurabilityPolicy.VOLATILE
-    followers = [s for s in probe.node.get_subscriptions_info_by_topic(LEADER_TOPIC) if s.node_name != "servo_probe"]
+    followers = ros_client.subscriptions_info(LEADER_TOPIC, STARTUP_TIMEOUT_S)  # the client's own left out
     assert [(s.node_name, s.topic_type) for s in followers] == [("actuator_subscriber", "sensor_msgs/msg/JointState")]
     assert followers[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
     assert [follower_bus.read_register(i, "Torque_Enable") for i in SO100_IDS] == [1] * 6
@@ -62,12 +56,12 @@ def test_follower_tracks_the_leader(emulators, start_node, probe):
         assert [follower_bus.read_register(i, "Goal_Position") for i in SO100_IDS] == pose
 
         def published_pose():
-            message = probe.last(LEADER_TOPIC)
+            message = ros_client.last(LEADER_TOPIC)
             expected = [(t - 2047.5) * RADIANS_PER_TICK for t in pose]
             return all(abs(p - e) < 1e-9 for p, e in zip(message.position, expected))
 
-        assert probe.spin_until(published_pose, TRACKING_TIMEOUT_S)
-        assert list(probe.last(LEADER_TOPIC).name) == SO100_JOINTS
+        assert ros_client.spin_until(published_pose, TRACKING_TIMEOUT_S)
+        assert list(ros_client.last(LEADER_TOPIC).name) == SO100_JOINTS
 
     for node in (leader, follower):
         code, _, stderr = node.stop(signal.SIGINT)

@@ -18,7 +18,7 @@ from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
 import sim_settings
-from sim_ros import RELIABLE, SENSOR, STARTUP_TIMEOUT_S, Client
+from sim_ros import DISCOVERY_TIMEOUT_S, RELIABLE, SENSOR, STARTUP_TIMEOUT_S
 
 GOAL = [0.8, 0.3, 0.2, -0.4, 1.2, 0.7]
 TRACKING_TOLERANCE_RAD = 0.02
@@ -26,13 +26,6 @@ CONVERGE_TIMEOUT_S = 20.0
 COMMAND_PERIOD_S = 0.1
 # Standard deviation of pixel values above which a frame is a real render, not a blank fill.
 MIN_PIXEL_STD = 10.0
-
-@pytest.fixture
-def client(ros_domain):
-    client = Client()
-    yield client
-    client.close()
-
 
 @pytest.fixture
 def arm_process(start_node):
@@ -49,19 +42,19 @@ def _converged(msg: JointState | None) -> bool:
     return positions is not None and all(abs(p - g) < TRACKING_TOLERANCE_RAD for p, g in zip(positions, GOAL))
 
 
-def test_simulated_arm_camera_and_lidar(client, arm_process):
-    client.listen("/arm/joint_states", JointState, RELIABLE)
-    client.listen("/arm/present", JointState, RELIABLE)
-    client.listen("/camera/image_raw", Image, SENSOR)
-    client.listen("/wrist/image/compressed", CompressedImage, SENSOR)
-    client.listen("/scan", LaserScan, SENSOR)
-    command = client.node.create_publisher(JointState, "/arm/command", RELIABLE)
+def test_simulated_arm_camera_and_lidar(ros_client, arm_process):
+    ros_client.listen("/arm/joint_states", JointState, RELIABLE)
+    ros_client.listen("/arm/present", JointState, RELIABLE)
+    ros_client.listen("/camera/image_raw", Image, SENSOR)
+    ros_client.listen("/wrist/image/compressed", CompressedImage, SENSOR)
+    ros_client.listen("/scan", LaserScan, SENSOR)
+    command = ros_client.publisher("/arm/command", JointState, RELIABLE)
     topics = ("/arm/joint_states", "/arm/present", "/camera/image_raw", "/wrist/image/compressed", "/scan")
-    started = client.spin_until(lambda: all(t in client.last for t in topics), STARTUP_TIMEOUT_S)
-    assert started, f"no message on {[t for t in topics if t not in client.last]}; {arm_process.failure()}"
+    started = ros_client.spin_until(lambda: all(ros_client.last(t) is not None for t in topics), STARTUP_TIMEOUT_S)
+    assert started, f"no message on {[t for t in topics if ros_client.last(t) is None]}; {arm_process.failure()}"
 
     # Present states: SO-100 names, at rest near zero, efforts as fractions of the force limit.
-    state = client.last["/arm/joint_states"]
+    state = ros_client.last("/arm/joint_states")
     assert list(state.name) == sim_settings.SO100_JOINTS
     assert state.header.frame_id == "base_link"
     assert _positions(state) == pytest.approx([0.0] * 6, abs=TRACKING_TOLERANCE_RAD)
@@ -74,27 +67,27 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
         command.publish(msg)
 
     throttle = _Throttle(COMMAND_PERIOD_S, send)
-    converged = client.spin_until(
-        lambda: _converged(client.last.get("/arm/joint_states")) and _converged(client.last.get("/arm/present")),
+    converged = ros_client.spin_until(
+        lambda: _converged(ros_client.last("/arm/joint_states")) and _converged(ros_client.last("/arm/present")),
         CONVERGE_TIMEOUT_S, every=throttle,
     )
-    assert converged, f"states {_positions(client.last['/arm/joint_states'])} did not reach {GOAL}"
+    assert converged, f"states {_positions(ros_client.last('/arm/joint_states'))} did not reach {GOAL}"
 
-    image = client.last["/camera/image_raw"]
+    image = ros_client.last("/camera/image_raw")
     assert (image.width, image.height, image.encoding, image.step) == (320, 240, "rgb8", 960)
     assert image.header.frame_id == "camera"
     pixels = np.frombuffer(bytes(image.data), dtype=np.uint8).reshape(240, 320, 3)
     assert pixels.std() > MIN_PIXEL_STD
 
     # The wrist camera renders the model's "wrist" camera (its frame_id) as JPEG.
-    jpeg = client.last["/wrist/image/compressed"]
+    jpeg = ros_client.last("/wrist/image/compressed")
     assert jpeg.format == "rgb8; jpeg compressed bgr8"
     assert jpeg.header.frame_id == "wrist"
     wrist = cv2.imdecode(np.frombuffer(bytes(jpeg.data), dtype=np.uint8), cv2.IMREAD_COLOR)
     assert wrist.shape == (120, 160, 3)
     assert wrist.std() > MIN_PIXEL_STD
 
-    scan = client.last["/scan"]
+    scan = ros_client.last("/scan")
     assert len(scan.ranges) == 360 and len(scan.intensities) == 360
     assert (scan.angle_min, scan.range_min, scan.range_max) == (0.0, pytest.approx(0.12), pytest.approx(3.5))
     assert scan.angle_increment == pytest.approx(2 * math.pi / 360)
@@ -103,7 +96,7 @@ def test_simulated_arm_camera_and_lidar(client, arm_process):
     assert scan.ranges[180] == pytest.approx(1.23, abs=1e-4)
     assert all(0.12 <= r <= 3.5 for r in scan.ranges)
 
-    _assert_endpoints(client.node)
+    _assert_endpoints(ros_client)
 
     code, _, stderr = arm_process.stop(signal.SIGINT)
     assert code == 0, stderr
@@ -123,7 +116,7 @@ class _Throttle:
             self.action()
 
 
-def _assert_endpoints(node) -> None:
+def _assert_endpoints(ros_client) -> None:
     """Types and QoS of the simulated endpoints are those the real nodes declare."""
     expected = {
         "/arm/joint_states": ("sensor_msgs/msg/JointState", ReliabilityPolicy.RELIABLE),
@@ -133,23 +126,25 @@ def _assert_endpoints(node) -> None:
         "/scan": ("sensor_msgs/msg/LaserScan", ReliabilityPolicy.BEST_EFFORT),
     }
     for topic, (message_type, reliability) in expected.items():
-        infos = [i for i in node.get_publishers_info_by_topic(topic) if i.node_name == "simulation"]
+        infos = [i for i in ros_client.publishers_info(topic, DISCOVERY_TIMEOUT_S) if i.node_name == "simulation"]
         assert len(infos) == 1, topic
         assert infos[0].topic_type == message_type
         assert infos[0].qos_profile.reliability == reliability
         assert infos[0].qos_profile.durability == DurabilityPolicy.VOLATILE
-    subscriptions = [i for i in node.get_subscriptions_info_by_topic("/arm/command") if i.node_name == "simulation"]
+    subscriptions = [i for i in ros_client.subscriptions_info("/arm/command", DISCOVERY_TIMEOUT_S)
+                     if i.node_name == "simulation"]
     assert len(subscriptions) == 1
     assert subscriptions[0].topic_type == "sensor_msgs/msg/JointState"
     assert subscriptions[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
 
 
-def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node, client):
+def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node, ros_client):
     process = start_node(sim_settings.simulation(sim_settings.CALIBRATION))
     try:
-        client.listen("/arm/limits", JointState, RELIABLE)
-        assert client.spin_until(lambda: "/arm/limits" in client.last, STARTUP_TIMEOUT_S), process.failure()
-        limits = client.last["/arm/limits"]
+        ros_client.listen("/arm/limits", JointState, RELIABLE)
+        received = ros_client.spin_until(lambda: ros_client.last("/arm/limits") is not None, STARTUP_TIMEOUT_S)
+        assert received, process.failure()
+        limits = ros_client.last("/arm/limits")
         assert list(limits.name) == ["shoulder_pan.range_min", "shoulder_pan.range_max",
                                      "gripper.range_min", "gripper.range_max"]
         # +-1.92 rad and -0.17..1.75 rad in ticks of 2 pi / 4095, the middle of each range at 2047.

@@ -10,7 +10,7 @@ from sensor_msgs.msg import JointState
 import sim_settings
 from joshua_runtime.sim.scripted_motion import CYCLE_S, KEYFRAMES, SO100_JOINTS, scripted_positions
 from testsupport.node_process import stop_process
-from sim_ros import RELIABLE, STARTUP_TIMEOUT_S, Client
+from sim_ros import RELIABLE, STARTUP_TIMEOUT_S
 from sim_settings import SO100_RANGES
 
 # Sample spacing of the smoothness check and the largest joint change allowed over it.
@@ -42,29 +42,28 @@ def test_motion_is_smooth_and_inside_the_joint_ranges():
         previous = pose
 
 
-def test_scripted_motion_drives_the_simulated_arm(ros_env, ros_domain, start_node):
+def test_scripted_motion_drives_the_simulated_arm(ros_env, start_node, ros_client):
     simulation = start_node(sim_settings.simulation(sim_settings.ACTUATOR)).process
     motion = subprocess.Popen(
         [sys.executable, "-m", "joshua_runtime.sim.scripted_motion", "--topic", "/arm/command", "--rate-hz", "50"],
         env=ros_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )
-    client = Client()
     try:
-        client.listen("/arm/present", JointState, RELIABLE)
-        client.listen("/arm/command", JointState, RELIABLE)
-        assert client.spin_until(lambda: "/arm/present" in client.last and "/arm/command" in client.last,
-                                 STARTUP_TIMEOUT_S)
+        ros_client.listen("/arm/present", JointState, RELIABLE)
+        ros_client.listen("/arm/command", JointState, RELIABLE)
+        assert ros_client.spin_until(lambda: ros_client.count("/arm/present") and ros_client.count("/arm/command"),
+                                     STARTUP_TIMEOUT_S)
         # Watch the present states for one loop: the arm must come down over the cube.
         lowered = KEYFRAMES[1][1]
 
         def reached_lowered_pose():
-            present = list(client.last["/arm/present"].position)
+            present = list(ros_client.last("/arm/present").position)
             return all(abs(p - g) < LOWERED_TOLERANCE_RAD for p, g in zip(present[:4], lowered[:4]))
 
-        assert client.spin_until(reached_lowered_pose, CYCLE_S + LOWERED_AT_S), list(client.last["/arm/present"].position)
-        assert list(client.last["/arm/command"].name) == list(SO100_JOINTS)
+        assert ros_client.spin_until(reached_lowered_pose, CYCLE_S + LOWERED_AT_S), list(
+            ros_client.last("/arm/present").position)
+        assert list(ros_client.last("/arm/command").name) == list(SO100_JOINTS)
     finally:
-        client.close()
         for process in (motion, simulation):
             code, _, stderr = stop_process(process, signal.SIGINT)
             assert code == 0, stderr
