@@ -15,6 +15,7 @@ from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 
 from testsupport.compiled_settings import compiled_node
+from testsupport.joshuac_cli import ROOT
 from sensor_support import (
     DEFAULT_QOS, NODE_START_TIMEOUT_S, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, collect, publishers,
 )
@@ -212,7 +213,8 @@ def test_camera_publisher_without_its_camera_exits_3_with_one_line(start_node):
 def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tmp_path, start_node, ros_client):
     """A video file stands in for the camera; the Fast DDS profile carries the 921,600-byte images."""
     import cv2
-    from joshua_codegen.render import template
+    from joshua_codegen.compile import compile_file
+    from joshua_codegen.emitters.fastdds import PROFILE_PATH
     from sensor_msgs.msg import Image
 
     width, height, colours = 640, 480, [(0, 0, 255), (0, 255, 0), (255, 0, 0), (0, 255, 255), (255, 255, 255)]
@@ -221,8 +223,8 @@ def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tm
     for colour in colours:
         writer.write(np.full((height, width, 3), colour, np.uint8))
     writer.release()
-    profile = tmp_path / "fastdds_profile.xml"
-    profile.write_text(template("fastdds_profile.xml.j2"))
+    profile = tmp_path / PROFILE_PATH  # the one joshuac writes for every robot
+    profile.write_text(compile_file(str(ROOT / "config" / "robots" / "so100_arm.pbtxt")).files[PROFILE_PATH])
     settings = compiled_node(f'name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" '
                              f'video_source: "{video}" width: {width} height: {height} rate_hz: 30 '
                              'frame_id: "front_optical"')
