@@ -16,49 +16,42 @@ def received(log, name):
     return [text for node, _, text in events(log) if node == name and text.startswith("got ")]
 
 
-def test_cooperative_nodes_stop_on_sigint_and_the_supervisor_exits_0(tmp_path):
-    log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("a", log), custom_node("b", log)]))
-    supervisor = Supervisor(out)
+def stop_after_start(tmp_path, nodes, starts=None, signum=signal.SIGINT, **graces) -> tuple[int, str]:
+    """Run a robot of `nodes` (logging to tmp_path/events.log) until `starts` processes started (one per
+    node unless given), send `signum` to the supervisor; its exit code and log."""
+    supervisor = Supervisor(build(tmp_path, robot(nodes, **graces)))
     try:
-        started(log, 2)
-        supervisor.signal(signal.SIGINT)
-        assert supervisor.wait() == 0
+        started(tmp_path / "events.log", len(nodes) if starts is None else starts)
+        supervisor.signal(signum)
+        return supervisor.wait(), supervisor.log()
     finally:
         supervisor.close()
+
+
+def test_cooperative_nodes_stop_on_sigint_and_the_supervisor_exits_0(tmp_path):
+    log = tmp_path / "events.log"
+    code, text = stop_after_start(tmp_path, [custom_node("a", log), custom_node("b", log)])
+    assert code == 0
     assert received(log, "a") == ["got SIGINT exit"]
     assert received(log, "b") == ["got SIGINT exit"]
-    assert "escalating" not in supervisor.log()
+    assert "escalating" not in text
 
 
 def test_sigterm_to_the_supervisor_also_starts_with_sigint_to_the_nodes(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("a", log)]))
-    supervisor = Supervisor(out)
-    try:
-        started(log, 1)
-        supervisor.signal(signal.SIGTERM)
-        assert supervisor.wait() == 0
-    finally:
-        supervisor.close()
+    code, text = stop_after_start(tmp_path, [custom_node("a", log)], signum=signal.SIGTERM)
+    assert code == 0
     assert received(log, "a") == ["got SIGINT exit"]
-    assert "received SIGTERM: stopping every node" in supervisor.log()
+    assert "received SIGTERM: stopping every node" in text
 
 
 def test_node_ignoring_sigint_gets_sigterm_after_the_sigint_grace(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("stubborn", log, "SIGINT=ignore"), custom_node("a", log)],
-                                sigint=GRACE_S, sigterm=GRACE_S))
-    supervisor = Supervisor(out)
-    try:
-        started(log, 2)
-        supervisor.signal(signal.SIGINT)
-        assert supervisor.wait() == 1
-    finally:
-        supervisor.close()
+    code, text = stop_after_start(tmp_path, [custom_node("stubborn", log, "SIGINT=ignore"), custom_node("a", log)],
+                                  sigint=GRACE_S, sigterm=GRACE_S)
+    assert code == 1
     assert received(log, "stubborn") == ["got SIGINT ignore", "got SIGTERM exit"]
     assert received(log, "a") == ["got SIGINT exit"]
-    text = supervisor.log()
     [stop] = log_times(text, r"supervisor: received SIGINT")
     [term] = log_times(text, r"stubborn: still running: escalating to SIGTERM")
     assert GRACE_S <= term - stop < GRACE_S + SLACK_S
@@ -67,17 +60,10 @@ def test_node_ignoring_sigint_gets_sigterm_after_the_sigint_grace(tmp_path):
 
 def test_node_ignoring_sigint_and_sigterm_is_killed_after_both_graces(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore")],
-                                sigint=GRACE_S, sigterm=GRACE_S))
-    supervisor = Supervisor(out)
-    try:
-        started(log, 1)
-        supervisor.signal(signal.SIGINT)
-        assert supervisor.wait() == 1
-    finally:
-        supervisor.close()
+    code, text = stop_after_start(tmp_path, [custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore")],
+                                  sigint=GRACE_S, sigterm=GRACE_S)
+    assert code == 1
     assert received(log, "deaf") == ["got SIGINT ignore", "got SIGTERM ignore"]
-    text = supervisor.log()
     [stop] = log_times(text, r"supervisor: received SIGINT")
     [kill] = log_times(text, r"deaf: still running: escalating to SIGKILL")
     assert 2 * GRACE_S <= kill - stop < 2 * GRACE_S + SLACK_S
@@ -102,33 +88,21 @@ def test_a_second_stop_request_skips_to_the_next_step(tmp_path):
 
 def test_grandchildren_in_the_node_group_get_the_cascade_too(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("parent", log, "grandchild=ignore")]))
-    supervisor = Supervisor(out)
-    try:
-        started(log, 2)
-        supervisor.signal(signal.SIGINT)
-        assert supervisor.wait() == 1
-    finally:
-        supervisor.close()
+    code, text = stop_after_start(tmp_path, [custom_node("parent", log, "grandchild=ignore")], starts=2)
+    assert code == 1
     [grandchild] = [pid for name, pid, text in events(log) if name == "parent/grandchild"]
     assert not alive(grandchild)
     assert received(log, "parent") == ["got SIGINT exit"]
-    assert "parent: still running: escalating to SIGKILL" in supervisor.log()
+    assert "parent: still running: escalating to SIGKILL" in text
 
 
 def test_a_grandchild_that_left_its_group_is_stopped_as_a_leftover(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("parent", log, "grandchild=escape")]))
-    supervisor = Supervisor(out)
-    try:
-        started(log, 2)
-        supervisor.signal(signal.SIGINT)
-        assert supervisor.wait() == 1
-    finally:
-        supervisor.close()
+    code, text = stop_after_start(tmp_path, [custom_node("parent", log, "grandchild=escape")], starts=2)
+    assert code == 1
     [grandchild] = [pid for name, pid, text in events(log) if name == "parent/grandchild"]
     assert not alive(grandchild)
-    assert f"sending SIGKILL to leftover process {grandchild}" in supervisor.log()
+    assert f"sending SIGKILL to leftover process {grandchild}" in text
 
 
 def test_duration_runs_the_robot_then_stops_it_cleanly(tmp_path):
