@@ -3,18 +3,16 @@
 The only module of the compiler that touches the disk for output.
 """
 
-import ctypes
 import difflib
 import os
 import shutil
 import tempfile
 from pathlib import Path
 
+from joshua_codegen.atomic import exchange_directories
 from joshua_codegen.render import is_executable
 
 MARKER = "manifest.json"  # an output directory joshuac may replace always holds this file
-_RENAME_EXCHANGE = 2
-_AT_FDCWD = -100
 
 
 class OutputError(Exception):
@@ -23,17 +21,6 @@ class OutputError(Exception):
 
 def _file_mode(path: str) -> int:
     return 0o755 if is_executable(path) else 0o644
-
-
-def _exchange(a: Path, b: Path) -> bool:
-    """Swap two directories atomically with renameat2(RENAME_EXCHANGE); False where unsupported."""
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        renameat2 = libc.renameat2
-    except (OSError, AttributeError):
-        return False
-    result = renameat2(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE)
-    return result == 0
 
 
 def _check_replaceable(out: Path) -> None:
@@ -61,7 +48,7 @@ def write_tree(files: dict[str, str], out: Path) -> None:
             os.chmod(target, _file_mode(relative))
         for directory in [staging, *(p for p in staging.rglob("*") if p.is_dir())]:
             os.chmod(directory, 0o755)
-        if out.is_dir() and _exchange(staging, out):
+        if out.is_dir() and exchange_directories(staging, out):
             shutil.rmtree(staging)  # now holds the previous output
             return
         if out.is_dir():

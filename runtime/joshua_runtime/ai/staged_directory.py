@@ -8,11 +8,11 @@ kernel or file system cannot exchange, the old version is first renamed to `<dir
 between the two renames is repaired by `recover()`, which the recorder runs at start.
 """
 
-import ctypes
-import errno
 import os
 import shutil
 from pathlib import Path
+
+from joshua_codegen.atomic import exchange_directories
 
 STAGING_SUFFIX = ".staging"
 RETIRED_SUFFIX = ".retired"
@@ -21,9 +21,6 @@ _LINKED_TOP_LEVEL = ("data", "videos")
 _LINKED_META = ("meta", "episodes")
 # Scratch space LeRobot uses while writing an episode: never copied, removed before commit.
 _SCRATCH = ("images",)
-
-_AT_FDCWD = -100
-_RENAME_EXCHANGE = 2
 
 
 def staging_path(target: Path) -> Path:
@@ -81,7 +78,7 @@ def commit(target: Path) -> None:
         os.rename(staging, target)
         _fsync_directory(target.parent)
         return
-    if _exchange(staging, target):
+    if exchange_directories(staging, target):
         _fsync_directory(target.parent)
         shutil.rmtree(staging, ignore_errors=True)
         return
@@ -99,22 +96,6 @@ def discard(target: Path) -> None:
 def _never_rewritten(relative: Path) -> bool:
     parts = relative.parts
     return parts[0] in _LINKED_TOP_LEVEL or tuple(parts[:2]) == _LINKED_META
-
-
-def _exchange(first: Path, second: Path) -> bool:
-    """Swap two directories atomically; False when the system cannot."""
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        renameat2 = libc.renameat2
-    except (OSError, AttributeError):
-        return False
-    result = renameat2(_AT_FDCWD, os.fsencode(first), _AT_FDCWD, os.fsencode(second), _RENAME_EXCHANGE)
-    if result == 0:
-        return True
-    code = ctypes.get_errno()
-    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.EXDEV):
-        return False
-    raise OSError(code, f"cannot exchange {first} and {second}: {os.strerror(code)}")
 
 
 def _fsync_tree(root: Path) -> None:
