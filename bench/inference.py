@@ -29,9 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
+from joshua_runtime import so100
 from support.described_nodes import compiled_settings, node_command
 
-JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+JOINTS = list(so100.SO100_JOINTS)
 # Only the policy node runs: this process publishes in place of the camera and the follower arm,
 # with their topics and QoS (the camera reliable, as the policy's image input has always been
 # published here). The policy directory and the image size are set per run (`--set`).

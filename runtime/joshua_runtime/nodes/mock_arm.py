@@ -2,15 +2,8 @@
 
 import math
 
-# Approximate SO-100/101 joint ranges in rad (spec/protocols.md section 3).
-SO100_RANGES = {
-    "shoulder_pan": (-1.92, 1.92),
-    "shoulder_lift": (-1.75, 1.75),
-    "elbow_flex": (-1.69, 1.69),
-    "wrist_flex": (-1.66, 1.66),
-    "wrist_roll": (-2.74, 2.74),
-    "gripper": (-0.17, 1.75),
-}
+from joshua_runtime.so100 import SO100_RANGES
+
 OTHER_JOINT_RANGE = (-1.0, 1.0)  # a joint name the SO-100 does not have
 # Sinusoid of joint i: amplitude SWING_FRACTION of the half range, period BASE_PERIOD_S * (1 + i / 4).
 SWING_FRACTION = 0.8

@@ -10,11 +10,12 @@ import numpy as np
 from sensor_msgs.msg import Image, JointState
 from std_msgs.msg import String
 
+from joshua_runtime import so100
 from ai_support import (
     LINE_TIMEOUT_S, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image,
 )
 
-SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+SO100_JOINTS = list(so100.SO100_JOINTS)
 HEIGHT, WIDTH = 24, 32
 SENSOR_HZ = 30.0
 RECORD_HZ = 10.0

@@ -4,6 +4,7 @@ Node settings come from the compiler (testsupport/compiled_settings.py), node pr
 testsupport/node_process.py and the in-process rclpy client from testsupport/ros_client.py.
 """
 
+from joshua_runtime import so100
 from testsupport.node_process import NodeProcess
 from testsupport.ros_client import RosClient
 
@@ -14,7 +15,7 @@ SHUTDOWN_CONTRACT_S = 0.5  # every node exits within this after SIGINT/SIGTERM (
 # The QoS joshuac gives camera and lidar publishers, and every other node, when the description sets none.
 SENSOR_QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
 DEFAULT_QOS = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+SO100_JOINTS = list(so100.SO100_JOINTS)
 
 
 def publishers(client: RosClient, topic: str, node: NodeProcess) -> list:

@@ -6,7 +6,9 @@ testsupport/node_process.py and the in-process rclpy client from testsupport/ros
 
 import time
 
-SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+from joshua_runtime import so100
+
+SO100_JOINTS = list(so100.SO100_JOINTS)
 SO100_IDS = [1, 2, 3, 4, 5, 6]
 WAIT_POLL_S = 0.02
 

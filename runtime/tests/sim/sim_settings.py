@@ -4,18 +4,11 @@ Each hardware node is a `node { }` block of the description; `simulation(...)` p
 in a robot and returns the settings of the engine that stands in for them.
 """
 
+from joshua_runtime import so100
 from testsupport.compiled_settings import compiled_settings
 
-SO100_JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
-# spec/protocols.md section 3.
-SO100_RANGES = {
-    "shoulder_pan": (-1.92, 1.92),
-    "shoulder_lift": (-1.75, 1.75),
-    "elbow_flex": (-1.69, 1.69),
-    "wrist_flex": (-1.66, 1.66),
-    "wrist_roll": (-2.74, 2.74),
-    "gripper": (-0.17, 1.75),
-}
+SO100_JOINTS = list(so100.SO100_JOINTS)
+SO100_RANGES = so100.SO100_RANGES
 
 ENCODER = """
   node {

@@ -10,9 +10,10 @@ import pytest
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.engine import SimulationEngine
+from joshua_runtime import so100
 from joshua_runtime.sim.model import load_model
 
-JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+JOINTS = list(so100.SO100_JOINTS)
 # A pose clear of the table, away from zero on every joint.
 GOAL = [0.8, 0.3, 0.2, -0.4, 1.2, 0.7]
 TRACKING_TOLERANCE_RAD = 0.01
