@@ -13,8 +13,11 @@ from testsupport.node_process import NodeProcess
 
 @pytest.fixture
 def ros_env(request) -> dict:
-    """Environment for ROS processes of this test: its own domain id, discovery on localhost only."""
-    domain = zlib.crc32(request.node.nodeid.encode()) % 200 + 20
+    """Environment for ROS processes of this test: its own domain id, discovery on localhost only.
+
+    The id mixes in the checkout's path, so two checkouts testing at once on one machine stay apart.
+    """
+    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
     env = dict(os.environ)
     env["ROS_DOMAIN_ID"] = str(domain)
     env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
