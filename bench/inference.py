@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from joshua_runtime import so100
+from joshua_core import so100
 from support.described_nodes import compiled_settings, node_command
 
 JOINTS = list(so100.SO100_JOINTS)

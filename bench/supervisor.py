@@ -27,7 +27,7 @@ from google.protobuf import text_format  # noqa: E402
 
 from joshua_codegen.plan import plan  # noqa: E402
 from joshua_codegen.render import render  # noqa: E402
-from joshua_codegen.schema import RobotDescription  # noqa: E402
+from joshua_core.schema import RobotDescription  # noqa: E402
 from joshua_codegen.write import write_tree  # noqa: E402
 
 BIN = Path(sys.executable).parent

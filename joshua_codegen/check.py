@@ -15,7 +15,7 @@ from joshua_codegen.load import NOT_TEXT, UNREADABLE_FILE, load_text
 from joshua_codegen.overrides import OVERRIDE_PATH, apply_overrides
 from joshua_codegen.rules import run_rules
 from joshua_codegen.rules.context import RuleContext
-from joshua_codegen.schema import RobotDescription
+from joshua_core.schema import RobotDescription
 
 BYTE_ORDER_MARK = "\ufeff"
 

@@ -1,20 +1,15 @@
 """The defaults of every unset field, per node type: the one place both rules and model read them."""
 
-from joshua_codegen.schema import robot_config_pb2 as pb
-
-SO100_JOINTS = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper")
-STS3215_BAUD_RATES = (1_000_000, 500_000, 250_000, 128_000, 115_200, 76_800, 57_600, 38_400)
-LDS01_BAUD_RATE = 230_400
+from joshua_core.devices import LDS01_BAUD_RATE, STS3215_BAUD_RATES, STS3215_DEFAULT_BAUD_RATE
+from joshua_core.models import BUILTIN_MODELS, BUILTIN_PREFIX, GL_BACKENDS, REGISTRY_PREFIX
+from joshua_core.schema import robot_config_pb2 as pb
+from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
 SIGINT_GRACE_S = 5.0
 SIGTERM_GRACE_S = 2.0
 MAX_RESTARTS = 5
 CPP_BIN_DIR = "/opt/joshua/bin"
 PYTHON_EXECUTABLE = "python3"
 SIMULATION_NAME = "simulation"
-# MJCF models shipped with joshua_runtime (`builtin:NAME`), and the offscreen GL backends it can use.
-BUILTIN_PREFIX = "builtin:"
-BUILTIN_MODELS = ("so100",)
-GL_BACKENDS = ("egl", "osmesa")
 
 NodeType = pb.NodeType
 CAMERAS = {pb.CAMERA_PUBLISHER, pb.MOCK_CAMERA_PUBLISHER}
@@ -135,13 +130,13 @@ def baud_rate(node: pb.Node) -> int:
         return node.baud_rate
     if node.type in LIDARS:
         return LDS01_BAUD_RATE
-    return 1_000_000 if node.type in SERVO_BUS | ACTUATORS | ENCODERS else 0
+    return STS3215_DEFAULT_BAUD_RATE if node.type in SERVO_BUS | ACTUATORS | ENCODERS else 0
 
 
 def device_ids(node: pb.Node) -> list[int]:
     if node.device_ids:
         return list(node.device_ids)
-    return [1, 2, 3, 4, 5, 6] if node.type in SERVO_BUS | ACTUATORS | ENCODERS else []
+    return list(SO100_SERVO_IDS) if node.type in SERVO_BUS | ACTUATORS | ENCODERS else []
 
 
 def joint_names(node: pb.Node) -> list[str]:

@@ -14,7 +14,7 @@ from google.protobuf.descriptor import Descriptor, FieldDescriptor
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, Related
 from joshua_codegen.positions import Location, Path, SourceMap
-from joshua_codegen.schema import RobotConfig, RobotDescription
+from joshua_core.schema import RobotConfig, RobotDescription
 from joshua_codegen.syntax import Block, Field, ListValue, Scalar, SyntaxProblem, Token, parse_syntax
 from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, shown, suggest
 

@@ -17,7 +17,7 @@ from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR, Diagnostic
 from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, suggest
 from joshua_codegen.positions import Location, Path, SourceMap
-from joshua_codegen.schema import RobotConfig, RobotDescription
+from joshua_core.schema import RobotConfig, RobotDescription
 from joshua_codegen.syntax import Scalar, Token
 
 OVERRIDE_PATH = "--set"

@@ -5,7 +5,7 @@ import os
 from joshua_codegen import defaults
 from joshua_codegen.ros_names import resolve_topic
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
-from joshua_codegen.schema import robot_config_pb2 as pb
+from joshua_core.schema import robot_config_pb2 as pb
 
 _QOS_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
 _BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
@@ -174,7 +174,7 @@ def _devices(node: pb.Node, name: str):
         elif not node.video_source:
             index = node.camera_index if node.HasField("camera_index") else 0
             yield Device("camera", f"/dev/video{index}", name)
-    if node.type == pb.INFERENCE and node.model_path and not node.model_path.startswith("registry:"):
+    if node.type == pb.INFERENCE and node.model_path and not node.model_path.startswith(defaults.REGISTRY_PREFIX):
         yield Device("model", node.model_path, name)
 
 

@@ -9,7 +9,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from joshua_codegen.atomic import exchange_directories
+from joshua_core.atomic import exchange_directories
 from joshua_codegen.render import is_executable
 
 MARKER = "manifest.json"  # an output directory joshuac may replace always holds this file

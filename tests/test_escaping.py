@@ -6,7 +6,7 @@ from hypothesis import given, settings, strategies as st
 
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
-from joshua_codegen.schema import RobotDescription, robot_config_pb2 as pb
+from joshua_core.schema import RobotDescription, robot_config_pb2 as pb
 
 NASTY = st.text(alphabet=st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=40) | st.sampled_from(
     ['"""', "'''", "\n\nimport os; os.system('rm -rf /')", "${HOME}", "\\", "%(here)s", "\r\n#", "\x00", "}}{{"])

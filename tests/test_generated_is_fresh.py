@@ -31,6 +31,6 @@ def test_schema_modules_match_the_proto_files(tmp_path):
                    env={"PATH": f"{ROOT / '.venv' / 'bin'}:/usr/bin:/bin"})
     fresh = sorted(p.name for p in tmp_path.iterdir())
     assert fresh
-    committed = ROOT / "joshua_codegen" / "schema"
+    committed = ROOT / "core" / "joshua_core" / "schema"
     _, mismatch, errors = filecmp.cmpfiles(tmp_path, committed, fresh, shallow=False)
     assert not mismatch and not errors, f"schema modules are stale ({mismatch + errors}); refresh with: {REFRESH_PROTO}"

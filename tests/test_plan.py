@@ -8,7 +8,7 @@ from testsupport.joshuac_cli import ROOT
 from joshua_codegen.emitters.manifest import manifest
 from joshua_codegen.plan import plan
 from joshua_codegen.render import Context, render
-from joshua_codegen.schema import RobotDescription, robot_config_pb2 as pb
+from joshua_core.schema import RobotDescription, robot_config_pb2 as pb
 
 
 def describe(text: str) -> RobotDescription:

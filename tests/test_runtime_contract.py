@@ -3,7 +3,7 @@
 import importlib
 
 from joshua_codegen import defaults
-from joshua_codegen.schema import robot_config_pb2 as pb
+from joshua_core.schema import robot_config_pb2 as pb
 from joshua_runtime import entrypoint
 from joshua_runtime.sim import gl_backend, model
 

@@ -12,8 +12,8 @@ from functools import cached_property
 from joshua_codegen import defaults, msg_catalog
 from joshua_codegen.positions import Path, SourceMap, node_path
 from joshua_codegen.ros_names import resolve_topic, topic_problem
-from joshua_codegen.schema import Node, RobotDescription
-from joshua_codegen.schema import robot_config_pb2 as pb
+from joshua_core.schema import Node, RobotDescription
+from joshua_core.schema import robot_config_pb2 as pb
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ Example:
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
-from joshua_codegen.schema import RobotConfig
+from joshua_core.schema import RobotConfig
 
 CODE = "E102"
 NAME = "mode-unspecified"

@@ -15,7 +15,7 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding, label_of
-from joshua_codegen.schema import Node
+from joshua_core.schema import Node
 
 CODE = "E103"
 NAME = "node-type-unspecified"

@@ -18,7 +18,7 @@ Example:
 
 import math
 
-from joshua_codegen.defaults import BUILTIN_MODELS, BUILTIN_PREFIX, GL_BACKENDS
+from joshua_core.models import BUILTIN_MODELS, BUILTIN_PREFIX, GL_BACKENDS
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding

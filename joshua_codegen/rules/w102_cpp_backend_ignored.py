@@ -16,7 +16,7 @@ Example:
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.rules.context import Finding
-from joshua_codegen.schema import robot_config_pb2 as pb
+from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "W102"
 NAME = "cpp-backend-ignored"

@@ -16,7 +16,7 @@ Example:
     }
 """
 
-from joshua_codegen.defaults import BUILTIN_PREFIX
+from joshua_core.models import BUILTIN_PREFIX, REGISTRY_PREFIX
 from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
@@ -27,7 +27,7 @@ SEVERITY = WARNING
 STAGE = "check"
 ADVICE = "it depends on the working directory of the process manager; use an absolute path"
 NODE_FIELDS = ("calibration_file", "output_directory", "model_path", "video_source")
-NOT_PATHS = (BUILTIN_PREFIX, "registry:")
+NOT_PATHS = (BUILTIN_PREFIX, REGISTRY_PREFIX)
 
 
 def _relative(value: str) -> bool:

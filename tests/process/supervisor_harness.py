@@ -12,7 +12,7 @@ from google.protobuf import text_format
 
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
-from joshua_codegen.schema import RobotDescription
+from joshua_core.schema import RobotDescription
 from joshua_codegen.write import write_tree
 
 PYTHON = sys.executable

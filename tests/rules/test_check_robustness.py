@@ -14,7 +14,7 @@ from joshua_codegen.diagnostics import Diagnostic, format_github, format_json, f
 from joshua_codegen.fmt import format_description
 from joshua_codegen.load import load_text
 from joshua_codegen.ros_names import node_name_problem, topic_problem
-from joshua_codegen.schema import Node, RobotDescription
+from joshua_core.schema import Node, RobotDescription
 
 HERE = Path(__file__).parent
 SEEDS = [p.read_bytes() for p in sorted((HERE / "seeds").glob("*.pbtxt"))]

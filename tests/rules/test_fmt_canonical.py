@@ -7,7 +7,7 @@ import pytest
 from google.protobuf import text_format
 
 from joshua_codegen.fmt import format_description, quote
-from joshua_codegen.schema import RobotDescription
+from joshua_core.schema import RobotDescription
 
 HERE = Path(__file__).parent
 SEEDS = sorted((HERE / "seeds").glob("*.pbtxt"))

@@ -9,7 +9,7 @@ from google.protobuf.text_format import Tokenizer
 from joshua_codegen.check import check_file, check_text
 from joshua_codegen.load import load_text
 from joshua_codegen.positions import Location
-from joshua_codegen.schema import RobotDescription
+from joshua_core.schema import RobotDescription
 from joshua_codegen.syntax import token_position
 
 SEEDS = Path(__file__).parent / "seeds"

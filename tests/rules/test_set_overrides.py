@@ -7,7 +7,7 @@ import pytest
 from joshua_codegen.check import check_text
 from joshua_codegen.load import load_text
 from joshua_codegen.overrides import apply_overrides
-from joshua_codegen.schema import robot_config_pb2 as pb
+from joshua_core.schema import robot_config_pb2 as pb
 
 SEEDS = Path(__file__).parent / "seeds"
 FOLLOWER = (SEEDS / "so100_leader_follower.pbtxt").read_text()

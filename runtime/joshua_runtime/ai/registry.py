@@ -21,12 +21,13 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from joshua_core.models import REGISTRY_PREFIX
 from joshua_runtime.ai import model_files
 from joshua_runtime.errors import JoshuaError
 
 REGISTRY_ENV = "JOSHUA_MODEL_REGISTRY"
 DEFAULT_ROOT = "~/.cache/joshua/models"
-REF_PREFIX = "registry:"
+REF_PREFIX = REGISTRY_PREFIX
 ENTRY_FILE = "joshua_model.json"
 DIGEST_LENGTH = 12
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,127}$")

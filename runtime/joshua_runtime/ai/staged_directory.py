@@ -12,7 +12,7 @@ import os
 import shutil
 from pathlib import Path
 
-from joshua_codegen.atomic import exchange_directories
+from joshua_core.atomic import exchange_directories
 
 STAGING_SUFFIX = ".staging"
 RETIRED_SUFFIX = ".retired"

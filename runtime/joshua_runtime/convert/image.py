@@ -6,7 +6,7 @@ with `format` "jpeg"/"png"; decoding gives a bgr8 (or mono8) packet image.
 
 import cv2
 import numpy as np
-from joshua_codegen.schema import PerceptionPacket
+from joshua_core.schema import PerceptionPacket
 from sensor_msgs.msg import CompressedImage, Image
 
 from joshua_runtime.convert.stamp import to_proto_timestamp, to_ros_time

@@ -8,7 +8,7 @@ matches. Header stamps carry the packet timestamp when it has one.
 import math
 
 from builtin_interfaces.msg import Time
-from joshua_codegen.schema import ActionPacket, PerceptionPacket
+from joshua_core.schema import ActionPacket, PerceptionPacket
 from sensor_msgs.msg import JointState
 
 NANOSECONDS_PER_SECOND = 1_000_000_000

@@ -9,7 +9,7 @@ import time
 
 import cv2
 
-from joshua_codegen.schema import PerceptionPacket
+from joshua_core.schema import PerceptionPacket
 from joshua_runtime.drivers.driver import Driver
 from joshua_runtime.errors import DeviceError
 

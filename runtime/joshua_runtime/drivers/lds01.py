@@ -17,7 +17,7 @@ import time
 
 import serial
 
-from joshua_codegen.schema import PerceptionPacket
+from joshua_core.schema import PerceptionPacket
 from joshua_runtime.drivers import lds01_protocol as proto
 from joshua_runtime.drivers.driver import Driver
 from joshua_runtime.errors import DeviceError

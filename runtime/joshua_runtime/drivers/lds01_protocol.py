@@ -20,6 +20,8 @@ is not confirmed on real devices.
 import math
 import struct
 
+from joshua_core.devices import LDS01_BAUD_RATE
+
 START_BYTE = 0xFA
 FIRST_INDEX = 0xA0
 SYNC = bytes((START_BYTE, FIRST_INDEX))
@@ -32,7 +34,7 @@ CHECKSUM_OFFSET = 40
 READINGS_PER_TURN = PACKETS_PER_TURN * READINGS_PER_PACKET
 TURN_BYTES = PACKETS_PER_TURN * PACKET_BYTES
 
-BAUD_RATE = 230_400
+BAUD_RATE = LDS01_BAUD_RATE
 NOMINAL_RPM = 300.0
 SPEED_SCALE = 10  # speed field = rpm x 10
 START_COMMAND = b"b"

@@ -12,11 +12,12 @@ disappears, the next call reopens it and checks the servos again, raising Device
 
 import math
 
-from joshua_codegen.schema import ActionPacket, PerceptionPacket
+from joshua_core.schema import ActionPacket, PerceptionPacket
 
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.calibration import MotorCalibration, uncalibrated
 from joshua_runtime.drivers.driver import Driver
+from joshua_core.devices import STS3215_DEFAULT_BAUD_RATE
 from joshua_runtime.drivers.sts3215_table import (
     MODEL_NUMBER_STS3215,
     STATE_BLOCK_ADDRESS,
@@ -28,7 +29,7 @@ from joshua_runtime.drivers.sts3215_table import (
 from joshua_runtime.drivers.sts3215_transport import MAX_RETRIES, REPLY_TIMEOUT_S, Expected, SerialTransport
 from joshua_runtime.errors import DeviceError
 
-DEFAULT_BAUD_RATE = 1_000_000
+DEFAULT_BAUD_RATE = STS3215_DEFAULT_BAUD_RATE
 IDENTITY_BLOCK = (3, 6)  # Model_Number .. Response_Status_Level in one READ
 LOAD_FULL_SCALE = 1000.0  # Present_Load / Torque_Limit unit: 0.1 % of max torque
 CALIBRATION_REGISTERS = ("Homing_Offset", "Min_Position_Limit", "Max_Position_Limit")

@@ -2,6 +2,7 @@
 
 from dataclasses import dataclass
 
+from joshua_core.devices import STS3215_BAUD_RATE_CODES
 from joshua_runtime.drivers.sts3215_protocol import from_sign_magnitude, to_sign_magnitude
 
 MODEL_NUMBER_STS3215 = 777
@@ -9,7 +10,7 @@ TABLE_SIZE = 128  # bytes of emulated memory; addresses past the last register r
 EEPROM_END = 40  # addresses below this are EEPROM (kept across restart when unlocked)
 TICKS_PER_TURN = 4096
 MAX_TICK = TICKS_PER_TURN - 1
-BAUD_RATE_CODES = {1_000_000: 0, 500_000: 1, 250_000: 2, 128_000: 3, 115_200: 4, 76_800: 5, 57_600: 6, 38_400: 7}
+BAUD_RATE_CODES = STS3215_BAUD_RATE_CODES
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 import math
 
-from joshua_runtime.so100 import SO100_RANGES
+from joshua_core.so100 import SO100_RANGES
 
 OTHER_JOINT_RANGE = (-1.0, 1.0)  # a joint name the SO-100 does not have
 # Sinusoid of joint i: amplitude SWING_FRACTION of the half range, period BASE_PERIOD_S * (1 + i / 4).

@@ -11,10 +11,10 @@ import ctypes.util
 import os
 import sys
 
+from joshua_core.models import GL_BACKENDS
 from joshua_runtime.errors import DeviceError, SettingsError
 
-GL_BACKENDS = ("egl", "osmesa")
-DEFAULT_GL_BACKEND = "egl"
+DEFAULT_GL_BACKEND = GL_BACKENDS[0]
 
 # Shared libraries each backend needs, most specific name first.
 _LIBRARIES = {

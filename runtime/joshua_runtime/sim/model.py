@@ -4,11 +4,11 @@ from pathlib import Path
 
 import mujoco
 
+from joshua_core.models import BUILTIN_MODELS, BUILTIN_PREFIX
 from joshua_runtime.errors import SettingsError
 
-BUILTIN_PREFIX = "builtin:"
 MODELS_DIR = Path(__file__).resolve().parent / "models"
-BUILTIN_MODELS = {"so100": MODELS_DIR / "so100.xml"}
+BUILTIN_MODEL_FILES = {name: MODELS_DIR / f"{name}.xml" for name in BUILTIN_MODELS}
 # Joint types a JointState can carry (one coordinate each).
 _MOVABLE_JOINT_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 
@@ -19,10 +19,10 @@ def model_path(spec: str) -> Path:
         raise SettingsError("simulation model is not set (use builtin:so100 or an MJCF path)")
     if spec.startswith(BUILTIN_PREFIX):
         name = spec[len(BUILTIN_PREFIX):]
-        if name not in BUILTIN_MODELS:
-            known = ", ".join(BUILTIN_PREFIX + n for n in sorted(BUILTIN_MODELS))
+        if name not in BUILTIN_MODEL_FILES:
+            known = ", ".join(BUILTIN_PREFIX + n for n in sorted(BUILTIN_MODEL_FILES))
             raise SettingsError(f"unknown built-in simulation model {spec!r} (known: {known})")
-        return BUILTIN_MODELS[name]
+        return BUILTIN_MODEL_FILES[name]
     path = Path(spec).expanduser()
     if not path.is_file():
         raise SettingsError(f"simulation model {spec!r} does not exist")

@@ -19,7 +19,7 @@ from sensor_msgs.msg import JointState
 
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode, run
-from joshua_runtime.so100 import SO100_JOINTS
+from joshua_core.so100 import SO100_JOINTS
 
 # (seconds to get there from the previous pose, pose in SO100_JOINTS order, radians).
 # The loop starts and ends at home (upper arm up, forearm forward), the simulated arm's initial pose.

@@ -10,7 +10,7 @@ import numpy as np
 from sensor_msgs.msg import Image, JointState
 from std_msgs.msg import String
 
-from joshua_runtime import so100
+from joshua_core import so100
 from ai_support import (
     LINE_TIMEOUT_S, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image,
 )

@@ -4,7 +4,7 @@ Node settings come from the compiler (testsupport/compiled_settings.py), node pr
 testsupport/node_process.py and the in-process rclpy client from testsupport/ros_client.py.
 """
 
-from joshua_runtime import so100
+from joshua_core import so100
 from testsupport.node_process import NodeProcess
 from testsupport.ros_client import RosClient
 

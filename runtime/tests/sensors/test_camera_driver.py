@@ -100,7 +100,7 @@ def test_unsupported_camera_message_type_is_a_settings_error():
 
 
 def test_laser_scan_round_trip():
-    from joshua_codegen.schema import PerceptionPacket
+    from joshua_core.schema import PerceptionPacket
 
     packet = PerceptionPacket(frame_id="laser")
     packet.timestamp.FromNanoseconds(42_000_000_007)

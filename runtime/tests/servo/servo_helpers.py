@@ -6,7 +6,7 @@ testsupport/node_process.py and the in-process rclpy client from testsupport/ros
 
 import time
 
-from joshua_runtime import so100
+from joshua_core import so100
 
 SO100_JOINTS = list(so100.SO100_JOINTS)
 SO100_IDS = [1, 2, 3, 4, 5, 6]

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from joshua_codegen.schema import ActionPacket
+from joshua_core.schema import ActionPacket
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK, MotorCalibration
 from joshua_runtime.drivers.sts3215 import Sts3215Driver
 from joshua_runtime.errors import DeviceError

@@ -5,7 +5,7 @@ import math
 from builtin_interfaces.msg import Time
 from sensor_msgs.msg import JointState
 
-from joshua_codegen.schema import ActionPacket, PerceptionPacket
+from joshua_core.schema import ActionPacket, PerceptionPacket
 from joshua_runtime.convert.joint_state import (
     action_to_joint_state,
     joint_state_to_action,

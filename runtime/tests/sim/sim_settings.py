@@ -4,7 +4,7 @@ Each hardware node is a `node { }` block of the description; `simulation(...)` p
 in a robot and returns the settings of the engine that stands in for them.
 """
 
-from joshua_runtime import so100
+from joshua_core import so100
 from testsupport.compiled_settings import compiled_settings
 
 SO100_JOINTS = list(so100.SO100_JOINTS)

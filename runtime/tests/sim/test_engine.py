@@ -10,7 +10,7 @@ import pytest
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.engine import SimulationEngine
-from joshua_runtime import so100
+from joshua_core import so100
 from joshua_runtime.sim.model import load_model
 
 JOINTS = list(so100.SO100_JOINTS)

@@ -1,6 +1,8 @@
-"""The SO-100/101 arm: joint names in servo-id order (the compiler's defaults) and approximate ranges."""
+"""The SO-100/101 arm: joint names in servo-id order and approximate joint ranges."""
 
-from joshua_codegen.defaults import SO100_JOINTS
+SO100_JOINTS = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper")
+# Servo ids of the joints on the arm's bus, in SO100_JOINTS order.
+SO100_SERVO_IDS = (1, 2, 3, 4, 5, 6)
 
 # Joint ranges in rad (spec/protocols.md section 3), in SO100_JOINTS order.
 SO100_RANGES = {
@@ -11,5 +13,3 @@ SO100_RANGES = {
     "wrist_roll": (-2.74, 2.74),
     "gripper": (-0.17, 1.75),
 }
-
-__all__ = ["SO100_JOINTS", "SO100_RANGES"]

@@ -1,13 +1,13 @@
 """Python classes generated from proto/joshua/v1 (run `make proto` after editing the .proto files)."""
-from joshua_codegen.schema.action_packet_pb2 import ActionPacket
-from joshua_codegen.schema.perception_packet_pb2 import (
+from joshua_core.schema.action_packet_pb2 import ActionPacket
+from joshua_core.schema.perception_packet_pb2 import (
     ImageData,
     PerceptionPacket,
     PointCloudData,
     PositionData,
     SensorData,
 )
-from joshua_codegen.schema.robot_config_pb2 import Node, RobotConfig, RobotDescription
+from joshua_core.schema.robot_config_pb2 import Node, RobotConfig, RobotDescription
 
 __all__ = [
     "ActionPacket",

@@ -1,0 +1,9 @@
+"""Names both sides agree on for models: built-in MJCF models, GL backends and the model-registry prefix."""
+
+# `simulation { model: "builtin:NAME" }` names an MJCF model shipped with joshua_runtime.
+BUILTIN_PREFIX = "builtin:"
+BUILTIN_MODELS = ("so100",)
+# Offscreen GL backends the simulation can render with; the first is the default.
+GL_BACKENDS = ("egl", "osmesa")
+# `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.
+REGISTRY_PREFIX = "registry:"
