@@ -1,75 +1,50 @@
 """The defaults of every unset field, per node type: the one place both rules and model read them."""
 
-from joshua_core.devices import LDS01_BAUD_RATE, STS3215_BAUD_RATES, STS3215_DEFAULT_BAUD_RATE
-from joshua_core.models import BUILTIN_MODELS, BUILTIN_PREFIX, GL_BACKENDS, REGISTRY_PREFIX
+from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
+from joshua_core.node_types import JOINT_STATE, NODE_TYPES, SIMULATION_ENGINE, NodeTypeSpec
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
+
 SIGINT_GRACE_S = 5.0
 SIGTERM_GRACE_S = 2.0
 MAX_RESTARTS = 5
 CPP_BIN_DIR = "/opt/joshua/bin"
 PYTHON_EXECUTABLE = "python3"
-SIMULATION_NAME = "simulation"
+SIMULATION_NAME = SIMULATION_ENGINE.name.lower()
 
 NodeType = pb.NodeType
-CAMERAS = {pb.CAMERA_PUBLISHER, pb.MOCK_CAMERA_PUBLISHER}
-LIDARS = {pb.LIDAR_PUBLISHER, pb.MOCK_LIDAR_PUBLISHER}
-ENCODERS = {pb.ENCODER_PUBLISHER, pb.MOCK_ENCODER_PUBLISHER}
-ACTUATORS = {pb.ACTUATOR_SUBSCRIBER, pb.MOCK_ACTUATOR_SUBSCRIBER}
-SERVO_BUS = {pb.ENCODER_PUBLISHER, pb.ACTUATOR_SUBSCRIBER, pb.OPERATIONAL_LIMIT_CALIBRATION}
-SERIAL = SERVO_BUS | {pb.LIDAR_PUBLISHER}
-MOCKS = {pb.MOCK_CAMERA_PUBLISHER, pb.MOCK_ENCODER_PUBLISHER, pb.MOCK_LIDAR_PUBLISHER, pb.MOCK_ACTUATOR_SUBSCRIBER}
-ALWAYS_PYTHON = MOCKS | {pb.INFERENCE, pb.DATA_SUBSCRIBER, pb.CUSTOM}
+# Node-type numbers of the schema -> registry entries. Every set below is derived from the registry.
+SPECS = {pb.NodeType.Value(name): entry for name, entry in NODE_TYPES.items()}
+ALL_TYPES = set(SPECS)
+_UNTYPED = NodeTypeSpec(name="NODE_TYPE_UNSPECIFIED", family="", topic="")
+
+
+def _types(predicate) -> set[int]:
+    return {number for number, entry in SPECS.items() if predicate(entry)}
+
+
+CAMERAS = _types(lambda t: t.family == "camera")
+LIDARS = _types(lambda t: t.family == "lidar")
+ENCODERS = _types(lambda t: t.family == "encoder")
+ACTUATORS = _types(lambda t: t.family == "actuator")
+MOCKS = _types(lambda t: bool(t.mock_of))
+# Types that read an STS3215 servo bus (real ones), and every type that opens a serial port.
+SERVO_BUS = _types(lambda t: t.servo_bus and not t.mock_of)
+SERIAL = _types(lambda t: "serial_port" in t.claims)
+ALWAYS_PYTHON = _types(lambda t: t.python_only)
 # Node types that touch hardware; MODE_SIMULATION replaces them with the simulation engine.
-HARDWARE = {pb.CAMERA_PUBLISHER, pb.ENCODER_PUBLISHER, pb.LIDAR_PUBLISHER, pb.ACTUATOR_SUBSCRIBER,
-            pb.OPERATIONAL_LIMIT_CALIBRATION}
-# Node types that publish topic_name (the others subscribe to it; CUSTOM declares nothing).
-PUBLISHES_TOPIC = CAMERAS | LIDARS | ENCODERS | {pb.INFERENCE, pb.OPERATIONAL_LIMIT_CALIBRATION}
-SUBSCRIBES_TOPIC = ACTUATORS | {pb.DATA_SUBSCRIBER}
-# Node types that read input_topics.
-READS_INPUTS = {pb.INFERENCE, pb.DATA_SUBSCRIBER}
-
+HARDWARE = _types(lambda t: t.hardware)
+# Node types that publish topic_name, and those that subscribe to it (CUSTOM declares neither).
+PUBLISHES_TOPIC = _types(lambda t: t.topic == "publishes")
+SUBSCRIBES_TOPIC = _types(lambda t: t.topic == "subscribes")
+READS_INPUTS = _types(lambda t: t.reads_inputs)
 # Message types each node type may use on topic_name; the first is the default.
-MESSAGE_TYPES = {
-    pb.CAMERA_PUBLISHER: ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"),
-    pb.MOCK_CAMERA_PUBLISHER: ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"),
-    pb.LIDAR_PUBLISHER: ("sensor_msgs/msg/LaserScan",),
-    pb.MOCK_LIDAR_PUBLISHER: ("sensor_msgs/msg/LaserScan",),
-    pb.ENCODER_PUBLISHER: ("sensor_msgs/msg/JointState",),
-    pb.MOCK_ENCODER_PUBLISHER: ("sensor_msgs/msg/JointState",),
-    pb.ACTUATOR_SUBSCRIBER: ("sensor_msgs/msg/JointState",),
-    pb.MOCK_ACTUATOR_SUBSCRIBER: ("sensor_msgs/msg/JointState",),
-    pb.INFERENCE: ("sensor_msgs/msg/JointState",),
-    pb.DATA_SUBSCRIBER: ("sensor_msgs/msg/JointState",),  # recorded as the dataset's action
-    pb.OPERATIONAL_LIMIT_CALIBRATION: ("sensor_msgs/msg/JointState",),
-}
-STATE_MESSAGE_TYPE = "sensor_msgs/msg/JointState"
-
-ALL_TYPES = {value for value in pb.NodeType.values() if value != pb.NODE_TYPE_UNSPECIFIED}
-# Node fields that only some node types read (a MOCK_* type reads what its real type reads, so a
-# description can switch between them); every other type ignores them. Unlisted fields apply to all.
+MESSAGE_TYPES = {number: entry.message_types for number, entry in SPECS.items() if entry.message_types}
+STATE_MESSAGE_TYPE = JOINT_STATE
+# Node fields that only some node types read; every other type ignores them (W101).
 FIELD_APPLIES_TO = {
-    "serial_port": SERIAL | (MOCKS - CAMERAS),
-    "baud_rate": SERIAL | (MOCKS - CAMERAS),
-    "device_ids": SERVO_BUS | ENCODERS | ACTUATORS,
-    "joint_names": SERVO_BUS | ENCODERS | ACTUATORS | {pb.INFERENCE},
-    "calibration_file": SERVO_BUS | ENCODERS | ACTUATORS,
-    "camera_index": CAMERAS,
-    "video_source": CAMERAS,
-    "width": CAMERAS,
-    "height": CAMERAS,
-    "rate_hz": ALL_TYPES - {pb.CUSTOM},
-    "frame_id": PUBLISHES_TOPIC | ACTUATORS,
-    "state_topic": ACTUATORS,
-    "keep_torque_on_exit": {pb.ACTUATOR_SUBSCRIBER},
-    "input_topics": READS_INPUTS,
-    "model_path": {pb.INFERENCE},
-    "policy_type": {pb.INFERENCE},
-    "device": {pb.INFERENCE},
-    "output_format": {pb.DATA_SUBSCRIBER},
-    "output_directory": {pb.DATA_SUBSCRIBER},
-    "executable": {pb.CUSTOM},
-    "args": {pb.CUSTOM},
+    name: _types(lambda t, name=name: name in t.fields)
+    for name in sorted(set().union(*(entry.fields for entry in SPECS.values())))
 }
 OUTPUT_FORMATS = ("lerobot", "parquet")
 DEVICES = ("cpu", "cuda")
@@ -104,6 +79,11 @@ def node_names(config: pb.RobotConfig) -> list[str]:
     return names
 
 
+def entry(node: pb.Node) -> NodeTypeSpec:
+    """The registry entry of the node's type (a neutral one while the type is unset)."""
+    return SPECS.get(node.type, _UNTYPED)
+
+
 def message_type(node: pb.Node) -> str:
     """The node's message type, or its type's default ("" when the type has none)."""
     return node.message_type or MESSAGE_TYPES.get(node.type, ("",))[0]
@@ -111,7 +91,7 @@ def message_type(node: pb.Node) -> str:
 
 def qos(node: pb.Node) -> dict:
     """The node's resolved QoS: `{"history", "depth", "reliability", "durability"}`."""
-    sensor = node.type in CAMERAS | LIDARS
+    sensor = entry(node).sensor_qos
     history = pb.History.Name(node.qos_history) if node.qos_history else "KEEP_LAST"
     if node.HasField("qos_depth"):
         depth = node.qos_depth
@@ -130,13 +110,13 @@ def baud_rate(node: pb.Node) -> int:
         return node.baud_rate
     if node.type in LIDARS:
         return LDS01_BAUD_RATE
-    return STS3215_DEFAULT_BAUD_RATE if node.type in SERVO_BUS | ACTUATORS | ENCODERS else 0
+    return STS3215_DEFAULT_BAUD_RATE if entry(node).servo_bus else 0
 
 
 def device_ids(node: pb.Node) -> list[int]:
     if node.device_ids:
         return list(node.device_ids)
-    return list(SO100_SERVO_IDS) if node.type in SERVO_BUS | ACTUATORS | ENCODERS else []
+    return list(SO100_SERVO_IDS) if entry(node).servo_bus else []
 
 
 def joint_names(node: pb.Node) -> list[str]:
@@ -149,25 +129,11 @@ def joint_names(node: pb.Node) -> list[str]:
 
 
 def rate_hz(node: pb.Node) -> float:
-    if node.HasField("rate_hz"):
-        return node.rate_hz
-    if node.type in CAMERAS:
-        return 30.0
-    if node.type in LIDARS:
-        return 5.0
-    if node.type in READS_INPUTS:
-        return 30.0
-    return 100.0
+    return node.rate_hz if node.HasField("rate_hz") else entry(node).rate_hz
 
 
 def frame_id(node: pb.Node) -> str:
-    if node.frame_id:
-        return node.frame_id
-    if node.type in CAMERAS:
-        return "camera"
-    if node.type in LIDARS:
-        return "laser"
-    return "base_link"
+    return node.frame_id or entry(node).frame_id
 
 
 def restart(node: pb.Node) -> str:

@@ -6,6 +6,7 @@
 from dataclasses import dataclass, field
 from functools import cached_property
 
+from joshua_core.node_types import SIMULATION_ENGINE
 
 
 @dataclass(frozen=True)
@@ -124,7 +125,7 @@ class Robot:
 
     def process_settings(self, process: Process) -> dict:
         """The settings dict of a python process (a node's, or the simulation engine's)."""
-        if process.node_type == "SIMULATION":
-            return {"robot": self.name, "mode": self.mode, "name": process.name, "type": "SIMULATION",
+        if process.node_type == SIMULATION_ENGINE.name:
+            return {"robot": self.name, "mode": self.mode, "name": process.name, "type": SIMULATION_ENGINE.name,
                     "simulation": self.simulation}
         return self.node(process.name).settings

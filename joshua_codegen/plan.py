@@ -5,18 +5,9 @@ import os
 from joshua_codegen import defaults
 from joshua_codegen.ros_names import resolve_topic
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
+from joshua_core.models import GL_BACKENDS, REGISTRY_PREFIX
+from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
-
-_QOS_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
-_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
-# Parameters each C++ node binary receives as `-p name:=value`, in this order.
-CPP_PARAMETERS = {
-    "CAMERA_PUBLISHER": _QOS_PARAMETERS + ("camera_index", "video_source", "width", "height", "rate_hz", "frame_id"),
-    "LIDAR_PUBLISHER": _QOS_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
-    "ENCODER_PUBLISHER": _QOS_PARAMETERS + _BUS_PARAMETERS + ("frame_id",),
-    "ACTUATOR_SUBSCRIBER": _QOS_PARAMETERS + _BUS_PARAMETERS + ("state_topic",),
-    "OPERATIONAL_LIMIT_CALIBRATION": _QOS_PARAMETERS + _BUS_PARAMETERS,
-}
 
 
 # Value of a setting whose field does not apply to the node type ("" / [] / 0 unless named here).
@@ -166,15 +157,16 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int,
 
 
 def _devices(node: pb.Node, name: str):
-    if node.type in defaults.SERIAL and node.serial_port:
+    """What the node's registry entry claims, as the devices that must be present before start."""
+    claims = defaults.entry(node).claims
+    if "serial_port" in claims and node.serial_port:
         yield Device("serial", node.serial_port, name)
-    if node.type == pb.CAMERA_PUBLISHER:
-        if node.video_source and "://" not in node.video_source:
-            yield Device("file", node.video_source, name)
-        elif not node.video_source:
-            index = node.camera_index if node.HasField("camera_index") else 0
-            yield Device("camera", f"/dev/video{index}", name)
-    if node.type == pb.INFERENCE and node.model_path and not node.model_path.startswith(defaults.REGISTRY_PREFIX):
+    if "video_file" in claims and node.video_source and "://" not in node.video_source:
+        yield Device("file", node.video_source, name)
+    if "camera" in claims and not node.video_source:
+        index = node.camera_index if node.HasField("camera_index") else 0
+        yield Device("camera", f"/dev/video{index}", name)
+    if "model_path" in claims and node.model_path and not node.model_path.startswith(REGISTRY_PREFIX):
         yield Device("model", node.model_path, name)
 
 
@@ -215,7 +207,7 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
         "state_topic": (settings["state_topic"] or {}).get("name", ""),
     })
     args = ["--ros-args", "-r", f"__node:={model.name}"]
-    for key in CPP_PARAMETERS[model.type]:
+    for key in NODE_TYPES[model.type].cpp_parameters:
         if values[key] in ("", [], -1):
             continue
         args += ["-p", f"{key}:={_ros_param(values[key])}"]
@@ -243,14 +235,14 @@ def _simulation(config: pb.RobotConfig, simulated: list[NodeModel]) -> dict:
         "timestep_s": sim.timestep_s if sim.HasField("timestep_s") else None,
         "realtime_factor": sim.realtime_factor if sim.HasField("realtime_factor") else 1.0,
         "camera": sim.camera,
-        "gl_backend": sim.gl_backend or "egl",
+        "gl_backend": sim.gl_backend or GL_BACKENDS[0],
         "simulates": [model.settings for model in simulated],
     }
 
 
 def _engine_process(name: str, simulated: list[NodeModel]) -> Process:
     return Process(
-        name=name, node_type="SIMULATION", kind="python", entrypoint=f"nodes/{name}.py", executable="",
+        name=name, node_type=SIMULATION_ENGINE.name, kind="python", entrypoint=f"nodes/{name}.py", executable="",
         args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
         critical=True, env=(), devices=(),
     )

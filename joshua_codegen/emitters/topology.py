@@ -2,12 +2,13 @@
 
 from joshua_codegen.model import Robot
 from joshua_codegen.render import Context, template
+from joshua_core.node_types import SIMULATION_ENGINE
 
 
 def graph(robot: Robot) -> dict:
     """Nodes, topics and edges with stable ids (n0.., t0..) shared by both formats."""
     node_ids = {node.name: f"n{i}" for i, node in enumerate(robot.nodes)}
-    engines = [p for p in robot.processes if p.node_type == "SIMULATION"]
+    engines = [p for p in robot.processes if p.node_type == SIMULATION_ENGINE.name]
     for i, process in enumerate(engines):
         node_ids[process.name] = f"s{i}"
     topic_ids = {topic.name: f"t{i}" for i, topic in enumerate(robot.topics)}

@@ -79,6 +79,11 @@ class RuleContext:
         """Nodes whose type is set; per-type rules skip the others (E103 reports them)."""
         return [view for view in self.nodes if view.node.type != pb.NODE_TYPE_UNSPECIFIED]
 
+    def lacking(self, field: str) -> list[NodeView]:
+        """Typed nodes whose type requires `field` (its registry entry says so) and that leave it empty."""
+        return [view for view in self.typed_nodes
+                if field in defaults.entry(view.node).required and not getattr(view.node, field)]
+
     def _topic(self, view: NodeView, name: str) -> str | None:
         if topic_problem(name, view.name) is not None:
             return None

@@ -15,7 +15,6 @@ Example:
     }
 """
 
-from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_core.schema import robot_config_pb2 as pb
@@ -29,6 +28,5 @@ STAGE = "check"
 def check(ctx):
     if ctx.config.mode == pb.MODE_SIMULATION:
         return
-    for view in ctx.typed_nodes:
-        if view.node.type in defaults.SERIAL and not view.node.serial_port:
-            yield Finding(view.path, f'{view.label} has no serial_port (e.g. serial_port: "/dev/ttyUSB0")')
+    for view in ctx.lacking("serial_port"):
+        yield Finding(view.path, f'{view.label} has no serial_port (e.g. serial_port: "/dev/ttyUSB0")')

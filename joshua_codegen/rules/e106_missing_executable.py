@@ -15,7 +15,6 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E106"
 NAME = "missing-executable"
@@ -24,6 +23,5 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.typed_nodes:
-        if view.node.type == pb.CUSTOM and not view.node.executable:
-            yield Finding(view.path, f"{view.label} has no executable")
+    for view in ctx.lacking("executable"):
+        yield Finding(view.path, f"{view.label} has no executable")

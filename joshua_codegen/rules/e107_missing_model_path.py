@@ -17,7 +17,6 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E107"
 NAME = "missing-model-path"
@@ -26,6 +25,5 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.typed_nodes:
-        if view.node.type == pb.INFERENCE and not view.node.model_path:
-            yield Finding(view.path, f"{view.label} has no model_path")
+    for view in ctx.lacking("model_path"):
+        yield Finding(view.path, f"{view.label} has no model_path")

@@ -16,7 +16,6 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E108"
 NAME = "missing-input-topics"
@@ -25,7 +24,6 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.typed_nodes:
-        if view.node.type == pb.INFERENCE and not view.node.input_topics:
-            yield Finding(view.path, f'{view.label} reads no input_topics '
-                                     '(e.g. input_topics: ["/camera/image_raw", "/arm/joint_states"])')
+    for view in ctx.lacking("input_topics"):
+        yield Finding(view.path, f'{view.label} reads no input_topics '
+                                 '(e.g. input_topics: ["/camera/image_raw", "/arm/joint_states"])')

@@ -15,7 +15,6 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E109"
 NAME = "missing-output-directory"
@@ -24,6 +23,5 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.typed_nodes:
-        if view.node.type == pb.DATA_SUBSCRIBER and not view.node.output_directory:
-            yield Finding(view.path, f"{view.label} has no output_directory")
+    for view in ctx.lacking("output_directory"):
+        yield Finding(view.path, f"{view.label} has no output_directory")

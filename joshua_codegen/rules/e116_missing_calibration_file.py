@@ -18,7 +18,6 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E116"
 NAME = "missing-calibration-file"
@@ -27,6 +26,5 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.typed_nodes:
-        if view.node.type == pb.OPERATIONAL_LIMIT_CALIBRATION and not view.node.calibration_file:
-            yield Finding(view.path, f"{view.label} has no calibration_file")
+    for view in ctx.lacking("calibration_file"):
+        yield Finding(view.path, f"{view.label} has no calibration_file")

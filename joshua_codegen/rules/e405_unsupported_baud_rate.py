@@ -18,6 +18,7 @@ Example:
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.devices import LDS01_BAUD_RATE, STS3215_BAUD_RATES
 
 CODE = "E405"
 NAME = "unsupported-baud-rate"
@@ -27,14 +28,14 @@ SERVO_NODES = defaults.SERVO_BUS | defaults.ENCODERS | defaults.ACTUATORS
 
 
 def check(ctx):
-    rates = ", ".join(str(rate) for rate in defaults.STS3215_BAUD_RATES)
+    rates = ", ".join(str(rate) for rate in STS3215_BAUD_RATES)
     for view in ctx.typed_nodes:
         node = view.node
         if not node.HasField("baud_rate"):
             continue
-        if node.type in defaults.LIDARS and node.baud_rate != defaults.LDS01_BAUD_RATE:
-            yield Finding(view.at("baud_rate"), f"the LDS-01 lidar runs at {defaults.LDS01_BAUD_RATE} baud, "
+        if node.type in defaults.LIDARS and node.baud_rate != LDS01_BAUD_RATE:
+            yield Finding(view.at("baud_rate"), f"the LDS-01 lidar runs at {LDS01_BAUD_RATE} baud, "
                                                 f"not {node.baud_rate}")
-        elif node.type in SERVO_NODES and node.baud_rate not in defaults.STS3215_BAUD_RATES:
+        elif node.type in SERVO_NODES and node.baud_rate not in STS3215_BAUD_RATES:
             yield Finding(view.at("baud_rate"), f"the STS3215 does not support {node.baud_rate} baud; "
                                                 f"use one of {rates}")

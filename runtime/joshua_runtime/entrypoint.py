@@ -34,31 +34,15 @@ import os
 import sys
 import threading
 
+from joshua_core.node_types import spec
 from joshua_runtime.errors import JoshuaError, SettingsError
 
-# Node type -> "module:Class" implementing it, imported only when that node runs.
-NODE_CLASSES = {
-    "CAMERA_PUBLISHER": "joshua_runtime.nodes.camera_publisher:CameraPublisher",
-    "ENCODER_PUBLISHER": "joshua_runtime.nodes.encoder_publisher:EncoderPublisher",
-    "LIDAR_PUBLISHER": "joshua_runtime.nodes.lidar_publisher:LidarPublisher",
-    "ACTUATOR_SUBSCRIBER": "joshua_runtime.nodes.actuator_subscriber:ActuatorSubscriber",
-    "OPERATIONAL_LIMIT_CALIBRATION": "joshua_runtime.nodes.operational_limit_calibration:OperationalLimitCalibration",
-    "MOCK_CAMERA_PUBLISHER": "joshua_runtime.nodes.mock_camera_publisher:MockCameraPublisher",
-    "MOCK_ENCODER_PUBLISHER": "joshua_runtime.nodes.mock_encoder_publisher:MockEncoderPublisher",
-    "MOCK_LIDAR_PUBLISHER": "joshua_runtime.nodes.mock_lidar_publisher:MockLidarPublisher",
-    "MOCK_ACTUATOR_SUBSCRIBER": "joshua_runtime.nodes.mock_actuator_subscriber:MockActuatorSubscriber",
-    "INFERENCE": "joshua_runtime.ai.inference_node:InferenceNode",
-    "DATA_SUBSCRIBER": "joshua_runtime.ai.recorder_node:RecorderNode",
-    "SIMULATION": "joshua_runtime.sim.engine_node:SimulationEngineNode",
-}
-
-
 def node_class(node_type: str):
-    """Import and return the class that implements a node type."""
-    target = NODE_CLASSES.get(node_type)
-    if target is None:
+    """Import and return the class that implements a node type (named by the node-type registry)."""
+    entry = spec(node_type)
+    if entry is None or not entry.runtime_class:
         raise SettingsError(f"no runtime implementation for node type {node_type!r}")
-    module_name, class_name = target.split(":")
+    module_name, class_name = entry.runtime_class.split(":")
     return getattr(importlib.import_module(module_name), class_name)
 
 

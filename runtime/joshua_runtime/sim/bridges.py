@@ -15,12 +15,14 @@ actuator's force limit. Header stamps are the ROS clock (wall time), frame_id th
 """
 
 import array
+import importlib
 import math
 
 import cv2
 import numpy as np
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
+from joshua_core.node_types import spec
 from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, RADIANS_PER_TICK
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.nodes.operational_limit_calibration import RANGE_MAX_SUFFIX, RANGE_MIN_SUFFIX
@@ -146,7 +148,7 @@ class ActuatorBridge:
 class CameraBridge:
     """Publishes rendered frames like CAMERA_PUBLISHER; `stream` is handed to the CameraThread."""
 
-    def __init__(self, node, engine: SimulationEngine, settings: dict, default_camera: str):
+    def __init__(self, node, engine: SimulationEngine, settings: dict):
         self.node = node
         self.name = settings["name"]
         self.frame_id = settings["frame_id"]
@@ -156,7 +158,7 @@ class CameraBridge:
         topic = _topic(settings)
         self.compressed = topic["message_type"].endswith("/CompressedImage")
         self.publisher = node.publisher(topic)
-        camera = _camera_for(engine, self.frame_id, default_camera)
+        camera = _camera_for(engine, self.frame_id, node.default_camera)
         self.stream = CameraStream(camera, width, height, _rate(settings), self.publish)
 
     def publish(self, pixels: np.ndarray, _sim_time: float) -> None:
@@ -222,17 +224,11 @@ def _camera_for(engine: SimulationEngine, frame_id: str, default_camera: str) ->
     return camera_id(model, default_camera)
 
 
-def make_bridge(node, engine: SimulationEngine, settings: dict, default_camera: str):
-    """The bridge that stands in for one hardware node, from that node's settings."""
-    kind = settings["type"]
-    if kind == "ENCODER_PUBLISHER":
-        return EncoderBridge(node, engine, settings)
-    if kind == "OPERATIONAL_LIMIT_CALIBRATION":
-        return CalibrationBridge(node, engine, settings)
-    if kind == "ACTUATOR_SUBSCRIBER":
-        return ActuatorBridge(node, engine, settings)
-    if kind == "CAMERA_PUBLISHER":
-        return CameraBridge(node, engine, settings, default_camera)
-    if kind == "LIDAR_PUBLISHER":
-        return LidarBridge(node, engine, settings)
-    raise SettingsError(f"{settings.get('name', '?')}: node type {kind} cannot be simulated")
+def make_bridge(node, engine: SimulationEngine, settings: dict):
+    """The bridge that stands in for one hardware node (named by the node-type registry), from its settings."""
+    entry = spec(settings["type"])
+    if entry is None or not entry.sim_bridge:
+        raise SettingsError(f"{settings.get('name', '?')}: node type {settings['type']} cannot be simulated")
+    module_name, class_name = entry.sim_bridge.split(":")
+    bridge = getattr(importlib.import_module(module_name), class_name)
+    return bridge(node, engine, settings)

@@ -6,6 +6,7 @@ bridge per replaced node (sim/bridges.py) on that node's own topics, types and Q
 their own thread; encoders, actuator states and lidars run on the node's ROS timers.
 """
 
+from joshua_core.node_types import spec
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.sim.gl_backend import DEFAULT_GL_BACKEND, configure_gl
@@ -25,7 +26,7 @@ class SimulationEngineNode(JoshuaNode):
         if not sim:
             raise SettingsError(f"{self.name}: settings have no 'simulation' section")
         simulated = list(sim.get("simulates") or [])
-        renders = any(s["type"] == "CAMERA_PUBLISHER" for s in simulated)
+        renders = any(spec(s["type"]).family == "camera" for s in simulated)
         gl_backend = configure_gl(sim.get("gl_backend") or DEFAULT_GL_BACKEND) if renders else ""
 
         # mujoco is imported only now, after the GL backend is chosen.
@@ -37,7 +38,8 @@ class SimulationEngineNode(JoshuaNode):
         model = load_model(sim.get("model", ""), sim.get("timestep_s"))
         factor = sim.get("realtime_factor")
         self.engine = SimulationEngine(model, DEFAULT_REALTIME_FACTOR if factor is None else factor)
-        self.bridges = [make_bridge(self, self.engine, s, sim.get("camera", "")) for s in simulated]
+        self.default_camera = sim.get("camera", "")  # the MJCF camera of camera nodes whose frame_id names none
+        self.bridges = [make_bridge(self, self.engine, s) for s in simulated]
         streams = [b.stream for b in self.bridges if hasattr(b, "stream")]
         self.cameras = CameraThread(self.engine, streams, gl_backend)
         # Cameras first: creating GL contexts holds the interpreter for a while, which would show

@@ -1,0 +1,158 @@
+"""The node-type registry: one declarative entry per node type, read by every layer.
+
+The compiler's rules and planner, the emitters, the runtime's dispatch and the simulation all read
+these entries; nothing else lists node types. Adding a node type means: its enum value in
+proto/joshua/v1/robot_config.proto, its entry here, its runtime node class, its simulation bridge if
+it touches hardware, and its tests (tests/test_node_type_registry.py checks that they agree).
+"""
+
+from dataclasses import dataclass, field
+
+# Fields every node type reads (QoS, restart policy, environment) are not listed per type.
+_SERVO_BUS_FIELDS = frozenset({"serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file",
+                               "rate_hz", "frame_id"})
+_CAMERA_FIELDS = frozenset({"camera_index", "video_source", "width", "height", "rate_hz", "frame_id"})
+_LIDAR_FIELDS = frozenset({"serial_port", "baud_rate", "rate_hz", "frame_id"})
+# Parameters every C++ node binary receives first, as `-p name:=value`.
+_CPP_TOPIC_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
+_CPP_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
+JOINT_STATE = "sensor_msgs/msg/JointState"
+IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
+
+
+@dataclass(frozen=True)
+class NodeTypeSpec:
+    """What one node type is, declared once.
+
+    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, custom
+    topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
+    message_types  allowed on topic_name; the first is the default
+    reads_inputs   it subscribes input_topics
+    state_topic    it also publishes present joint states on state_topic when set
+    hardware       it touches a device; MODE_SIMULATION replaces it with the simulation engine
+    mock_of        the hardware type a MOCK_* stands in for (it reads the same fields)
+    python_only    it always runs its Python implementation, whatever preferred_backend says
+    cpp_parameters the `-p` parameters of its C++ binary, in order; None when it has no binary
+    fields         node fields it reads besides the common ones (W101 warns about the others)
+    required       fields it cannot run without (each has its rule: E105 serial_port, ...)
+    claims         devices it needs present before start: serial_port, camera, video_file, model_path
+    rate_hz, frame_id  defaults of those fields
+    sensor_qos     BEST_EFFORT with depth 5 by default (else RELIABLE, depth 10)
+    runtime_class  `module:Class` of its joshua_runtime implementation
+    sim_bridge     `module:Class` standing in for it in the simulation (hardware types)
+    """
+
+    name: str
+    family: str
+    topic: str
+    message_types: tuple[str, ...] = ()
+    reads_inputs: bool = False
+    state_topic: bool = False
+    hardware: bool = False
+    mock_of: str = ""
+    python_only: bool = False
+    cpp_parameters: tuple[str, ...] | None = None
+    fields: frozenset[str] = field(default_factory=frozenset)
+    required: tuple[str, ...] = ()
+    claims: tuple[str, ...] = ()
+    rate_hz: float = 100.0
+    frame_id: str = "base_link"
+    sensor_qos: bool = False
+    runtime_class: str = ""
+    sim_bridge: str = ""
+
+    @property
+    def binary(self) -> str:
+        """File name of its C++ binary in cpp_bin_dir ("" when it has none)."""
+        return self.name.lower() if self.cpp_parameters is not None else ""
+
+    @property
+    def servo_bus(self) -> bool:
+        """It reads joints through an STS3215 servo bus (or stands in for one that does)."""
+        return self.family in ("encoder", "actuator", "calibration")
+
+
+def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
+    """The synthetic stand-in of a hardware type: same topics and fields, no device, always Python."""
+    return NodeTypeSpec(
+        name=f"MOCK_{real.name}", family=real.family, topic=real.topic, message_types=real.message_types,
+        state_topic=real.state_topic, mock_of=real.name, python_only=True,
+        fields=real.fields - {"keep_torque_on_exit"}, rate_hz=real.rate_hz, frame_id=real.frame_id,
+        sensor_qos=real.sensor_qos, runtime_class=runtime_class,
+    )
+
+
+_NODES = "joshua_runtime.nodes"
+_BRIDGES = "joshua_runtime.sim.bridges"
+CAMERA_PUBLISHER = NodeTypeSpec(
+    name="CAMERA_PUBLISHER", family="camera", topic="publishes", message_types=IMAGE_TYPES, hardware=True,
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + ("camera_index", "video_source", "width", "height", "rate_hz", "frame_id"),
+    fields=_CAMERA_FIELDS, claims=("camera", "video_file"), rate_hz=30.0, frame_id="camera", sensor_qos=True,
+    runtime_class=f"{_NODES}.camera_publisher:CameraPublisher", sim_bridge=f"{_BRIDGES}:CameraBridge",
+)
+ENCODER_PUBLISHER = NodeTypeSpec(
+    name="ENCODER_PUBLISHER", family="encoder", topic="publishes", message_types=(JOINT_STATE,), hardware=True,
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id",),
+    fields=_SERVO_BUS_FIELDS, required=("serial_port",), claims=("serial_port",),
+    runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher", sim_bridge=f"{_BRIDGES}:EncoderBridge",
+)
+LIDAR_PUBLISHER = NodeTypeSpec(
+    name="LIDAR_PUBLISHER", family="lidar", topic="publishes", message_types=("sensor_msgs/msg/LaserScan",),
+    hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
+    fields=_LIDAR_FIELDS, required=("serial_port",), claims=("serial_port",), rate_hz=5.0, frame_id="laser",
+    sensor_qos=True, runtime_class=f"{_NODES}.lidar_publisher:LidarPublisher", sim_bridge=f"{_BRIDGES}:LidarBridge",
+)
+ACTUATOR_SUBSCRIBER = NodeTypeSpec(
+    name="ACTUATOR_SUBSCRIBER", family="actuator", topic="subscribes", message_types=(JOINT_STATE,),
+    state_topic=True, hardware=True,
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic",),
+    fields=_SERVO_BUS_FIELDS | {"state_topic", "keep_torque_on_exit"}, required=("serial_port",),
+    claims=("serial_port",), runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
+    sim_bridge=f"{_BRIDGES}:ActuatorBridge",
+)
+OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
+    name="OPERATIONAL_LIMIT_CALIBRATION", family="calibration", topic="publishes", message_types=(JOINT_STATE,),
+    hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS,
+    fields=_SERVO_BUS_FIELDS, required=("serial_port", "calibration_file"), claims=("serial_port",),
+    runtime_class=f"{_NODES}.operational_limit_calibration:OperationalLimitCalibration",
+    sim_bridge=f"{_BRIDGES}:CalibrationBridge",
+)
+INFERENCE = NodeTypeSpec(
+    name="INFERENCE", family="inference", topic="publishes", message_types=(JOINT_STATE,), reads_inputs=True,
+    python_only=True,
+    fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),
+    required=("model_path", "input_topics"), claims=("model_path",), rate_hz=30.0,
+    runtime_class="joshua_runtime.ai.inference_node:InferenceNode",
+)
+DATA_SUBSCRIBER = NodeTypeSpec(
+    name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,), reads_inputs=True,
+    python_only=True, fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz"}),
+    required=("output_directory",), rate_hz=30.0, runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
+)
+CUSTOM = NodeTypeSpec(
+    name="CUSTOM", family="custom", topic="", python_only=True, fields=frozenset({"executable", "args"}),
+    required=("executable",),
+)
+
+NODE_TYPES: dict[str, NodeTypeSpec] = {spec.name: spec for spec in (
+    CAMERA_PUBLISHER, ENCODER_PUBLISHER, LIDAR_PUBLISHER, ACTUATOR_SUBSCRIBER, INFERENCE, DATA_SUBSCRIBER,
+    OPERATIONAL_LIMIT_CALIBRATION,
+    _mock(CAMERA_PUBLISHER, f"{_NODES}.mock_camera_publisher:MockCameraPublisher"),
+    _mock(ENCODER_PUBLISHER, f"{_NODES}.mock_encoder_publisher:MockEncoderPublisher"),
+    _mock(LIDAR_PUBLISHER, f"{_NODES}.mock_lidar_publisher:MockLidarPublisher"),
+    _mock(ACTUATOR_SUBSCRIBER, f"{_NODES}.mock_actuator_subscriber:MockActuatorSubscriber"),
+    CUSTOM,
+)}
+
+# The process that stands in for every hardware node in MODE_SIMULATION: not a NodeType of the schema.
+SIMULATION_ENGINE = NodeTypeSpec(
+    name="SIMULATION", family="simulation", topic="", python_only=True,
+    runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode",
+)
+# Every type a runtime process can be started as, by the name written in its settings.
+PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE}
+
+
+def spec(name: str) -> NodeTypeSpec | None:
+    """The entry of a node type (or of the simulation engine) by name; None when there is none."""
+    return PROCESS_TYPES.get(name)

@@ -1,0 +1,72 @@
+"""The node-type registry agrees with the schema, the runtime, the simulation and the planner."""
+
+import ast
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+from joshua_codegen.compile import node_settings
+from joshua_core.models import BUILTIN_MODELS
+from joshua_core.node_types import NODE_TYPES, PROCESS_TYPES, SIMULATION_ENGINE
+from joshua_core.schema import robot_config_pb2 as pb
+from joshua_runtime.sim import model
+
+NODE_FIELDS = set(pb.Node.DESCRIPTOR.fields_by_name)
+
+
+def defined_classes(target: str) -> tuple[str, set[str]]:
+    """(class name, classes defined at top level of its module) for a `module:Class` target, read from
+    the source without importing it (some node modules import torch)."""
+    module_name, class_name = target.split(":")
+    found = importlib.util.find_spec(module_name)
+    assert found is not None and found.origin, f"module {module_name} does not exist"
+    tree = ast.parse(Path(found.origin).read_text(encoding="utf-8"))
+    return class_name, {node.name for node in tree.body if isinstance(node, ast.ClassDef)}
+
+
+def test_every_schema_node_type_has_exactly_one_entry():
+    declared = {name for name in pb.NodeType.keys() if name != "NODE_TYPE_UNSPECIFIED"}
+    assert set(NODE_TYPES) == declared
+    assert SIMULATION_ENGINE.name not in declared
+
+
+@pytest.mark.parametrize("name", sorted(PROCESS_TYPES))
+def test_entry_names_classes_that_exist(name):
+    entry = PROCESS_TYPES[name]
+    if entry.family == "custom":
+        assert not entry.runtime_class  # runs its own executable
+    else:
+        class_name, classes = defined_classes(entry.runtime_class)
+        assert class_name in classes, f"{entry.runtime_class} is not defined"
+    if entry.hardware:
+        class_name, classes = defined_classes(entry.sim_bridge)
+        assert class_name in classes, f"{entry.sim_bridge} is not defined"
+    else:
+        assert not entry.sim_bridge
+
+
+@pytest.mark.parametrize("name", sorted(NODE_TYPES))
+def test_entry_fields_are_schema_fields(name):
+    entry = NODE_TYPES[name]
+    assert entry.fields <= NODE_FIELDS
+    assert set(entry.required) <= NODE_FIELDS
+    if entry.mock_of:
+        assert NODE_TYPES[entry.mock_of].hardware and entry.python_only and not entry.hardware
+    if entry.topic:
+        assert entry.message_types, "a type with a topic_name needs its message types"
+
+
+@pytest.mark.parametrize("name", sorted(n for n, e in NODE_TYPES.items() if e.cpp_parameters is not None))
+def test_every_cpp_parameter_is_planned(name):
+    """Planning a node with preferred_backend CPP passes every parameter its entry lists (no KeyError)."""
+    text = (f'robot_config {{ name: "r" mode: MODE_TELEOPERATION node {{ name: "n" type: {name} '
+            f'topic_name: "/t" serial_port: "/dev/ttyUSB0" calibration_file: "/c.json" preferred_backend: CPP }} }}')
+    settings = node_settings(text)
+    assert settings["n"]["type"] == name
+
+
+def test_checker_accepts_exactly_the_built_in_models_the_runtime_has():
+    assert set(BUILTIN_MODELS) == set(model.BUILTIN_MODEL_FILES)
+    for path in model.BUILTIN_MODEL_FILES.values():
+        assert path.is_file(), path
