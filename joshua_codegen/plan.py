@@ -2,8 +2,7 @@
 
 import os
 
-from joshua_codegen import defaults
-from joshua_codegen.ros_names import resolve_topic
+from joshua_codegen import defaults, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
 from joshua_core.models import GL_BACKENDS, REGISTRY_PREFIX
 from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
@@ -22,9 +21,11 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     simulating = config.mode == pb.MODE_SIMULATION
     hardware = any(node.type in defaults.HARDWARE for node in config.node)
     engine = defaults.SIMULATION_NAME if simulating and hardware else ""  # a reserved name there (E205)
-    publishers = _publishers(config, names)
+    declared = topology.declarations(config, names)
+    publishers = _publishers(declared)
     nodes = tuple(
-        _node(config, node, name, index, publishers, engine if node.type in defaults.HARDWARE else "")
+        _node(config, node, name, index, [d for d in declared if d.index == index], publishers,
+              engine if node.type in defaults.HARDWARE else "")
         for index, (node, name) in enumerate(zip(config.node, names))
     )
     processes = tuple(_process(config, node, model) for node, model in zip(config.node, nodes) if not model.simulated_by)
@@ -54,25 +55,18 @@ def _grace(shutdown: pb.Shutdown, field: str, default: float) -> float:
     return getattr(shutdown, field) if shutdown.HasField(field) else default
 
 
-def _publishers(config: pb.RobotConfig, names: list[str]) -> dict[str, list[Endpoint]]:
+def _endpoint(declared: topology.Declaration, message_type: str, qos: QoS) -> Endpoint:
+    role = "publisher" if declared.role == topology.PUBLISHER else "subscriber"
+    return Endpoint(declared.node, declared.topic, message_type, qos, role)
+
+
+def _publishers(declared: list[topology.Declaration]) -> dict[str, list[Endpoint]]:
     """Every publisher of the description, by topic name."""
     by_topic: dict[str, list[Endpoint]] = {}
-    for node, name in zip(config.node, names):
-        for endpoint in _published(node, name):
-            by_topic.setdefault(endpoint.topic, []).append(endpoint)
+    for item in declared:
+        if item.role == topology.PUBLISHER:
+            by_topic.setdefault(item.topic, []).append(_endpoint(item, item.message_type, QoS(**item.qos)))
     return by_topic
-
-
-def _published(node: pb.Node, name: str) -> list[Endpoint]:
-    endpoints = []
-    qos = QoS(**defaults.qos(node))
-    if node.type in defaults.PUBLISHES_TOPIC:
-        topic = resolve_topic(node.topic_name, name)
-        endpoints.append(Endpoint(name, topic, defaults.message_type(node), qos, "publisher"))
-    if node.type in defaults.ACTUATORS and node.state_topic:
-        topic = resolve_topic(node.state_topic, name)
-        endpoints.append(Endpoint(name, topic, defaults.STATE_MESSAGE_TYPE, qos, "publisher"))
-    return endpoints
 
 
 def _matching_qos(publishers: list[Endpoint]) -> QoS:
@@ -86,31 +80,21 @@ def _matching_qos(publishers: list[Endpoint]) -> QoS:
                "TRANSIENT_LOCAL" if durable else "VOLATILE")
 
 
-def _subscribed(node: pb.Node, name: str, publishers: dict[str, list[Endpoint]]) -> tuple[list[Endpoint], list[Endpoint]]:
-    """(subscription of topic_name, subscriptions of input_topics) of one node."""
-    main = []
-    if node.type in defaults.SUBSCRIBES_TOPIC:
-        topic = resolve_topic(node.topic_name, name)
-        found = publishers.get(topic, [])
-        message_type = defaults.message_type(node) or (found[0].message_type if found else "")
-        main.append(Endpoint(name, topic, message_type, QoS(**defaults.qos(node)), "subscriber"))
-    inputs = []
-    if node.type in defaults.READS_INPUTS:
-        for topic in dict.fromkeys(resolve_topic(t, name) for t in node.input_topics):
-            found = publishers.get(topic, [])
-            message_type = found[0].message_type if found else ""
-            inputs.append(Endpoint(name, topic, message_type, _matching_qos(found), "subscriber"))
-    return main, inputs
-
-
-def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int,
+def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int, declared: list[topology.Declaration],
           publishers: dict[str, list[Endpoint]], simulated_by: str) -> NodeModel:
-    published = _published(node, name)
-    main, inputs = _subscribed(node, name, publishers)
-    topic = next((e for e in published + main if e.topic == resolve_topic(node.topic_name, name)), None)
-    state = None
-    if node.type in defaults.ACTUATORS and node.state_topic:
-        state = next(e for e in published if e.topic == resolve_topic(node.state_topic, name))
+    published, main, inputs, fields = [], [], [], {}
+    for item in declared:
+        if item.role == topology.READER:
+            if any(e.topic == item.topic for e in inputs):
+                continue  # read once however often it is listed
+            found = publishers.get(item.topic, [])
+            endpoint = _endpoint(item, found[0].message_type if found else "", _matching_qos(found))
+            inputs.append(endpoint)
+            continue
+        endpoint = _endpoint(item, item.message_type, QoS(**item.qos))
+        (published if item.role == topology.PUBLISHER else main).append(endpoint)
+        fields[item.at[-1]] = endpoint
+    topic, state = fields.get("topic_name"), fields.get("state_topic")
     devices = tuple(_devices(node, name))
     settings = {
         "robot": config.name,

@@ -9,9 +9,8 @@ from collections import defaultdict
 from dataclasses import dataclass
 from functools import cached_property
 
-from joshua_codegen import defaults, msg_catalog
+from joshua_codegen import defaults, msg_catalog, topology
 from joshua_codegen.positions import Path, SourceMap, node_path
-from joshua_codegen.ros_names import resolve_topic, topic_problem
 from joshua_core.schema import Node, RobotDescription
 from joshua_core.schema import robot_config_pb2 as pb
 
@@ -56,12 +55,6 @@ class Endpoint:
     at: Path  # the field that declares the topic
 
 
-def known_type(node: Node) -> str:
-    """The node's message type when it is a catalogued one, else ""."""
-    message_type = defaults.message_type(node)
-    return message_type if msg_catalog.is_known(message_type) else ""
-
-
 class RuleContext:
     def __init__(self, description: RobotDescription, source: SourceMap):
         self.description = description
@@ -84,33 +77,19 @@ class RuleContext:
         return [view for view in self.typed_nodes
                 if field in defaults.entry(view.node).required and not getattr(view.node, field)]
 
-    def _topic(self, view: NodeView, name: str) -> str | None:
-        if topic_problem(name, view.name) is not None:
-            return None
-        return resolve_topic(name, view.name)
-
     @cached_property
     def _endpoints(self) -> tuple[dict, dict, dict]:
         publishers: dict[str, list[Endpoint]] = defaultdict(list)
         subscribers: dict[str, list[Endpoint]] = defaultdict(list)
         readers: dict[str, list[Endpoint]] = defaultdict(list)
-        for view in self.typed_nodes:
-            node = view.node
-            topic = self._topic(view, node.topic_name)
-            if topic is not None and node.type in defaults.PUBLISHES_TOPIC:
-                publishers[topic].append(Endpoint(view, topic, known_type(node), defaults.qos(node), view.at("topic_name")))
-            if topic is not None and node.type in defaults.SUBSCRIBES_TOPIC:
-                subscribers[topic].append(Endpoint(view, topic, known_type(node), defaults.qos(node), view.at("topic_name")))
-            if node.type in defaults.ACTUATORS and node.state_topic:
-                state = self._topic(view, node.state_topic)
-                if state is not None:
-                    publishers[state].append(Endpoint(view, state, defaults.STATE_MESSAGE_TYPE, defaults.qos(node),
-                                                      view.at("state_topic")))
-            if node.type in defaults.READS_INPUTS:
-                for k, name in enumerate(node.input_topics):
-                    topic = self._topic(view, name)
-                    if topic is not None:
-                        readers[topic].append(Endpoint(view, topic, "", None, view.at("input_topics", k)))
+        by_role = {topology.PUBLISHER: publishers, topology.SUBSCRIBER: subscribers, topology.READER: readers}
+        for declared in topology.declarations(self.config, [view.name for view in self.nodes]):
+            view = self.nodes[declared.index]
+            if view.node.type == pb.NODE_TYPE_UNSPECIFIED:
+                continue
+            message_type = declared.message_type if msg_catalog.is_known(declared.message_type) else ""
+            by_role[declared.role][declared.topic].append(
+                Endpoint(view, declared.topic, message_type, declared.qos, declared.at))
         return dict(publishers), dict(subscribers), dict(readers)
 
     @property

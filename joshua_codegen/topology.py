@@ -1,0 +1,54 @@
+"""Which node publishes, subscribes and reads which topic, with the field that says so: the one topology
+function the rules and the planner both read.
+"""
+
+from dataclasses import dataclass
+
+from joshua_codegen import defaults
+from joshua_codegen.positions import Path, node_path
+from joshua_codegen.ros_names import resolve_topic, topic_problem
+from joshua_core.schema import robot_config_pb2 as pb
+
+PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"
+
+
+@dataclass(frozen=True)
+class Declaration:
+    """One topic a node declares: its topic_name, its state_topic or one of its input_topics.
+
+    `message_type` is the declared or default type ("" for a reader: it takes its publishers' type);
+    `qos` the node's resolved QoS (None for a reader: it matches its publishers).
+    """
+
+    index: int  # the node's position in the description
+    node: str  # the node's name (its own or derived)
+    topic: str  # fully qualified
+    role: str  # PUBLISHER, SUBSCRIBER or READER
+    message_type: str
+    qos: dict | None
+    at: Path  # the field that declares the topic
+
+
+def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
+    """Every topic every typed node declares, in file order; topic names that are not valid are left
+    out (E203 reports them)."""
+    found = []
+    for index, (node, name) in enumerate(zip(config.node, names)):
+        entry = defaults.entry(node)
+        qos = defaults.qos(node)
+
+        def declare(value: str, role: str, message_type: str, node_qos: dict | None, *field: str | int) -> None:
+            if topic_problem(value, name) is None:
+                found.append(Declaration(index, name, resolve_topic(value, name), role, message_type, node_qos,
+                                         node_path(index) + field))
+
+        if entry.topic == "publishes":
+            declare(node.topic_name, PUBLISHER, defaults.message_type(node), qos, "topic_name")
+        elif entry.topic == "subscribes":
+            declare(node.topic_name, SUBSCRIBER, defaults.message_type(node), qos, "topic_name")
+        if entry.state_topic and node.state_topic:
+            declare(node.state_topic, PUBLISHER, defaults.STATE_MESSAGE_TYPE, qos, "state_topic")
+        if entry.reads_inputs:
+            for k, value in enumerate(node.input_topics):
+                declare(value, READER, "", None, "input_topics", k)
+    return found
