@@ -1,12 +1,12 @@
 """The whole compiler as one pure function: description text in, diagnostics and files out."""
 
-import copy
 from dataclasses import dataclass
 
 from joshua_codegen.check import CheckResult, check_file, check_text
 from joshua_codegen.diagnostics import format_text
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
+from joshua_core.settings import to_literal
 
 
 @dataclass
@@ -45,5 +45,4 @@ def node_settings(text: str, overrides=(), path: str = "description.pbtxt") -> d
     settings = {node.name: node.settings for node in robot.nodes}
     for process in robot.processes:
         settings[process.name] = robot.process_settings(process)
-    # Each its own copy: the engine's settings hold the very dicts of the nodes it simulates.
-    return {name: copy.deepcopy(value) for name, value in settings.items()}
+    return {name: to_literal(value) for name, value in settings.items()}

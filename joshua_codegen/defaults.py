@@ -1,6 +1,7 @@
 """The defaults of every unset field, per node type: the one place both rules and model read them."""
 
 from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
+from joshua_core.models import DEVICES, GL_BACKENDS, OUTPUT_FORMATS
 from joshua_core.node_types import JOINT_STATE, NODE_TYPES, SIMULATION_ENGINE, NodeTypeSpec
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
@@ -46,8 +47,9 @@ FIELD_APPLIES_TO = {
     name: _types(lambda t, name=name: name in t.fields)
     for name in sorted(set().union(*(entry.fields for entry in SPECS.values())))
 }
-OUTPUT_FORMATS = ("lerobot", "parquet")
-DEVICES = ("cpu", "cuda")
+# Values a few string fields accept (OUTPUT_FORMATS, DEVICES: the first is the default), and defaults.
+CAMERA_WIDTH, CAMERA_HEIGHT = 640, 480
+REALTIME_FACTOR = 1.0
 
 
 def type_name(node_type: int) -> str:
@@ -134,6 +136,34 @@ def rate_hz(node: pb.Node) -> float:
 
 def frame_id(node: pb.Node) -> str:
     return node.frame_id or entry(node).frame_id
+
+
+def camera_index(node: pb.Node) -> int:
+    return node.camera_index if node.HasField("camera_index") else 0
+
+
+def width(node: pb.Node) -> int:
+    return node.width if node.HasField("width") else CAMERA_WIDTH
+
+
+def height(node: pb.Node) -> int:
+    return node.height if node.HasField("height") else CAMERA_HEIGHT
+
+
+def device(node: pb.Node) -> str:
+    return node.device or DEVICES[0]
+
+
+def output_format(node: pb.Node) -> str:
+    return node.output_format or OUTPUT_FORMATS[0]
+
+
+def realtime_factor(simulation: pb.Simulation) -> float:
+    return simulation.realtime_factor if simulation.HasField("realtime_factor") else REALTIME_FACTOR
+
+
+def gl_backend(simulation: pb.Simulation) -> str:
+    return simulation.gl_backend or GL_BACKENDS[0]
 
 
 def restart(node: pb.Node) -> str:

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 from joshua_core.node_types import SIMULATION_ENGINE
+from joshua_core.settings import NodeSettings
 
 
 @dataclass(frozen=True)
@@ -85,7 +86,7 @@ class NodeModel:
     publishes: tuple[Endpoint, ...]
     subscribes: tuple[Endpoint, ...]
     devices: tuple[Device, ...]
-    settings: dict = field(hash=False, compare=False)  # handed to joshua_runtime.entrypoint.run_node
+    settings: NodeSettings = field(hash=False, compare=False)  # written into its entrypoint (node_settings.py)
 
 
 @dataclass(frozen=True)
@@ -102,7 +103,7 @@ class Robot:
     cpp_bin_dir: str
     python_executable: str
     env: tuple[tuple[str, str], ...]
-    simulation: dict | None = field(hash=False, compare=False)
+    simulation: NodeSettings | None = field(hash=False, compare=False)  # the engine's settings in MODE_SIMULATION
 
     def node(self, name: str) -> NodeModel:
         return self._nodes_by_name[name]
@@ -123,9 +124,8 @@ class Robot:
                 simulated.setdefault(node.simulated_by, []).append(node)
         return simulated
 
-    def process_settings(self, process: Process) -> dict:
-        """The settings dict of a python process (a node's, or the simulation engine's)."""
+    def process_settings(self, process: Process) -> NodeSettings:
+        """The settings of a python process (a node's, or the simulation engine's)."""
         if process.node_type == SIMULATION_ENGINE.name:
-            return {"robot": self.name, "mode": self.mode, "name": process.name, "type": SIMULATION_ENGINE.name,
-                    "simulation": self.simulation}
+            return self.simulation
         return self.node(process.name).settings

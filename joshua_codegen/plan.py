@@ -2,15 +2,11 @@
 
 import os
 
-from joshua_codegen import defaults, topology
+from joshua_codegen import defaults, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
-from joshua_core.models import GL_BACKENDS, REGISTRY_PREFIX
+from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
-
-
-# Value of a setting whose field does not apply to the node type ("" / [] / 0 unless named here).
-_NOT_APPLICABLE = {"camera_index": -1}
 
 
 def plan(description: pb.RobotDescription, source: str) -> Robot:
@@ -32,7 +28,8 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     simulation = None
     if engine:
         simulated = [model for model in nodes if model.simulated_by]
-        simulation = _simulation(config, simulated)
+        section = node_settings.for_simulation(config, [model.settings for model in simulated])
+        simulation = node_settings.for_engine(config, engine, section)
         processes += (_engine_process(engine, simulated),)
     return Robot(
         name=config.name,
@@ -96,37 +93,7 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int, declared
         fields[item.at[-1]] = endpoint
     topic, state = fields.get("topic_name"), fields.get("state_topic")
     devices = tuple(_devices(node, name))
-    settings = {
-        "robot": config.name,
-        "mode": pb.Mode.Name(config.mode),
-        "name": name,
-        "type": defaults.type_name(node.type),
-        "topic": topic.as_topic_settings() if topic else None,
-        "state_topic": state.as_topic_settings() if state else None,
-        "inputs": [e.as_topic_settings() for e in inputs],
-        "qos": defaults.qos(node),
-        "serial_port": node.serial_port,
-        "baud_rate": defaults.baud_rate(node),
-        "device_ids": defaults.device_ids(node),
-        "joint_names": defaults.joint_names(node) if defaults.device_ids(node) or node.joint_names else [],
-        "calibration_file": node.calibration_file,
-        "keep_torque_on_exit": node.keep_torque_on_exit,
-        "camera_index": node.camera_index if node.HasField("camera_index") else (0 if node.type in defaults.CAMERAS else -1),
-        "video_source": node.video_source,
-        "width": node.width if node.HasField("width") else 640,
-        "height": node.height if node.HasField("height") else 480,
-        "rate_hz": defaults.rate_hz(node),
-        "frame_id": defaults.frame_id(node),
-        "model_path": node.model_path,
-        "policy_type": node.policy_type,
-        "device": node.device or "cpu",
-        "output_format": node.output_format or "lerobot",
-        "output_directory": node.output_directory,
-        "simulation": None,
-    }
-    for key in settings.keys() & defaults.FIELD_APPLIES_TO.keys():
-        if node.type not in defaults.FIELD_APPLIES_TO[key]:
-            settings[key] = _NOT_APPLICABLE.get(key, type(settings[key])())
+    settings = node_settings.for_node(config, node, name, topic, state, inputs)
     return NodeModel(
         name=name,
         type=defaults.type_name(node.type),
@@ -148,8 +115,7 @@ def _devices(node: pb.Node, name: str):
     if "video_file" in claims and node.video_source and "://" not in node.video_source:
         yield Device("file", node.video_source, name)
     if "camera" in claims and not node.video_source:
-        index = node.camera_index if node.HasField("camera_index") else 0
-        yield Device("camera", f"/dev/video{index}", name)
+        yield Device("camera", f"/dev/video{defaults.camera_index(node)}", name)
     if "model_path" in claims and node.model_path and not node.model_path.startswith(REGISTRY_PREFIX):
         yield Device("model", node.model_path, name)
 
@@ -178,23 +144,23 @@ def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel) -> Process
 def _cpp_args(model: NodeModel) -> tuple[str, ...]:
     """`--ros-args -r __node:=NAME -p field:=value ...` for the C++ binary of a node."""
     settings = model.settings
-    topic = settings["topic"] or {}
-    qos = settings["qos"]
-    values = dict(settings)
-    values.update({
-        "topic_name": topic.get("name", ""),
-        "message_type": topic.get("message_type", ""),
-        "qos_depth": qos["depth"],
-        "qos_reliability": qos["reliability"],
-        "qos_durability": qos["durability"],
-        "qos_history": qos["history"],
-        "state_topic": (settings["state_topic"] or {}).get("name", ""),
-    })
+    values = {
+        "topic_name": settings.topic.name,
+        "message_type": settings.topic.message_type,
+        "qos_depth": settings.qos.depth,
+        "qos_reliability": settings.qos.reliability,
+        "qos_durability": settings.qos.durability,
+        "qos_history": settings.qos.history,
+        "state_topic": settings.state_topic.name,
+    }
     args = ["--ros-args", "-r", f"__node:={model.name}"]
     for key in NODE_TYPES[model.type].cpp_parameters:
-        if values[key] in ("", [], -1):
+        value = values[key] if key in values else getattr(settings, key)
+        if not isinstance(value, (str, int, float)):
+            value = list(value)
+        if value in ("", [], -1):
             continue
-        args += ["-p", f"{key}:={_ros_param(values[key])}"]
+        args += ["-p", f"{key}:={_ros_param(value)}"]
     return tuple(args)
 
 
@@ -210,18 +176,6 @@ def _ros_param(value) -> str:
     if text.replace("_", "").replace("/", "").replace(".", "").replace("-", "").isalnum() and not text[0].isdigit():
         return text
     return "'" + text.replace("'", "''") + "'"
-
-
-def _simulation(config: pb.RobotConfig, simulated: list[NodeModel]) -> dict:
-    sim = config.simulation
-    return {
-        "model": sim.model,
-        "timestep_s": sim.timestep_s if sim.HasField("timestep_s") else None,
-        "realtime_factor": sim.realtime_factor if sim.HasField("realtime_factor") else 1.0,
-        "camera": sim.camera,
-        "gl_backend": sim.gl_backend or GL_BACKENDS[0],
-        "simulates": [model.settings for model in simulated],
-    }
 
 
 def _engine_process(name: str, simulated: list[NodeModel]) -> Process:

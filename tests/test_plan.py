@@ -8,6 +8,7 @@ from testsupport.joshuac_cli import ROOT
 from joshua_codegen.emitters.manifest import manifest
 from joshua_codegen.plan import plan
 from joshua_codegen.render import Context, render
+from joshua_core.settings import to_literal
 from joshua_core.schema import RobotDescription, robot_config_pb2 as pb
 
 
@@ -34,7 +35,7 @@ def test_recorder_inputs_get_a_qos_every_publisher_can_serve():
         node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" qos_durability: TRANSIENT_LOCAL }
         node { name: "rec" type: DATA_SUBSCRIBER topic_name: "/joints" input_topics: ["/cam", "/joints"]
                output_directory: "/data" } }"""), "r.pbtxt")
-    inputs = robot.node("rec").settings["inputs"]
+    inputs = to_literal(robot.node("rec").settings)["inputs"]
     assert inputs == [
         {"name": "/cam", "message_type": "sensor_msgs/msg/Image",
          "qos": {"history": "KEEP_LAST", "depth": 3, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
@@ -56,7 +57,7 @@ def test_actuator_state_topic_is_a_publisher_in_the_topology():
     robot = plan(seed("mock_arm"), "mock_arm.pbtxt")
     topic = next(t for t in robot.topics if t.name == "/follower/joint_states")
     assert [(e.node, e.message_type) for e in topic.publishers] == [("follower", "sensor_msgs/msg/JointState")]
-    assert robot.node("follower").settings["state_topic"]["name"] == "/follower/joint_states"
+    assert to_literal(robot.node("follower").settings)["state_topic"]["name"] == "/follower/joint_states"
 
 
 def _endpoints(document: dict) -> list:
@@ -95,7 +96,7 @@ def test_relative_and_private_topic_names_resolve_to_one_topic():
         "r.pbtxt")
     assert [(t.name, [e.node for e in t.publishers], [e.node for e in t.subscribers]) for t in robot.topics] == [
         ("/follow/state", ["follow"], []), ("/joints", ["arm"], ["follow"])]
-    assert robot.node("follow").settings["state_topic"]["name"] == "/follow/state"
+    assert to_literal(robot.node("follow").settings)["state_topic"]["name"] == "/follow/state"
 
 
 def test_a_simulated_robot_needs_none_of_the_devices_of_the_nodes_it_simulates():

@@ -11,6 +11,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import QoSProfile
 
+from joshua_core.settings import QosSettings
 from joshua_runtime.qos import qos_profile
 
 # Longest one spin waits for a callback before a wait checks its condition again.
@@ -126,4 +127,7 @@ class RosClient:
 
 
 def _profile(qos) -> QoSProfile:
-    return qos if isinstance(qos, QoSProfile) else qos_profile(qos)
+    """A QoSProfile as it is, else QoS settings: a message or their literal form from compiled settings."""
+    if isinstance(qos, QoSProfile):
+        return qos
+    return qos_profile(QosSettings(**qos) if isinstance(qos, dict) else qos)

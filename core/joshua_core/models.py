@@ -7,3 +7,7 @@ BUILTIN_MODELS = ("so100",)
 GL_BACKENDS = ("egl", "osmesa")
 # `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.
 REGISTRY_PREFIX = "registry:"
+# What DATA_SUBSCRIBER writes (`output_format`); the first is the default.
+OUTPUT_FORMATS = ("lerobot", "parquet")
+# Torch devices an INFERENCE node runs a policy on (`device`); the first is the default.
+DEVICES = ("cpu", "cuda")

@@ -18,6 +18,8 @@ _CPP_TOPIC_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliabi
 _CPP_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
 JOINT_STATE = "sensor_msgs/msg/JointState"
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
+# What a policy can observe and a dataset can record: images and joint states.
+OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 
 
 @dataclass(frozen=True)
@@ -27,7 +29,7 @@ class NodeTypeSpec:
     family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, custom
     topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
     message_types  allowed on topic_name; the first is the default
-    reads_inputs   it subscribes input_topics
+    input_types    the message types its input_topics may carry (empty: it reads none)
     state_topic    it also publishes present joint states on state_topic when set
     hardware       it touches a device; MODE_SIMULATION replaces it with the simulation engine
     mock_of        the hardware type a MOCK_* stands in for (it reads the same fields)
@@ -46,7 +48,7 @@ class NodeTypeSpec:
     family: str
     topic: str
     message_types: tuple[str, ...] = ()
-    reads_inputs: bool = False
+    input_types: tuple[str, ...] = ()
     state_topic: bool = False
     hardware: bool = False
     mock_of: str = ""
@@ -65,6 +67,11 @@ class NodeTypeSpec:
     def binary(self) -> str:
         """File name of its C++ binary in cpp_bin_dir ("" when it has none)."""
         return self.name.lower() if self.cpp_parameters is not None else ""
+
+    @property
+    def reads_inputs(self) -> bool:
+        """It subscribes input_topics."""
+        return bool(self.input_types)
 
     @property
     def servo_bus(self) -> bool:
@@ -118,14 +125,16 @@ OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
     sim_bridge=f"{_BRIDGES}:CalibrationBridge",
 )
 INFERENCE = NodeTypeSpec(
-    name="INFERENCE", family="inference", topic="publishes", message_types=(JOINT_STATE,), reads_inputs=True,
+    name="INFERENCE", family="inference", topic="publishes", message_types=(JOINT_STATE,),
+    input_types=OBSERVATION_TYPES,
     python_only=True,
     fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),
     required=("model_path", "input_topics"), claims=("model_path",), rate_hz=30.0,
     runtime_class="joshua_runtime.ai.inference_node:InferenceNode",
 )
 DATA_SUBSCRIBER = NodeTypeSpec(
-    name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,), reads_inputs=True,
+    name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,),
+    input_types=OBSERVATION_TYPES,
     python_only=True, fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz"}),
     required=("output_directory",), rate_hz=30.0, runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
 )

@@ -2,6 +2,7 @@
 
 from joshua_codegen.model import Robot
 from joshua_codegen.render import Context, template
+from joshua_core.settings import to_literal
 
 
 def emit(robot: Robot, context: Context) -> dict[str, str]:
@@ -10,6 +11,6 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
         if process.kind != "python":
             continue
         files[process.entrypoint] = template(
-            "node_entrypoint.py.j2", robot=robot, process=process, settings=robot.process_settings(process)
+            "node_entrypoint.py.j2", robot=robot, process=process, settings=to_literal(robot.process_settings(process))
         )
     return files

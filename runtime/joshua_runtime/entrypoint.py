@@ -1,26 +1,9 @@
 """The one function a generated node entrypoint calls: `run_node(SETTINGS)`.
 
-joshuac writes every node's resolved settings into `OUT/nodes/<node>.py` as a dict literal and
-calls `run_node` with it. The dict has these keys (every default already resolved; "" or [] when
-a field does not apply to the node type):
-
-    robot, mode, name, type                      str  (type: a NodeType name, or "SIMULATION")
-    topic        {"name", "message_type", "qos"} or None
-    state_topic  {"name", "message_type", "qos"} or None   (ACTUATOR_SUBSCRIBER present states)
-    inputs       [{"name", "message_type", "qos"}, ...]   (INFERENCE / DATA_SUBSCRIBER inputs; QoS
-                                                           chosen to match their publishers)
-    qos          {"history": "KEEP_LAST"|"KEEP_ALL", "depth": int,
-                  "reliability": "RELIABLE"|"BEST_EFFORT", "durability": "VOLATILE"|"TRANSIENT_LOCAL"}
-    serial_port str, baud_rate int, device_ids [int], joint_names [str], calibration_file str,
-    keep_torque_on_exit bool
-    camera_index int, video_source str, width int, height int, rate_hz float, frame_id str
-    model_path str, policy_type str, device str, output_format str, output_directory str
-    simulation   None
-
-A field that does not apply to the node type holds "", [], 0 (camera_index: -1). The simulation
-engine of MODE_SIMULATION (type "SIMULATION") gets only robot, mode, name, type and
-    simulation   {"model", "timestep_s", "realtime_factor", "camera", "gl_backend",
-                  "simulates": [settings of each replaced hardware node]}
+joshuac writes every node's resolved settings into `OUT/nodes/<node>.py` as the literal form of a
+NodeSettings message (the settings contract: proto/joshua/v1/node_settings.proto, read through
+joshua_core.settings); `run_node` parses it back into that message, refusing settings of another
+format version, and runs the class the node-type registry names for the node's type.
 
 Exit codes: 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device failure.
 
@@ -35,6 +18,8 @@ import sys
 import threading
 
 from joshua_core.node_types import spec
+from joshua_core.settings import SettingsFormatError
+from joshua_core.settings import parse as parse_settings
 from joshua_runtime.errors import JoshuaError, SettingsError
 
 def node_class(node_type: str):
@@ -66,8 +51,8 @@ def end_process(code: int) -> None:
     os._exit(code)
 
 
-def run_node(settings: dict, exit_process: bool = True) -> int:
-    """Run the node described by `settings` until SIGINT/SIGTERM.
+def run_node(literal: dict, exit_process: bool = True) -> int:
+    """Run the node described by the settings literal of a generated entrypoint until SIGINT/SIGTERM.
 
     Ends the process with the node's exit code (`end_process`); with exit_process=False it
     returns the code instead.
@@ -75,12 +60,17 @@ def run_node(settings: dict, exit_process: bool = True) -> int:
     from joshua_runtime.node import StopRequested, StopSignal, run
 
     stop = StopSignal().install()  # before the imports: a heavy node may be stopped while loading
+    name = literal.get("name", "?") if isinstance(literal, dict) else "?"
     try:
-        cls = node_class(settings["type"])
+        settings = parse_settings(literal)
+        cls = node_class(settings.type)
     except StopRequested:
         cls, code = None, 0
+    except SettingsFormatError as exc:
+        print(f"{name}: error: {exc}", file=sys.stderr, flush=True)
+        cls, code = None, SettingsError.exit_code
     except JoshuaError as exc:
-        print(f"{settings.get('name', '?')}: error: {exc}", file=sys.stderr, flush=True)
+        print(f"{name}: error: {exc}", file=sys.stderr, flush=True)
         cls, code = None, exc.exit_code
     if cls is not None:
         code = run(cls, settings, stop)

@@ -1,7 +1,6 @@
 """Base class of every runtime node and the loop that runs one until SIGINT or SIGTERM.
 
-A node class receives the settings dict written by joshuac into the generated entrypoint (see
-`entrypoint.py` for its shape), creates its publishers, subscriptions and timers in `start()`, and
+A node class receives its NodeSettings (the settings contract, joshua_core.settings), creates its publishers, subscriptions and timers in `start()`, and
 releases its device in `close()`. `run()` owns rclpy: it installs its own SIGINT/SIGTERM handlers,
 spins in short slices so that a signal ends the loop within `SHUTDOWN_POLL_S`, then closes the node
 and returns exit code 0.
@@ -16,6 +15,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
+from joshua_core.settings import NodeSettings, TopicSettings
 from joshua_runtime.errors import JoshuaError
 from joshua_runtime.messages import message_class
 from joshua_runtime.qos import qos_profile
@@ -26,14 +26,14 @@ SHUTDOWN_POLL_S = 0.05
 class JoshuaNode:
     """One ROS 2 node configured by joshuac settings. Subclasses override start() and close()."""
 
-    def __init__(self, settings: dict, ros_node: Node):
+    def __init__(self, settings: NodeSettings, ros_node: Node):
         self.settings = settings
         self.ros = ros_node
         self.log = ros_node.get_logger()
 
     @property
     def name(self) -> str:
-        return self.settings["name"]
+        return self.settings.name
 
     def start(self) -> None:
         """Open devices and create publishers, subscriptions and timers."""
@@ -41,15 +41,14 @@ class JoshuaNode:
     def close(self) -> None:
         """Release devices. Called once, after spinning stops, also after a failed start."""
 
-    def publisher(self, topic: dict):
-        """Create a publisher for a topic dict `{"name", "message_type", "qos"}`."""
-        return self.ros.create_publisher(message_class(topic["message_type"]), topic["name"], qos_profile(topic["qos"]))
+    def publisher(self, topic: TopicSettings):
+        """Create a publisher for a topic of the settings."""
+        return self.ros.create_publisher(message_class(topic.message_type), topic.name, qos_profile(topic.qos))
 
-    def subscription(self, topic: dict, callback):
-        """Create a subscription for a topic dict `{"name", "message_type", "qos"}`."""
-        return self.ros.create_subscription(
-            message_class(topic["message_type"]), topic["name"], callback, qos_profile(topic["qos"])
-        )
+    def subscription(self, topic: TopicSettings, callback):
+        """Create a subscription for a topic of the settings."""
+        return self.ros.create_subscription(message_class(topic.message_type), topic.name, callback,
+                                            qos_profile(topic.qos))
 
     def stamp(self):
         """The node clock's now() as a builtin_interfaces/Time."""
@@ -81,7 +80,7 @@ class StopSignal:
             raise StopRequested(signum)
 
 
-def run(node_class: type[JoshuaNode], settings: dict, stop: StopSignal | None = None) -> int:
+def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal | None = None) -> int:
     """Run one node until SIGINT or SIGTERM; return the process exit code.
 
     A signal during start-up ends the node cleanly too (exit code 0): a robot stopped while a node
@@ -92,7 +91,7 @@ def run(node_class: type[JoshuaNode], settings: dict, stop: StopSignal | None = 
     code = 0
     try:
         rclpy.init(args=None, signal_handler_options=SignalHandlerOptions.NO)
-        ros_node = rclpy.create_node(settings["name"])
+        ros_node = rclpy.create_node(settings.name)
         executor = SingleThreadedExecutor()
         executor.add_node(ros_node)
         node = node_class(settings, ros_node)
@@ -103,7 +102,7 @@ def run(node_class: type[JoshuaNode], settings: dict, stop: StopSignal | None = 
     except StopRequested:
         pass
     except JoshuaError as exc:
-        print(f"{settings['name']}: error: {exc}", file=sys.stderr, flush=True)
+        print(f"{settings.name}: error: {exc}", file=sys.stderr, flush=True)
         code = exc.exit_code
     finally:
         stop.starting = False
@@ -111,7 +110,7 @@ def run(node_class: type[JoshuaNode], settings: dict, stop: StopSignal | None = 
             try:
                 node.close()
             except JoshuaError as exc:
-                print(f"{settings['name']}: error while closing: {exc}", file=sys.stderr, flush=True)
+                print(f"{settings.name}: error while closing: {exc}", file=sys.stderr, flush=True)
                 code = code or exc.exit_code
         if executor is not None:
             executor.shutdown(timeout_sec=0)

@@ -8,6 +8,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
 from testsupport.compiled_settings import compiled_settings
+from joshua_core.settings import TopicSettings
 from joshua_runtime.errors import DeviceError
 from joshua_runtime.graph import with_discovered_types
 
@@ -29,20 +30,20 @@ def ros_node(ros_domain):
 def test_an_unknown_type_is_taken_from_the_publisher_in_the_graph(ros_node):
     publisher_node = rclpy.create_node("outside_publisher")
     publisher_node.create_publisher(JointState, OUTSIDE_TOPIC, RELIABLE)
-    topics = [{"name": OUTSIDE_TOPIC, "message_type": "", "qos": {}},
-              {"name": "/known", "message_type": "sensor_msgs/msg/Image", "qos": {}}]
+    topics = [TopicSettings(name=OUTSIDE_TOPIC, message_type=""),
+              TopicSettings(name="/known", message_type="sensor_msgs/msg/Image")]
     try:
         resolved = with_discovered_types(ros_node, topics, DISCOVERY_TIMEOUT_S)
     finally:
         publisher_node.destroy_node()
-    assert [t["message_type"] for t in resolved] == ["sensor_msgs/msg/JointState", "sensor_msgs/msg/Image"]
-    assert topics[0]["message_type"] == ""  # the settings themselves are left as they were
+    assert [t.message_type for t in resolved] == ["sensor_msgs/msg/JointState", "sensor_msgs/msg/Image"]
+    assert topics[0].message_type == ""  # the settings themselves are left as they were
 
 
 def test_a_publisher_that_never_appears_is_one_clear_device_error(ros_node):
     started = time.monotonic()
     with pytest.raises(DeviceError, match=r"no publisher of /nobody/here appeared within 0.3 s"):
-        with_discovered_types(ros_node, [{"name": "/nobody/here", "message_type": "", "qos": {}}], ABSENT_TIMEOUT_S)
+        with_discovered_types(ros_node, [TopicSettings(name="/nobody/here")], ABSENT_TIMEOUT_S)
     assert time.monotonic() - started >= ABSENT_TIMEOUT_S
 
 
@@ -53,6 +54,6 @@ def test_compiler_gives_an_outside_input_a_subscription_any_publisher_can_serve(
       node {{ type: DATA_SUBSCRIBER topic_name: "/arm" input_topics: ["{OUTSIDE_TOPIC}"] output_directory: "/d" }}
     }}''')
     [outside] = settings["data_subscriber"]["inputs"]
-    assert outside == {"name": OUTSIDE_TOPIC, "message_type": "",
+    assert outside == {"name": OUTSIDE_TOPIC,  # message_type "" (learnt at run time) is left out, as all zero values
                        "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "BEST_EFFORT",
                                "durability": "VOLATILE"}}

@@ -13,6 +13,7 @@ SLOW_START_S = 60.0
 
 SCRIPT = f"""
 import sys, time
+from joshua_core.settings import FORMAT_VERSION
 from joshua_runtime import entrypoint
 from joshua_runtime.node import JoshuaNode
 
@@ -25,7 +26,7 @@ class SlowStart(JoshuaNode):
         print("closed", flush=True)
 
 entrypoint.node_class = lambda node_type: SlowStart
-entrypoint.run_node({{"name": "slow", "type": "CUSTOM"}})
+entrypoint.run_node({{"format_version": FORMAT_VERSION, "name": "slow", "type": "CUSTOM"}})
 """
 
 

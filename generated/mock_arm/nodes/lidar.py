@@ -6,6 +6,7 @@
 import sys
 
 SETTINGS = {
+    'format_version': 2,
     'robot': 'mock_arm',
     'mode': 'MODE_TELEOPERATION',
     'name': 'lidar',
@@ -20,32 +21,15 @@ SETTINGS = {
             'durability': 'VOLATILE',
         },
     },
-    'state_topic': None,
-    'inputs': [],
     'qos': {
         'history': 'KEEP_LAST',
         'depth': 5,
         'reliability': 'BEST_EFFORT',
         'durability': 'VOLATILE',
     },
-    'serial_port': '',
     'baud_rate': 230400,
-    'device_ids': [],
-    'joint_names': [],
-    'calibration_file': '',
-    'keep_torque_on_exit': False,
-    'camera_index': -1,
-    'video_source': '',
-    'width': 0,
-    'height': 0,
     'rate_hz': 5.0,
     'frame_id': 'laser',
-    'model_path': '',
-    'policy_type': '',
-    'device': '',
-    'output_format': '',
-    'output_directory': '',
-    'simulation': None,
 }
 
 if __name__ == "__main__":

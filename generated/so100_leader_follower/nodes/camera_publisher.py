@@ -6,6 +6,7 @@
 import sys
 
 SETTINGS = {
+    'format_version': 2,
     'robot': 'so100_leader_follower',
     'mode': 'MODE_TELEOPERATION',
     'name': 'camera_publisher',
@@ -20,32 +21,16 @@ SETTINGS = {
             'durability': 'VOLATILE',
         },
     },
-    'state_topic': None,
-    'inputs': [],
     'qos': {
         'history': 'KEEP_LAST',
         'depth': 5,
         'reliability': 'BEST_EFFORT',
         'durability': 'VOLATILE',
     },
-    'serial_port': '',
-    'baud_rate': 0,
-    'device_ids': [],
-    'joint_names': [],
-    'calibration_file': '',
-    'keep_torque_on_exit': False,
-    'camera_index': 0,
-    'video_source': '',
     'width': 640,
     'height': 480,
     'rate_hz': 30.0,
     'frame_id': 'camera',
-    'model_path': '',
-    'policy_type': '',
-    'device': '',
-    'output_format': '',
-    'output_directory': '',
-    'simulation': None,
 }
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 import sys
 
 SETTINGS = {
+    'format_version': 2,
     'robot': 'so100_leader_follower',
     'mode': 'MODE_TELEOPERATION',
     'name': 'data_subscriber',
@@ -20,32 +21,15 @@ SETTINGS = {
             'durability': 'VOLATILE',
         },
     },
-    'state_topic': None,
-    'inputs': [],
     'qos': {
         'history': 'KEEP_LAST',
         'depth': 10,
         'reliability': 'RELIABLE',
         'durability': 'VOLATILE',
     },
-    'serial_port': '',
-    'baud_rate': 0,
-    'device_ids': [],
-    'joint_names': [],
-    'calibration_file': '',
-    'keep_torque_on_exit': False,
-    'camera_index': -1,
-    'video_source': '',
-    'width': 0,
-    'height': 0,
     'rate_hz': 30.0,
-    'frame_id': '',
-    'model_path': '',
-    'policy_type': '',
-    'device': '',
     'output_format': 'parquet',
     'output_directory': '/data/episodes',
-    'simulation': None,
 }
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 import sys
 
 SETTINGS = {
+    'format_version': 2,
     'robot': 'so100_leader_follower',
     'mode': 'MODE_TELEOPERATION',
     'name': 'encoder_publisher',
@@ -20,8 +21,6 @@ SETTINGS = {
             'durability': 'VOLATILE',
         },
     },
-    'state_topic': None,
-    'inputs': [],
     'qos': {
         'history': 'KEEP_LAST',
         'depth': 10,
@@ -32,20 +31,8 @@ SETTINGS = {
     'baud_rate': 1000000,
     'device_ids': [1, 2, 3, 4, 5, 6],
     'joint_names': ['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper'],
-    'calibration_file': '',
-    'keep_torque_on_exit': False,
-    'camera_index': -1,
-    'video_source': '',
-    'width': 0,
-    'height': 0,
     'rate_hz': 100.0,
     'frame_id': 'base_link',
-    'model_path': '',
-    'policy_type': '',
-    'device': '',
-    'output_format': '',
-    'output_directory': '',
-    'simulation': None,
 }
 
 if __name__ == "__main__":

@@ -13,13 +13,10 @@
 
 import re
 
+from joshua_core.node_types import IMAGE_TYPES, JOINT_STATE, OBSERVATION_TYPES
+from joshua_core.settings import TopicSettings
 from joshua_runtime.errors import SettingsError
 
-JOINT_STATE = "sensor_msgs/msg/JointState"
-IMAGE = "sensor_msgs/msg/Image"
-COMPRESSED_IMAGE = "sensor_msgs/msg/CompressedImage"
-IMAGE_TYPES = (IMAGE, COMPRESSED_IMAGE)
-SUPPORTED_INPUT_TYPES = (IMAGE, COMPRESSED_IMAGE, JOINT_STATE)
 
 ACTION = "action"
 STATE = "observation.state"
@@ -53,20 +50,20 @@ def joint_name(feature_name: str) -> str:
     return feature_name[: -len(POSITION_SUFFIX)] if feature_name.endswith(POSITION_SUFFIX) else feature_name
 
 
-def check_inputs(node_name: str, inputs: list[dict]) -> None:
+def check_inputs(node_name: str, inputs: list[TopicSettings]) -> None:
     """Reject inputs of unsupported message types and Image inputs that map to the same key."""
     seen: dict[str, str] = {}
     for topic in inputs:
-        kind = topic["message_type"]
-        if kind not in SUPPORTED_INPUT_TYPES:
+        kind = topic.message_type
+        if kind not in OBSERVATION_TYPES:
             raise SettingsError(
-                f"{node_name}: input {topic['name']} has message type {kind or '(unknown)'}; "
-                f"supported: {', '.join(SUPPORTED_INPUT_TYPES)}"
+                f"{node_name}: input {topic.name} has message type {kind or '(unknown)'}; "
+                f"supported: {', '.join(OBSERVATION_TYPES)}"
             )
         if kind in IMAGE_TYPES:
-            feature = image_feature(topic["name"])
+            feature = image_feature(topic.name)
             if feature in seen:
                 raise SettingsError(
-                    f"{node_name}: inputs {seen[feature]} and {topic['name']} both map to {feature}"
+                    f"{node_name}: inputs {seen[feature]} and {topic.name} both map to {feature}"
                 )
-            seen[feature] = topic["name"]
+            seen[feature] = topic.name

@@ -9,6 +9,7 @@ missing joint or a changed image size makes the frame unavailable.
 
 import numpy as np
 
+from joshua_core.settings import TopicSettings
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.ros_arrays import image_to_rgb, joint_positions
 
@@ -22,12 +23,10 @@ class FrameUnavailable(ValueError):
 class FrameSampler:
     """Builds LeRobot feature definitions once, then a frame dict per call."""
 
-    def __init__(self, action_topic: str, inputs: list[dict], use_videos: bool):
+    def __init__(self, action_topic: str, inputs: list[TopicSettings], use_videos: bool):
         self.action_topic = action_topic
-        self.state_topics = [t["name"] for t in inputs if t["message_type"] == keys.JOINT_STATE]
-        self.image_topics = {
-            keys.image_feature(t["name"]): t["name"] for t in inputs if t["message_type"] in keys.IMAGE_TYPES
-        }
+        self.state_topics = [t.name for t in inputs if t.message_type == keys.JOINT_STATE]
+        self.image_topics = {keys.image_feature(t.name): t.name for t in inputs if t.message_type in keys.IMAGE_TYPES}
         self.image_dtype = "video" if use_videos else "image"
         self.joints: dict[str, list[str]] = {}
         self.image_shapes: dict[str, tuple[int, int, int]] = {}

@@ -24,10 +24,10 @@ from joshua_runtime.ai.ros_arrays import joint_state
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
+from joshua_runtime.nodes import settings_checks
 
 INPUT_STALE_AFTER_S = 0.5
 PROBLEM_LOG_PERIOD_S = 2.0
-DEFAULT_RATE_HZ = 30.0
 
 
 def resolve_model_path(model_path: str):
@@ -57,27 +57,26 @@ class InferenceNode(JoshuaNode):
     """Subscribes to sensor inputs, runs `select_action` at rate_hz, publishes JointState actions."""
 
     def start(self) -> None:
-        topic = self.settings.get("topic")
-        if not topic or topic["message_type"] != keys.JOINT_STATE:
+        topic = settings_checks.topic(self.settings)
+        if topic.message_type != keys.JOINT_STATE:
             raise SettingsError(f"{self.name}: the action topic must be {keys.JOINT_STATE}")
-        self.inputs = inputs = with_discovered_types(self.ros, self.settings.get("inputs") or [])
+        self.inputs = inputs = with_discovered_types(self.ros, self.settings.inputs)
         if not inputs:
             raise SettingsError(f"{self.name}: no input topics")
         keys.check_inputs(self.name, inputs)
-        self.policy_dir = resolve_model_path(self.settings.get("model_path", ""))
+        self.policy_dir = resolve_model_path(self.settings.model_path)
         saved_type = model_files.policy_type(self.policy_dir)
         if saved_type not in model_files.SUPPORTED_POLICY_TYPES:
             raise SettingsError(
                 f"policy type {saved_type!r} is not supported "
                 f"(supported: {', '.join(model_files.SUPPORTED_POLICY_TYPES)})"
             )
-        wanted = self.settings.get("policy_type") or ""
+        wanted = self.settings.policy_type
         if wanted and wanted.lower() != saved_type:
             raise SettingsError(f"policy_type is {wanted!r} but the policy in {self.policy_dir} is {saved_type!r}")
-        rate = float(self.settings.get("rate_hz") or 0)
-        self.rate_hz = rate if rate > 0 else DEFAULT_RATE_HZ
-        self.samples = LatestSamples([t["name"] for t in inputs])
-        self.subscriptions = [self.subscription(t, self.samples.callback(t["name"])) for t in inputs]
+        self.rate_hz = 1.0 / settings_checks.period_s(self.settings)
+        self.samples = LatestSamples([t.name for t in inputs])
+        self.subscriptions = [self.subscription(t, self.samples.callback(t.name)) for t in inputs]
         self.action_publisher = self.publisher(topic)
         self.runner = None
         self.mapper = None
@@ -96,10 +95,10 @@ class InferenceNode(JoshuaNode):
             from joshua_runtime.ai.observation_mapper import ObservationMapper
             from joshua_runtime.ai.policy_runner import PolicyRunner
 
-            runner = PolicyRunner(self.policy_dir, self.settings.get("device") or "cpu")
+            runner = PolicyRunner(self.policy_dir, self.settings.device)
             names = model_files.feature_names(self.policy_dir)
             self.joint_names = action_joint_names(
-                self.settings.get("joint_names") or [], runner.shapes.action_size, names.get(keys.ACTION))
+                list(self.settings.joint_names), runner.shapes.action_size, names.get(keys.ACTION))
             self.mapper = ObservationMapper(
                 self.name, self.inputs, runner.shapes.images, runner.shapes.state_size,
                 names.get(keys.STATE),
@@ -112,7 +111,7 @@ class InferenceNode(JoshuaNode):
             self.log.info(
                 f"ready: {runner.config.type} policy from {self.policy_dir} on {runner.device} "
                 f"(load+warm-up {time.monotonic() - self.started_s:.2f} s, first inference {warm_up_s:.3f} s); "
-                f"publishing {len(self.joint_names)} joints on {self.settings['topic']['name']} at {self.rate_hz:g} Hz"
+                f"publishing {len(self.joint_names)} joints on {self.settings.topic.name} at {self.rate_hz:g} Hz"
             )
         except JoshuaError as exc:
             self.load_error = exc

@@ -12,6 +12,7 @@ Rule (the recording side uses the same, see `features.py`):
 import cv2
 import numpy as np
 
+from joshua_core.settings import TopicSettings
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.ros_arrays import image_to_rgb, joint_positions
 from joshua_runtime.errors import SettingsError
@@ -24,10 +25,10 @@ class ObservationUnavailable(ValueError):
 class ObservationMapper:
     """Maps input topics to policy features once, then converts messages on every step."""
 
-    def __init__(self, node_name: str, inputs: list[dict], images: dict[str, tuple[int, ...]],
+    def __init__(self, node_name: str, inputs: list[TopicSettings], images: dict[str, tuple[int, ...]],
                  state_size: int | None, state_names: list[str] | None = None):
-        image_topics = [t["name"] for t in inputs if t["message_type"] in keys.IMAGE_TYPES]
-        self.state_topics = [t["name"] for t in inputs if t["message_type"] == keys.JOINT_STATE]
+        image_topics = [t.name for t in inputs if t.message_type in keys.IMAGE_TYPES]
+        self.state_topics = [t.name for t in inputs if t.message_type == keys.JOINT_STATE]
         self.image_sources = _pair_images(node_name, image_topics, images)
         self.image_shapes = images
         self.state_size = state_size

@@ -20,6 +20,8 @@ import json
 import time
 from pathlib import Path
 
+from joshua_core.models import OUTPUT_FORMATS
+
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
@@ -27,11 +29,10 @@ from joshua_runtime.ai.latest_samples import LatestSamples
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
+from joshua_runtime.nodes import settings_checks
 
 SAMPLE_STALE_AFTER_S = 0.5
 PROBLEM_LOG_PERIOD_S = 2.0
-DEFAULT_RATE_HZ = 30.0
-OUTPUT_FORMATS = ("lerobot", "parquet")
 COMMAND_TOPIC = "~/episode"
 COMMAND_QOS_DEPTH = 10
 
@@ -56,26 +57,23 @@ class RecorderNode(JoshuaNode):
     """Samples its topics at rate_hz into episodes written by an EpisodeWriter thread."""
 
     def start(self) -> None:
-        topic = self.settings.get("topic")
-        if not topic or topic["message_type"] != keys.JOINT_STATE:
+        topic = settings_checks.topic(self.settings)
+        if topic.message_type != keys.JOINT_STATE:
             raise SettingsError(f"{self.name}: the recorded topic must be {keys.JOINT_STATE} (it becomes the action)")
-        inputs = with_discovered_types(self.ros, self.settings.get("inputs") or [])
+        inputs = with_discovered_types(self.ros, self.settings.inputs)
         keys.check_inputs(self.name, inputs)
-        output_format = self.settings.get("output_format") or OUTPUT_FORMATS[0]
+        output_format = self.settings.output_format
         if output_format not in OUTPUT_FORMATS:
             raise SettingsError(f"output_format {output_format!r} is not one of {', '.join(OUTPUT_FORMATS)}")
-        if not self.settings.get("output_directory"):
+        if not self.settings.output_directory:
             raise SettingsError(f"{self.name}: output_directory is empty")
-        rate = float(self.settings.get("rate_hz") or 0)
-        self.fps = max(1, round(rate)) if rate > 0 else int(DEFAULT_RATE_HZ)
-        check_output_directory(Path(self.settings["output_directory"]).expanduser(), self.fps)
+        self.fps = max(1, round(1.0 / settings_checks.period_s(self.settings)))
+        check_output_directory(Path(self.settings.output_directory).expanduser(), self.fps)
         use_videos = output_format == "lerobot"
-        self.writer = EpisodeWriter(
-            self.settings["output_directory"], self.fps, self.settings.get("robot") or "", use_videos, self.log,
-        )
-        self.sampler = FrameSampler(topic["name"], inputs, use_videos)
+        self.writer = EpisodeWriter(self.settings.output_directory, self.fps, self.settings.robot, use_videos, self.log)
+        self.sampler = FrameSampler(topic.name, inputs, use_videos)
         self.samples = LatestSamples(self.sampler.topic_names)
-        self.subscriptions = [self.subscription(t, self.samples.callback(t["name"])) for t in [topic, *inputs]]
+        self.subscriptions = [self.subscription(t, self.samples.callback(t.name)) for t in [topic, *inputs]]
         from std_msgs.msg import String
 
         self.commands = self.ros.create_subscription(String, COMMAND_TOPIC, self._command, COMMAND_QOS_DEPTH)
@@ -86,12 +84,12 @@ class RecorderNode(JoshuaNode):
         self.timer = self.ros.create_timer(1.0 / self.fps, self._tick)
         self.log.info(
             f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
-            f"{self.settings['output_directory']} ({output_format}); episode commands on "
+            f"{self.settings.output_directory} ({output_format}); episode commands on "
             f"{self.ros.resolve_topic_name(COMMAND_TOPIC)}"
         )
 
     def _default_task(self) -> str:
-        return self.settings.get("robot") or self.name
+        return self.settings.robot or self.name
 
     def _begin(self, task: str) -> None:
         self.writer.start_episode(task)

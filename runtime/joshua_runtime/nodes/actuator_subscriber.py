@@ -10,23 +10,23 @@ there every 1/rate_hz. Torque goes off when the node stops, unless keep_torque_o
 from joshua_runtime.convert.joint_state import joint_state_to_action, perception_to_joint_state
 from joshua_runtime.errors import DeviceError
 from joshua_runtime.node import JoshuaNode
-from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings, period_s
+from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
 
 
 class ActuatorSubscriber(JoshuaNode):
     bus = None
 
     def start(self) -> None:
-        period = period_s(self.settings)
+        period = settings_checks.period_s(self.settings)
         self.bus = bus_from_settings(self.settings)
         self.bus.open()
         self.bus.enable_torque()
         self.guard = BusGuard(self.bus, self.log, on_reconnect=self.bus.enable_torque)
-        self.frame_id = self.settings.get("frame_id", "")
-        self.subscription(self.settings["topic"], self._command)
-        state_topic = self.settings.get("state_topic")
-        if state_topic:
-            self.joint_states = self.publisher(state_topic)
+        self.frame_id = self.settings.frame_id
+        self.subscription(settings_checks.topic(self.settings), self._command)
+        if self.settings.HasField("state_topic"):
+            self.joint_states = self.publisher(self.settings.state_topic)
             self.ros.create_timer(period, self._publish_state)
 
     def _command(self, message) -> None:
@@ -43,7 +43,7 @@ class ActuatorSubscriber(JoshuaNode):
         if self.bus is None:
             return
         try:
-            if self.bus.is_open and not self.settings.get("keep_torque_on_exit", False):
+            if self.bus.is_open and not self.settings.keep_torque_on_exit:
                 self.bus.disable_torque()
         except DeviceError as exc:
             self.log.warning(f"torque left on: {exc}")

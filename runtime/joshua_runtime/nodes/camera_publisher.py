@@ -18,15 +18,15 @@ class CameraPublisher(JoshuaNode):
         topic = settings_checks.topic(self.settings)
         period = settings_checks.period_s(self.settings)
         width, height = settings_checks.image_size(self.settings)
-        self.message_type = topic["message_type"]
+        self.message_type = topic.message_type
         check_message_type(self.message_type)
         self.camera = CameraDriver(
-            camera_index=self.settings["camera_index"],
-            video_source=self.settings["video_source"],
+            camera_index=self.settings.camera_index,
+            video_source=self.settings.video_source,
             width=width,
             height=height,
-            fps=self.settings["rate_hz"],
-            frame_id=self.settings["frame_id"],
+            fps=self.settings.rate_hz,
+            frame_id=self.settings.frame_id,
         )
         self.camera.open()
         self.images = self.publisher(topic)

@@ -7,20 +7,21 @@ reconnect). Every 1/rate_hz one SYNC_READ gives position (rad), velocity (rad/s)
 
 from joshua_runtime.convert.joint_state import perception_to_joint_state
 from joshua_runtime.node import JoshuaNode
-from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings, period_s
+from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
 
 
 class EncoderPublisher(JoshuaNode):
     bus = None
 
     def start(self) -> None:
-        period = period_s(self.settings)
+        period = settings_checks.period_s(self.settings)
         self.bus = bus_from_settings(self.settings)
         self.bus.open()
         self.bus.disable_torque()
         self.guard = BusGuard(self.bus, self.log, on_reconnect=self.bus.disable_torque)
-        self.frame_id = self.settings.get("frame_id", "")
-        self.joint_states = self.publisher(self.settings["topic"])
+        self.frame_id = self.settings.frame_id
+        self.joint_states = self.publisher(settings_checks.topic(self.settings))
         self.ros.create_timer(period, self._publish)
 
     def _publish(self) -> None:

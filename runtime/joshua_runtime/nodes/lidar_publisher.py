@@ -8,7 +8,6 @@ is handed to the executor by a watchdog timer and ends the node with exit code 3
 import threading
 
 from joshua_runtime.convert.laser_scan import packet_to_laser_scan
-from joshua_runtime.drivers import lds01_protocol
 from joshua_runtime.drivers.lds01 import Lds01Driver
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.node import JoshuaNode
@@ -16,7 +15,6 @@ from joshua_runtime.nodes import settings_checks
 
 WATCHDOG_PERIOD_S = 0.05
 READER_JOIN_TIMEOUT_S = 0.3
-DEFAULT_FRAME_ID = "laser"
 
 
 class LidarPublisher(JoshuaNode):
@@ -25,13 +23,13 @@ class LidarPublisher(JoshuaNode):
 
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
-        port = self.settings.get("serial_port", "")
+        port = self.settings.serial_port
         if not port:
             raise SettingsError("LIDAR_PUBLISHER needs a serial_port")
         self.lidar = Lds01Driver(
             port,
-            baud_rate=self.settings.get("baud_rate") or lds01_protocol.BAUD_RATE,
-            frame_id=self.settings.get("frame_id") or DEFAULT_FRAME_ID,
+            baud_rate=self.settings.baud_rate,
+            frame_id=self.settings.frame_id,
         )
         self.lidar.open()
         self.scans = self.publisher(topic)

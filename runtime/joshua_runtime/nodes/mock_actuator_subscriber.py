@@ -21,18 +21,17 @@ class MockActuatorSubscriber(JoshuaNode):
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
         period = settings_checks.period_s(self.settings)
-        self.joint_names = list(self.settings.get("joint_names") or [])
+        self.joint_names = list(self.settings.joint_names)
         if not self.joint_names:
             raise SettingsError("MOCK_ACTUATOR_SUBSCRIBER needs joint_names")
-        self.frame_id = self.settings.get("frame_id", "")
+        self.frame_id = self.settings.frame_id
         self.positions = {name: mock_arm.home_position(name) for name in self.joint_names}
         self.velocities = dict.fromkeys(self.joint_names, 0.0)
         self.targets = dict(self.positions)
         self.commands_received = 0
         self.last_step = time.monotonic()
         self.subscription(topic, self._command)
-        state_topic = self.settings.get("state_topic")
-        self.states = self.publisher(state_topic) if state_topic else None
+        self.states = self.publisher(self.settings.state_topic) if self.settings.HasField("state_topic") else None
         self.ros.create_timer(period, self._step)
 
     def _command(self, message: JointState) -> None:

@@ -15,7 +15,6 @@ from joshua_runtime.nodes import settings_checks
 
 SCROLL_PX = 8
 RED_LEVEL = 128
-DEFAULT_FRAME_ID = "camera"
 
 
 def gradient(width: int, height: int) -> np.ndarray:
@@ -37,9 +36,9 @@ class MockCameraPublisher(JoshuaNode):
         topic = settings_checks.topic(self.settings)
         period = settings_checks.period_s(self.settings)
         width, height = settings_checks.image_size(self.settings)
-        self.message_type = topic["message_type"]
+        self.message_type = topic.message_type
         check_message_type(self.message_type)
-        self.frame_id = self.settings.get("frame_id") or DEFAULT_FRAME_ID
+        self.frame_id = self.settings.frame_id
         self.base = gradient(width, height)
         self.frame_number = 0
         self.images = self.publisher(topic)

@@ -17,10 +17,10 @@ class MockEncoderPublisher(JoshuaNode):
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
         period = settings_checks.period_s(self.settings)
-        self.joint_names = list(self.settings.get("joint_names") or [])
+        self.joint_names = list(self.settings.joint_names)
         if not self.joint_names:
             raise SettingsError("MOCK_ENCODER_PUBLISHER needs joint_names")
-        self.frame_id = self.settings.get("frame_id", "")
+        self.frame_id = self.settings.frame_id
         self.started = time.monotonic()
         self.joint_states = self.publisher(topic)
         self.ros.create_timer(period, self._publish)

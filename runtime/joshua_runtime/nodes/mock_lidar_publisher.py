@@ -13,7 +13,6 @@ from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 
-DEFAULT_FRAME_ID = "laser"
 
 
 class MockLidarPublisher(JoshuaNode):
@@ -23,7 +22,7 @@ class MockLidarPublisher(JoshuaNode):
         ranges_mm = synthetic_room.scan_mm()
         self.ranges = [mm / 1000.0 for mm in ranges_mm]
         self.intensities = [float(synthetic_room.intensity(mm)) for mm in ranges_mm]
-        self.frame_id = self.settings.get("frame_id") or DEFAULT_FRAME_ID
+        self.frame_id = self.settings.frame_id
         self.scans = self.publisher(topic)
         self.ros.create_timer(period, self._publish)
 

@@ -17,7 +17,8 @@ from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, MotorCalibration
 from joshua_runtime.drivers.sts3215_table import MAX_TICK
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
-from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings, period_s
+from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
 
 SAVE_INTERVAL_S = 1.0
 RANGE_MIN_SUFFIX = ".range_min"
@@ -28,8 +29,8 @@ class OperationalLimitCalibration(JoshuaNode):
     bus = None
 
     def start(self) -> None:
-        period = period_s(self.settings)
-        self.path = self.settings.get("calibration_file")
+        period = settings_checks.period_s(self.settings)
+        self.path = self.settings.calibration_file
         if not self.path:
             raise SettingsError("OPERATIONAL_LIMIT_CALIBRATION needs calibration_file")
         self.bus = bus_from_settings(self.settings, use_calibration=False)
@@ -41,7 +42,7 @@ class OperationalLimitCalibration(JoshuaNode):
         self.dirty = True
         self.next_save = 0.0
         self.guard = BusGuard(self.bus, self.log)
-        self.limits = self.publisher(self.settings["topic"])
+        self.limits = self.publisher(settings_checks.topic(self.settings))
         self.ros.create_timer(period, self._sample)
         self.log.info(f"recording joint ranges into {self.path}: move every joint through its range")
 
@@ -76,7 +77,7 @@ class OperationalLimitCalibration(JoshuaNode):
     def _limits_message(self) -> JointState:
         message = JointState()
         message.header.stamp = self.stamp()
-        message.header.frame_id = self.settings.get("frame_id", "")
+        message.header.frame_id = self.settings.frame_id
         names, limits = [], []
         for name, servo_id in zip(self.bus.joint_names, self.bus.ids):
             names += [name + RANGE_MIN_SUFFIX, name + RANGE_MAX_SUFFIX]

@@ -10,33 +10,21 @@ import time
 
 from joshua_runtime.drivers.calibration import calibration_for_bus
 from joshua_runtime.drivers.sts3215 import Sts3215Driver
-from joshua_runtime.errors import DeviceError, SettingsError
+from joshua_core.settings import NodeSettings
+from joshua_runtime.errors import DeviceError
+from joshua_runtime.nodes import settings_checks
 
 DEVICE_LOST_GRACE_S = 3.0
 RECONNECT_INTERVAL_S = 0.25
 LOG_INTERVAL_S = 1.0
 
 
-def bus_from_settings(settings: dict, use_calibration: bool = True) -> Sts3215Driver:
-    """An unopened driver for the node's serial_port, device_ids, joint_names and calibration_file."""
-    ids = list(settings.get("device_ids") or [])
-    if not ids:
-        raise SettingsError("device_ids is empty")
-    names = list(settings.get("joint_names") or []) or [f"joint_{i}" for i in ids]
-    if len(names) != len(ids):
-        raise SettingsError(f"{len(names)} joint_names for {len(ids)} device_ids")
-    calibration_file = settings.get("calibration_file") if use_calibration else ""
+def bus_from_settings(settings: NodeSettings, use_calibration: bool = True) -> Sts3215Driver:
+    """An unopened driver for the node's serial_port, baud_rate, device_ids, joint_names and calibration_file."""
+    ids, names = settings_checks.joints(settings)
+    calibration_file = settings.calibration_file if use_calibration else ""
     calibration = calibration_for_bus(calibration_file, names, ids) if calibration_file else None
-    return Sts3215Driver(
-        settings["serial_port"], ids, names, baud_rate=settings.get("baud_rate") or 1_000_000, calibration=calibration
-    )
-
-
-def period_s(settings: dict) -> float:
-    rate = settings.get("rate_hz") or 0
-    if rate <= 0:
-        raise SettingsError(f"rate_hz must be positive, got {rate}")
-    return 1.0 / rate
+    return Sts3215Driver(settings.serial_port, ids, names, baud_rate=settings.baud_rate, calibration=calibration)
 
 
 class BusGuard:

@@ -23,8 +23,10 @@ import numpy as np
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
 from joshua_core.node_types import spec
+from joshua_core.settings import NodeSettings
 from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, RADIANS_PER_TICK
 from joshua_runtime.errors import SettingsError
+from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.operational_limit_calibration import RANGE_MAX_SUFFIX, RANGE_MIN_SUFFIX
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.cameras import CameraStream
@@ -34,20 +36,6 @@ from joshua_runtime.sim.model import camera_id
 IMAGE_ENCODING = "rgb8"
 JPEG_FORMAT = "rgb8; jpeg compressed bgr8"
 JPEG_QUALITY = 90
-
-
-def _rate(settings: dict) -> float:
-    rate = settings.get("rate_hz") or 0.0
-    if not rate > 0:
-        raise SettingsError(f"{settings['name']}: rate_hz must be positive in simulation, got {rate}")
-    return float(rate)
-
-
-def _topic(settings: dict, key: str = "topic") -> dict:
-    topic = settings.get(key)
-    if not topic:
-        raise SettingsError(f"{settings['name']}: no {key} to simulate")
-    return topic
 
 
 class JointStateSource:
@@ -76,11 +64,11 @@ class JointStateSource:
 class EncoderBridge:
     """Publishes present joint states like ENCODER_PUBLISHER."""
 
-    def __init__(self, node, engine: SimulationEngine, settings: dict):
-        group = engine.joints(_joint_names(settings))
-        self.source = JointStateSource(node, engine, group, settings["frame_id"])
-        self.publisher = node.publisher(_topic(settings))
-        self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish)
+    def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
+        group = engine.joints(settings_checks.joints(settings)[1])
+        self.source = JointStateSource(node, engine, group, settings.frame_id)
+        self.publisher = node.publisher(settings_checks.topic(settings))
+        self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.publish)
 
     def publish(self) -> None:
         self.publisher.publish(self.source.message())
@@ -89,9 +77,9 @@ class EncoderBridge:
 class CalibrationBridge:
     """Publishes the model's joint ranges like OPERATIONAL_LIMIT_CALIBRATION after a full sweep."""
 
-    def __init__(self, node, engine: SimulationEngine, settings: dict):
-        self.node, self.frame_id = node, settings["frame_id"]
-        names = _joint_names(settings)
+    def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
+        self.node, self.frame_id = node, settings.frame_id
+        names = settings_checks.joints(settings)[1]
         engine.joints(names)  # every name must be a joint of the model
         self.names, self.limits = [], []
         for name in names:
@@ -99,10 +87,10 @@ class CalibrationBridge:
             self.names += [name + RANGE_MIN_SUFFIX, name + RANGE_MAX_SUFFIX]
             self.limits += [float(round(HALF_TURN_TICKS + low / RADIANS_PER_TICK)),
                             float(round(HALF_TURN_TICKS + high / RADIANS_PER_TICK))]
-        self.publisher = node.publisher(_topic(settings))
-        self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish)
-        if settings.get("calibration_file"):
-            node.log.info(f"{settings['name']}: simulated, {settings['calibration_file']} is left as it is")
+        self.publisher = node.publisher(settings_checks.topic(settings))
+        self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.publish)
+        if settings.calibration_file:
+            node.log.info(f"{settings.name}: simulated, {settings.calibration_file} is left as it is")
 
     def publish(self) -> None:
         msg = JointState(name=self.names, position=self.limits)
@@ -114,16 +102,16 @@ class CalibrationBridge:
 class ActuatorBridge:
     """Applies JointState commands to position actuators like ACTUATOR_SUBSCRIBER."""
 
-    def __init__(self, node, engine: SimulationEngine, settings: dict):
+    def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
         self.engine = engine
-        self.group = engine.joints(_joint_names(settings), actuated=True)
+        self.group = engine.joints(settings_checks.joints(settings)[1], actuated=True)
         self._index = {name: i for i, name in enumerate(self.group.names)}
-        self.subscription = node.subscription(_topic(settings), self.on_command)
+        self.subscription = node.subscription(settings_checks.topic(settings), self.on_command)
         self.state_publisher = None
-        if settings.get("state_topic"):
-            self.source = JointStateSource(node, engine, self.group, settings["frame_id"])
-            self.state_publisher = node.publisher(settings["state_topic"])
-            self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish_state)
+        if settings.HasField("state_topic"):
+            self.source = JointStateSource(node, engine, self.group, settings.frame_id)
+            self.state_publisher = node.publisher(settings.state_topic)
+            self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.publish_state)
 
     def goals(self, msg: JointState) -> np.ndarray:
         """Goal per joint of the group: matched by name, else by order when the lengths agree; NaN = keep."""
@@ -148,18 +136,16 @@ class ActuatorBridge:
 class CameraBridge:
     """Publishes rendered frames like CAMERA_PUBLISHER; `stream` is handed to the CameraThread."""
 
-    def __init__(self, node, engine: SimulationEngine, settings: dict):
+    def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
         self.node = node
-        self.name = settings["name"]
-        self.frame_id = settings["frame_id"]
-        width, height = int(settings.get("width") or 0), int(settings.get("height") or 0)
-        if width <= 0 or height <= 0:
-            raise SettingsError(f"{settings['name']}: width and height must be positive, got {width}x{height}")
-        topic = _topic(settings)
-        self.compressed = topic["message_type"].endswith("/CompressedImage")
+        self.name = settings.name
+        self.frame_id = settings.frame_id
+        width, height = settings_checks.image_size(settings)
+        topic = settings_checks.topic(settings)
+        self.compressed = topic.message_type.endswith("/CompressedImage")
         self.publisher = node.publisher(topic)
         camera = _camera_for(engine, self.frame_id, node.default_camera)
-        self.stream = CameraStream(camera, width, height, _rate(settings), self.publish)
+        self.stream = CameraStream(camera, width, height, 1.0 / settings_checks.period_s(settings), self.publish)
 
     def publish(self, pixels: np.ndarray, _sim_time: float) -> None:
         if self.compressed:
@@ -185,12 +171,12 @@ class CameraBridge:
 class LidarBridge:
     """Publishes ray-cast scans like LIDAR_PUBLISHER."""
 
-    def __init__(self, node, engine: SimulationEngine, settings: dict):
+    def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
         self.node, self.engine = node, engine
-        self.frame_id = settings["frame_id"]
+        self.frame_id = settings.frame_id
         self.sensor = lidar.PlanarLidar(engine.model, lidar.lidar_site(engine.model, self.frame_id))
-        self.publisher = node.publisher(_topic(settings))
-        self.timer = node.ros.create_timer(1.0 / _rate(settings), self.publish)
+        self.publisher = node.publisher(settings_checks.topic(settings))
+        self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.publish)
 
     def message(self) -> LaserScan:
         with self.engine.lock:
@@ -209,13 +195,6 @@ class LidarBridge:
         self.publisher.publish(self.message())
 
 
-def _joint_names(settings: dict) -> list[str]:
-    names = list(settings.get("joint_names") or [])
-    if not names:
-        raise SettingsError(f"{settings['name']}: no joint_names to simulate")
-    return names
-
-
 def _camera_for(engine: SimulationEngine, frame_id: str, default_camera: str) -> int:
     """The model camera named like the node's frame_id, else the simulation's camera setting."""
     model = engine.model
@@ -224,11 +203,11 @@ def _camera_for(engine: SimulationEngine, frame_id: str, default_camera: str) ->
     return camera_id(model, default_camera)
 
 
-def make_bridge(node, engine: SimulationEngine, settings: dict):
+def make_bridge(node, engine: SimulationEngine, settings: NodeSettings):
     """The bridge that stands in for one hardware node (named by the node-type registry), from its settings."""
-    entry = spec(settings["type"])
+    entry = spec(settings.type)
     if entry is None or not entry.sim_bridge:
-        raise SettingsError(f"{settings.get('name', '?')}: node type {settings['type']} cannot be simulated")
+        raise SettingsError(f"{settings.name}: node type {settings.type} cannot be simulated")
     module_name, class_name = entry.sim_bridge.split(":")
     bridge = getattr(importlib.import_module(module_name), class_name)
     return bridge(node, engine, settings)

@@ -9,9 +9,7 @@ their own thread; encoders, actuator states and lidars run on the node's ROS tim
 from joshua_core.node_types import spec
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
-from joshua_runtime.sim.gl_backend import DEFAULT_GL_BACKEND, configure_gl
-
-DEFAULT_REALTIME_FACTOR = 1.0
+from joshua_runtime.sim.gl_backend import configure_gl
 
 
 class SimulationEngineNode(JoshuaNode):
@@ -22,12 +20,12 @@ class SimulationEngineNode(JoshuaNode):
     bridges: list = []
 
     def start(self) -> None:
-        sim = self.settings.get("simulation")
-        if not sim:
+        if not self.settings.HasField("simulation"):
             raise SettingsError(f"{self.name}: settings have no 'simulation' section")
-        simulated = list(sim.get("simulates") or [])
-        renders = any(spec(s["type"]).family == "camera" for s in simulated)
-        gl_backend = configure_gl(sim.get("gl_backend") or DEFAULT_GL_BACKEND) if renders else ""
+        sim = self.settings.simulation
+        simulated = list(sim.simulates)
+        renders = any(spec(s.type).family == "camera" for s in simulated)
+        gl_backend = configure_gl(sim.gl_backend) if renders else ""
 
         # mujoco is imported only now, after the GL backend is chosen.
         from joshua_runtime.sim.bridges import make_bridge
@@ -35,10 +33,9 @@ class SimulationEngineNode(JoshuaNode):
         from joshua_runtime.sim.engine import SimulationEngine
         from joshua_runtime.sim.model import load_model
 
-        model = load_model(sim.get("model", ""), sim.get("timestep_s"))
-        factor = sim.get("realtime_factor")
-        self.engine = SimulationEngine(model, DEFAULT_REALTIME_FACTOR if factor is None else factor)
-        self.default_camera = sim.get("camera", "")  # the MJCF camera of camera nodes whose frame_id names none
+        model = load_model(sim.model, sim.timestep_s if sim.HasField("timestep_s") else None)
+        self.engine = SimulationEngine(model, sim.realtime_factor)
+        self.default_camera = sim.camera  # the MJCF camera of camera nodes whose frame_id names none
         self.bridges = [make_bridge(self, self.engine, s) for s in simulated]
         streams = [b.stream for b in self.bridges if hasattr(b, "stream")]
         self.cameras = CameraThread(self.engine, streams, gl_backend)
@@ -47,7 +44,7 @@ class SimulationEngineNode(JoshuaNode):
         self.cameras.start()
         self.engine.start()
         self.log.info(
-            f"simulating {', '.join(s['name'] for s in simulated) or 'no nodes'} with {sim.get('model')} "
+            f"simulating {', '.join(s.name for s in simulated) or 'no nodes'} with {sim.model} "
             f"(timestep {model.opt.timestep} s, realtime factor {self.engine.realtime_factor}"
             + (f", GL {gl_backend})" if gl_backend else ")")
         )

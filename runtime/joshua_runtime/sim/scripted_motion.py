@@ -19,6 +19,8 @@ from sensor_msgs.msg import JointState
 
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode, run
+from joshua_runtime.nodes import settings_checks
+from joshua_core.settings import NodeSettings, QosSettings, TopicSettings
 from joshua_core.so100 import SO100_JOINTS
 
 # (seconds to get there from the previous pose, pose in SO100_JOINTS order, radians).
@@ -50,18 +52,18 @@ def scripted_positions(t: float) -> tuple[float, ...]:
 
 
 class ScriptedMotionNode(JoshuaNode):
-    """Publishes scripted_positions() as JointState on settings["topic"] at settings["rate_hz"]."""
+    """Publishes scripted_positions() as JointState on the settings' topic at their rate_hz."""
 
     def start(self) -> None:
-        names = list(self.settings.get("joint_names") or SO100_JOINTS)
+        names = list(self.settings.joint_names or SO100_JOINTS)
         unknown = [n for n in names if n not in SO100_JOINTS]
         if unknown:
             raise SettingsError(f"scripted motion has no joint {unknown[0]!r} (joints: {', '.join(SO100_JOINTS)})")
         self.names = names
         self.columns = [SO100_JOINTS.index(n) for n in names]
-        self.commands = self.publisher(self.settings["topic"])
+        self.commands = self.publisher(settings_checks.topic(self.settings))
         self.started = time.monotonic()
-        self.timer = self.ros.create_timer(1.0 / self.settings["rate_hz"], self.publish)
+        self.timer = self.ros.create_timer(settings_checks.period_s(self.settings), self.publish)
 
     def publish(self) -> None:
         pose = scripted_positions(time.monotonic() - self.started)
@@ -80,12 +82,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if not args.rate_hz > 0:
         parser.error(f"--rate-hz must be positive, got {args.rate_hz}")
-    settings = {
-        "name": args.name,
-        "topic": {"name": args.topic, "message_type": "sensor_msgs/msg/JointState", "qos": DEFAULT_QOS},
-        "rate_hz": args.rate_hz,
-        "joint_names": [n for n in args.joint_names.split(",") if n],
-    }
+    settings = NodeSettings(
+        name=args.name, rate_hz=args.rate_hz, joint_names=[n for n in args.joint_names.split(",") if n],
+        topic=TopicSettings(name=args.topic, message_type="sensor_msgs/msg/JointState", qos=QosSettings(**DEFAULT_QOS)),
+    )
     return run(ScriptedMotionNode, settings)
 
 

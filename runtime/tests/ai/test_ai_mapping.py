@@ -7,6 +7,7 @@ import cv2
 import numpy as np
 import pytest
 
+from joshua_core.settings import TopicSettings
 from joshua_runtime.ai import features, staged_directory
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
 from joshua_runtime.ai.inference_node import action_joint_names
@@ -43,8 +44,8 @@ def test_image_topics_map_to_feature_keys(topic_name, key):
 
 def test_inputs_of_other_types_or_same_key_are_refused():
     with pytest.raises(SettingsError, match="input /scan has message type sensor_msgs/msg/LaserScan"):
-        features.check_inputs("n", [{"name": "/scan", "message_type": "sensor_msgs/msg/LaserScan"}])
-    same = [{"name": "/cam/image_raw", "message_type": IMAGE}, {"name": "/cam/image_rect", "message_type": IMAGE}]
+        features.check_inputs("n", [TopicSettings(name="/scan", message_type="sensor_msgs/msg/LaserScan")])
+    same = [TopicSettings(name="/cam/image_raw", message_type=IMAGE), TopicSettings(name="/cam/image_rect", message_type=IMAGE)]
     with pytest.raises(SettingsError, match="inputs /cam/image_raw and /cam/image_rect both map to observation.images.cam"):
         features.check_inputs("n", same)
 
@@ -66,7 +67,7 @@ def test_images_of_every_encoding_become_rgb():
 
 
 def test_frames_follow_the_first_layout_and_read_joints_by_name():
-    inputs = [{"name": "/cam/image_raw", "message_type": IMAGE}, {"name": "/follower", "message_type": JOINT_STATE}]
+    inputs = [TopicSettings(name="/cam/image_raw", message_type=IMAGE), TopicSettings(name="/follower", message_type=JOINT_STATE)]
     sampler = FrameSampler("/leader", inputs, use_videos=True)
     rgb = np.full((4, 6, 3), 9, np.uint8)
     latest = {"/leader": joints(["a", "b"], [1, 2]), "/follower": joints(["a", "b"], [3, 4]),
@@ -90,8 +91,8 @@ def test_frames_follow_the_first_layout_and_read_joints_by_name():
 
 
 def test_observations_pair_images_and_pick_state_by_joint_name():
-    inputs = [{"name": "/top/image_raw", "message_type": IMAGE}, {"name": "/wrist/image_raw", "message_type": IMAGE},
-              {"name": "/arm", "message_type": JOINT_STATE}, {"name": "/gripper", "message_type": JOINT_STATE}]
+    inputs = [TopicSettings(name="/top/image_raw", message_type=IMAGE), TopicSettings(name="/wrist/image_raw", message_type=IMAGE),
+              TopicSettings(name="/arm", message_type=JOINT_STATE), TopicSettings(name="/gripper", message_type=JOINT_STATE)]
     images = {"observation.images.wrist": (3, 4, 6), "observation.images.top": (3, 2, 3)}
     mapper = ObservationMapper("n", inputs, images, 3, ["a.pos", "b.pos", "g.pos"])
     top = np.arange(4 * 6 * 3, dtype=np.uint8).reshape(4, 6, 3)
@@ -108,7 +109,7 @@ def test_observations_pair_images_and_pick_state_by_joint_name():
         unnamed.observation(latest.__getitem__)
     with pytest.raises(SettingsError, match="no Image input for policy feature observation.images.side"):
         ObservationMapper("n", inputs, {"observation.images.side": (3, 2, 2), **images}, 3)
-    any_name = [{"name": "/any/topic", "message_type": IMAGE}]
+    any_name = [TopicSettings(name="/any/topic", message_type=IMAGE)]
     single = ObservationMapper("n", any_name, {"observation.images.x": (3, 4, 6)}, None)
     assert single.image_sources == {"observation.images.x": "/any/topic"}
 

@@ -4,7 +4,7 @@ import mujoco
 import pytest
 
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.sim.model import BUILTIN_MODELS, camera_id, joint_names, load_model, model_path
+from joshua_runtime.sim.model import BUILTIN_MODEL_FILES, camera_id, joint_names, load_model, model_path
 from sim_settings import SO100_RANGES
 
 @pytest.fixture(scope="module")
@@ -13,7 +13,7 @@ def so100():
 
 
 def test_builtin_name_maps_to_the_packaged_file():
-    assert model_path("builtin:so100") == BUILTIN_MODELS["so100"]
+    assert model_path("builtin:so100") == BUILTIN_MODEL_FILES["so100"]
     assert model_path("builtin:so100").name == "so100.xml"
 
 
