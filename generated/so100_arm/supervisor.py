@@ -46,6 +46,8 @@ ROBOT = {
     'ros_domain_id': None,
     'cpp_bin_dir': '/opt/joshua/bin',
     'fastdds_profile': 'fastdds_profile.xml',
+    'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
+    'supervisord_group': 'joshua-so100_arm',
     'processes': [
         {
             'name': 'camera_publisher',
@@ -92,6 +94,14 @@ ROBOT = {
 
 SIGINT_GRACE_S = 5.0
 SIGTERM_GRACE_S = 2.0
+
+
+# Fixed rules of supervisor.py: restart backoff, named waits, signals and exit codes.
+
+
+# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
+# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
+# as healthy: the restart count and the delay start over. systemd units and supervisord.conf follow it too.
 RESTART_DELAY_INITIAL_S = 0.25
 RESTART_DELAY_FACTOR = 2.0
 RESTART_DELAY_CAP_S = 30.0
@@ -103,14 +113,21 @@ EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FA
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
 EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
 
-SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
-START = time.monotonic()
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+
+CPP_FALLBACK_WARNING = "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
+
+
+# What every part of supervisor.py uses: the log line, prctl, exit-status text, process groups, paths.
+
+
+SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
+START = time.monotonic()
 PR_SET_PDEATHSIG, PR_SET_CHILD_SUBREAPER = 1, 36
 
 
-def log(name, message):
+def log(name: str, message: str) -> None:
     print(f"[{time.monotonic() - START:9.3f}] {name}: {message}", file=sys.stderr, flush=True)
 
 
@@ -127,21 +144,21 @@ def load_prctl():
 PRCTL = load_prctl()
 
 
-def signal_name(number):
+def signal_name(number: int) -> str:
     try:
         return signal.Signals(number).name
     except ValueError:
         return f"signal {number}"
 
 
-def exit_text(status):
+def exit_text(status: int) -> str:
     if os.WIFSIGNALED(status):
         core = " (core dumped)" if os.WCOREDUMP(status) else ""
         return f"killed by {signal_name(os.WTERMSIG(status))}{core}"
     return f"exited with code {os.waitstatus_to_exitcode(status)}"
 
 
-def group_alive(pgid):
+def group_alive(pgid: int) -> bool:
     try:
         os.killpg(pgid, 0)
     except ProcessLookupError:
@@ -151,8 +168,11 @@ def group_alive(pgid):
     return True
 
 
-def under_script_dir(path):
+def under_script_dir(path: str) -> str:
     return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
+
+
+# The forked child of a node: own session, death signal, default signals, then exec.
 
 
 def child_exec(argv, env, parent):
@@ -175,6 +195,9 @@ def child_exec(argv, env, parent):
             pass
     finally:
         os._exit(EXIT_EXEC_FAILED)
+
+
+# The guard process: kills every node's process group when the supervisor dies without stopping them.
 
 
 class Guard:
@@ -245,6 +268,9 @@ class Guard:
             self.pid = None
 
 
+# One node: its launch command, environment, process and restart bookkeeping.
+
+
 class Node:
     """One node: how to launch it, its current process, and its restart bookkeeping."""
 
@@ -266,7 +292,7 @@ class Node:
 
     def make_environment(self):
         env = dict(os.environ)
-        env["FASTRTPS_DEFAULT_PROFILES_FILE"] = under_script_dir(ROBOT["fastdds_profile"])
+        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
         env["PYTHONUNBUFFERED"] = "1"
         if ROBOT["ros_domain_id"] is not None:
             env["ROS_DOMAIN_ID"] = str(ROBOT["ros_domain_id"])
@@ -291,7 +317,7 @@ class Node:
             if os.path.isfile(binary) and os.access(binary, os.X_OK):
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
-                log(self.name, f"warning: C++ binary {binary} is missing or not executable; running the Python entrypoint")
+                log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))
                 self.warned_fallback = True
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
@@ -307,6 +333,9 @@ class Node:
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
+
+
+# Preflight: every reason the robot cannot start, found before anything starts.
 
 
 def preflight(nodes, python):
@@ -339,6 +368,9 @@ def preflight(nodes, python):
     if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
         problems.append(f"Python interpreter {python} is not an executable file")
     return problems
+
+
+# The event loop: launching, reaping, restarts with backoff, and the stop cascade.
 
 
 class Supervisor:
@@ -625,12 +657,15 @@ class Supervisor:
         return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
 
 
+# The event listener supervisord.conf runs to stop the robot when a critical node fails.
+
+
 def supervisord_listener():
     """The event listener supervisord.conf runs: supervisord cannot stop a group when one of its
     programs fails, so this stops supervisord itself (SIGTERM: it then stops every node) when a
     critical node fails for good: FATAL (restarts exhausted), or a failed exit of a node that is never
     restarted. Speaks supervisord's listener protocol on stdin/stdout; logs on stderr."""
-    group = f"joshua-{ROBOT['name']}"
+    group = ROBOT["supervisord_group"]
     critical = {spec["name"]: spec for spec in ROBOT["processes"] if spec["critical"]}
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:
@@ -651,6 +686,9 @@ def supervisord_listener():
             os.kill(os.getppid(), signal.SIGTERM)
         stdout.write(b"RESULT 2\nOK")
         stdout.flush()
+
+
+# The command line of supervisor.py: parse options, run preflight, run the loop (or the listener).
 
 
 def positive_seconds(text):

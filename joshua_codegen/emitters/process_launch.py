@@ -6,14 +6,13 @@ import re
 import shlex
 
 from joshua_codegen.model import Process, Robot
-
-# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
-# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
-# as healthy: the restart count and the delay start over.
-RESTART_DELAY_INITIAL_S = 0.25
-RESTART_DELAY_FACTOR = 2.0
-RESTART_DELAY_CAP_S = 30.0
-RESTART_RESET_AFTER_S = 60.0
+from joshua_codegen.supervisor.policy import (  # the backoff the three process managers share
+    CPP_FALLBACK_WARNING,
+    RESTART_DELAY_CAP_S,
+    RESTART_DELAY_FACTOR,
+    RESTART_DELAY_INITIAL_S,
+    RESTART_RESET_AFTER_S,
+)
 
 FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
 ENVIRONMENT_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")  # what Environment= and environment= accept as a key
@@ -53,7 +52,7 @@ def cpp_binary_path(robot: Robot, process: Process, base: str) -> str:
 
 
 def fallback_warning(process: Process, binary: str) -> str:
-    return f"{process.name}: warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
+    return f"{process.name}: {CPP_FALLBACK_WARNING.format(binary=binary)}"
 
 
 def launch_words(robot: Robot, process: Process, base: str, bare: list[str], workdir: str) -> list[str]:

@@ -1,4 +1,22 @@
-{# Part of supervisor.py.j2: the event loop: launching, reaping, restarts with backoff, and the stop cascade. #}
+"""The event loop: launching, reaping, restarts with backoff, and the stop cascade."""
+
+import os
+import select
+import shlex
+import signal
+import time
+
+from joshua_codegen.supervisor.children import child_exec
+from joshua_codegen.supervisor.common import PR_SET_CHILD_SUBREAPER, PRCTL, START, exit_text, group_alive, log, signal_name
+from joshua_codegen.supervisor.guard import Guard
+from joshua_codegen.supervisor.node import Node
+from joshua_codegen.supervisor.policy import (
+    EXIT_CRITICAL, EXIT_ESCALATED, EXIT_NODE_FAILED, EXIT_OK, KILL_WAIT_S, LEFTOVER_POLL_S, RESTART_DELAY_CAP_S,
+    RESTART_DELAY_FACTOR, RESTART_DELAY_INITIAL_S, RESTART_RESET_AFTER_S, STOP_SIGNALS,
+)
+from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
+
+
 class Supervisor:
     def __init__(self, options):
         self.options = options

@@ -1,24 +1,9 @@
-{# Part of supervisor.py.j2: the node's forked child (setsid, PR_SET_PDEATHSIG, exec) and the guard process. #}
-def child_exec(argv, env, parent):
-    """In the forked child: own session, die with the supervisor, default signals, then exec."""
-    try:
-        for number in RESET_IN_CHILD:
-            signal.signal(number, signal.SIG_DFL)
-        signal.set_wakeup_fd(-1)
-        os.setsid()
-        if PRCTL is not None:
-            PRCTL(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-        if os.getppid() != parent:
-            os._exit(EXIT_ORPHANED)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
-        os.execve(argv[0], argv, env)
-    except BaseException as exc:
-        try:
-            os.write(2, f"cannot start {argv[0]}: {exc}\n".encode(errors="replace"))
-        except OSError:
-            pass
-    finally:
-        os._exit(EXIT_EXEC_FAILED)
+"""The guard process: kills every node's process group when the supervisor dies without stopping them."""
+
+import os
+import signal
+
+from joshua_codegen.supervisor.policy import STOP_SIGNALS
 
 
 class Guard:

@@ -1,0 +1,22 @@
+"""Fixed rules of supervisor.py: restart backoff, named waits, signals and exit codes."""
+
+import signal
+
+# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
+# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
+# as healthy: the restart count and the delay start over. systemd units and supervisord.conf follow it too.
+RESTART_DELAY_INITIAL_S = 0.25
+RESTART_DELAY_FACTOR = 2.0
+RESTART_DELAY_CAP_S = 30.0
+RESTART_RESET_AFTER_S = 60.0
+KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the kernel before giving up
+LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
+
+EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
+EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
+EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+
+CPP_FALLBACK_WARNING = "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
