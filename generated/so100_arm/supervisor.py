@@ -3,6 +3,7 @@
 """Supervisor of robot so100_arm: starts every node, restarts failed ones, stops them all cleanly.
 
 Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interval S] [--python PATH]
+                            [--no-cgroup]
 
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
 the directory can move. Nodes run in the directory the supervisor was started from.
@@ -10,9 +11,10 @@ the directory can move. Nodes run in the directory the supervisor was started fr
 - Preflight: before anything starts, every device, model directory, entrypoint and program is checked;
   all problems are listed and the supervisor exits with EXIT_PREFLIGHT.
 - Each node is fork()+execv()ed in its own session (process group); it gets SIGKILL through
-  PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every node's whole group
-  (grandchildren included) if the supervisor is killed outright. The supervisor is a child subreaper,
-  so orphaned grandchildren are reaped here too: never a zombie.
+  PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every descendant if the
+  supervisor is killed outright: the whole cgroup the nodes joined where one can be created, else
+  every descendant seen by polling /proc (--no-cgroup forces that). The supervisor is a child
+  subreaper, so orphaned grandchildren are reaped here too: never a zombie.
 - Restart per node: RESTART_NEVER, RESTART_ON_FAILURE (non-zero exit or death by signal),
   RESTART_ALWAYS, with exponential backoff and at most max_restarts restarts; a node that fails for
   good stops the whole robot when it is critical.
@@ -108,6 +110,9 @@ RESTART_DELAY_CAP_S = 30.0
 RESTART_RESET_AFTER_S = 60.0
 KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the kernel before giving up
 LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
+TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
+STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
+CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
@@ -172,11 +177,200 @@ def under_script_dir(path: str) -> str:
     return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
 
 
+# Keeping every descendant of the supervisor killable: a cgroup where writable, else /proc tracking.
+
+
+CGROUP2_MOUNTS = "/proc/self/mountinfo"
+OWN_CGROUP = "/proc/self/cgroup"
+
+
+def cgroup2_mount() -> str | None:
+    """Where the unified (v2) cgroup hierarchy is mounted, or None."""
+    try:
+        with open(CGROUP2_MOUNTS) as mounts:
+            for line in mounts:
+                fields = line.split()
+                separator = fields.index("-")
+                if fields[separator + 1] == "cgroup2":
+                    return fields[4]
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def own_cgroup() -> str | None:
+    """This process's cgroup in the unified hierarchy (the `0::` line), or None."""
+    try:
+        with open(OWN_CGROUP) as lines:
+            for line in lines:
+                if line.startswith("0::"):
+                    return line[3:].strip()
+    except OSError:
+        return None
+    return None
+
+
+def create_cgroup(name: str) -> str:
+    """A new, empty cgroup `name` below this process's own one; raises OSError where that is not possible.
+
+    No existing process is moved: only the nodes' children join it, each on its own before exec.
+    """
+    mount, own = cgroup2_mount(), own_cgroup()
+    if mount is None or own is None:
+        raise OSError("no unified (v2) cgroup hierarchy is mounted")
+    path = os.path.join(mount, own.lstrip("/"), name)
+    os.mkdir(path)
+    if not os.path.exists(os.path.join(path, "cgroup.kill")):
+        remove_cgroup(path)
+        raise OSError("the kernel has no cgroup.kill (Linux 5.14 or later)")
+    return path
+
+
+def join_cgroup(path: str) -> None:
+    """Move the calling process (a freshly forked child) into the cgroup at `path`."""
+    with open(os.path.join(path, "cgroup.procs"), "w") as procs:
+        procs.write(str(os.getpid()))
+
+
+def cgroup_usable(path: str) -> bool:
+    """Whether a child can join the cgroup: tried once by a short-lived forked child."""
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            join_cgroup(path)
+            code = 0
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status) == 0
+
+
+def cgroup_populated(path: str) -> bool:
+    try:
+        with open(os.path.join(path, "cgroup.events")) as events:
+            return "populated 1" in events.read()
+    except OSError:
+        return False
+
+
+def kill_cgroup(path: str) -> None:
+    """SIGKILL every process in the cgroup (the kernel does it at once, forks in flight included)."""
+    try:
+        with open(os.path.join(path, "cgroup.kill"), "w") as kill:
+            kill.write("1")
+    except OSError:
+        pass
+
+
+def remove_cgroup(path: str) -> bool:
+    """Remove the cgroup once its processes are gone (waiting up to KILL_WAIT_S); whether it is gone."""
+    deadline = time.monotonic() + KILL_WAIT_S
+    while cgroup_populated(path) and time.monotonic() < deadline:
+        time.sleep(CGROUP_EMPTY_POLL_S)
+    try:
+        os.rmdir(path)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    return True
+
+
+def children_of(pid: int) -> list[int]:
+    """The children of every thread of process `pid` (none when it is gone)."""
+    try:
+        threads = os.listdir(f"/proc/{pid}/task")
+    except OSError:
+        return []
+    found = []
+    for thread in threads:
+        try:
+            with open(f"/proc/{pid}/task/{thread}/children") as listing:
+                found.extend(int(child) for child in listing.read().split())
+        except OSError:
+            continue
+    return found
+
+
+def open_pidfd(pid: int) -> int | None:
+    """A pidfd for `pid` (so a later signal cannot reach a reused PID), None if it is gone or unsupported."""
+    try:
+        return os.pidfd_open(pid)
+    except (OSError, AttributeError):
+        return None
+
+
+def send_signal(pidfd: int, number: int) -> None:
+    try:
+        signal.pidfd_send_signal(pidfd, number)
+    except (OSError, AttributeError):
+        pass
+
+
+class DescendantTracker:
+    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
+    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+
+    def __init__(self, root: int, exclude: int):
+        self.root = root
+        self.exclude = exclude  # the tracker's own process (a child of the root)
+        self.known: dict[int, int] = {}  # pid -> pidfd
+
+    def add(self, pid: int) -> bool:
+        if pid in self.known or pid in (self.exclude, self.root):
+            return False
+        pidfd = open_pidfd(pid)
+        if pidfd is None:
+            return False
+        self.known[pid] = pidfd
+        return True
+
+    def update(self) -> None:
+        """One poll while the root lives: find new descendants, forget the ones that are gone."""
+        current = set(self.descendants_of(self.root))
+        for pid in list(self.known):
+            if pid not in current:
+                os.close(self.known.pop(pid))
+        for pid in current:
+            self.add(pid)
+
+    def descendants_of(self, root: int) -> list[int]:
+        found, frontier, seen = [], [root], {root, self.exclude}
+        while frontier:
+            for child in children_of(frontier.pop()):
+                if child not in seen:
+                    seen.add(child)
+                    found.append(child)
+                    frontier.append(child)
+        return found
+
+    def kill_all(self) -> None:
+        """Stop every known descendant (a stopped process cannot fork), add their children until a pass
+        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
+        stopped: set[int] = set()
+        settled = False
+        while True:
+            for pid in [pid for pid in self.known if pid not in stopped]:
+                send_signal(self.known[pid], signal.SIGSTOP)
+                stopped.add(pid)
+            if not [child for pid in list(self.known) for child in children_of(pid) if self.add(child)]:
+                if settled:
+                    break
+                settled = True
+                time.sleep(STOP_SETTLE_S)
+        for pidfd in self.known.values():
+            send_signal(pidfd, signal.SIGKILL)
+            os.close(pidfd)
+        self.known.clear()
+
+
 # The forked child of a node: own session, death signal, default signals, then exec.
 
 
-def child_exec(argv, env, parent):
-    """In the forked child: own session, die with the supervisor, default signals, then exec."""
+def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None) -> None:
+    """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
+    signals, then exec."""
     try:
         for number in RESET_IN_CHILD:
             signal.signal(number, signal.SIG_DFL)
@@ -184,6 +378,11 @@ def child_exec(argv, env, parent):
         os.setsid()
         if PRCTL is not None:
             PRCTL(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if cgroup is not None:
+            try:
+                join_cgroup(cgroup)
+            except OSError as exc:
+                os.write(2, f"warning: cannot join cgroup {cgroup}: {exc}\n".encode(errors="replace"))
         if os.getppid() != parent:
             os._exit(EXIT_ORPHANED)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
@@ -197,35 +396,46 @@ def child_exec(argv, env, parent):
         os._exit(EXIT_EXEC_FAILED)
 
 
-# The guard process: kills every node's process group when the supervisor dies without stopping them.
+# The guard process: kills every descendant of the supervisor when the supervisor dies without stopping them.
 
 
 class Guard:
-    """A forked helper that SIGKILLs every node's process group when the supervisor dies without
-    stopping them (its pipe from the supervisor reaches end-of-file). Grandchildren that stayed in
-    their node's group die with it; PR_SET_PDEATHSIG alone reaches only direct children."""
+    """A forked helper that, once its pipe from the supervisor reaches end-of-file (the supervisor
+    exited or was killed outright), SIGKILLs what the supervisor started and may have left behind:
+    - with a cgroup (`cgroup` set): every process in it, whatever session or parent it has by now
+      (the kernel's cgroup.kill), then removes the cgroup;
+    - without: every descendant it has seen while polling /proc every TRACKING_POLL_S (the supervisor
+      is a child subreaper, so orphans stay below it), and every node's process group.
+    PR_SET_PDEATHSIG alone reaches only the nodes themselves."""
 
-    def __init__(self):
-        self.pid = None
-        self.fd = None
+    def __init__(self, cgroup: str | None):
+        self.cgroup = cgroup
+        self.pid: int | None = None
+        self.fd: int | None = None
 
-    def start(self):
+    def start(self) -> None:
         read_end, self.fd = os.pipe()
+        supervisor = os.getpid()
         self.pid = os.fork()
         if self.pid == 0:
             os.close(self.fd)
-            self.serve(read_end)
+            self.serve(read_end, supervisor)
         os.close(read_end)
 
-    @staticmethod
-    def serve(read_end):
+    def serve(self, read_end: int, supervisor: int) -> None:
         code = 0
         try:
             os.setsid()
             for number in STOP_SIGNALS + (signal.SIGQUIT,):
                 signal.signal(number, signal.SIG_IGN)
+            tracker = None if self.cgroup else DescendantTracker(supervisor, os.getpid())
             groups, pending = set(), b""
             while True:
+                if tracker is not None:
+                    tracker.update()
+                ready, _, _ = select.select([read_end], [], [], TRACKING_POLL_S if tracker else None)
+                if not ready:
+                    continue
                 data = os.read(read_end, 4096)
                 if not data:
                     break
@@ -233,30 +443,36 @@ class Guard:
                 *lines, pending = pending.split(b"\n")
                 for line in lines:
                     (groups.add if line[:1] == b"+" else groups.discard)(int(line[1:]))
+            if self.cgroup:
+                kill_cgroup(self.cgroup)
+            if tracker is not None:
+                tracker.kill_all()
             for pgid in groups:
                 try:
                     os.killpg(pgid, signal.SIGKILL)
                 except OSError:
                     pass
+            if self.cgroup and not remove_cgroup(self.cgroup):
+                os.write(2, f"guard: cannot remove cgroup {self.cgroup}: processes stuck in it\n".encode())
         except BaseException:
             code = 1
         finally:
             os._exit(code)
 
-    def send(self, line):
+    def send(self, line: str) -> None:
         if self.fd is not None:
             try:
                 os.write(self.fd, line.encode())
             except OSError:
                 self.fd = None
 
-    def track(self, pgid):
+    def track(self, pgid: int) -> None:
         self.send(f"+{pgid}\n")
 
-    def forget(self, pgid):
+    def forget(self, pgid: int) -> None:
         self.send(f"-{pgid}\n")
 
-    def stop(self):
+    def stop(self) -> None:
         if self.fd is not None:
             os.close(self.fd)
             self.fd = None
@@ -378,7 +594,7 @@ class Supervisor:
         self.options = options
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
-        self.guard = Guard()
+        self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
         self.requests = []  # stop signals received, handled by the main loop
@@ -411,6 +627,7 @@ class Supervisor:
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
+        self.guard = Guard(self.contain())
         self.guard.start()
         self.install_signals()
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
@@ -432,6 +649,25 @@ class Supervisor:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
         return self.exit_code()
 
+    def contain(self):
+        """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
+        guard tracks descendants through /proc."""
+        reason = "--no-cgroup"
+        if not self.options.no_cgroup:
+            try:
+                path = create_cgroup(f"joshua-{ROBOT['name']}-{self.pid}")
+            except OSError as exc:
+                reason = str(exc)
+            else:
+                if cgroup_usable(path):
+                    log("supervisor", f"nodes run in cgroup {path}")
+                    return path
+                remove_cgroup(path)
+                reason = f"a process cannot join {path}"
+        log("supervisor", f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
+                          f"/proc every {TRACKING_POLL_S} s")
+        return None
+
     # Launching and reaping
 
     def launch(self, node):
@@ -441,7 +677,7 @@ class Supervisor:
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid)
+                child_exec(argv, node.environment, self.pid, self.guard.cgroup)
         except OSError as exc:
             log(node.name, f"cannot fork: {exc}")
             node.last_exit = f"fork failed: {exc}"
@@ -708,6 +944,8 @@ def parse_arguments(argv):
                         help="print one status line per node this often")
     parser.add_argument("--python", default=sys.executable or "python3", metavar="PATH",
                         help="interpreter of Python entrypoints (default: the one running this script)")
+    parser.add_argument("--no-cgroup", action="store_true",
+                        help="track the nodes' descendants through /proc even where a cgroup could hold them")
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:

@@ -29,6 +29,8 @@ def parse_arguments(argv):
                         help="print one status line per node this often")
     parser.add_argument("--python", default=sys.executable or "python3", metavar="PATH",
                         help="interpreter of Python entrypoints (default: the one running this script)")
+    parser.add_argument("--no-cgroup", action="store_true",
+                        help="track the nodes' descendants through /proc even where a cgroup could hold them")
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:

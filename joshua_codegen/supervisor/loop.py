@@ -8,11 +8,13 @@ import time
 
 from joshua_codegen.supervisor.children import child_exec
 from joshua_codegen.supervisor.common import PR_SET_CHILD_SUBREAPER, PRCTL, START, exit_text, group_alive, log, signal_name
+from joshua_codegen.supervisor.containment import cgroup_usable, create_cgroup, remove_cgroup
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.policy import (
     EXIT_CRITICAL, EXIT_ESCALATED, EXIT_NODE_FAILED, EXIT_OK, KILL_WAIT_S, LEFTOVER_POLL_S, RESTART_DELAY_CAP_S,
     RESTART_DELAY_FACTOR, RESTART_DELAY_INITIAL_S, RESTART_RESET_AFTER_S, STOP_SIGNALS,
+    TRACKING_POLL_S,
 )
 from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
 
@@ -22,7 +24,7 @@ class Supervisor:
         self.options = options
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
-        self.guard = Guard()
+        self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
         self.requests = []  # stop signals received, handled by the main loop
@@ -55,6 +57,7 @@ class Supervisor:
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
+        self.guard = Guard(self.contain())
         self.guard.start()
         self.install_signals()
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
@@ -76,6 +79,25 @@ class Supervisor:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
         return self.exit_code()
 
+    def contain(self):
+        """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
+        guard tracks descendants through /proc."""
+        reason = "--no-cgroup"
+        if not self.options.no_cgroup:
+            try:
+                path = create_cgroup(f"joshua-{ROBOT['name']}-{self.pid}")
+            except OSError as exc:
+                reason = str(exc)
+            else:
+                if cgroup_usable(path):
+                    log("supervisor", f"nodes run in cgroup {path}")
+                    return path
+                remove_cgroup(path)
+                reason = f"a process cannot join {path}"
+        log("supervisor", f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
+                          f"/proc every {TRACKING_POLL_S} s")
+        return None
+
     # Launching and reaping
 
     def launch(self, node):
@@ -85,7 +107,7 @@ class Supervisor:
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid)
+                child_exec(argv, node.environment, self.pid, self.guard.cgroup)
         except OSError as exc:
             log(node.name, f"cannot fork: {exc}")
             node.last_exit = f"fork failed: {exc}"
