@@ -147,6 +147,7 @@ KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the 
 LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
 TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
+SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
@@ -519,6 +520,73 @@ class Guard:
             self.pid = None
 
 
+# Fast DDS shared-memory files a dead node left in /dev/shm, found by their free lock and removed.
+
+
+SHM_DIR = "/dev/shm"
+PROC_LOCKS = "/proc/locks"
+# Fast DDS (2.x, as in ROS 2 Jazzy) names every segment `fastrtps_<random id>` or `fastrtps_port<N>`
+# and holds an exclusive flock on `<segment>_el` for as long as the segment is in use (taken before the
+# segment is created); a port also has the POSIX semaphore `sem.<segment>_mutex`.
+FASTDDS_PREFIX = "fastrtps_"
+LOCK_SUFFIX = "_el"
+COMPANIONS = ("{}", "sem.{}_mutex", "{}_el")  # the lock file last: while it exists, the set is findable
+
+
+def locked_inodes(device: int) -> set[int]:
+    """Inodes on `device` that some live process holds a lock on (from /proc/locks)."""
+    wanted = f"{os.major(device):02x}:{os.minor(device):02x}:"
+    inodes = set()
+    try:
+        with open(PROC_LOCKS) as locks:
+            for line in locks:
+                for field in line.split():
+                    if field.startswith(wanted):
+                        inodes.add(int(field[len(wanted):]))
+    except OSError:
+        pass
+    return inodes
+
+
+def abandoned_segments(since: float) -> list[str]:
+    """Segments whose lock file was created at or after wall-clock time `since` and is held by no live
+    process: their owner is dead (a live owner holds the lock before the segment even exists)."""
+    try:
+        device = os.stat(SHM_DIR).st_dev
+        names = os.listdir(SHM_DIR)
+    except OSError:
+        return []
+    locked = locked_inodes(device)
+    found = []
+    for name in sorted(names):
+        if not (name.startswith(FASTDDS_PREFIX) and name.endswith(LOCK_SUFFIX)):
+            continue
+        try:
+            lock = os.stat(os.path.join(SHM_DIR, name))
+        except OSError:
+            continue
+        segment = name[: -len(LOCK_SUFFIX)]
+        if lock.st_ino not in locked and lock.st_ctime >= since and os.path.exists(os.path.join(SHM_DIR, segment)):
+            found.append(segment)
+    return found
+
+
+def remove_abandoned_segments(since: float) -> tuple[int, int]:
+    """Remove the files of every abandoned segment created since `since`: (files removed, bytes freed)."""
+    files = size = 0
+    for segment in abandoned_segments(since):
+        for pattern in COMPANIONS:
+            path = os.path.join(SHM_DIR, pattern.format(segment))
+            try:
+                length = os.stat(path).st_size
+                os.unlink(path)
+            except OSError:
+                continue
+            files += 1
+            size += length
+    return files, size
+
+
 # One node: its launch command, environment, process and restart bookkeeping.
 
 
@@ -536,6 +604,7 @@ class Node:
         self.delay = RESTART_DELAY_INITIAL_S
         self.restart_at = None
         self.started_at = None
+        self.started_at_wall = None  # time.time() at launch: files it created are not older
         self.backend = ""
         self.last_exit = ""
         self.warned_fallback = False
@@ -632,6 +701,7 @@ class Supervisor:
         self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
+        self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
@@ -723,11 +793,13 @@ class Supervisor:
         node.pid = node.pgid = pid
         node.state = "running"
         node.started_at = time.monotonic()
+        node.started_at_wall = time.time()
         self.by_pid[pid] = node
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
 
     def reap(self):
+        self.abandoned_since = None
         while True:
             try:
                 pid, status = os.waitpid(-1, os.WNOHANG)
@@ -744,6 +816,11 @@ class Supervisor:
                 log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
             else:
                 self.on_exit(node, pid, status)
+        if self.abandoned_since is not None:
+            files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
+            if files:
+                log("supervisor", f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                                  "that dead processes left in /dev/shm")
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -756,6 +833,8 @@ class Supervisor:
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
+        if not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0):  # it may not have removed its segments
+            self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
         if self.stopping:
             node.state = "stopping" if node.alive() else "stopped"
             return

@@ -14,8 +14,9 @@ from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.policy import (
     EXIT_CRITICAL, EXIT_ESCALATED, EXIT_NODE_FAILED, EXIT_OK, KILL_WAIT_S, LEFTOVER_POLL_S, RESTART_DELAY_CAP_S,
     RESTART_DELAY_FACTOR, RESTART_DELAY_INITIAL_S, RESTART_RESET_AFTER_S, STOP_SIGNALS,
-    TRACKING_POLL_S,
+    SHM_CLOCK_SLACK_S, TRACKING_POLL_S,
 )
+from joshua_codegen.supervisor.shm import remove_abandoned_segments
 from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
 
 
@@ -27,6 +28,7 @@ class Supervisor:
         self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
+        self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
@@ -118,11 +120,13 @@ class Supervisor:
         node.pid = node.pgid = pid
         node.state = "running"
         node.started_at = time.monotonic()
+        node.started_at_wall = time.time()
         self.by_pid[pid] = node
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
 
     def reap(self):
+        self.abandoned_since = None
         while True:
             try:
                 pid, status = os.waitpid(-1, os.WNOHANG)
@@ -139,6 +143,11 @@ class Supervisor:
                 log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
             else:
                 self.on_exit(node, pid, status)
+        if self.abandoned_since is not None:
+            files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
+            if files:
+                log("supervisor", f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                                  "that dead processes left in /dev/shm")
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -151,6 +160,8 @@ class Supervisor:
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
+        if not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0):  # it may not have removed its segments
+            self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
         if self.stopping:
             node.state = "stopping" if node.alive() else "stopped"
             return

@@ -22,6 +22,7 @@ class Node:
         self.delay = RESTART_DELAY_INITIAL_S
         self.restart_at = None
         self.started_at = None
+        self.started_at_wall = None  # time.time() at launch: files it created are not older
         self.backend = ""
         self.last_exit = ""
         self.warned_fallback = False

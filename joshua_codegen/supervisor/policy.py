@@ -13,6 +13,7 @@ KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the 
 LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
 TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
+SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
