@@ -7,3 +7,8 @@ BUILTIN_MODELS = ("so100",)
 GL_BACKENDS = ("egl", "osmesa")
 # `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.
 REGISTRY_PREFIX = "registry:"
+# Where the registry lives: $JOSHUA_MODEL_REGISTRY, else REGISTRY_DEFAULT_ROOT (with ~ expanded); an entry
+# is <root>/<name>/<revision>/ holding REGISTRY_ENTRY_FILE. supervisor.py's preflight resolves it too.
+REGISTRY_ENV = "JOSHUA_MODEL_REGISTRY"
+REGISTRY_DEFAULT_ROOT = "~/.cache/joshua/models"
+REGISTRY_ENTRY_FILE = "joshua_model.json"

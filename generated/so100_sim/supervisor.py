@@ -8,16 +8,18 @@ Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interva
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
 the directory can move. Nodes run in the directory the supervisor was started from.
 
-- Preflight: before anything starts, every device, model directory, entrypoint and program is checked;
-  all problems are listed and the supervisor exits with EXIT_PREFLIGHT.
+- Preflight: before anything starts, every device, model directory, registry: model reference, output
+  directory, entrypoint and program is checked; all problems are listed and the supervisor exits with
+  EXIT_PREFLIGHT.
 - Each node is fork()+execv()ed in its own session (process group); it gets SIGKILL through
   PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every descendant if the
   supervisor is killed outright: the whole cgroup the nodes joined where one can be created, else
   every descendant seen by polling /proc (--no-cgroup forces that). The supervisor is a child
   subreaper, so orphaned grandchildren are reaped here too: never a zombie.
 - Restart per node: RESTART_NEVER, RESTART_ON_FAILURE (non-zero exit or death by signal),
-  RESTART_ALWAYS, with exponential backoff and at most max_restarts restarts; a node that fails for
-  good stops the whole robot when it is critical.
+  RESTART_ALWAYS, with exponential backoff and at most max_restarts restarts; a node that exits with
+  code 2 (unusable settings) is failed at once; a node that fails for good stops the whole robot when
+  it is critical. A node that ended abnormally has its Fast DDS files in /dev/shm removed.
 - Shutdown on SIGINT, SIGTERM or SIGHUP (or at the end of --duration): SIGINT to every node's group at
   once, SIGTERM after SIGINT_GRACE_S to those left, SIGKILL after SIGTERM_GRACE_S more. A second
   SIGINT/SIGTERM skips to the next step.
@@ -25,7 +27,8 @@ the directory can move. Nodes run in the directory the supervisor was started fr
   else its Python entrypoint after one warning line.
 
 Exit codes (the first that applies):
-  4  a critical node failed for good (restarts exhausted); the robot was stopped
+  6  a node lost data (it exited with code 6); the last line names it and where the data should have gone
+  4  a critical node failed for good (restarts exhausted, or exit code 2: unusable settings); the robot was stopped
   3  preflight found problems; nothing was started
   2  bad command line
   1  stopping needed SIGTERM or SIGKILL for at least one node (or a process it left behind)
@@ -50,6 +53,16 @@ ROBOT = {
     'fastdds_profile': 'fastdds_profile.xml',
     'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
     'supervisord_group': 'joshua-so100_sim',
+    'model_registry': {
+        'prefix': 'registry:',
+        'variable': 'JOSHUA_MODEL_REGISTRY',
+        'default_root': '~/.cache/joshua/models',
+        'entry_file': 'joshua_model.json',
+    },
+    'node_exit_codes': {
+        'settings': 2,
+        'data_lost': 6,
+    },
     'processes': [
         {
             'name': 'leader',
@@ -65,6 +78,8 @@ ROBOT = {
             'critical': True,
             'env': {},
             'devices': [],
+            'model_reference': '',
+            'output_directory': '',
         },
         {
             'name': 'simulation',
@@ -80,6 +95,8 @@ ROBOT = {
             'critical': True,
             'env': {},
             'devices': [],
+            'model_reference': '',
+            'output_directory': '',
         },
     ],
 }
@@ -106,6 +123,7 @@ SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
+EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
 EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
 
@@ -613,6 +631,41 @@ class Node:
 # Preflight: every reason the robot cannot start, found before anything starts.
 
 
+PROBE_PREFIX = ".joshua-preflight-"  # a file created and removed at once, to learn a directory is writable
+
+
+def registry_problem(reference: str, env: dict[str, str]) -> str | None:
+    """Why `registry:NAME[@REVISION]` names no entry of the model registry the node will see, or None."""
+    registry = ROBOT["model_registry"]
+    root = os.path.expanduser(env.get(registry["variable"]) or registry["default_root"])
+    name, _, revision = reference[len(registry["prefix"]):].partition("@")
+    if name and "/" not in name + revision and name not in (".", "..") and revision not in (".", ".."):
+        try:
+            revisions = [revision] if revision else os.listdir(os.path.join(root, name))
+        except OSError:
+            revisions = []
+        if any(os.path.isfile(os.path.join(root, name, each, registry["entry_file"])) for each in revisions):
+            return None
+    return f"{reference} is not in the model registry at {root}"
+
+
+def output_problem(directory: str) -> str | None:
+    """Why the node cannot write into `directory` (created by the node when missing), or None."""
+    path = os.path.abspath(os.path.expanduser(directory))
+    existing = path
+    while not os.path.lexists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        return f"output directory {directory}: {existing} is not a directory"
+    probe_path = os.path.join(existing, f"{PROBE_PREFIX}{os.getpid()}")
+    try:
+        os.close(os.open(probe_path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        os.unlink(probe_path)
+    except OSError as exc:
+        return f"output directory {directory}: cannot write in {existing}: {exc.strerror or exc}"
+    return None
+
+
 def preflight(nodes, python):
     """Every reason the robot cannot start, as lines; empty when it can."""
     problems = []
@@ -628,6 +681,14 @@ def preflight(nodes, python):
             elif kind in ("serial", "camera") and not os.path.exists(path):
                 what = "serial port" if kind == "serial" else "camera device"
                 problems.append(f"{node.name}: {what} {path} does not exist")
+        if spec["model_reference"]:
+            problem = registry_problem(spec["model_reference"], node.environment)
+            if problem:
+                problems.append(f"{node.name}: {problem}")
+        if spec["output_directory"]:
+            problem = output_problem(spec["output_directory"])
+            if problem:
+                problems.append(f"{node.name}: {problem}")
         binary = node.cpp_binary()
         if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
             problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
@@ -643,6 +704,41 @@ def preflight(nodes, python):
     if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
         problems.append(f"Python interpreter {python} is not an executable file")
     return problems
+
+
+# What a run of the supervisor came to: its exit code and, when a node lost data, its last lines.
+
+
+class Outcome:
+    """Failures seen while the robot ran; the first that applies decides the exit code."""
+
+    def __init__(self):
+        self.critical_failure = False  # a critical node failed for good: the robot was stopped
+        self.node_failure = False  # a non-critical node failed for good
+        self.escalated = False  # stopping needed SIGTERM or SIGKILL
+        self.data_lost: list[dict] = []  # specs of the nodes that exited with the node code for data lost
+
+    def on_node_exit(self, spec: dict, code: int | None) -> None:
+        if code == ROBOT["node_exit_codes"]["data_lost"] and spec not in self.data_lost:
+            self.data_lost.append(spec)
+
+    def exit_code(self) -> int:
+        if self.data_lost:
+            return EXIT_DATA_LOST
+        if self.critical_failure:
+            return EXIT_CRITICAL
+        if self.escalated:
+            return EXIT_ESCALATED
+        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
+
+    def last_lines(self) -> list[str]:
+        """One line per node that lost data: which node, and where the data should have gone."""
+        lines = []
+        for spec in self.data_lost:
+            where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
+            lines.append(f"data lost: node {spec['name']} could not save data it had taken in{where} "
+                         f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)")
+        return lines
 
 
 # The event loop: launching, reaping, restarts with backoff, and the stop cascade.
@@ -661,10 +757,8 @@ class Supervisor:
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
         self.stage_deadline = None
-        self.escalated = False
         self.gave_up = False  # processes survived SIGKILL for KILL_WAIT_S (stuck in the kernel): exit anyway
-        self.critical_failure = False
-        self.node_failure = False
+        self.outcome = Outcome()
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
 
@@ -707,7 +801,9 @@ class Supervisor:
         self.guard.stop()
         for node in self.nodes:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
-        return self.exit_code()
+        for line in self.outcome.last_lines():
+            log("supervisor", line)
+        return self.outcome.exit_code()
 
     def contain(self):
         """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
@@ -788,7 +884,9 @@ class Supervisor:
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
-        if not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0):  # it may not have removed its segments
+        code = os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else None
+        self.outcome.on_node_exit(node.spec, code)
+        if code != 0:  # it may not have removed its shared-memory segments
             self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
         if self.stopping:
             node.state = "stopping" if node.alive() else "stopped"
@@ -796,8 +894,10 @@ class Supervisor:
         if group_alive(node.pgid):
             log(node.name, "killing what is left of its process group")
             self.signal_node(node, signal.SIGKILL)
-        failed = not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0)
-        self.after_exit(node, failed, ran_for)
+        if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
+            self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
+            return
+        self.after_exit(node, code != 0, ran_for)
 
     def after_exit(self, node, failed, ran_for):
         spec = node.spec
@@ -823,11 +923,11 @@ class Supervisor:
     def give_up(self, node, reason):
         node.state = "failed"
         if node.spec["critical"]:
-            self.critical_failure = True
+            self.outcome.critical_failure = True
             log(node.name, f"{reason}; critical node: stopping the robot")
             self.request_stop(f"critical node {node.name} failed")
         else:
-            self.node_failure = True
+            self.outcome.node_failure = True
             log(node.name, f"{reason}; not critical: the other nodes keep running")
 
     # Stopping
@@ -853,11 +953,11 @@ class Supervisor:
             if node.alive():
                 node.state = "stopping"
                 if stage != "SIGINT":
-                    self.escalated = True
+                    self.outcome.escalated = True
                     log(node.name, f"still running: escalating to {stage}")
                 self.signal_node(node, number)
         for pid in self.leftover_children():
-            self.escalated = self.escalated or stage != "SIGINT"
+            self.outcome.escalated = self.outcome.escalated or stage != "SIGINT"
             log("supervisor", f"sending {stage} to leftover process {pid}")
             self.signal_pid(pid, number)
 
@@ -953,13 +1053,6 @@ class Supervisor:
         log("supervisor", "status: " + ", ".join(f"{count} {state}" for state, count in sorted(counts.items())))
         for node in self.nodes:
             log(node.name, node.status_line(now))
-
-    def exit_code(self):
-        if self.critical_failure:
-            return EXIT_CRITICAL
-        if self.escalated:
-            return EXIT_ESCALATED
-        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
 
 
 # The event listener supervisord.conf runs to stop the robot when a critical node fails.

@@ -10,6 +10,8 @@ from functools import cache
 from pathlib import Path
 
 from joshua_codegen import supervisor as package
+from joshua_core import exit_codes
+from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
 from joshua_codegen.emitters import fastdds, process_launch, supervisord
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.render import Context, template
@@ -19,8 +21,10 @@ PACKAGE_DIR = Path(package.__file__).parent
 PACKAGE_PREFIX = f"{package.__name__}."
 
 
-def process_data(process: Process) -> dict:
-    """What the supervisor needs to launch one node, as plain data."""
+def process_data(robot: Robot, process: Process) -> dict:
+    """What the supervisor needs to launch and check one node, as plain data."""
+    settings = robot.node(process.name).settings if process.name in {node.name for node in robot.nodes} else {}
+    model_path = settings.get("model_path") or ""
     return {
         "name": process.name,
         "type": process.node_type,
@@ -35,6 +39,8 @@ def process_data(process: Process) -> dict:
         "critical": process.critical,
         "env": dict(process.env),
         "devices": [{"kind": device.kind, "path": device.path} for device in process.devices],
+        "model_reference": model_path if model_path.startswith(REGISTRY_PREFIX) else "",
+        "output_directory": settings.get("output_directory") or "",
     }
 
 
@@ -47,7 +53,10 @@ def supervisor_data(robot: Robot) -> dict:
         "fastdds_profile": fastdds.PROFILE_PATH,
         "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,
         "supervisord_group": supervisord.group_name(robot),
-        "processes": [process_data(process) for process in robot.processes],
+        "model_registry": {"prefix": REGISTRY_PREFIX, "variable": REGISTRY_ENV, "default_root": REGISTRY_DEFAULT_ROOT,
+                           "entry_file": REGISTRY_ENTRY_FILE},
+        "node_exit_codes": {"settings": exit_codes.NODE_EXIT_SETTINGS, "data_lost": exit_codes.NODE_EXIT_DATA_LOST},
+        "processes": [process_data(robot, process) for process in robot.processes],
     }
 
 

@@ -11,13 +11,13 @@ from joshua_codegen.supervisor.common import PR_SET_CHILD_SUBREAPER, PRCTL, STAR
 from joshua_codegen.supervisor.containment import cgroup_usable, create_cgroup, remove_cgroup
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
+from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
-    EXIT_CRITICAL, EXIT_ESCALATED, EXIT_NODE_FAILED, EXIT_OK, KILL_WAIT_S, LEFTOVER_POLL_S, RESTART_DELAY_CAP_S,
-    RESTART_DELAY_FACTOR, RESTART_DELAY_INITIAL_S, RESTART_RESET_AFTER_S, STOP_SIGNALS,
-    SHM_CLOCK_SLACK_S, TRACKING_POLL_S,
+    KILL_WAIT_S, LEFTOVER_POLL_S, RESTART_DELAY_CAP_S, RESTART_DELAY_FACTOR, RESTART_DELAY_INITIAL_S,
+    RESTART_RESET_AFTER_S, SHM_CLOCK_SLACK_S, STOP_SIGNALS, TRACKING_POLL_S,
 )
-from joshua_codegen.supervisor.shm import remove_abandoned_segments
 from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
+from joshua_codegen.supervisor.shm import remove_abandoned_segments
 
 
 class Supervisor:
@@ -33,10 +33,8 @@ class Supervisor:
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
         self.stage_deadline = None
-        self.escalated = False
         self.gave_up = False  # processes survived SIGKILL for KILL_WAIT_S (stuck in the kernel): exit anyway
-        self.critical_failure = False
-        self.node_failure = False
+        self.outcome = Outcome()
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
 
@@ -79,7 +77,9 @@ class Supervisor:
         self.guard.stop()
         for node in self.nodes:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
-        return self.exit_code()
+        for line in self.outcome.last_lines():
+            log("supervisor", line)
+        return self.outcome.exit_code()
 
     def contain(self):
         """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
@@ -160,7 +160,9 @@ class Supervisor:
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
-        if not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0):  # it may not have removed its segments
+        code = os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else None
+        self.outcome.on_node_exit(node.spec, code)
+        if code != 0:  # it may not have removed its shared-memory segments
             self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
         if self.stopping:
             node.state = "stopping" if node.alive() else "stopped"
@@ -168,8 +170,10 @@ class Supervisor:
         if group_alive(node.pgid):
             log(node.name, "killing what is left of its process group")
             self.signal_node(node, signal.SIGKILL)
-        failed = not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0)
-        self.after_exit(node, failed, ran_for)
+        if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
+            self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
+            return
+        self.after_exit(node, code != 0, ran_for)
 
     def after_exit(self, node, failed, ran_for):
         spec = node.spec
@@ -195,11 +199,11 @@ class Supervisor:
     def give_up(self, node, reason):
         node.state = "failed"
         if node.spec["critical"]:
-            self.critical_failure = True
+            self.outcome.critical_failure = True
             log(node.name, f"{reason}; critical node: stopping the robot")
             self.request_stop(f"critical node {node.name} failed")
         else:
-            self.node_failure = True
+            self.outcome.node_failure = True
             log(node.name, f"{reason}; not critical: the other nodes keep running")
 
     # Stopping
@@ -225,11 +229,11 @@ class Supervisor:
             if node.alive():
                 node.state = "stopping"
                 if stage != "SIGINT":
-                    self.escalated = True
+                    self.outcome.escalated = True
                     log(node.name, f"still running: escalating to {stage}")
                 self.signal_node(node, number)
         for pid in self.leftover_children():
-            self.escalated = self.escalated or stage != "SIGINT"
+            self.outcome.escalated = self.outcome.escalated or stage != "SIGINT"
             log("supervisor", f"sending {stage} to leftover process {pid}")
             self.signal_pid(pid, number)
 
@@ -325,10 +329,3 @@ class Supervisor:
         log("supervisor", "status: " + ", ".join(f"{count} {state}" for state, count in sorted(counts.items())))
         for node in self.nodes:
             log(node.name, node.status_line(now))
-
-    def exit_code(self):
-        if self.critical_failure:
-            return EXIT_CRITICAL
-        if self.escalated:
-            return EXIT_ESCALATED
-        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK

@@ -17,6 +17,7 @@ SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
+EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
 EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
 

@@ -9,6 +9,9 @@ ROBOT: dict[str, Any] = {
     "fastdds_profile": "fastdds_profile.xml",
     "fastdds_profile_variable": "FASTRTPS_DEFAULT_PROFILES_FILE",
     "supervisord_group": "joshua-example",
+    "model_registry": {"prefix": "registry:", "variable": "JOSHUA_MODEL_REGISTRY", "default_root": "~/.cache/joshua/models",
+                       "entry_file": "joshua_model.json"},
+    "node_exit_codes": {"settings": 2, "data_lost": 6},
     "processes": [],
 }
 

@@ -22,7 +22,8 @@ engine of MODE_SIMULATION (type "SIMULATION") gets only robot, mode, name, type 
     simulation   {"model", "timestep_s", "realtime_factor", "camera", "gl_backend",
                   "simulates": [settings of each replaced hardware node]}
 
-Exit codes: 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device failure.
+Exit codes (`joshua_core.exit_codes`): 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device
+failure, 6 data lost (the node could not save data it had taken in).
 
 Once a node has run, `run_node` ends the process itself (see `end_process`): the DDS library's
 teardown at interpreter exit alone takes 0.2-0.4 s, too much for the 0.5 s shutdown contract.

@@ -6,14 +6,15 @@ import sys
 
 from joshua_codegen.supervisor.common import exit_text
 from joshua_codegen.supervisor.node import Node
-from joshua_codegen.supervisor.preflight import preflight
+from joshua_codegen.supervisor.preflight import PROBE_PREFIX, preflight
 from joshua_codegen.supervisor.robot import ROBOT
 
 
 def spec(**fields) -> dict:
     values = {"name": "n", "type": "CUSTOM", "kind": "custom", "entrypoint": "", "executable": "true", "args": ["-x"],
               "cpp_binary": "", "cpp_args": [], "restart": "RESTART_NEVER", "max_restarts": 0, "critical": False,
-              "env": {"EXTRA": "1"}, "devices": []}
+              "env": {"EXTRA": "1"}, "devices": [],
+              "model_reference": "", "output_directory": ""}
     values.update(fields)
     return values
 
@@ -56,3 +57,32 @@ def test_preflight_lists_every_problem(tmp_path):
 def test_exit_text_names_the_signal_or_the_code():
     assert exit_text(signal.SIGKILL) == "killed by SIGKILL"
     assert exit_text(3 << 8) == "exited with code 3"
+
+
+def test_preflight_resolves_registry_references_in_the_registry_the_node_sees(tmp_path):
+    registry = tmp_path / "registry"
+    (registry / "act_arm" / "0123abcd").mkdir(parents=True)
+    (registry / "act_arm" / "0123abcd" / ROBOT["model_registry"]["entry_file"]).write_text("{}")
+    env = {ROBOT["model_registry"]["variable"]: str(registry)}
+    references = ["registry:act_arm", "registry:act_arm@0123abcd", "registry:act_arm@ffff", "registry:other",
+                  "registry:../registry/act_arm"]
+    nodes = [Node(spec(name=f"n{i}", model_reference=reference, env=env), sys.executable)
+             for i, reference in enumerate(references)]
+    assert preflight(nodes, sys.executable) == [
+        f"n2: registry:act_arm@ffff is not in the model registry at {registry}",
+        f"n3: registry:other is not in the model registry at {registry}",
+        f"n4: registry:../registry/act_arm is not in the model registry at {registry}",
+    ]
+
+
+def test_preflight_refuses_output_directories_the_node_cannot_write(tmp_path):
+    (tmp_path / "a_file").write_text("")
+    directories = [str(tmp_path / "new" / "episodes"), str(tmp_path / "a_file" / "episodes"), "/proc/joshua/episodes"]
+    nodes = [Node(spec(name=f"n{i}", output_directory=directory), sys.executable)
+             for i, directory in enumerate(directories)]
+    problems = preflight(nodes, sys.executable)
+    assert problems[0] == f"n1: output directory {directories[1]}: {tmp_path / 'a_file'} is not a directory"
+    assert problems[1].startswith(f"n2: output directory {directories[2]}: cannot write in /proc: ")
+    assert len(problems) == 2
+    assert not (tmp_path / "new").exists()
+    assert not [path for path in tmp_path.iterdir() if path.name.startswith(PROBE_PREFIX)]

@@ -33,7 +33,7 @@ def top_level_names(tree: ast.Module) -> set[str]:
 def generated_supervisor() -> str:
     from google.protobuf import text_format
 
-    from joshua_codegen.schema import RobotDescription
+    from joshua_core.schema import RobotDescription
 
     config = ROOT / "config/robots/mock_arm.pbtxt"
     description = text_format.Parse(config.read_text(), RobotDescription())
