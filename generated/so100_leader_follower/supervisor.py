@@ -445,7 +445,7 @@ def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | 
             os._exit(EXIT_ORPHANED)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
         os.execve(argv[0], argv, env)
-    except BaseException as exc:
+    except BaseException as exc:  # noqa: BLE001 (a forked child ends in os._exit, never back in the parent's code)
         try:
             os.write(2, f"cannot start {argv[0]}: {exc}\n".encode(errors="replace"))
         except OSError:
@@ -512,7 +512,7 @@ class Guard:
                     pass
             if self.cgroup and not remove_cgroup(self.cgroup):
                 os.write(2, f"guard: cannot remove cgroup {self.cgroup}: processes stuck in it\n".encode())
-        except BaseException:
+        except BaseException:  # noqa: BLE001 (the guard ends in os._exit, never back in the supervisor's code)
             code = 1
         finally:
             os._exit(code)
@@ -801,6 +801,7 @@ class Supervisor:
         self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
+        self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
@@ -1072,8 +1073,12 @@ class Supervisor:
         return timeout
 
     def wait(self, timeout):
-        ready, _, _ = select.select([self.wakeup], [], [], timeout)
-        if ready:
+        """Sleep until a signal arrives, a registered fd is readable, or `timeout` passes."""
+        ready, _, _ = select.select([self.wakeup, *self.readers], [], [], timeout)
+        for fd in ready:
+            if fd != self.wakeup:
+                self.readers[fd]()
+                continue
             try:
                 while os.read(self.wakeup, 4096):
                     pass

@@ -5,7 +5,12 @@ import signal
 
 from joshua_codegen.supervisor.common import PR_SET_PDEATHSIG, PRCTL
 from joshua_codegen.supervisor.containment import join_cgroup
-from joshua_codegen.supervisor.policy import EXIT_EXEC_FAILED, EXIT_ORPHANED, RESET_IN_CHILD, STOP_SIGNALS
+from joshua_codegen.supervisor.policy import (
+    EXIT_EXEC_FAILED,
+    EXIT_ORPHANED,
+    RESET_IN_CHILD,
+    STOP_SIGNALS,
+)
 
 
 def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None) -> None:
@@ -27,7 +32,7 @@ def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | 
             os._exit(EXIT_ORPHANED)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
         os.execve(argv[0], argv, env)
-    except BaseException as exc:
+    except BaseException as exc:  # noqa: BLE001 (a forked child ends in os._exit, never back in the parent's code)
         try:
             os.write(2, f"cannot start {argv[0]}: {exc}\n".encode(errors="replace"))
         except OSError:

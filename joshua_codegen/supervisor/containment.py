@@ -4,7 +4,11 @@ import os
 import signal
 import time
 
-from joshua_codegen.supervisor.policy import CGROUP_EMPTY_POLL_S, KILL_WAIT_S, STOP_SETTLE_S
+from joshua_codegen.supervisor.policy import (
+    CGROUP_EMPTY_POLL_S,
+    KILL_WAIT_S,
+    STOP_SETTLE_S,
+)
 
 CGROUP2_MOUNTS = "/proc/self/mountinfo"
 OWN_CGROUP = "/proc/self/cgroup"

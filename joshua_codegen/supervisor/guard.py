@@ -4,7 +4,11 @@ import os
 import select
 import signal
 
-from joshua_codegen.supervisor.containment import DescendantTracker, kill_cgroup, remove_cgroup
+from joshua_codegen.supervisor.containment import (
+    DescendantTracker,
+    kill_cgroup,
+    remove_cgroup,
+)
 from joshua_codegen.supervisor.policy import STOP_SIGNALS, TRACKING_POLL_S
 
 
@@ -63,7 +67,7 @@ class Guard:
                     pass
             if self.cgroup and not remove_cgroup(self.cgroup):
                 os.write(2, f"guard: cannot remove cgroup {self.cgroup}: processes stuck in it\n".encode())
-        except BaseException:
+        except BaseException:  # noqa: BLE001 (the guard ends in os._exit, never back in the supervisor's code)
             code = 1
         finally:
             os._exit(code)

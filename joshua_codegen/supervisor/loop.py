@@ -7,14 +7,33 @@ import signal
 import time
 
 from joshua_codegen.supervisor.children import child_exec
-from joshua_codegen.supervisor.common import PR_SET_CHILD_SUBREAPER, PRCTL, START, exit_text, group_alive, log, signal_name
-from joshua_codegen.supervisor.containment import cgroup_usable, create_cgroup, remove_cgroup
+from joshua_codegen.supervisor.common import (
+    PR_SET_CHILD_SUBREAPER,
+    PRCTL,
+    START,
+    exit_text,
+    group_alive,
+    log,
+    signal_name,
+)
+from joshua_codegen.supervisor.containment import (
+    cgroup_usable,
+    create_cgroup,
+    remove_cgroup,
+)
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
-    KILL_WAIT_S, LEFTOVER_POLL_S, RESTART_DELAY_CAP_S, RESTART_DELAY_FACTOR, RESTART_DELAY_INITIAL_S,
-    RESTART_RESET_AFTER_S, SHM_CLOCK_SLACK_S, STOP_SIGNALS, TRACKING_POLL_S,
+    KILL_WAIT_S,
+    LEFTOVER_POLL_S,
+    RESTART_DELAY_CAP_S,
+    RESTART_DELAY_FACTOR,
+    RESTART_DELAY_INITIAL_S,
+    RESTART_RESET_AFTER_S,
+    SHM_CLOCK_SLACK_S,
+    STOP_SIGNALS,
+    TRACKING_POLL_S,
 )
 from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
 from joshua_codegen.supervisor.shm import remove_abandoned_segments
@@ -28,6 +47,7 @@ class Supervisor:
         self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
+        self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
@@ -299,8 +319,12 @@ class Supervisor:
         return timeout
 
     def wait(self, timeout):
-        ready, _, _ = select.select([self.wakeup], [], [], timeout)
-        if ready:
+        """Sleep until a signal arrives, a registered fd is readable, or `timeout` passes."""
+        ready, _, _ = select.select([self.wakeup, *self.readers], [], [], timeout)
+        for fd in ready:
+            if fd != self.wakeup:
+                self.readers[fd]()
+                continue
             try:
                 while os.read(self.wakeup, 4096):
                     pass

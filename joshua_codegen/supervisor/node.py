@@ -4,7 +4,10 @@ import os
 import shutil
 
 from joshua_codegen.supervisor.common import group_alive, log, under_script_dir
-from joshua_codegen.supervisor.policy import CPP_FALLBACK_WARNING, RESTART_DELAY_INITIAL_S
+from joshua_codegen.supervisor.policy import (
+    CPP_FALLBACK_WARNING,
+    RESTART_DELAY_INITIAL_S,
+)
 from joshua_codegen.supervisor.robot import ROBOT
 
 

@@ -1,7 +1,11 @@
 """What a run of the supervisor came to: its exit code and, when a node lost data, its last lines."""
 
 from joshua_codegen.supervisor.policy import (
-    EXIT_CRITICAL, EXIT_DATA_LOST, EXIT_ESCALATED, EXIT_NODE_FAILED, EXIT_OK,
+    EXIT_CRITICAL,
+    EXIT_DATA_LOST,
+    EXIT_ESCALATED,
+    EXIT_NODE_FAILED,
+    EXIT_OK,
 )
 from joshua_codegen.supervisor.robot import ROBOT
 

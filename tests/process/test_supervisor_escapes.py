@@ -8,8 +8,16 @@ import time
 from pathlib import Path
 
 import pytest
+from supervisor_harness import (
+    PYTHON,
+    Supervisor,
+    alive,
+    build,
+    quoted,
+    robot,
+    wait_until,
+)
 
-from supervisor_harness import PYTHON, Supervisor, alive, build, quoted, robot, wait_until
 from joshua_codegen.supervisor.policy import TRACKING_POLL_S
 
 # argv: PIDS_FILE MODE; MODE daemon (double fork, setsid), setsid or setpgid (one child that leaves
@@ -70,7 +78,7 @@ def test_sigkill_of_the_supervisor_leaves_no_daemon_or_escaped_child(tmp_path, o
         wait_until(lambda: not any(alive(pid) for pid in pids), "every descendant to die", timeout=5)
     finally:
         supervisor.close()
-    cgroup = re.search(r"nodes run in cgroup (\S+)$", supervisor.log(), re.M)
+    cgroup = re.search(r"nodes run in cgroup (\S+)$", supervisor.log(), re.MULTILINE)
     if options:
         assert cgroup is None and "tracks their descendants through /proc" in supervisor.log()
     else:

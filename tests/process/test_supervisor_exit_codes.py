@@ -9,9 +9,10 @@ import struct
 from contextlib import contextmanager
 from pathlib import Path
 
-from supervisor_harness import Supervisor, build, robot, wait_until
-from joshua_codegen.supervisor.policy import EXIT_CRITICAL, EXIT_DATA_LOST
 from joshua_core.exit_codes import NODE_EXIT_DATA_LOST, NODE_EXIT_SETTINGS
+from supervisor_harness import Supervisor, build, robot, wait_until
+
+from joshua_codegen.supervisor.policy import EXIT_CRITICAL, EXIT_DATA_LOST
 
 OFFLINE = {"HF_HUB_OFFLINE": "1", "HF_DATASETS_OFFLINE": "1", "TRANSFORMERS_OFFLINE": "1"}
 RECORDER_START_S = 120.0  # importing LeRobot and torch on a busy machine
@@ -35,8 +36,8 @@ def immutable(directory: Path):
 
 
 def test_unusable_settings_fail_the_node_at_once_without_restarts(tmp_path):
-    out = build(tmp_path, robot(['node { name: "arm" type: MOCK_ENCODER_PUBLISHER restart: RESTART_ALWAYS '
-                                 'max_restarts: 5 }']))
+    arm = 'node { name: "arm" type: MOCK_ENCODER_PUBLISHER restart: RESTART_ALWAYS max_restarts: 5 }'
+    out = build(tmp_path, robot([arm]))
     entrypoint = out / "nodes" / "arm.py"
     entrypoint.write_text(entrypoint.read_text().replace("'MOCK_ENCODER_PUBLISHER'", "'NO_SUCH_TYPE'"))
     supervisor = Supervisor(out)
@@ -56,8 +57,8 @@ def test_a_recorder_that_cannot_save_its_episode_makes_the_supervisor_fail_and_s
     dataset = parent / "dataset"
     out = build(tmp_path, robot([
         'node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/arm/joint_states" rate_hz: 30 }',
-        f'node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/arm/joint_states" output_format: "parquet" '
-        f'output_directory: "{dataset}" rate_hz: 10 restart: RESTART_NEVER }}',
+        (f'node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/arm/joint_states" output_format: "parquet" '
+         f'output_directory: "{dataset}" rate_hz: 10 restart: RESTART_NEVER }}'),
     ], sigint=30, sigterm=5))
     env = dict(ros_env, **OFFLINE, HF_DATASETS_CACHE=str(tmp_path / "hf-cache"), HF_LEROBOT_HOME=str(tmp_path / "hf"))
     supervisor = Supervisor(out, env=env)

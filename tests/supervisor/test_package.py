@@ -32,7 +32,6 @@ def top_level_names(tree: ast.Module) -> set[str]:
 
 def generated_supervisor() -> str:
     from google.protobuf import text_format
-
     from joshua_core.schema import RobotDescription
 
     config = ROOT / "config/robots/mock_arm.pbtxt"
@@ -91,9 +90,9 @@ def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
     script = tmp_path / "supervisor.py"
     script.write_text(generated_supervisor())
     result = subprocess.run([sys.executable, "-I", "-S", str(script), "--help"], capture_output=True, text=True,
-                            timeout=30)
+                            timeout=30, check=False)
     assert result.returncode == 0, result.stderr
     assert "--skip-preflight" in result.stdout
     bad = subprocess.run([sys.executable, "-I", "-S", str(script), "--duration", "-1"], capture_output=True,
-                         text=True, timeout=30)
+                         text=True, timeout=30, check=False)
     assert bad.returncode == 2 and "positive number of seconds" in bad.stderr
