@@ -48,7 +48,9 @@ import time
 
 ROBOT = {
     'name': 'so100_arm',
-    'ros_domain_id': None,
+    'env': {
+        'PYTHONUNBUFFERED': '1',
+    },
     'cpp_bin_dir': '/opt/joshua/bin',
     'fastdds_profile': 'fastdds_profile.xml',
     'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
@@ -596,9 +598,7 @@ class Node:
     def make_environment(self):
         env = dict(os.environ)
         env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
-        env["PYTHONUNBUFFERED"] = "1"
-        if ROBOT["ros_domain_id"] is not None:
-            env["ROS_DOMAIN_ID"] = str(ROBOT["ros_domain_id"])
+        env.update(ROBOT["env"])
         env.update(self.spec["env"])
         return env
 

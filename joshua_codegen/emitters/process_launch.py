@@ -20,11 +20,17 @@ ENV_COMMAND = "/usr/bin/env"
 SHELL = "/bin/sh"
 
 
-def node_environment(robot: Robot, process: Process, profile_path: str) -> list[tuple[str, str]]:
-    """The variables every node gets, then the description's own (which win)."""
-    variables = {FASTDDS_PROFILE_VARIABLE: profile_path, "PYTHONUNBUFFERED": "1"}
+def robot_environment(robot: Robot) -> dict[str, str]:
+    """The variables every node of the robot gets besides the DDS profile."""
+    variables = {"PYTHONUNBUFFERED": "1"}
     if robot.ros_domain_id is not None:
         variables["ROS_DOMAIN_ID"] = str(robot.ros_domain_id)
+    return variables
+
+
+def node_environment(robot: Robot, process: Process, profile_path: str) -> list[tuple[str, str]]:
+    """The variables every node gets, then the description's own (which win)."""
+    variables = {FASTDDS_PROFILE_VARIABLE: profile_path, **robot_environment(robot)}
     variables.update(process.env)
     return list(variables.items())
 

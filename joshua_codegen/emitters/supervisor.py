@@ -48,7 +48,7 @@ def supervisor_data(robot: Robot) -> dict:
     """The one literal the generated supervisor reads; paths are relative to its directory."""
     return {
         "name": robot.name,
-        "ros_domain_id": robot.ros_domain_id,
+        "env": process_launch.robot_environment(robot),
         "cpp_bin_dir": robot.cpp_bin_dir,
         "fastdds_profile": fastdds.PROFILE_PATH,
         "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,

@@ -4,7 +4,7 @@ from typing import Any
 
 ROBOT: dict[str, Any] = {
     "name": "example",
-    "ros_domain_id": None,
+    "env": {"PYTHONUNBUFFERED": "1"},
     "cpp_bin_dir": "bin",
     "fastdds_profile": "fastdds_profile.xml",
     "fastdds_profile_variable": "FASTRTPS_DEFAULT_PROFILES_FILE",
