@@ -11,3 +11,8 @@ REGISTRY_PREFIX = "registry:"
 OUTPUT_FORMATS = ("lerobot", "parquet")
 # Torch devices an INFERENCE node runs a policy on (`device`); the first is the default.
 DEVICES = ("cpu", "cuda")
+# Where the registry lives: $JOSHUA_MODEL_REGISTRY, else REGISTRY_DEFAULT_ROOT (with ~ expanded); an entry
+# is <root>/<name>/<revision>/ holding REGISTRY_ENTRY_FILE. supervisor.py's preflight resolves it too.
+REGISTRY_ENV = "JOSHUA_MODEL_REGISTRY"
+REGISTRY_DEFAULT_ROOT = "~/.cache/joshua/models"
+REGISTRY_ENTRY_FILE = "joshua_model.json"

@@ -3,19 +3,23 @@
 """Supervisor of robot so100_leader_follower: starts every node, restarts failed ones, stops them all cleanly.
 
 Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interval S] [--python PATH]
+                            [--no-cgroup]
 
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
 the directory can move. Nodes run in the directory the supervisor was started from.
 
-- Preflight: before anything starts, every device, model directory, entrypoint and program is checked;
-  all problems are listed and the supervisor exits with EXIT_PREFLIGHT.
+- Preflight: before anything starts, every device, model directory, registry: model reference, output
+  directory, entrypoint and program is checked; all problems are listed and the supervisor exits with
+  EXIT_PREFLIGHT.
 - Each node is fork()+execv()ed in its own session (process group); it gets SIGKILL through
-  PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every node's whole group
-  (grandchildren included) if the supervisor is killed outright. The supervisor is a child subreaper,
-  so orphaned grandchildren are reaped here too: never a zombie.
+  PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every descendant if the
+  supervisor is killed outright: the whole cgroup the nodes joined where one can be created, else
+  every descendant seen by polling /proc (--no-cgroup forces that). The supervisor is a child
+  subreaper, so orphaned grandchildren are reaped here too: never a zombie.
 - Restart per node: RESTART_NEVER, RESTART_ON_FAILURE (non-zero exit or death by signal),
-  RESTART_ALWAYS, with exponential backoff and at most max_restarts restarts; a node that fails for
-  good stops the whole robot when it is critical.
+  RESTART_ALWAYS, with exponential backoff and at most max_restarts restarts; a node that exits with
+  code 2 (unusable settings) is failed at once; a node that fails for good stops the whole robot when
+  it is critical. A node that ended abnormally has its Fast DDS files in /dev/shm removed.
 - Shutdown on SIGINT, SIGTERM or SIGHUP (or at the end of --duration): SIGINT to every node's group at
   once, SIGTERM after SIGINT_GRACE_S to those left, SIGKILL after SIGTERM_GRACE_S more. A second
   SIGINT/SIGTERM skips to the next step.
@@ -23,7 +27,8 @@ the directory can move. Nodes run in the directory the supervisor was started fr
   else its Python entrypoint after one warning line.
 
 Exit codes (the first that applies):
-  4  a critical node failed for good (restarts exhausted); the robot was stopped
+  6  a node lost data (it exited with code 6); the last line names it and where the data should have gone
+  4  a critical node failed for good (restarts exhausted, or exit code 2: unusable settings); the robot was stopped
   3  preflight found problems; nothing was started
   2  bad command line
   1  stopping needed SIGTERM or SIGKILL for at least one node (or a process it left behind)
@@ -43,9 +48,23 @@ import time
 
 ROBOT = {
     'name': 'so100_leader_follower',
-    'ros_domain_id': None,
+    'env': {
+        'PYTHONUNBUFFERED': '1',
+    },
     'cpp_bin_dir': '/opt/joshua/bin',
     'fastdds_profile': 'fastdds_profile.xml',
+    'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
+    'supervisord_group': 'joshua-so100_leader_follower',
+    'model_registry': {
+        'prefix': 'registry:',
+        'variable': 'JOSHUA_MODEL_REGISTRY',
+        'default_root': '~/.cache/joshua/models',
+        'entry_file': 'joshua_model.json',
+    },
+    'node_exit_codes': {
+        'settings': 2,
+        'data_lost': 6,
+    },
     'processes': [
         {
             'name': 'encoder_publisher',
@@ -66,6 +85,8 @@ ROBOT = {
                     'path': '/dev/ttyUSB0',
                 },
             ],
+            'model_reference': '',
+            'output_directory': '',
         },
         {
             'name': 'actuator_subscriber',
@@ -86,6 +107,8 @@ ROBOT = {
                     'path': '/dev/ttyUSB1',
                 },
             ],
+            'model_reference': '',
+            'output_directory': '',
         },
         {
             'name': 'camera_publisher',
@@ -106,6 +129,8 @@ ROBOT = {
                     'path': '/dev/video0',
                 },
             ],
+            'model_reference': '',
+            'output_directory': '',
         },
         {
             'name': 'data_subscriber',
@@ -121,31 +146,53 @@ ROBOT = {
             'critical': True,
             'env': {},
             'devices': [],
+            'model_reference': '',
+            'output_directory': '/data/episodes',
         },
     ],
 }
 
 SIGINT_GRACE_S = 5.0
 SIGTERM_GRACE_S = 2.0
+
+
+# Fixed rules of supervisor.py: restart backoff, named waits, signals and exit codes.
+
+
+# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
+# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
+# as healthy: the restart count and the delay start over. systemd units and supervisord.conf follow it too.
 RESTART_DELAY_INITIAL_S = 0.25
 RESTART_DELAY_FACTOR = 2.0
 RESTART_DELAY_CAP_S = 30.0
 RESTART_RESET_AFTER_S = 60.0
 KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the kernel before giving up
 LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
+TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
+STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
+SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
+CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
+EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
 EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
 
-SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
-START = time.monotonic()
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+
+CPP_FALLBACK_WARNING = "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
+
+
+# What every part of supervisor.py uses: the log line, prctl, exit-status text, process groups, paths.
+
+
+SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
+START = time.monotonic()
 PR_SET_PDEATHSIG, PR_SET_CHILD_SUBREAPER = 1, 36
 
 
-def log(name, message):
+def log(name: str, message: str) -> None:
     print(f"[{time.monotonic() - START:9.3f}] {name}: {message}", file=sys.stderr, flush=True)
 
 
@@ -162,21 +209,21 @@ def load_prctl():
 PRCTL = load_prctl()
 
 
-def signal_name(number):
+def signal_name(number: int) -> str:
     try:
         return signal.Signals(number).name
     except ValueError:
         return f"signal {number}"
 
 
-def exit_text(status):
+def exit_text(status: int) -> str:
     if os.WIFSIGNALED(status):
         core = " (core dumped)" if os.WCOREDUMP(status) else ""
         return f"killed by {signal_name(os.WTERMSIG(status))}{core}"
     return f"exited with code {os.waitstatus_to_exitcode(status)}"
 
 
-def group_alive(pgid):
+def group_alive(pgid: int) -> bool:
     try:
         os.killpg(pgid, 0)
     except ProcessLookupError:
@@ -186,12 +233,204 @@ def group_alive(pgid):
     return True
 
 
-def under_script_dir(path):
+def under_script_dir(path: str) -> str:
     return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
 
 
-def child_exec(argv, env, parent):
-    """In the forked child: own session, die with the supervisor, default signals, then exec."""
+# Keeping every descendant of the supervisor killable: a cgroup where writable, else /proc tracking.
+
+
+CGROUP2_MOUNTS = "/proc/self/mountinfo"
+OWN_CGROUP = "/proc/self/cgroup"
+
+
+def cgroup2_mount() -> str | None:
+    """Where the unified (v2) cgroup hierarchy is mounted, or None."""
+    try:
+        with open(CGROUP2_MOUNTS) as mounts:
+            for line in mounts:
+                fields = line.split()
+                separator = fields.index("-")
+                if fields[separator + 1] == "cgroup2":
+                    return fields[4]
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def own_cgroup() -> str | None:
+    """This process's cgroup in the unified hierarchy (the `0::` line), or None."""
+    try:
+        with open(OWN_CGROUP) as lines:
+            for line in lines:
+                if line.startswith("0::"):
+                    return line[3:].strip()
+    except OSError:
+        return None
+    return None
+
+
+def create_cgroup(name: str) -> str:
+    """A new, empty cgroup `name` below this process's own one; raises OSError where that is not possible.
+
+    No existing process is moved: only the nodes' children join it, each on its own before exec.
+    """
+    mount, own = cgroup2_mount(), own_cgroup()
+    if mount is None or own is None:
+        raise OSError("no unified (v2) cgroup hierarchy is mounted")
+    path = os.path.join(mount, own.lstrip("/"), name)
+    os.mkdir(path)
+    if not os.path.exists(os.path.join(path, "cgroup.kill")):
+        remove_cgroup(path)
+        raise OSError("the kernel has no cgroup.kill (Linux 5.14 or later)")
+    return path
+
+
+def join_cgroup(path: str) -> None:
+    """Move the calling process (a freshly forked child) into the cgroup at `path`."""
+    with open(os.path.join(path, "cgroup.procs"), "w") as procs:
+        procs.write(str(os.getpid()))
+
+
+def cgroup_usable(path: str) -> bool:
+    """Whether a child can join the cgroup: tried once by a short-lived forked child."""
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            join_cgroup(path)
+            code = 0
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status) == 0
+
+
+def cgroup_populated(path: str) -> bool:
+    try:
+        with open(os.path.join(path, "cgroup.events")) as events:
+            return "populated 1" in events.read()
+    except OSError:
+        return False
+
+
+def kill_cgroup(path: str) -> None:
+    """SIGKILL every process in the cgroup (the kernel does it at once, forks in flight included)."""
+    try:
+        with open(os.path.join(path, "cgroup.kill"), "w") as kill:
+            kill.write("1")
+    except OSError:
+        pass
+
+
+def remove_cgroup(path: str) -> bool:
+    """Remove the cgroup once its processes are gone (waiting up to KILL_WAIT_S); whether it is gone."""
+    deadline = time.monotonic() + KILL_WAIT_S
+    while cgroup_populated(path) and time.monotonic() < deadline:
+        time.sleep(CGROUP_EMPTY_POLL_S)
+    try:
+        os.rmdir(path)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    return True
+
+
+def children_of(pid: int) -> list[int]:
+    """The children of every thread of process `pid` (none when it is gone)."""
+    try:
+        threads = os.listdir(f"/proc/{pid}/task")
+    except OSError:
+        return []
+    found = []
+    for thread in threads:
+        try:
+            with open(f"/proc/{pid}/task/{thread}/children") as listing:
+                found.extend(int(child) for child in listing.read().split())
+        except OSError:
+            continue
+    return found
+
+
+def open_pidfd(pid: int) -> int | None:
+    """A pidfd for `pid` (so a later signal cannot reach a reused PID), None if it is gone or unsupported."""
+    try:
+        return os.pidfd_open(pid)
+    except (OSError, AttributeError):
+        return None
+
+
+def send_signal(pidfd: int, number: int) -> None:
+    try:
+        signal.pidfd_send_signal(pidfd, number)
+    except (OSError, AttributeError):
+        pass
+
+
+class DescendantTracker:
+    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
+    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+
+    def __init__(self, root: int, exclude: int):
+        self.root = root
+        self.exclude = exclude  # the tracker's own process (a child of the root)
+        self.known: dict[int, int] = {}  # pid -> pidfd
+
+    def add(self, pid: int) -> bool:
+        if pid in self.known or pid in (self.exclude, self.root):
+            return False
+        pidfd = open_pidfd(pid)
+        if pidfd is None:
+            return False
+        self.known[pid] = pidfd
+        return True
+
+    def update(self) -> None:
+        """One poll while the root lives: find new descendants, forget the ones that are gone."""
+        current = set(self.descendants_of(self.root))
+        for pid in list(self.known):
+            if pid not in current:
+                os.close(self.known.pop(pid))
+        for pid in current:
+            self.add(pid)
+
+    def descendants_of(self, root: int) -> list[int]:
+        found, frontier, seen = [], [root], {root, self.exclude}
+        while frontier:
+            for child in children_of(frontier.pop()):
+                if child not in seen:
+                    seen.add(child)
+                    found.append(child)
+                    frontier.append(child)
+        return found
+
+    def kill_all(self) -> None:
+        """Stop every known descendant (a stopped process cannot fork), add their children until a pass
+        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
+        stopped: set[int] = set()
+        settled = False
+        while True:
+            for pid in [pid for pid in self.known if pid not in stopped]:
+                send_signal(self.known[pid], signal.SIGSTOP)
+                stopped.add(pid)
+            if not [child for pid in list(self.known) for child in children_of(pid) if self.add(child)]:
+                if settled:
+                    break
+                settled = True
+                time.sleep(STOP_SETTLE_S)
+        for pidfd in self.known.values():
+            send_signal(pidfd, signal.SIGKILL)
+            os.close(pidfd)
+        self.known.clear()
+
+
+# The forked child of a node: own session, death signal, default signals, then exec.
+
+
+def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None) -> None:
+    """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
+    signals, then exec."""
     try:
         for number in RESET_IN_CHILD:
             signal.signal(number, signal.SIG_DFL)
@@ -199,11 +438,16 @@ def child_exec(argv, env, parent):
         os.setsid()
         if PRCTL is not None:
             PRCTL(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if cgroup is not None:
+            try:
+                join_cgroup(cgroup)
+            except OSError as exc:
+                os.write(2, f"warning: cannot join cgroup {cgroup}: {exc}\n".encode(errors="replace"))
         if os.getppid() != parent:
             os._exit(EXIT_ORPHANED)
         signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
         os.execve(argv[0], argv, env)
-    except BaseException as exc:
+    except BaseException as exc:  # noqa: BLE001 (a forked child ends in os._exit, never back in the parent's code)
         try:
             os.write(2, f"cannot start {argv[0]}: {exc}\n".encode(errors="replace"))
         except OSError:
@@ -212,32 +456,46 @@ def child_exec(argv, env, parent):
         os._exit(EXIT_EXEC_FAILED)
 
 
+# The guard process: kills every descendant of the supervisor when the supervisor dies without stopping them.
+
+
 class Guard:
-    """A forked helper that SIGKILLs every node's process group when the supervisor dies without
-    stopping them (its pipe from the supervisor reaches end-of-file). Grandchildren that stayed in
-    their node's group die with it; PR_SET_PDEATHSIG alone reaches only direct children."""
+    """A forked helper that, once its pipe from the supervisor reaches end-of-file (the supervisor
+    exited or was killed outright), SIGKILLs what the supervisor started and may have left behind:
+    - with a cgroup (`cgroup` set): every process in it, whatever session or parent it has by now
+      (the kernel's cgroup.kill), then removes the cgroup;
+    - without: every descendant it has seen while polling /proc every TRACKING_POLL_S (the supervisor
+      is a child subreaper, so orphans stay below it), and every node's process group.
+    PR_SET_PDEATHSIG alone reaches only the nodes themselves."""
 
-    def __init__(self):
-        self.pid = None
-        self.fd = None
+    def __init__(self, cgroup: str | None):
+        self.cgroup = cgroup
+        self.pid: int | None = None
+        self.fd: int | None = None
 
-    def start(self):
+    def start(self) -> None:
         read_end, self.fd = os.pipe()
+        supervisor = os.getpid()
         self.pid = os.fork()
         if self.pid == 0:
             os.close(self.fd)
-            self.serve(read_end)
+            self.serve(read_end, supervisor)
         os.close(read_end)
 
-    @staticmethod
-    def serve(read_end):
+    def serve(self, read_end: int, supervisor: int) -> None:
         code = 0
         try:
             os.setsid()
             for number in STOP_SIGNALS + (signal.SIGQUIT,):
                 signal.signal(number, signal.SIG_IGN)
+            tracker = None if self.cgroup else DescendantTracker(supervisor, os.getpid())
             groups, pending = set(), b""
             while True:
+                if tracker is not None:
+                    tracker.update()
+                ready, _, _ = select.select([read_end], [], [], TRACKING_POLL_S if tracker else None)
+                if not ready:
+                    continue
                 data = os.read(read_end, 4096)
                 if not data:
                     break
@@ -245,30 +503,36 @@ class Guard:
                 *lines, pending = pending.split(b"\n")
                 for line in lines:
                     (groups.add if line[:1] == b"+" else groups.discard)(int(line[1:]))
+            if self.cgroup:
+                kill_cgroup(self.cgroup)
+            if tracker is not None:
+                tracker.kill_all()
             for pgid in groups:
                 try:
                     os.killpg(pgid, signal.SIGKILL)
                 except OSError:
                     pass
-        except BaseException:
+            if self.cgroup and not remove_cgroup(self.cgroup):
+                os.write(2, f"guard: cannot remove cgroup {self.cgroup}: processes stuck in it\n".encode())
+        except BaseException:  # noqa: BLE001 (the guard ends in os._exit, never back in the supervisor's code)
             code = 1
         finally:
             os._exit(code)
 
-    def send(self, line):
+    def send(self, line: str) -> None:
         if self.fd is not None:
             try:
                 os.write(self.fd, line.encode())
             except OSError:
                 self.fd = None
 
-    def track(self, pgid):
+    def track(self, pgid: int) -> None:
         self.send(f"+{pgid}\n")
 
-    def forget(self, pgid):
+    def forget(self, pgid: int) -> None:
         self.send(f"-{pgid}\n")
 
-    def stop(self):
+    def stop(self) -> None:
         if self.fd is not None:
             os.close(self.fd)
             self.fd = None
@@ -278,6 +542,76 @@ class Guard:
             except ChildProcessError:
                 pass
             self.pid = None
+
+
+# Fast DDS shared-memory files a dead node left in /dev/shm, found by their free lock and removed.
+
+
+SHM_DIR = "/dev/shm"
+PROC_LOCKS = "/proc/locks"
+# Fast DDS (2.x, as in ROS 2 Jazzy) names every segment `fastrtps_<random id>` or `fastrtps_port<N>`
+# and holds an exclusive flock on `<segment>_el` for as long as the segment is in use (taken before the
+# segment is created); a port also has the POSIX semaphore `sem.<segment>_mutex`.
+FASTDDS_PREFIX = "fastrtps_"
+LOCK_SUFFIX = "_el"
+COMPANIONS = ("{}", "sem.{}_mutex", "{}_el")  # the lock file last: while it exists, the set is findable
+
+
+def locked_inodes(device: int) -> set[int]:
+    """Inodes on `device` that some live process holds a lock on (from /proc/locks)."""
+    wanted = f"{os.major(device):02x}:{os.minor(device):02x}:"
+    inodes = set()
+    try:
+        with open(PROC_LOCKS) as locks:
+            for line in locks:
+                for field in line.split():
+                    if field.startswith(wanted):
+                        inodes.add(int(field[len(wanted):]))
+    except OSError:
+        pass
+    return inodes
+
+
+def abandoned_segments(since: float) -> list[str]:
+    """Segments whose lock file was created at or after wall-clock time `since` and is held by no live
+    process: their owner is dead (a live owner holds the lock before the segment even exists)."""
+    try:
+        device = os.stat(SHM_DIR).st_dev
+        names = os.listdir(SHM_DIR)
+    except OSError:
+        return []
+    locked = locked_inodes(device)
+    found = []
+    for name in sorted(names):
+        if not (name.startswith(FASTDDS_PREFIX) and name.endswith(LOCK_SUFFIX)):
+            continue
+        try:
+            lock = os.stat(os.path.join(SHM_DIR, name))
+        except OSError:
+            continue
+        segment = name[: -len(LOCK_SUFFIX)]
+        if lock.st_ino not in locked and lock.st_ctime >= since and os.path.exists(os.path.join(SHM_DIR, segment)):
+            found.append(segment)
+    return found
+
+
+def remove_abandoned_segments(since: float) -> tuple[int, int]:
+    """Remove the files of every abandoned segment created since `since`: (files removed, bytes freed)."""
+    files = size = 0
+    for segment in abandoned_segments(since):
+        for pattern in COMPANIONS:
+            path = os.path.join(SHM_DIR, pattern.format(segment))
+            try:
+                length = os.stat(path).st_size
+                os.unlink(path)
+            except OSError:
+                continue
+            files += 1
+            size += length
+    return files, size
+
+
+# One node: its launch command, environment, process and restart bookkeeping.
 
 
 class Node:
@@ -294,6 +628,7 @@ class Node:
         self.delay = RESTART_DELAY_INITIAL_S
         self.restart_at = None
         self.started_at = None
+        self.started_at_wall = None  # time.time() at launch: files it created are not older
         self.backend = ""
         self.last_exit = ""
         self.warned_fallback = False
@@ -301,10 +636,8 @@ class Node:
 
     def make_environment(self):
         env = dict(os.environ)
-        env["FASTRTPS_DEFAULT_PROFILES_FILE"] = under_script_dir(ROBOT["fastdds_profile"])
-        env["PYTHONUNBUFFERED"] = "1"
-        if ROBOT["ros_domain_id"] is not None:
-            env["ROS_DOMAIN_ID"] = str(ROBOT["ros_domain_id"])
+        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
+        env.update(ROBOT["env"])
         env.update(self.spec["env"])
         return env
 
@@ -326,7 +659,7 @@ class Node:
             if os.path.isfile(binary) and os.access(binary, os.X_OK):
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
-                log(self.name, f"warning: C++ binary {binary} is missing or not executable; running the Python entrypoint")
+                log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))
                 self.warned_fallback = True
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
@@ -344,6 +677,44 @@ class Node:
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
 
 
+# Preflight: every reason the robot cannot start, found before anything starts.
+
+
+PROBE_PREFIX = ".joshua-preflight-"  # a file created and removed at once, to learn a directory is writable
+
+
+def registry_problem(reference: str, env: dict[str, str]) -> str | None:
+    """Why `registry:NAME[@REVISION]` names no entry of the model registry the node will see, or None."""
+    registry = ROBOT["model_registry"]
+    root = os.path.expanduser(env.get(registry["variable"]) or registry["default_root"])
+    name, _, revision = reference[len(registry["prefix"]):].partition("@")
+    if name and "/" not in name + revision and name not in (".", "..") and revision not in (".", ".."):
+        try:
+            revisions = [revision] if revision else os.listdir(os.path.join(root, name))
+        except OSError:
+            revisions = []
+        if any(os.path.isfile(os.path.join(root, name, each, registry["entry_file"])) for each in revisions):
+            return None
+    return f"{reference} is not in the model registry at {root}"
+
+
+def output_problem(directory: str) -> str | None:
+    """Why the node cannot write into `directory` (created by the node when missing), or None."""
+    path = os.path.abspath(os.path.expanduser(directory))
+    existing = path
+    while not os.path.lexists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        return f"output directory {directory}: {existing} is not a directory"
+    probe_path = os.path.join(existing, f"{PROBE_PREFIX}{os.getpid()}")
+    try:
+        os.close(os.open(probe_path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        os.unlink(probe_path)
+    except OSError as exc:
+        return f"output directory {directory}: cannot write in {existing}: {exc.strerror or exc}"
+    return None
+
+
 def preflight(nodes, python):
     """Every reason the robot cannot start, as lines; empty when it can."""
     problems = []
@@ -359,6 +730,14 @@ def preflight(nodes, python):
             elif kind in ("serial", "camera") and not os.path.exists(path):
                 what = "serial port" if kind == "serial" else "camera device"
                 problems.append(f"{node.name}: {what} {path} does not exist")
+        if spec["model_reference"]:
+            problem = registry_problem(spec["model_reference"], node.environment)
+            if problem:
+                problems.append(f"{node.name}: {problem}")
+        if spec["output_directory"]:
+            problem = output_problem(spec["output_directory"])
+            if problem:
+                problems.append(f"{node.name}: {problem}")
         binary = node.cpp_binary()
         if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
             problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
@@ -376,22 +755,60 @@ def preflight(nodes, python):
     return problems
 
 
+# What a run of the supervisor came to: its exit code and, when a node lost data, its last lines.
+
+
+class Outcome:
+    """Failures seen while the robot ran; the first that applies decides the exit code."""
+
+    def __init__(self):
+        self.critical_failure = False  # a critical node failed for good: the robot was stopped
+        self.node_failure = False  # a non-critical node failed for good
+        self.escalated = False  # stopping needed SIGTERM or SIGKILL
+        self.data_lost: list[dict] = []  # specs of the nodes that exited with the node code for data lost
+
+    def on_node_exit(self, spec: dict, code: int | None) -> None:
+        if code == ROBOT["node_exit_codes"]["data_lost"] and spec not in self.data_lost:
+            self.data_lost.append(spec)
+
+    def exit_code(self) -> int:
+        if self.data_lost:
+            return EXIT_DATA_LOST
+        if self.critical_failure:
+            return EXIT_CRITICAL
+        if self.escalated:
+            return EXIT_ESCALATED
+        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
+
+    def last_lines(self) -> list[str]:
+        """One line per node that lost data: which node, and where the data should have gone."""
+        lines = []
+        for spec in self.data_lost:
+            where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
+            lines.append(f"data lost: node {spec['name']} could not save data it had taken in{where} "
+                         f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)")
+        return lines
+
+
+# The event loop: launching, reaping, restarts with backoff, and the stop cascade.
+
+
 class Supervisor:
     def __init__(self, options):
         self.options = options
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
-        self.guard = Guard()
+        self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
+        self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
+        self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
         self.stage_deadline = None
-        self.escalated = False
         self.gave_up = False  # processes survived SIGKILL for KILL_WAIT_S (stuck in the kernel): exit anyway
-        self.critical_failure = False
-        self.node_failure = False
+        self.outcome = Outcome()
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
 
@@ -414,6 +831,7 @@ class Supervisor:
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
+        self.guard = Guard(self.contain())
         self.guard.start()
         self.install_signals()
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
@@ -433,7 +851,28 @@ class Supervisor:
         self.guard.stop()
         for node in self.nodes:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
-        return self.exit_code()
+        for line in self.outcome.last_lines():
+            log("supervisor", line)
+        return self.outcome.exit_code()
+
+    def contain(self):
+        """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
+        guard tracks descendants through /proc."""
+        reason = "--no-cgroup"
+        if not self.options.no_cgroup:
+            try:
+                path = create_cgroup(f"joshua-{ROBOT['name']}-{self.pid}")
+            except OSError as exc:
+                reason = str(exc)
+            else:
+                if cgroup_usable(path):
+                    log("supervisor", f"nodes run in cgroup {path}")
+                    return path
+                remove_cgroup(path)
+                reason = f"a process cannot join {path}"
+        log("supervisor", f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
+                          f"/proc every {TRACKING_POLL_S} s")
+        return None
 
     # Launching and reaping
 
@@ -444,7 +883,7 @@ class Supervisor:
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid)
+                child_exec(argv, node.environment, self.pid, self.guard.cgroup)
         except OSError as exc:
             log(node.name, f"cannot fork: {exc}")
             node.last_exit = f"fork failed: {exc}"
@@ -455,11 +894,13 @@ class Supervisor:
         node.pid = node.pgid = pid
         node.state = "running"
         node.started_at = time.monotonic()
+        node.started_at_wall = time.time()
         self.by_pid[pid] = node
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
 
     def reap(self):
+        self.abandoned_since = None
         while True:
             try:
                 pid, status = os.waitpid(-1, os.WNOHANG)
@@ -476,6 +917,11 @@ class Supervisor:
                 log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
             else:
                 self.on_exit(node, pid, status)
+        if self.abandoned_since is not None:
+            files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
+            if files:
+                log("supervisor", f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                                  "that dead processes left in /dev/shm")
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -488,14 +934,20 @@ class Supervisor:
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
+        code = os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else None
+        self.outcome.on_node_exit(node.spec, code)
+        if code != 0:  # it may not have removed its shared-memory segments
+            self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
         if self.stopping:
             node.state = "stopping" if node.alive() else "stopped"
             return
         if group_alive(node.pgid):
             log(node.name, "killing what is left of its process group")
             self.signal_node(node, signal.SIGKILL)
-        failed = not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0)
-        self.after_exit(node, failed, ran_for)
+        if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
+            self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
+            return
+        self.after_exit(node, code != 0, ran_for)
 
     def after_exit(self, node, failed, ran_for):
         spec = node.spec
@@ -521,11 +973,11 @@ class Supervisor:
     def give_up(self, node, reason):
         node.state = "failed"
         if node.spec["critical"]:
-            self.critical_failure = True
+            self.outcome.critical_failure = True
             log(node.name, f"{reason}; critical node: stopping the robot")
             self.request_stop(f"critical node {node.name} failed")
         else:
-            self.node_failure = True
+            self.outcome.node_failure = True
             log(node.name, f"{reason}; not critical: the other nodes keep running")
 
     # Stopping
@@ -551,11 +1003,11 @@ class Supervisor:
             if node.alive():
                 node.state = "stopping"
                 if stage != "SIGINT":
-                    self.escalated = True
+                    self.outcome.escalated = True
                     log(node.name, f"still running: escalating to {stage}")
                 self.signal_node(node, number)
         for pid in self.leftover_children():
-            self.escalated = self.escalated or stage != "SIGINT"
+            self.outcome.escalated = self.outcome.escalated or stage != "SIGINT"
             log("supervisor", f"sending {stage} to leftover process {pid}")
             self.signal_pid(pid, number)
 
@@ -621,8 +1073,12 @@ class Supervisor:
         return timeout
 
     def wait(self, timeout):
-        ready, _, _ = select.select([self.wakeup], [], [], timeout)
-        if ready:
+        """Sleep until a signal arrives, a registered fd is readable, or `timeout` passes."""
+        ready, _, _ = select.select([self.wakeup, *self.readers], [], [], timeout)
+        for fd in ready:
+            if fd != self.wakeup:
+                self.readers[fd]()
+                continue
             try:
                 while os.read(self.wakeup, 4096):
                     pass
@@ -652,12 +1108,8 @@ class Supervisor:
         for node in self.nodes:
             log(node.name, node.status_line(now))
 
-    def exit_code(self):
-        if self.critical_failure:
-            return EXIT_CRITICAL
-        if self.escalated:
-            return EXIT_ESCALATED
-        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
+
+# The event listener supervisord.conf runs to stop the robot when a critical node fails.
 
 
 def supervisord_listener():
@@ -665,7 +1117,7 @@ def supervisord_listener():
     programs fails, so this stops supervisord itself (SIGTERM: it then stops every node) when a
     critical node fails for good: FATAL (restarts exhausted), or a failed exit of a node that is never
     restarted. Speaks supervisord's listener protocol on stdin/stdout; logs on stderr."""
-    group = f"joshua-{ROBOT['name']}"
+    group = ROBOT["supervisord_group"]
     critical = {spec["name"]: spec for spec in ROBOT["processes"] if spec["critical"]}
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:
@@ -688,6 +1140,9 @@ def supervisord_listener():
         stdout.flush()
 
 
+# The command line of supervisor.py: parse options, run preflight, run the loop (or the listener).
+
+
 def positive_seconds(text):
     value = float(text)
     if not value > 0:
@@ -705,6 +1160,8 @@ def parse_arguments(argv):
                         help="print one status line per node this often")
     parser.add_argument("--python", default=sys.executable or "python3", metavar="PATH",
                         help="interpreter of Python entrypoints (default: the one running this script)")
+    parser.add_argument("--no-cgroup", action="store_true",
+                        help="track the nodes' descendants through /proc even where a cgroup could hold them")
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:

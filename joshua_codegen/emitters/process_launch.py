@@ -6,14 +6,13 @@ import re
 import shlex
 
 from joshua_codegen.model import Process, Robot
-
-# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
-# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
-# as healthy: the restart count and the delay start over.
-RESTART_DELAY_INITIAL_S = 0.25
-RESTART_DELAY_FACTOR = 2.0
-RESTART_DELAY_CAP_S = 30.0
-RESTART_RESET_AFTER_S = 60.0
+from joshua_codegen.supervisor.policy import (  # the backoff the three process managers share
+    CPP_FALLBACK_WARNING,
+    RESTART_DELAY_CAP_S,
+    RESTART_DELAY_FACTOR,
+    RESTART_DELAY_INITIAL_S,
+    RESTART_RESET_AFTER_S,
+)
 
 FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
 ENVIRONMENT_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")  # what Environment= and environment= accept as a key
@@ -21,11 +20,17 @@ ENV_COMMAND = "/usr/bin/env"
 SHELL = "/bin/sh"
 
 
-def node_environment(robot: Robot, process: Process, profile_path: str) -> list[tuple[str, str]]:
-    """The variables every node gets, then the description's own (which win)."""
-    variables = {FASTDDS_PROFILE_VARIABLE: profile_path, "PYTHONUNBUFFERED": "1"}
+def robot_environment(robot: Robot) -> dict[str, str]:
+    """The variables every node of the robot gets besides the DDS profile."""
+    variables = {"PYTHONUNBUFFERED": "1"}
     if robot.ros_domain_id is not None:
         variables["ROS_DOMAIN_ID"] = str(robot.ros_domain_id)
+    return variables
+
+
+def node_environment(robot: Robot, process: Process, profile_path: str) -> list[tuple[str, str]]:
+    """The variables every node gets, then the description's own (which win)."""
+    variables = {FASTDDS_PROFILE_VARIABLE: profile_path, **robot_environment(robot)}
     variables.update(process.env)
     return list(variables.items())
 
@@ -53,7 +58,7 @@ def cpp_binary_path(robot: Robot, process: Process, base: str) -> str:
 
 
 def fallback_warning(process: Process, binary: str) -> str:
-    return f"{process.name}: warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
+    return f"{process.name}: {CPP_FALLBACK_WARNING.format(binary=binary)}"
 
 
 def launch_words(robot: Robot, process: Process, base: str, bare: list[str], workdir: str) -> list[str]:

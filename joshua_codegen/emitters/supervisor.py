@@ -1,14 +1,30 @@
-"""supervisor.py: the standalone process supervisor of a robot (fork/exec, restarts, signal cascade)."""
+"""supervisor.py: the standalone process supervisor of a robot (fork/exec, restarts, signal cascade).
 
-from joshua_codegen.emitters import fastdds, process_launch
+The file is the header of `supervisor.py.j2` (usage and exit codes), the robot's data in place of
+`joshua_codegen/supervisor/robot.py`, then the modules of `joshua_codegen.supervisor` joined in the
+order of its `MODULES` (see that package's docstring for the conventions joining relies on).
+"""
+
+import ast
+from functools import cache
+from pathlib import Path
+
+from joshua_codegen import supervisor as package
+from joshua_core import exit_codes
+from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
+from joshua_codegen.emitters import fastdds, process_launch, supervisord
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.render import Context, template
 
 SUPERVISOR_PATH = "supervisor.py"
+PACKAGE_DIR = Path(package.__file__).parent
+PACKAGE_PREFIX = f"{package.__name__}."
 
 
-def process_data(process: Process) -> dict:
-    """What the supervisor needs to launch one node, as plain data."""
+def process_data(robot: Robot, process: Process) -> dict:
+    """What the supervisor needs to launch and check one node, as plain data."""
+    settings = robot.node(process.name).settings if process.name in {node.name for node in robot.nodes} else {}
+    model_path = settings.get("model_path") or ""
     return {
         "name": process.name,
         "type": process.node_type,
@@ -23,6 +39,8 @@ def process_data(process: Process) -> dict:
         "critical": process.critical,
         "env": dict(process.env),
         "devices": [{"kind": device.kind, "path": device.path} for device in process.devices],
+        "model_reference": model_path if model_path.startswith(REGISTRY_PREFIX) else "",
+        "output_directory": settings.get("output_directory") or "",
     }
 
 
@@ -30,13 +48,57 @@ def supervisor_data(robot: Robot) -> dict:
     """The one literal the generated supervisor reads; paths are relative to its directory."""
     return {
         "name": robot.name,
-        "ros_domain_id": robot.ros_domain_id,
+        "env": process_launch.robot_environment(robot),
         "cpp_bin_dir": robot.cpp_bin_dir,
         "fastdds_profile": fastdds.PROFILE_PATH,
-        "processes": [process_data(process) for process in robot.processes],
+        "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,
+        "supervisord_group": supervisord.group_name(robot),
+        "model_registry": {"prefix": REGISTRY_PREFIX, "variable": REGISTRY_ENV, "default_root": REGISTRY_DEFAULT_ROOT,
+                           "entry_file": REGISTRY_ENTRY_FILE},
+        "node_exit_codes": {"settings": exit_codes.NODE_EXIT_SETTINGS, "data_lost": exit_codes.NODE_EXIT_DATA_LOST},
+        "processes": [process_data(robot, process) for process in robot.processes],
     }
 
 
+def is_package_import(node: ast.stmt) -> bool:
+    return isinstance(node, ast.ImportFrom) and (node.module or "").startswith(PACKAGE_PREFIX)
+
+
+@cache
+def module_parts(name: str) -> tuple[tuple[str, ...], str]:
+    """(standard-library import lines, code) of one package module: its docstring becomes a comment,
+    its imports are taken out (the package's own are dropped)."""
+    source = (PACKAGE_DIR / f"{name}.py").read_text(encoding="utf-8")
+    tree = ast.parse(source)
+    lines = source.splitlines()
+    removed: set[int] = set()
+    imports = []
+    docstring = ast.get_docstring(tree, clean=True) or ""
+    for node in tree.body:
+        is_docstring = node is tree.body[0] and docstring and isinstance(node, ast.Expr)
+        if is_docstring or isinstance(node, (ast.Import, ast.ImportFrom)):
+            removed.update(range(node.lineno - 1, node.end_lineno or node.lineno))
+            if isinstance(node, (ast.Import, ast.ImportFrom)) and not is_package_import(node):
+                imports.append(ast.get_source_segment(source, node) or "")
+    kept = [line for number, line in enumerate(lines) if number not in removed]
+    code = "\n".join(kept).strip("\n")
+    return tuple(imports), f"# {docstring}\n\n\n{code}\n"
+
+
+@cache
+def joined_code() -> tuple[str, str]:
+    """(the merged standard-library import block, the modules' code in `MODULES` order)."""
+    imports: set[str] = set()
+    codes = []
+    for name in package.MODULES:
+        module_imports, code = module_parts(name)
+        imports.update(module_imports)
+        codes.append(code)
+    ordered = sorted(imports, key=lambda line: (line.startswith("from "), line))
+    return "\n".join(ordered) + "\n", "\n\n".join(codes)
+
+
 def emit(robot: Robot, context: Context) -> dict[str, str]:
-    text = template("supervisor.py.j2", robot=robot, data=supervisor_data(robot), policy=process_launch)
+    imports, code = joined_code()
+    text = template("supervisor.py.j2", robot=robot, data=supervisor_data(robot), imports=imports, code=code)
     return {SUPERVISOR_PATH: text}

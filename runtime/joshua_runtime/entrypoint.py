@@ -5,7 +5,8 @@ NodeSettings message (the settings contract: proto/joshua/v1/node_settings.proto
 joshua_core.settings); `run_node` parses it back into that message, refusing settings of another
 format version, and runs the class the node-type registry names for the node's type.
 
-Exit codes: 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device failure.
+Exit codes (`joshua_core.exit_codes`): 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device
+failure, 6 data lost (the node could not save data it had taken in).
 
 Once a node has run, `run_node` ends the process itself (see `end_process`): the DDS library's
 teardown at interpreter exit alone takes 0.2-0.4 s, too much for the 0.5 s shutdown contract.

@@ -4,7 +4,9 @@ Every episode is written into a staging copy of the dataset (see `staged_directo
 finalised (LeRobot's parquet writers only write their footer on close), then swapped in atomically.
 So the dataset at `output_directory` is always a finalised dataset that `LeRobotDataset` loads, and
 a process killed at any moment loses at most the episode in progress. Each episode after the first
-goes to new data/video/metadata files, as LeRobot does when it resumes recording a dataset.
+goes to new data/video/metadata files, as LeRobot does when it resumes recording a dataset. An episode
+with frames that cannot be saved (full disk, directory not writable) is a DataLostError: the node
+exits 6 and says which episode did not reach which directory.
 
 Video datasets use LeRobot's streaming encoder (frames are encoded while recording, so saving an
 episode at SIGINT is quick); image datasets write PNG files through LeRobot's threaded image writer.
@@ -19,7 +21,7 @@ import threading
 from pathlib import Path
 
 from joshua_runtime.ai import staged_directory
-from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.errors import DataLostError, JoshuaError, SettingsError
 
 VIDEO_CODEC = "libsvtav1"
 IMAGE_WRITER_THREADS = 4
@@ -90,7 +92,10 @@ class EpisodeWriter:
                     return
                 getattr(self, f"_{command}")(argument)
         except BaseException as exc:  # reported by the node through `error`
-            if not isinstance(exc, JoshuaError):
+            if self._frames and not isinstance(exc, SettingsError):
+                exc = DataLostError(f"episode of {self._frames} frames lost, not saved to {self.target}: "
+                                    f"{type(exc).__name__}: {exc}")
+            elif not isinstance(exc, JoshuaError):
                 exc = JoshuaError(f"recording failed: {type(exc).__name__}: {exc}")
             self.error = exc
         finally:

@@ -21,14 +21,13 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from joshua_core.models import REGISTRY_PREFIX
+from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
 from joshua_runtime.ai import model_files
 from joshua_runtime.errors import JoshuaError
 
-REGISTRY_ENV = "JOSHUA_MODEL_REGISTRY"
-DEFAULT_ROOT = "~/.cache/joshua/models"
+DEFAULT_ROOT = REGISTRY_DEFAULT_ROOT
 REF_PREFIX = REGISTRY_PREFIX
-ENTRY_FILE = "joshua_model.json"
+ENTRY_FILE = REGISTRY_ENTRY_FILE
 DIGEST_LENGTH = 12
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,127}$")
 

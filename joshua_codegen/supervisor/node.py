@@ -1,4 +1,16 @@
-{# Part of supervisor.py.j2: one node's launch command, environment and status, and the preflight checks. #}
+"""One node: its launch command, environment, process and restart bookkeeping."""
+
+import os
+import shutil
+
+from joshua_codegen.supervisor.common import group_alive, log, under_script_dir
+from joshua_codegen.supervisor.policy import (
+    CPP_FALLBACK_WARNING,
+    RESTART_DELAY_INITIAL_S,
+)
+from joshua_codegen.supervisor.robot import ROBOT
+
+
 class Node:
     """One node: how to launch it, its current process, and its restart bookkeeping."""
 
@@ -13,6 +25,7 @@ class Node:
         self.delay = RESTART_DELAY_INITIAL_S
         self.restart_at = None
         self.started_at = None
+        self.started_at_wall = None  # time.time() at launch: files it created are not older
         self.backend = ""
         self.last_exit = ""
         self.warned_fallback = False
@@ -20,10 +33,8 @@ class Node:
 
     def make_environment(self):
         env = dict(os.environ)
-        env["FASTRTPS_DEFAULT_PROFILES_FILE"] = under_script_dir(ROBOT["fastdds_profile"])
-        env["PYTHONUNBUFFERED"] = "1"
-        if ROBOT["ros_domain_id"] is not None:
-            env["ROS_DOMAIN_ID"] = str(ROBOT["ros_domain_id"])
+        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
+        env.update(ROBOT["env"])
         env.update(self.spec["env"])
         return env
 
@@ -45,7 +56,7 @@ class Node:
             if os.path.isfile(binary) and os.access(binary, os.X_OK):
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
-                log(self.name, f"warning: C++ binary {binary} is missing or not executable; running the Python entrypoint")
+                log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))
                 self.warned_fallback = True
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
@@ -61,35 +72,3 @@ class Node:
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
-
-
-def preflight(nodes, python):
-    """Every reason the robot cannot start, as lines; empty when it can."""
-    problems = []
-    needs_python = False
-    for node in nodes:
-        spec = node.spec
-        for device in spec["devices"]:
-            path, kind = device["path"], device["kind"]
-            if kind == "model" and not os.path.isdir(path):
-                problems.append(f"{node.name}: model directory {path} does not exist")
-            elif kind == "file" and not os.path.isfile(path):
-                problems.append(f"{node.name}: video file {path} does not exist")
-            elif kind in ("serial", "camera") and not os.path.exists(path):
-                what = "serial port" if kind == "serial" else "camera device"
-                problems.append(f"{node.name}: {what} {path} does not exist")
-        binary = node.cpp_binary()
-        if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
-            problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
-        if spec["kind"] == "custom":
-            program = node.custom_program()
-            if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
-                problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
-        else:
-            needs_python = True
-            entrypoint = under_script_dir(spec["entrypoint"])
-            if not os.path.isfile(entrypoint):
-                problems.append(f"{node.name}: entrypoint {entrypoint} is missing")
-    if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
-        problems.append(f"Python interpreter {python} is not an executable file")
-    return problems

@@ -1,20 +1,60 @@
-{# Part of supervisor.py.j2: the event loop: launching, reaping, restarts with backoff, and the stop cascade. #}
+"""The event loop: launching, reaping, restarts with backoff, and the stop cascade."""
+
+import os
+import select
+import shlex
+import signal
+import time
+
+from joshua_codegen.supervisor.children import child_exec
+from joshua_codegen.supervisor.common import (
+    PR_SET_CHILD_SUBREAPER,
+    PRCTL,
+    START,
+    exit_text,
+    group_alive,
+    log,
+    signal_name,
+)
+from joshua_codegen.supervisor.containment import (
+    cgroup_usable,
+    create_cgroup,
+    remove_cgroup,
+)
+from joshua_codegen.supervisor.guard import Guard
+from joshua_codegen.supervisor.node import Node
+from joshua_codegen.supervisor.outcome import Outcome
+from joshua_codegen.supervisor.policy import (
+    KILL_WAIT_S,
+    LEFTOVER_POLL_S,
+    RESTART_DELAY_CAP_S,
+    RESTART_DELAY_FACTOR,
+    RESTART_DELAY_INITIAL_S,
+    RESTART_RESET_AFTER_S,
+    SHM_CLOCK_SLACK_S,
+    STOP_SIGNALS,
+    TRACKING_POLL_S,
+)
+from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
+from joshua_codegen.supervisor.shm import remove_abandoned_segments
+
+
 class Supervisor:
     def __init__(self, options):
         self.options = options
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
-        self.guard = Guard()
+        self.guard = Guard(None)
         self.pid = os.getpid()
         self.wakeup = None
+        self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
+        self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
         self.stage_deadline = None
-        self.escalated = False
         self.gave_up = False  # processes survived SIGKILL for KILL_WAIT_S (stuck in the kernel): exit anyway
-        self.critical_failure = False
-        self.node_failure = False
+        self.outcome = Outcome()
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
 
@@ -37,6 +77,7 @@ class Supervisor:
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
+        self.guard = Guard(self.contain())
         self.guard.start()
         self.install_signals()
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
@@ -56,7 +97,28 @@ class Supervisor:
         self.guard.stop()
         for node in self.nodes:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
-        return self.exit_code()
+        for line in self.outcome.last_lines():
+            log("supervisor", line)
+        return self.outcome.exit_code()
+
+    def contain(self):
+        """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
+        guard tracks descendants through /proc."""
+        reason = "--no-cgroup"
+        if not self.options.no_cgroup:
+            try:
+                path = create_cgroup(f"joshua-{ROBOT['name']}-{self.pid}")
+            except OSError as exc:
+                reason = str(exc)
+            else:
+                if cgroup_usable(path):
+                    log("supervisor", f"nodes run in cgroup {path}")
+                    return path
+                remove_cgroup(path)
+                reason = f"a process cannot join {path}"
+        log("supervisor", f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
+                          f"/proc every {TRACKING_POLL_S} s")
+        return None
 
     # Launching and reaping
 
@@ -67,7 +129,7 @@ class Supervisor:
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid)
+                child_exec(argv, node.environment, self.pid, self.guard.cgroup)
         except OSError as exc:
             log(node.name, f"cannot fork: {exc}")
             node.last_exit = f"fork failed: {exc}"
@@ -78,11 +140,13 @@ class Supervisor:
         node.pid = node.pgid = pid
         node.state = "running"
         node.started_at = time.monotonic()
+        node.started_at_wall = time.time()
         self.by_pid[pid] = node
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
 
     def reap(self):
+        self.abandoned_since = None
         while True:
             try:
                 pid, status = os.waitpid(-1, os.WNOHANG)
@@ -99,6 +163,11 @@ class Supervisor:
                 log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
             else:
                 self.on_exit(node, pid, status)
+        if self.abandoned_since is not None:
+            files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
+            if files:
+                log("supervisor", f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                                  "that dead processes left in /dev/shm")
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -111,14 +180,20 @@ class Supervisor:
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
+        code = os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else None
+        self.outcome.on_node_exit(node.spec, code)
+        if code != 0:  # it may not have removed its shared-memory segments
+            self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
         if self.stopping:
             node.state = "stopping" if node.alive() else "stopped"
             return
         if group_alive(node.pgid):
             log(node.name, "killing what is left of its process group")
             self.signal_node(node, signal.SIGKILL)
-        failed = not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0)
-        self.after_exit(node, failed, ran_for)
+        if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
+            self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
+            return
+        self.after_exit(node, code != 0, ran_for)
 
     def after_exit(self, node, failed, ran_for):
         spec = node.spec
@@ -144,11 +219,11 @@ class Supervisor:
     def give_up(self, node, reason):
         node.state = "failed"
         if node.spec["critical"]:
-            self.critical_failure = True
+            self.outcome.critical_failure = True
             log(node.name, f"{reason}; critical node: stopping the robot")
             self.request_stop(f"critical node {node.name} failed")
         else:
-            self.node_failure = True
+            self.outcome.node_failure = True
             log(node.name, f"{reason}; not critical: the other nodes keep running")
 
     # Stopping
@@ -174,11 +249,11 @@ class Supervisor:
             if node.alive():
                 node.state = "stopping"
                 if stage != "SIGINT":
-                    self.escalated = True
+                    self.outcome.escalated = True
                     log(node.name, f"still running: escalating to {stage}")
                 self.signal_node(node, number)
         for pid in self.leftover_children():
-            self.escalated = self.escalated or stage != "SIGINT"
+            self.outcome.escalated = self.outcome.escalated or stage != "SIGINT"
             log("supervisor", f"sending {stage} to leftover process {pid}")
             self.signal_pid(pid, number)
 
@@ -244,8 +319,12 @@ class Supervisor:
         return timeout
 
     def wait(self, timeout):
-        ready, _, _ = select.select([self.wakeup], [], [], timeout)
-        if ready:
+        """Sleep until a signal arrives, a registered fd is readable, or `timeout` passes."""
+        ready, _, _ = select.select([self.wakeup, *self.readers], [], [], timeout)
+        for fd in ready:
+            if fd != self.wakeup:
+                self.readers[fd]()
+                continue
             try:
                 while os.read(self.wakeup, 4096):
                     pass
@@ -274,10 +353,3 @@ class Supervisor:
         log("supervisor", "status: " + ", ".join(f"{count} {state}" for state, count in sorted(counts.items())))
         for node in self.nodes:
             log(node.name, node.status_line(now))
-
-    def exit_code(self):
-        if self.critical_failure:
-            return EXIT_CRITICAL
-        if self.escalated:
-            return EXIT_ESCALATED
-        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK

@@ -1,10 +1,20 @@
-{# Part of supervisor.py.j2: the event listener supervisord.conf runs to stop the robot when a critical node fails. #}
+"""The event listener supervisord.conf runs to stop the robot when a critical node fails."""
+
+import os
+import signal
+import sys
+
+from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.policy import EXIT_OK
+from joshua_codegen.supervisor.robot import ROBOT
+
+
 def supervisord_listener():
     """The event listener supervisord.conf runs: supervisord cannot stop a group when one of its
     programs fails, so this stops supervisord itself (SIGTERM: it then stops every node) when a
     critical node fails for good: FATAL (restarts exhausted), or a failed exit of a node that is never
     restarted. Speaks supervisord's listener protocol on stdin/stdout; logs on stderr."""
-    group = f"joshua-{ROBOT['name']}"
+    group = ROBOT["supervisord_group"]
     critical = {spec["name"]: spec for spec in ROBOT["processes"] if spec["critical"]}
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:

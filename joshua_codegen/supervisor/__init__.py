@@ -1,0 +1,15 @@
+"""The code of the generated supervisor.py: standard-library modules joined into one file by the emitter.
+
+Conventions that let `joshua_codegen/emitters/supervisor.py` concatenate these modules:
+- a module imports only the standard library and, with `from joshua_codegen.supervisor.MODULE import
+  NAME, ...` at its top level, other modules of this package; those imports are dropped when joining,
+  the standard-library ones are merged into one sorted block at the top of supervisor.py;
+- every top-level name is unique across the package (the joined file is one namespace);
+- `robot.py` holds placeholder data only; the emitter writes the robot's real data in its place;
+- each module starts with a one-line docstring, which becomes a comment in supervisor.py.
+"""
+
+# The order the modules are joined in (after the robot's data); each uses only names defined earlier
+# at import time.
+MODULES = ("policy", "common", "containment", "children", "guard", "shm", "node", "preflight", "outcome", "loop", "supervisord_listener", "cli")
+ROBOT_MODULE = "robot"

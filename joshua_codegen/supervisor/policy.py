@@ -1,0 +1,27 @@
+"""Fixed rules of supervisor.py: restart backoff, named waits, signals and exit codes."""
+
+import signal
+
+# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
+# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
+# as healthy: the restart count and the delay start over. systemd units and supervisord.conf follow it too.
+RESTART_DELAY_INITIAL_S = 0.25
+RESTART_DELAY_FACTOR = 2.0
+RESTART_DELAY_CAP_S = 30.0
+RESTART_RESET_AFTER_S = 60.0
+KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the kernel before giving up
+LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
+TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
+STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
+SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
+CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
+
+EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
+EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
+EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
+EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+
+CPP_FALLBACK_WARNING = "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"

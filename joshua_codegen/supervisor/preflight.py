@@ -1,0 +1,80 @@
+"""Preflight: every reason the robot cannot start, found before anything starts."""
+
+import os
+
+from joshua_codegen.supervisor.common import under_script_dir
+from joshua_codegen.supervisor.robot import ROBOT
+
+PROBE_PREFIX = ".joshua-preflight-"  # a file created and removed at once, to learn a directory is writable
+
+
+def registry_problem(reference: str, env: dict[str, str]) -> str | None:
+    """Why `registry:NAME[@REVISION]` names no entry of the model registry the node will see, or None."""
+    registry = ROBOT["model_registry"]
+    root = os.path.expanduser(env.get(registry["variable"]) or registry["default_root"])
+    name, _, revision = reference[len(registry["prefix"]):].partition("@")
+    if name and "/" not in name + revision and name not in (".", "..") and revision not in (".", ".."):
+        try:
+            revisions = [revision] if revision else os.listdir(os.path.join(root, name))
+        except OSError:
+            revisions = []
+        if any(os.path.isfile(os.path.join(root, name, each, registry["entry_file"])) for each in revisions):
+            return None
+    return f"{reference} is not in the model registry at {root}"
+
+
+def output_problem(directory: str) -> str | None:
+    """Why the node cannot write into `directory` (created by the node when missing), or None."""
+    path = os.path.abspath(os.path.expanduser(directory))
+    existing = path
+    while not os.path.lexists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        return f"output directory {directory}: {existing} is not a directory"
+    probe_path = os.path.join(existing, f"{PROBE_PREFIX}{os.getpid()}")
+    try:
+        os.close(os.open(probe_path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        os.unlink(probe_path)
+    except OSError as exc:
+        return f"output directory {directory}: cannot write in {existing}: {exc.strerror or exc}"
+    return None
+
+
+def preflight(nodes, python):
+    """Every reason the robot cannot start, as lines; empty when it can."""
+    problems = []
+    needs_python = False
+    for node in nodes:
+        spec = node.spec
+        for device in spec["devices"]:
+            path, kind = device["path"], device["kind"]
+            if kind == "model" and not os.path.isdir(path):
+                problems.append(f"{node.name}: model directory {path} does not exist")
+            elif kind == "file" and not os.path.isfile(path):
+                problems.append(f"{node.name}: video file {path} does not exist")
+            elif kind in ("serial", "camera") and not os.path.exists(path):
+                what = "serial port" if kind == "serial" else "camera device"
+                problems.append(f"{node.name}: {what} {path} does not exist")
+        if spec["model_reference"]:
+            problem = registry_problem(spec["model_reference"], node.environment)
+            if problem:
+                problems.append(f"{node.name}: {problem}")
+        if spec["output_directory"]:
+            problem = output_problem(spec["output_directory"])
+            if problem:
+                problems.append(f"{node.name}: {problem}")
+        binary = node.cpp_binary()
+        if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+            problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
+        if spec["kind"] == "custom":
+            program = node.custom_program()
+            if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
+                problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
+        else:
+            needs_python = True
+            entrypoint = under_script_dir(spec["entrypoint"])
+            if not os.path.isfile(entrypoint):
+                problems.append(f"{node.name}: entrypoint {entrypoint} is missing")
+    if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
+        problems.append(f"Python interpreter {python} is not an executable file")
+    return problems

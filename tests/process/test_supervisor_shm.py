@@ -1,0 +1,89 @@
+"""The Fast DDS shared-memory files of a SIGKILLed node are removed once the supervisor reaps it; those of
+live processes are left alone."""
+
+import os
+import signal
+import subprocess
+from pathlib import Path
+
+from supervisor_harness import PYTHON, Supervisor, build, quoted, robot, wait_until
+
+SHM = Path("/dev/shm")
+
+# argv: READY_FILE. A real rclpy node with a publisher and a subscription; writes its PID once up,
+# stops cleanly on SIGINT.
+ROS_NODE = r'''
+import os, sys
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from std_msgs.msg import String
+rclpy.init()
+node = rclpy.create_node(f"shm_probe_{os.getpid()}")
+node.create_publisher(String, "/shm_probe", 10)
+node.create_subscription(String, "/shm_probe", lambda message: None, 10)
+with open(sys.argv[1], "w") as ready:
+    ready.write(str(os.getpid()))
+try:
+    while rclpy.ok():
+        rclpy.spin_once(node, timeout_sec=0.1)
+except (KeyboardInterrupt, ExternalShutdownException):
+    pass
+finally:
+    node.destroy_node()
+    rclpy.try_shutdown()
+'''
+
+
+def ros_node(tmp_path: Path, name: str) -> str:
+    script = tmp_path / "ros_node.py"
+    script.write_text(ROS_NODE)
+    args = ", ".join(quoted(a) for a in [str(script), str(tmp_path / f"{name}.ready")])
+    return f'node {{ name: "{name}" type: CUSTOM executable: "{PYTHON}" args: [{args}] restart: RESTART_NEVER critical: false }}'
+
+
+def ready_pid(tmp_path: Path, name: str) -> int:
+    path = tmp_path / f"{name}.ready"
+    wait_until(lambda: path.exists() and path.read_text(), f"{name} to be up", timeout=30)
+    return int(path.read_text())
+
+
+def shm_files(pid: int) -> set[str]:
+    """The Fast DDS segments a live process holds (by their lock files), with every companion file."""
+    segments = set()
+    for fd in Path(f"/proc/{pid}/fd").iterdir():
+        try:
+            target = os.readlink(fd)
+        except OSError:
+            continue
+        if target.startswith(f"{SHM}/fastrtps_") and target.endswith("_el"):
+            segments.add(Path(target).name[: -len("_el")])
+    names = set()
+    for segment in segments:
+        names |= {name for name in (segment, f"{segment}_el", f"sem.{segment}_mutex") if (SHM / name).exists()}
+    return names
+
+
+def test_segments_of_a_sigkilled_node_are_removed_and_others_kept(tmp_path, ros_env):
+    out = build(tmp_path, robot([ros_node(tmp_path, "victim"), ros_node(tmp_path, "bystander")], sigint=10))
+    outside_env = dict(ros_env, FASTRTPS_DEFAULT_PROFILES_FILE=str(out / "fastdds_profile.xml"))
+    outside = subprocess.Popen([PYTHON, str(tmp_path / "ros_node.py"), str(tmp_path / "outside.ready")],
+                               env=outside_env)
+    supervisor = Supervisor(out, env=ros_env)
+    try:
+        victim, bystander = ready_pid(tmp_path, "victim"), ready_pid(tmp_path, "bystander")
+        outsider = ready_pid(tmp_path, "outside")
+        wait_until(lambda: all(shm_files(pid) for pid in (victim, bystander, outsider)), "segments to exist")
+        doomed, kept = shm_files(victim), shm_files(bystander) | shm_files(outsider)
+        assert any(name.startswith("fastrtps_port") for name in doomed) and len(doomed) >= 4
+        os.kill(victim, signal.SIGKILL)
+        supervisor.wait_log(r"^.*victim: pid \d+ killed by SIGKILL")
+        supervisor.wait_log(r"removed \d+ Fast DDS shared-memory files")
+        assert not [name for name in doomed if (SHM / name).exists()]
+        assert all((SHM / name).exists() for name in kept)
+        assert shm_files(bystander) | shm_files(outsider) == kept
+        supervisor.signal(signal.SIGINT)
+        assert supervisor.wait() == 5  # a non-critical node failed for good
+    finally:
+        supervisor.close()
+        outside.send_signal(signal.SIGINT)
+        outside.wait()
