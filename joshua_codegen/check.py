@@ -11,11 +11,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, sort_diagnostics
-from joshua_codegen.load import NOT_TEXT, UNREADABLE_FILE, load_text
+from joshua_codegen.load import NOT_TEXT, load_text
 from joshua_codegen.overrides import OVERRIDE_PATH, apply_overrides
 from joshua_codegen.rules import run_rules
 from joshua_codegen.rules.context import RuleContext
 from joshua_core.schema import RobotDescription
+from joshua_codegen.source_file import SourceProblem, read_description
 
 BYTE_ORDER_MARK = "\ufeff"
 
@@ -77,14 +78,12 @@ def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
 
 
 def check_file(path: str, overrides: Sequence[str] = ()) -> CheckResult:
-    """Check one description file; an unreadable or non-UTF-8 file gives a diagnostic, never an exception."""
+    """Check one description file; an unreadable, oversized, non-regular or non-UTF-8 file gives a
+    diagnostic, never an exception or a hang."""
     try:
-        with open(path, "rb") as handle:
-            data = handle.read()
-    except (OSError, ValueError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        problem = Diagnostic(path, 1, 1, UNREADABLE_FILE, ERROR, f"cannot read the file: {reason}")
-        return CheckResult(path, "", None, [problem], tuple(overrides))
+        data = read_description(path)
+    except SourceProblem as problem:
+        return CheckResult(path, "", None, [problem.diagnostic], tuple(overrides))
     text, problems = decode(path, data)
     if text is None:
         shown = data.decode("utf-8", errors="replace")

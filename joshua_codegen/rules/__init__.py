@@ -3,7 +3,7 @@
 Code scheme (stable: a code keeps its meaning forever; E = error, the build refuses;
 W = warning, reported while the build goes on):
 
-    E001-E008   loading: syntax, unknown fields, bad values, repeated fields, file root, reading
+    E001-E009   loading: syntax, unknown fields, bad values, repeated fields, file root, reading
     E010-E012   `--set KEY=VALUE` overrides
     E1xx, W1xx  robot and node fields: names, required fields per node type, values that apply
     E2xx, W2xx  topics, message types and node names
