@@ -7,6 +7,7 @@ import difflib
 import fcntl
 import os
 import shutil
+import stat
 import tempfile
 from pathlib import Path
 
@@ -93,6 +94,25 @@ def write_tree(files: dict[str, str], out: Path) -> None:
         raise OutputError(f"cannot write {out}: {exc.strerror or exc}") from exc
     finally:
         os.close(lock)
+
+
+def replace_file(path: Path, text: str) -> None:
+    """Replace a file's content in one step (a temporary file renamed over it), keeping its mode;
+    a symbolic link keeps pointing at the file it names, which is the one replaced."""
+    target = Path(os.path.realpath(path))
+    try:
+        mode = stat.S_IMODE(target.stat().st_mode)
+        fd, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
+            handle.write(text)
+        os.chmod(temporary, mode)
+        os.replace(temporary, target)
+    except OSError as exc:
+        os.unlink(temporary)
+        raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from exc
 
 
 def read_tree(out: Path) -> dict[str, tuple[str | None, int]]:
