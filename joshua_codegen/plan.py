@@ -2,7 +2,7 @@
 
 import os
 
-from joshua_codegen import defaults, topology
+from joshua_codegen import defaults, escape, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
 from joshua_core.models import GL_BACKENDS, REGISTRY_PREFIX
 from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
@@ -194,22 +194,8 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
     for key in NODE_TYPES[model.type].cpp_parameters:
         if values[key] in ("", [], -1):
             continue
-        args += ["-p", f"{key}:={_ros_param(values[key])}"]
+        args += ["-p", f"{key}:={escape.ros_parameter(values[key])}"]
     return tuple(args)
-
-
-def _ros_param(value) -> str:
-    """A ROS 2 command-line parameter value (YAML): lists as [a, b], strings quoted when needed."""
-    if isinstance(value, list):
-        return "[" + ", ".join(_ros_param(v) for v in value) + "]"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value)
-    text = str(value)
-    if text.replace("_", "").replace("/", "").replace(".", "").replace("-", "").isalnum() and not text[0].isdigit():
-        return text
-    return "'" + text.replace("'", "''") + "'"
 
 
 def _simulation(config: pb.RobotConfig, simulated: list[NodeModel]) -> dict:
