@@ -47,8 +47,11 @@ def _position(text: str, index: int) -> tuple[int, int]:
     return line, index - (text.rfind("\n", 0, index) + 1) + 1
 
 
-def check_text(path: str, text: str, overrides: Sequence[str] = ()) -> CheckResult:
-    """Check one description given as text; never raises for any text or override."""
+def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str | None = None) -> CheckResult:
+    """Check one description given as text; never raises for any text or override.
+
+    `prefix` is where the output will live on the robot (`build --prefix`); limits that depend on it
+    (command line lengths) are checked for it, else for the default."""
     overrides = tuple(overrides)
     if text.startswith(BYTE_ORDER_MARK):
         text = text[len(BYTE_ORDER_MARK):]
@@ -62,7 +65,11 @@ def check_text(path: str, text: str, overrides: Sequence[str] = ()) -> CheckResu
     if loaded.description is None:
         return CheckResult(path, text, None, sort_diagnostics(loaded.diagnostics), overrides)
     description, source, diagnostics = apply_overrides(loaded.description, loaded.source_map, overrides)
-    diagnostics += run_rules(RuleContext(description, source))
+    sources = CheckResult(path, text, description, [], overrides).sources
+    context = RuleContext(description, source, sources, prefix)
+    diagnostics += run_rules(context)
+    if not any(d.is_error for d in diagnostics):
+        diagnostics += run_rules(context, stage="plan")
     return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
 
 
@@ -77,7 +84,7 @@ def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
                                  f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})")]
 
 
-def check_file(path: str, overrides: Sequence[str] = ()) -> CheckResult:
+def check_file(path: str, overrides: Sequence[str] = (), prefix: str | None = None) -> CheckResult:
     """Check one description file; an unreadable, oversized, non-regular or non-UTF-8 file gives a
     diagnostic, never an exception or a hang."""
     try:
@@ -88,4 +95,4 @@ def check_file(path: str, overrides: Sequence[str] = ()) -> CheckResult:
     if text is None:
         shown = data.decode("utf-8", errors="replace")
         return CheckResult(path, shown, None, problems, tuple(overrides))
-    return check_text(path, text, overrides)
+    return check_text(path, text, overrides, prefix)

@@ -1,5 +1,6 @@
 """`joshuac`: the command line. Thin: every command calls check, plan, render and write."""
 
+import posixpath
 import sys
 import tempfile
 from pathlib import Path
@@ -10,6 +11,8 @@ from joshua_codegen.version import VERSION
 
 FORMATS = ("text", "json", "github")
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 70
+# Room under --prefix for the longest path joshuac writes there (systemd/joshua-<64>-<128>.service).
+PREFIX_ROOM = "x" * 255
 
 set_option = click.option(
     "--set", "overrides", multiple=True, metavar="KEY=VALUE",
@@ -23,13 +26,24 @@ config_argument = click.argument("config", type=click.Path(exists=True, dir_okay
 
 
 def _absolute_prefix(_ctx, _param, value):
-    """--prefix must be an absolute, printable path: units and configs refer to files under it."""
+    """--prefix must be an absolute, printable, normalized path: units and configs refer to files under it."""
     if value is None:
         return None
+    from joshua_codegen.rules.e119_path_too_long import path_problem
+
     if not value.startswith("/"):
         raise click.BadParameter(f"{value!r} is not an absolute path")
     if not value.isprintable():
         raise click.BadParameter(f"{value!r} contains control characters")
+    normal = posixpath.normpath(value).replace("//", "/", 1)
+    if value != normal:
+        raise click.BadParameter(f"{value!r} is not a normalized path (no '.', '..', '//' or trailing '/'); "
+                                 f"write {normal!r}")
+    if "=" in value:
+        raise click.BadParameter(f"{value!r} contains '=', which env(1) would read as a variable assignment")
+    problem = path_problem(posixpath.join(value, PREFIX_ROOM))
+    if problem is not None:
+        raise click.BadParameter(f"{value!r} is too long: with the files under it, it {problem}")
     return value
 
 

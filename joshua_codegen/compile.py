@@ -22,7 +22,7 @@ class Compilation:
 
 def compile_file(path: str, overrides=(), prefix: str | None = None) -> Compilation:
     """Check a description and, when it has no error, render every output file."""
-    result = check_file(path, overrides)
+    result = check_file(path, overrides, prefix)
     if result.has_errors or result.description is None:
         return Compilation(result, None)
     return Compilation(result, render(plan(result.description, path), prefix))

@@ -29,13 +29,19 @@ def restart(process: Process) -> str:
     return "no" if process.max_restarts == 0 else SYSTEMD_RESTART[process.restart]
 
 
-def service(robot: Robot, process: Process, prefix: str) -> dict:
-    """The values of one service unit."""
+def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], list[tuple[str, str]]]:
+    """(the words ExecStart= runs, the variables Environment= sets) of one service."""
     words = process_launch.launch_words(robot, process, prefix, [process_launch.ENV_COMMAND], prefix)
     variables = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.PROFILE_PATH))
     environment = [(key, value) for key, value in variables if process_launch.ENVIRONMENT_NAME.fullmatch(key)]
     words = process_launch.through_env(  # keys Environment= would refuse reach the node through env(1)
         words, [f"{key}={value}" for key, value in variables if not process_launch.ENVIRONMENT_NAME.fullmatch(key)])
+    return words, environment
+
+
+def service(robot: Robot, process: Process, prefix: str) -> dict:
+    """The values of one service unit."""
+    words, environment = command(robot, process, prefix)
     delays = process_launch.backoff_delays(process.max_restarts)
     return {
         "name": service_name(robot, process),
