@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, sort_diagnostics
 from joshua_codegen.load import NOT_TEXT, load_text
+from joshua_codegen.model import Robot
 from joshua_codegen.overrides import OVERRIDE_PATH, apply_overrides
 from joshua_codegen.rules import run_rules
 from joshua_codegen.rules.context import RuleContext
@@ -28,6 +29,7 @@ class CheckResult:
     description: RobotDescription | None  # with the overrides applied; None when it could not be loaded
     diagnostics: list[Diagnostic]
     overrides: tuple[str, ...] = field(default=())
+    robot: Robot | None = None  # the planned model, when the description had no error before planning
 
     @property
     def has_errors(self) -> bool:
@@ -68,9 +70,10 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
     sources = CheckResult(path, text, description, [], overrides).sources
     context = RuleContext(description, source, sources, prefix)
     diagnostics += run_rules(context)
-    if not any(d.is_error for d in diagnostics):
-        diagnostics += run_rules(context, stage="plan")
-    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
+    if any(d.is_error for d in diagnostics):
+        return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
+    diagnostics += run_rules(context, stage="plan")
+    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context.robot)
 
 
 def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:

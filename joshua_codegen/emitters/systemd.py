@@ -39,16 +39,23 @@ def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], lis
     return words, environment
 
 
+def command_lines(robot: Robot, process: Process, prefix: str) -> tuple[str, list[str]]:
+    """(the ExecStart= value, the Environment= values) of one service, quoted."""
+    words, environment = command(robot, process, prefix)
+    return (escape.systemd_command(words),
+            [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment])
+
+
 def service(robot: Robot, process: Process, prefix: str) -> dict:
     """The values of one service unit."""
-    words, environment = command(robot, process, prefix)
+    exec_start, environment = command_lines(robot, process, prefix)
     delays = process_launch.backoff_delays(process.max_restarts)
     return {
         "name": service_name(robot, process),
         "description": escape.systemd_raw(f"joshua robot {robot.name}: node {process.name} ({process.node_type})"),
         "syslog_identifier": escape.systemd_raw(process.name),
-        "exec_start": escape.systemd_command(words),
-        "environment": [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment],
+        "exec_start": exec_start,
+        "environment": environment,
         "restart": restart(process),
         "restart_sec": timespan(process_launch.RESTART_DELAY_INITIAL_S),
         "restart_steps": max(1, sum(1 for before, after in zip(delays, delays[1:]) if after > before)),

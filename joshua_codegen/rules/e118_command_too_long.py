@@ -50,8 +50,8 @@ def _problem(robot, process, prefix: str) -> str | None:
     if total > MAX_COMMAND_BYTES:
         return (f"its command line and environment would total {total} bytes; the limit is {MAX_COMMAND_BYTES} "
                 "(1 MiB) so that exec cannot fail with E2BIG")
-    service = systemd.service(robot, process, prefix)
-    lines = [f"ExecStart={service['exec_start']}"] + [f"Environment={entry}" for entry in service["environment"]]
+    exec_start, assignments = systemd.command_lines(robot, process, prefix)
+    lines = [f"ExecStart={exec_start}"] + [f"Environment={assignment}" for assignment in assignments]
     line = max(lines, key=_size)
     if _size(line) >= LONG_LINE_MAX:
         return (f"its systemd unit would have a line of {_size(line)} bytes ({line.split('=', 1)[0]}=); systemd "
