@@ -80,13 +80,14 @@ def write_tree(files: dict[str, str], out: Path) -> None:
         for directory in [staging, *(p for p in staging.rglob("*") if p.is_dir())]:
             os.chmod(directory, 0o755)
         if out.is_dir() and exchange_directories(staging, out):
-            shutil.rmtree(staging)  # now holds the previous output
+            # staging now holds the previous output, which a concurrent build may be removing too
+            shutil.rmtree(staging, ignore_errors=True)
             return
         if out.is_dir():
             old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
             os.rename(out, old)  # onto the empty directory
             os.rename(staging, out)
-            shutil.rmtree(old)
+            shutil.rmtree(old, ignore_errors=True)
         else:
             os.rename(staging, out)
     except OSError as exc:

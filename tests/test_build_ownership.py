@@ -149,3 +149,20 @@ def test_builds_killed_at_any_moment_leave_nothing_behind_after_the_next_build(t
     assert result.returncode == 0, result.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
     assert joshuac("build", CONFIG, "-o", out, "--check").returncode == 0
+
+
+def test_an_empty_output_directory_is_used(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    assert joshuac("build", CONFIG, "-o", out).returncode == 0
+    assert (out / ".joshuac-stamp").is_file()
+
+
+def test_concurrent_builds_of_one_output_all_succeed_and_leave_one_tree(tmp_path):
+    out = tmp_path / "out"
+    builds = [subprocess.Popen([*JOSHUAC, "build", str(CONFIG), "-o", str(out)], stderr=subprocess.PIPE, text=True)
+              for _ in range(6)]
+    failures = [process.stderr.read() for process in builds if process.wait() != 0]
+    assert failures == []
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    assert joshuac("build", CONFIG, "-o", out, "--check").returncode == 0
