@@ -21,10 +21,10 @@ run: setup
 test: setup
 	$(VENV)/pytest $(PYTEST_ARGS)
 
-## generate: refresh generated/<robot>/ for every description in config/robots/.
+## generate: rebuild generated/<robot>/ for every description in config/robots/ (git keeps what it held).
 generate: setup
 	@for robot in $(ROBOTS); do \
-		$(VENV)/joshuac build config/robots/$$robot.pbtxt -o generated/$$robot || exit 1; \
+		rm -rf generated/$$robot && $(VENV)/joshuac build config/robots/$$robot.pbtxt -o generated/$$robot || exit 1; \
 	done
 
 ## proto: regenerate joshua_codegen/schema/*_pb2.py from proto/.

@@ -11,11 +11,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, sort_diagnostics
-from joshua_codegen.load import NOT_TEXT, UNREADABLE_FILE, load_text
+from joshua_codegen.load import NOT_TEXT, load_text
+from joshua_codegen.model import Robot
 from joshua_codegen.overrides import OVERRIDE_PATH, apply_overrides
 from joshua_codegen.rules import run_rules
 from joshua_codegen.rules.context import RuleContext
 from joshua_core.schema import RobotDescription
+from joshua_codegen.source_file import SourceProblem, read_description
 
 BYTE_ORDER_MARK = "\ufeff"
 
@@ -27,6 +29,7 @@ class CheckResult:
     description: RobotDescription | None  # with the overrides applied; None when it could not be loaded
     diagnostics: list[Diagnostic]
     overrides: tuple[str, ...] = field(default=())
+    robot: Robot | None = None  # the planned model, when the description had no error before planning
 
     @property
     def has_errors(self) -> bool:
@@ -46,8 +49,11 @@ def _position(text: str, index: int) -> tuple[int, int]:
     return line, index - (text.rfind("\n", 0, index) + 1) + 1
 
 
-def check_text(path: str, text: str, overrides: Sequence[str] = ()) -> CheckResult:
-    """Check one description given as text; never raises for any text or override."""
+def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str | None = None) -> CheckResult:
+    """Check one description given as text; never raises for any text or override.
+
+    `prefix` is where the output will live on the robot (`build --prefix`); limits that depend on it
+    (command line lengths) are checked for it, else for the default."""
     overrides = tuple(overrides)
     if text.startswith(BYTE_ORDER_MARK):
         text = text[len(BYTE_ORDER_MARK):]
@@ -61,8 +67,13 @@ def check_text(path: str, text: str, overrides: Sequence[str] = ()) -> CheckResu
     if loaded.description is None:
         return CheckResult(path, text, None, sort_diagnostics(loaded.diagnostics), overrides)
     description, source, diagnostics = apply_overrides(loaded.description, loaded.source_map, overrides)
-    diagnostics += run_rules(RuleContext(description, source))
-    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
+    sources = CheckResult(path, text, description, [], overrides).sources
+    context = RuleContext(description, source, sources, prefix)
+    diagnostics += run_rules(context)
+    if any(d.is_error for d in diagnostics):
+        return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
+    diagnostics += run_rules(context, stage="plan")
+    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context.robot)
 
 
 def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
@@ -76,17 +87,15 @@ def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
                                  f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})")]
 
 
-def check_file(path: str, overrides: Sequence[str] = ()) -> CheckResult:
-    """Check one description file; an unreadable or non-UTF-8 file gives a diagnostic, never an exception."""
+def check_file(path: str, overrides: Sequence[str] = (), prefix: str | None = None) -> CheckResult:
+    """Check one description file; an unreadable, oversized, non-regular or non-UTF-8 file gives a
+    diagnostic, never an exception or a hang."""
     try:
-        with open(path, "rb") as handle:
-            data = handle.read()
-    except (OSError, ValueError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        problem = Diagnostic(path, 1, 1, UNREADABLE_FILE, ERROR, f"cannot read the file: {reason}")
-        return CheckResult(path, "", None, [problem], tuple(overrides))
+        data = read_description(path)
+    except SourceProblem as problem:
+        return CheckResult(path, "", None, [problem.diagnostic], tuple(overrides))
     text, problems = decode(path, data)
     if text is None:
         shown = data.decode("utf-8", errors="replace")
         return CheckResult(path, shown, None, problems, tuple(overrides))
-    return check_text(path, text, overrides)
+    return check_text(path, text, overrides, prefix)

@@ -1,5 +1,6 @@
 """`joshuac`: the command line. Thin: every command calls check, plan, render and write."""
 
+import posixpath
 import sys
 import tempfile
 from pathlib import Path
@@ -10,6 +11,8 @@ from joshua_codegen.version import VERSION
 
 FORMATS = ("text", "json", "github")
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 70
+# Room under --prefix for the longest path joshuac writes there (systemd/joshua-<64>-<128>.service).
+PREFIX_ROOM = "x" * 255
 
 set_option = click.option(
     "--set", "overrides", multiple=True, metavar="KEY=VALUE",
@@ -23,19 +26,30 @@ config_argument = click.argument("config", type=click.Path(exists=True, dir_okay
 
 
 def _absolute_prefix(_ctx, _param, value):
-    """--prefix must be an absolute, printable path: units and configs refer to files under it."""
+    """--prefix must be an absolute, printable, normalized path: units and configs refer to files under it."""
     if value is None:
         return None
+    from joshua_codegen.rules.e119_path_too_long import path_problem
+
     if not value.startswith("/"):
         raise click.BadParameter(f"{value!r} is not an absolute path")
     if not value.isprintable():
         raise click.BadParameter(f"{value!r} contains control characters")
+    normal = posixpath.normpath(value).replace("//", "/", 1)
+    if value != normal:
+        raise click.BadParameter(f"{value!r} is not a normalized path (no '.', '..', '//' or trailing '/'); "
+                                 f"write {normal!r}")
+    if "=" in value:
+        raise click.BadParameter(f"{value!r} contains '=', which env(1) would read as a variable assignment")
+    problem = path_problem(posixpath.join(value, PREFIX_ROOM))
+    if problem is not None:
+        raise click.BadParameter(f"{value!r} is too long: with the files under it, it {problem}")
     return value
 
 
 def report(results, output_format: str, stream) -> None:
     """Print the diagnostics of one or more check results."""
-    from joshua_codegen.diagnostics import format_github, format_json, format_text, sort_diagnostics
+    from joshua_codegen.diagnostics import format_github, format_json, sort_diagnostics
 
     diagnostics = sort_diagnostics([d for r in results for d in r.diagnostics])
     if output_format == "json":
@@ -43,8 +57,14 @@ def report(results, output_format: str, stream) -> None:
     elif output_format == "github":
         click.echo(format_github(diagnostics), file=stream, nl=False)
     elif diagnostics:
-        sources = {path: text for r in results for path, text in r.sources.items()}
-        click.echo(format_text(diagnostics, sources), file=stream, nl=False)
+        report_texts(diagnostics, {path: text for r in results for path, text in r.sources.items()}, stream)
+
+
+def report_texts(diagnostics, sources: dict[str, str], stream) -> None:
+    """Print diagnostics as text, each with its source line."""
+    from joshua_codegen.diagnostics import format_text
+
+    click.echo(format_text(diagnostics, sources), file=stream, nl=False)
 
 
 def compile_or_exit(config: str, overrides, output_format: str, prefix: str | None = None):
@@ -129,29 +149,45 @@ def explain(code) -> None:
 
 
 @cli.command()
-@config_argument
-@click.option("--check", "check_only", is_flag=True, help="Exit 1 when the file is not in canonical form.")
-@click.option("-w", "--write", "write_back", is_flag=True, help="Rewrite the file in canonical form.")
-def fmt(config, check_only, write_back) -> None:
-    """Print a description in canonical form (comments kept)."""
-    from joshua_codegen.diagnostics import format_text
-    from joshua_codegen.fmt import format_description
+@click.argument("configs", nargs=-1, required=True, type=click.Path(exists=True, dir_okay=False))
+@click.option("--check", "check_only", is_flag=True, help="Exit 1 when a file is not in canonical form.")
+@click.option("-w", "--write", "write_back", is_flag=True, help="Rewrite the files in canonical form.")
+def fmt(configs, check_only, write_back) -> None:
+    """Print a description in canonical form (comments kept); --check or --write take several files.
 
-    text = Path(config).read_text(encoding="utf-8", errors="replace")
-    formatted, diagnostics = format_description(text, config)
-    if formatted is None:
-        click.echo(format_text(diagnostics, {config: text}), err=True, nl=False)
-        sys.exit(EXIT_ERRORS)
-    if check_only:
-        if formatted != text:
-            click.echo(f"joshuac: {config} is not formatted; run: joshuac fmt --write {config}", err=True)
-            sys.exit(EXIT_ERRORS)
-        return
-    if write_back:
-        if formatted != text:
-            Path(config).write_text(formatted, encoding="utf-8")
-        return
-    click.echo(formatted, nl=False)
+    A file that is not valid UTF-8 text, or that cannot be parsed, is reported and never rewritten."""
+    from joshua_codegen.fmt import format_file
+
+    if len(configs) > 1 and not (check_only or write_back):
+        raise click.UsageError("printing takes one file; use --check or --write for several")
+    failed = False
+    for config in configs:
+        text, formatted, diagnostics = format_file(config)
+        if formatted is None:
+            report_texts(diagnostics, {config: text}, sys.stderr)
+            failed = True
+        elif check_only:
+            if formatted != text:
+                click.echo(f"joshuac: {config} is not formatted; run: joshuac fmt --write {config}", err=True)
+                failed = True
+        elif write_back:
+            failed |= not _rewrite(config, text, formatted)
+        else:
+            click.echo(formatted, nl=False)
+    sys.exit(EXIT_ERRORS if failed else EXIT_OK)
+
+
+def _rewrite(config: str, text: str, formatted: str) -> bool:
+    from joshua_codegen.write import OutputError, replace_file
+
+    if formatted == text:
+        return True
+    try:
+        replace_file(Path(config), formatted)
+    except OutputError as exc:
+        click.echo(f"joshuac: error: {exc}", err=True)
+        return False
+    return True
 
 
 @cli.command(context_settings={"ignore_unknown_options": True})

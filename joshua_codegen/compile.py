@@ -22,10 +22,10 @@ class Compilation:
 
 def compile_file(path: str, overrides=(), prefix: str | None = None) -> Compilation:
     """Check a description and, when it has no error, render every output file."""
-    result = check_file(path, overrides)
+    result = check_file(path, overrides, prefix)
     if result.has_errors or result.description is None:
         return Compilation(result, None)
-    return Compilation(result, render(plan(result.description, path), prefix))
+    return Compilation(result, render(result.robot or plan(result.description, path), prefix))
 
 
 class DescriptionError(Exception):
@@ -41,7 +41,7 @@ def node_settings(text: str, overrides=(), path: str = "description.pbtxt") -> d
     result = check_text(path, text, overrides)
     if result.has_errors or result.description is None:
         raise DescriptionError(format_text(result.diagnostics, result.sources))
-    robot = plan(result.description, path)
+    robot = result.robot or plan(result.description, path)
     settings = {node.name: node.settings for node in robot.nodes}
     for process in robot.processes:
         settings[process.name] = robot.process_settings(process)

@@ -71,11 +71,10 @@ def summary(diags: Iterable[Diagnostic]) -> str:
     return f"{_plural(errors, 'error')}, {_plural(len(diags) - errors, 'warning')}"
 
 
-def _snippet(source: str | None, line: int, column: int, end_line: int | None, end_column: int | None) -> list[str]:
+def _snippet(lines: list[str] | None, line: int, column: int, end_line: int | None, end_column: int | None) -> list[str]:
     """The source line and a caret under the column (tildes over the rest of a one-line range)."""
-    if source is None:
+    if lines is None:
         return []
-    lines = source.split("\n")
     if not 1 <= line <= len(lines):
         return []
     text = lines[line - 1].rstrip("\r")
@@ -92,8 +91,9 @@ def _snippet(source: str | None, line: int, column: int, end_line: int | None, e
         start -= offset
     start = min(start, len(text))
     width = max(1, min(width, len(text) - start))
-    text = "".join(c if c.isprintable() or c == "\t" else "?" for c in text)
-    pad = "".join("\t" if c == "\t" else " " for c in text[:start])
+    if not text.isprintable():
+        text = "".join(c if c.isprintable() or c == "\t" else "?" for c in text)
+    pad = "".join("\t" if c == "\t" else " " for c in text[:start]) if "\t" in text else " " * start
     return [text, pad + "^" + "~" * (width - 1)]
 
 
@@ -107,13 +107,21 @@ def _one_line(text: str) -> str:
 def format_text(diags: Iterable[Diagnostic], sources: dict[str, str]) -> str:
     """`path:line:col: error[CODE]: message`, the source line and a caret, notes, then a summary line."""
     diags = sort_diagnostics(diags)
+    lines_of: dict[str, list[str] | None] = {}  # each source split once: linear in the diagnostics
+
+    def lines(path: str) -> list[str] | None:
+        if path not in lines_of:
+            source = sources.get(path)
+            lines_of[path] = source.split("\n") if source is not None else None
+        return lines_of[path]
+
     out: list[str] = []
     for d in diags:
         out.append(f"{_one_line(d.path)}:{d.line}:{d.column}: {d.severity}[{d.code}]: {_one_line(d.message)}")
-        out.extend(_snippet(sources.get(d.path), d.line, d.column, d.end_line, d.end_column))
+        out.extend(_snippet(lines(d.path), d.line, d.column, d.end_line, d.end_column))
         for note in d.related:
             out.append(f"{_one_line(note.path)}:{note.line}:{note.column}: note: {_one_line(note.message)}")
-            out.extend(_snippet(sources.get(note.path), note.line, note.column, None, None))
+            out.extend(_snippet(lines(note.path), note.line, note.column, None, None))
     out.append(summary(diags))
     return "\n".join(out) + "\n"
 

@@ -3,6 +3,7 @@
 import json
 import posixpath
 import re
+import shlex
 
 
 def python_literal(value, indent: int = 0) -> str:
@@ -30,6 +31,46 @@ def python_literal(value, indent: int = 0) -> str:
     if isinstance(value, str):
         return repr(value)
     raise TypeError(f"cannot write {type(value).__name__} as a Python literal")
+
+
+def ros_parameter(value) -> str:
+    """The value of a ROS 2 `-p name:=value` argument, which rcl parses as YAML, keeping its type.
+
+    Strings are always single-quoted (a quote inside is doubled): rcl reads a plain scalar as the
+    type it looks like, so `yes`, `-1`, `1e3`, `~` or `[1]` would arrive as a bool, integer,
+    double or array, not as the string the node declared. Lists become flow sequences `[a, b]`,
+    booleans `true`/`false`, numbers their shortest exact form (`.inf`/`.nan` when not finite).
+    rcl cannot parse C1 controls, U+FFFE or U+FFFF even quoted; the rules refuse them (E115).
+    """
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(ros_parameter(item) for item in value) + "]"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if value != value:
+            return ".nan"
+        if abs(value) == float("inf"):
+            return ".inf" if value > 0 else "-.inf"
+        return repr(value)
+    if isinstance(value, str):
+        return "'" + value.replace("'", "''") + "'"
+    raise TypeError(f"cannot write {type(value).__name__} as a ROS parameter")
+
+
+_SHELL_BARE = re.compile(r"[A-Za-z0-9_@%+=:,./-]+")
+_SHELL_SPECIAL_IN_DOUBLE_QUOTES = set('"$`\\!')
+
+
+def shell_word(text: str) -> str:
+    """One POSIX shell word: bare when plain, in double quotes when that needs no escape (so the
+    single quotes of a ROS parameter stay readable), else shlex's single quotes."""
+    if _SHELL_BARE.fullmatch(text):
+        return text
+    if not _SHELL_SPECIAL_IN_DOUBLE_QUOTES.intersection(text):
+        return f'"{text}"'
+    return shlex.quote(text)
 
 
 def one_line(text: str) -> str:

@@ -12,8 +12,10 @@ It needs only valid syntax and valid string escapes (unknown fields are formatte
 
 from __future__ import annotations
 
+from joshua_codegen.check import decode
 from joshua_codegen.diagnostics import ERROR, Diagnostic
-from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, SYNTAX_ERROR
+from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, SYNTAX_ERROR, load_text
+from joshua_codegen.source_file import SourceProblem, read_description
 from joshua_codegen.values import ValueProblem, unquote
 from joshua_codegen.syntax import Block, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, parse_syntax
 
@@ -175,3 +177,28 @@ def format_description(text: str, path: str) -> tuple[str | None, list[Diagnosti
     if problems:
         return None, problems
     return render(document), []
+
+
+class MeaningChanged(AssertionError):
+    """The canonical text would load differently from the original: a formatter bug, never written."""
+
+
+def format_file(path: str) -> tuple[str, str | None, list[Diagnostic]]:
+    """(text, canonical text or None, diagnostics) of a description file.
+
+    None when the file cannot be read, is not UTF-8 text, or cannot be parsed: such a file is
+    never rewritten. The canonical text is proven to load to the same description as the original.
+    """
+    try:
+        data = read_description(path)
+    except SourceProblem as problem:
+        return "", None, [problem.diagnostic]
+    text, problems = decode(path, data)
+    if text is None:
+        return data.decode("utf-8", errors="replace"), None, problems
+    formatted, problems = format_description(text, path)
+    if formatted is not None:
+        before, after = load_text(path, text.removeprefix("\ufeff")), load_text(path, formatted)
+        if before.description != after.description:
+            raise MeaningChanged(f"formatting {path} would change what it means; the file is left as it is")
+    return text, formatted, problems

@@ -26,6 +26,7 @@ DUPLICATE_FIELD = "E005"
 MISSING_ROBOT_CONFIG = "E006"
 UNREADABLE_FILE = "E007"
 NOT_TEXT = "E008"
+NOT_REGULAR_FILE = "E009"
 
 # Integer literals longer than this are refused before conversion (uint64 needs at most 20 digits).
 @dataclass

@@ -2,7 +2,7 @@
 
 import os
 
-from joshua_codegen import defaults, node_settings, topology
+from joshua_codegen import defaults, escape, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
 from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
@@ -160,22 +160,8 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
             value = list(value)
         if value in ("", [], -1):
             continue
-        args += ["-p", f"{key}:={_ros_param(value)}"]
+        args += ["-p", f"{key}:={escape.ros_parameter(value)}"]
     return tuple(args)
-
-
-def _ros_param(value) -> str:
-    """A ROS 2 command-line parameter value (YAML): lists as [a, b], strings quoted when needed."""
-    if isinstance(value, list):
-        return "[" + ", ".join(_ros_param(v) for v in value) + "]"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value)
-    text = str(value)
-    if text.replace("_", "").replace("/", "").replace(".", "").replace("-", "").isalnum() and not text[0].isdigit():
-        return text
-    return "'" + text.replace("'", "''") + "'"
 
 
 def _engine_process(name: str, simulated: list[NodeModel]) -> Process:

@@ -48,11 +48,16 @@ def template(name: str, **values) -> str:
     return environment().get_template(name).render(version=VERSION, **values)
 
 
+def effective_prefix(robot_name: str, prefix: str | None) -> str:
+    """Where the output directory lives on the robot: `prefix`, or the default for the robot."""
+    return (prefix or DEFAULT_PREFIX.format(robot=robot_name)).rstrip("/") or "/"
+
+
 def render(robot: Robot, prefix: str | None = None) -> dict[str, str]:
     """Every output file of a robot, by path relative to the output directory."""
     from joshua_codegen.emitters import EMITTERS
 
-    context = Context(prefix=(prefix or DEFAULT_PREFIX.format(robot=robot.name)).rstrip("/") or "/")
+    context = Context(prefix=effective_prefix(robot.name, prefix))
     files: dict[str, str] = {}
     for emit in EMITTERS:
         files.update(emit(robot, context))

@@ -4,15 +4,16 @@ The only module of the compiler that touches the disk for output.
 """
 
 import difflib
+import fcntl
 import os
 import shutil
+import stat
 import tempfile
 from pathlib import Path
 
 from joshua_core.atomic import exchange_directories
+from joshua_codegen.ownership import STAMP, refusal, remove_stale_staging, stamp_text
 from joshua_codegen.render import is_executable
-
-MARKER = "manifest.json"  # an output directory joshuac may replace always holds this file
 
 
 class OutputError(Exception):
@@ -23,24 +24,54 @@ def _file_mode(path: str) -> int:
     return 0o755 if is_executable(path) else 0o644
 
 
-def _check_replaceable(out: Path) -> None:
-    if out.is_symlink() or (out.exists() and not out.is_dir()):
-        raise OutputError(f"{out} exists and is not a directory")
-    if out.is_dir() and any(out.iterdir()) and not (out / MARKER).is_file():
-        raise OutputError(f"{out} is not empty and holds no {MARKER}: refusing to replace a directory joshuac did not write")
+def stamped(files: dict[str, str]) -> dict[str, str]:
+    """The files a build writes: the rendered ones and the stamp that proves joshuac wrote them."""
+    return {**files, STAMP: stamp_text(files)}
+
+
+def _resolved(out: Path) -> Path:
+    """`out` as an absolute path with its parent's links resolved (OUT itself must not be a link)."""
+    if out.is_symlink():
+        return out.absolute()
+    resolved = out.resolve()
+    if resolved == resolved.parent:
+        raise OutputError(f"{out} is a file system root: choose a directory of its own")
+    return resolved
+
+
+def _staging_directory(out: Path) -> tuple[Path, int]:
+    """A fresh, locked staging directory next to `out` (retried when a cleanup took it first)."""
+    while True:
+        staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+        fd = os.open(staging, os.O_RDONLY | os.O_DIRECTORY)
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        try:
+            if os.stat(staging).st_ino == os.fstat(fd).st_ino:
+                return staging, fd
+        except FileNotFoundError:
+            pass
+        os.close(fd)
 
 
 def write_tree(files: dict[str, str], out: Path) -> None:
-    """Make `out` hold exactly `files`: all of them or, on failure, what it held before."""
-    out = Path(out)
-    _check_replaceable(out)
-    parent = out.parent if str(out.parent) else Path(".")
+    """Make `out` hold exactly `files` and their stamp: all of them or, on failure, what it held before.
+
+    Refuses (OutputError, nothing touched) when `out` holds anything joshuac did not write.
+    """
+    given = Path(out)
+    out = _resolved(given)
+    reason = refusal(out, given)
+    if reason is not None:
+        raise OutputError(reason)
+    files = stamped(files)
     try:
-        parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=parent))
+        out.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_staging(out)
+        staging, lock = _staging_directory(out)
     except OSError as exc:
-        raise OutputError(f"cannot create {parent}: {exc.strerror}") from exc
+        raise OutputError(f"cannot create a directory next to {out}: {exc.strerror or exc}") from exc
     try:
+        (staging / STAMP).write_text(files[STAMP], encoding="utf-8", newline="\n")  # first: marks it ours
         for relative, text in files.items():
             target = staging / relative
             target.parent.mkdir(parents=True, exist_ok=True)
@@ -49,18 +80,40 @@ def write_tree(files: dict[str, str], out: Path) -> None:
         for directory in [staging, *(p for p in staging.rglob("*") if p.is_dir())]:
             os.chmod(directory, 0o755)
         if out.is_dir() and exchange_directories(staging, out):
-            shutil.rmtree(staging)  # now holds the previous output
+            # staging now holds the previous output, which a concurrent build may be removing too
+            shutil.rmtree(staging, ignore_errors=True)
             return
         if out.is_dir():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=parent))
-            os.rename(out, old / "tree")
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
+            os.rename(out, old)  # onto the empty directory
             os.rename(staging, out)
-            shutil.rmtree(old)
+            shutil.rmtree(old, ignore_errors=True)
         else:
             os.rename(staging, out)
     except OSError as exc:
         shutil.rmtree(staging, ignore_errors=True)
         raise OutputError(f"cannot write {out}: {exc.strerror or exc}") from exc
+    finally:
+        os.close(lock)
+
+
+def replace_file(path: Path, text: str) -> None:
+    """Replace a file's content in one step (a temporary file renamed over it), keeping its mode;
+    a symbolic link keeps pointing at the file it names, which is the one replaced."""
+    target = Path(os.path.realpath(path))
+    try:
+        mode = stat.S_IMODE(target.stat().st_mode)
+        fd, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from exc
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
+            handle.write(text)
+        os.chmod(temporary, mode)
+        os.replace(temporary, target)
+    except OSError as exc:
+        os.unlink(temporary)
+        raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from exc
 
 
 def read_tree(out: Path) -> dict[str, tuple[str | None, int]]:
@@ -81,6 +134,7 @@ def read_tree(out: Path) -> dict[str, tuple[str | None, int]]:
 
 def diff_tree(files: dict[str, str], out: Path) -> str:
     """A unified diff from what `out` holds to what it should hold ("" when identical)."""
+    files = stamped(files)
     current = read_tree(out)
     chunks = []
     for relative in sorted(set(files) | set(current)):

@@ -110,8 +110,9 @@ def test_set_overrides_a_field_before_validation(tmp_path):
     assert "'depth': 2," in text
 
 
-@pytest.mark.parametrize("prefix", ["relative/dir", "/opt/robot\nExecStart=/bin/evil"])
-def test_prefix_must_be_an_absolute_printable_path(prefix, tmp_path):
+@pytest.mark.parametrize("prefix", ["relative/dir", "/opt/robot\nExecStart=/bin/evil", "/a/../b", "//a", "/a/./b",
+                                    "/opt/robot/", "/opt/a=b", "/opt/" + "x" * 256, "/x" * 2000])
+def test_prefix_must_be_an_absolute_printable_normalized_path_that_fits(prefix, tmp_path):
     result = joshuac("build", ROOT / "config/robots/mock_arm.pbtxt", "-o", tmp_path / "out", "--prefix", prefix)
     assert result.returncode == 2
     assert "Invalid value for '--prefix'" in result.stderr

@@ -51,3 +51,16 @@ def test_source_names_cannot_break_the_xml_profile(source):
     text = render(plan(description, source + ".pbtxt"))["fastdds_profile.xml"]
     root = ElementTree.fromstring(text.encode())
     assert root.tag == "{http://www.eprosima.com}dds"
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.text(st.characters(blacklist_categories=("Cs",), blacklist_characters="\0"), max_size=12),
+                min_size=1, max_size=4))
+def test_shell_words_reach_the_program_unchanged(words):
+    import subprocess
+
+    from joshua_codegen.escape import shell_word
+
+    script = "printf '%s\\0' " + " ".join(shell_word(word) for word in words)
+    printed = subprocess.run(["/bin/sh", "-c", script], capture_output=True, check=True).stdout
+    assert printed.decode("utf-8").split("\0")[:-1] == words

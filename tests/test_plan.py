@@ -49,7 +49,7 @@ def test_cpp_preference_is_kept_only_for_node_types_that_have_a_cpp_binary():
     processes = {p.name: p for p in robot.processes}
     assert processes["encoder_publisher"].cpp_binary == "encoder_publisher"
     assert processes["encoder_publisher"].cpp_args[:3] == ("--ros-args", "-r", "__node:=encoder_publisher")
-    assert "serial_port:=/dev/ttyUSB0" in processes["encoder_publisher"].cpp_args
+    assert "serial_port:='/dev/ttyUSB0'" in processes["encoder_publisher"].cpp_args
     assert processes["data_subscriber"].cpp_binary == ""
 
 

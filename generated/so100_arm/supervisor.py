@@ -74,7 +74,7 @@ ROBOT = {
             'executable': '',
             'args': [],
             'cpp_binary': 'camera_publisher',
-            'cpp_args': ['--ros-args', '-r', '__node:=camera_publisher', '-p', 'topic_name:=/camera/image_raw', '-p', 'message_type:=sensor_msgs/msg/Image', '-p', 'qos_depth:=5', '-p', 'qos_reliability:=BEST_EFFORT', '-p', 'qos_durability:=VOLATILE', '-p', 'qos_history:=KEEP_LAST', '-p', 'camera_index:=0', '-p', 'width:=640', '-p', 'height:=480', '-p', 'rate_hz:=30.0', '-p', 'frame_id:=camera'],
+            'cpp_args': ['--ros-args', '-r', '__node:=camera_publisher', '-p', "topic_name:='/camera/image_raw'", '-p', "message_type:='sensor_msgs/msg/Image'", '-p', 'qos_depth:=5', '-p', "qos_reliability:='BEST_EFFORT'", '-p', "qos_durability:='VOLATILE'", '-p', "qos_history:='KEEP_LAST'", '-p', 'camera_index:=0', '-p', 'width:=640', '-p', 'height:=480', '-p', 'rate_hz:=30.0', '-p', "frame_id:='camera'"],
             'restart': 'RESTART_ON_FAILURE',
             'max_restarts': 5,
             'critical': True,

@@ -5,6 +5,7 @@ import posixpath
 import re
 import shlex
 
+from joshua_codegen.escape import shell_word
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.supervisor.policy import (  # the backoff the three process managers share
     CPP_FALLBACK_WARNING,
@@ -76,7 +77,7 @@ def launch_words(robot: Robot, process: Process, base: str, bare: list[str], wor
     binary = cpp_binary_path(robot, process, base)
     quoted = shlex.quote(binary)
     script = (
-        f"if [ -f {quoted} ] && [ -x {quoted} ]; then exec {shlex.join([binary, *process.cpp_args])}; fi; "
+        f"if [ -f {quoted} ] && [ -x {quoted} ]; then exec {' '.join(map(shell_word, [binary, *process.cpp_args]))}; fi; "
         f"echo {shlex.quote(fallback_warning(process, binary))} >&2; exec {shlex.join(python)}"
     )
     return [SHELL, "-c", script]

@@ -23,8 +23,8 @@ PACKAGE_PREFIX = f"{package.__name__}."
 
 def process_data(robot: Robot, process: Process) -> dict:
     """What the supervisor needs to launch and check one node, as plain data."""
-    settings = robot.node(process.name).settings if process.name in {node.name for node in robot.nodes} else {}
-    model_path = settings.get("model_path") or ""
+    settings = robot.process_settings(process)
+    model_path = settings.model_path
     return {
         "name": process.name,
         "type": process.node_type,
@@ -40,7 +40,7 @@ def process_data(robot: Robot, process: Process) -> dict:
         "env": dict(process.env),
         "devices": [{"kind": device.kind, "path": device.path} for device in process.devices],
         "model_reference": model_path if model_path.startswith(REGISTRY_PREFIX) else "",
-        "output_directory": settings.get("output_directory") or "",
+        "output_directory": settings.output_directory,
     }
 
 

@@ -29,20 +29,33 @@ def restart(process: Process) -> str:
     return "no" if process.max_restarts == 0 else SYSTEMD_RESTART[process.restart]
 
 
-def service(robot: Robot, process: Process, prefix: str) -> dict:
-    """The values of one service unit."""
+def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], list[tuple[str, str]]]:
+    """(the words ExecStart= runs, the variables Environment= sets) of one service."""
     words = process_launch.launch_words(robot, process, prefix, [process_launch.ENV_COMMAND], prefix)
     variables = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.PROFILE_PATH))
     environment = [(key, value) for key, value in variables if process_launch.ENVIRONMENT_NAME.fullmatch(key)]
     words = process_launch.through_env(  # keys Environment= would refuse reach the node through env(1)
         words, [f"{key}={value}" for key, value in variables if not process_launch.ENVIRONMENT_NAME.fullmatch(key)])
+    return words, environment
+
+
+def command_lines(robot: Robot, process: Process, prefix: str) -> tuple[str, list[str]]:
+    """(the ExecStart= value, the Environment= values) of one service, quoted."""
+    words, environment = command(robot, process, prefix)
+    return (escape.systemd_command(words),
+            [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment])
+
+
+def service(robot: Robot, process: Process, prefix: str) -> dict:
+    """The values of one service unit."""
+    exec_start, environment = command_lines(robot, process, prefix)
     delays = process_launch.backoff_delays(process.max_restarts)
     return {
         "name": service_name(robot, process),
         "description": escape.systemd_raw(f"joshua robot {robot.name}: node {process.name} ({process.node_type})"),
         "syslog_identifier": escape.systemd_raw(process.name),
-        "exec_start": escape.systemd_command(words),
-        "environment": [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment],
+        "exec_start": exec_start,
+        "environment": environment,
         "restart": restart(process),
         "restart_sec": timespan(process_launch.RESTART_DELAY_INITIAL_S),
         "restart_steps": max(1, sum(1 for before, after in zip(delays, delays[1:]) if after > before)),

@@ -3,7 +3,7 @@
 Code scheme (stable: a code keeps its meaning forever; E = error, the build refuses;
 W = warning, reported while the build goes on):
 
-    E001-E008   loading: syntax, unknown fields, bad values, repeated fields, file root, reading
+    E001-E009   loading: syntax, unknown fields, bad values, repeated fields, file root, reading
     E010-E012   `--set KEY=VALUE` overrides
     E1xx, W1xx  robot and node fields: names, required fields per node type, values that apply
     E2xx, W2xx  topics, message types and node names
@@ -13,8 +13,9 @@ W = warning, reported while the build goes on):
 
 Each code lives in one module `rules/<code>_<name>.py` with `CODE`, `NAME`, `SEVERITY`, `STAGE`
 and a docstring under the headings "What it checks", "Why it matters" and "Example".
-`STAGE` says who reports it: "load" (the loader), "override" (the `--set` parser) or "check" (the
-module's own `check(ctx)`, which yields `Finding`s).
+`STAGE` says who reports it: "load" (the loader), "override" (the `--set` parser), "check" (the
+module's own `check(ctx)`, which yields `Finding`s) or "plan" (also `check(ctx)`, reading the planned
+model `ctx.robot`; run only when nothing before found an error, since only a valid description plans).
 """
 
 from __future__ import annotations
@@ -60,11 +61,11 @@ def explain(code: str) -> str | None:
     return f"{title}\nSeverity: {module.SEVERITY}\n{body}\n"
 
 
-def run_rules(context: RuleContext) -> list[Diagnostic]:
-    """Every finding of every check-stage rule, as diagnostics (unsorted)."""
+def run_rules(context: RuleContext, stage: str = "check") -> list[Diagnostic]:
+    """Every finding of every rule of a stage ("check" or "plan"), as diagnostics (unsorted)."""
     diagnostics = []
     for module in all_rules():
-        if module.STAGE != "check":
+        if module.STAGE != stage:
             continue
         for finding in module.check(context):
             diagnostics.append(_diagnostic(module, finding, context))
@@ -77,5 +78,8 @@ def _diagnostic(module: ModuleType, finding: Finding, context: RuleContext) -> D
     for path, message in finding.related:
         other = context.source.locate(path)
         related.append(Related(other.path, other.line, other.column, message))
-    return Diagnostic(where.path, where.line, where.column, module.CODE, module.SEVERITY, finding.message,
-                      where.end_line, where.end_column, tuple(related))
+    line, column, end_line, end_column = where.line, where.column, where.end_line, where.end_column
+    if finding.column is not None:
+        column, end_line, end_column = finding.column, line, finding.end_column
+    return Diagnostic(where.path, line, column, module.CODE, module.SEVERITY, finding.message,
+                      end_line, end_column, tuple(related))

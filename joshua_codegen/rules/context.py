@@ -9,19 +9,28 @@ from collections import defaultdict
 from dataclasses import dataclass
 from functools import cached_property
 
+from google.protobuf.descriptor import FieldDescriptor
+
 from joshua_codegen import defaults, msg_catalog, topology
+from joshua_codegen.model import Robot
+from joshua_codegen.plan import plan
 from joshua_codegen.positions import Path, SourceMap, node_path
+from joshua_codegen.render import effective_prefix
 from joshua_core.schema import Node, RobotDescription
 from joshua_core.schema import robot_config_pb2 as pb
 
 
 @dataclass(frozen=True)
 class Finding:
-    """One problem found by a rule: where (a message path), what, and the other side."""
+    """One problem found by a rule: where (a message path), what, and the other side.
+
+    `column` (with `end_column`), when given, points inside the written value: the exact characters."""
 
     at: Path
     message: str
     related: tuple[tuple[Path, str], ...] = ()
+    column: int | None = None
+    end_column: int | None = None
 
 
 @dataclass(frozen=True)
@@ -56,12 +65,20 @@ class Endpoint:
 
 
 class RuleContext:
-    def __init__(self, description: RobotDescription, source: SourceMap):
+    def __init__(self, description: RobotDescription, source: SourceMap, sources: dict[str, str] | None = None,
+                 prefix: str | None = None):
         self.description = description
         self.config = description.robot_config
         self.source = source
+        self.sources = sources or {}  # texts by path (the file, and `--set` lines), for exact columns
+        self.prefix = effective_prefix(self.config.name, prefix)  # where the output lives on the robot
         names = defaults.node_names(self.config)
         self.nodes = [NodeView(i, node, names[i]) for i, node in enumerate(self.config.node)]
+
+    @cached_property
+    def robot(self) -> Robot:
+        """The planned model; only for "plan"-stage rules, which run when no error was found before."""
+        return plan(self.description, self.source.path)
 
     def written(self, path: Path) -> bool:
         """Whether the path was written in the file (or set by an override)."""
@@ -126,3 +143,23 @@ def is_set(message, field: str) -> bool:
 def label_of(view: NodeView) -> str:
     """`node "camera"` for a named node, `node #3` (1-based, in file order) for an unnamed one."""
     return f'node "{view.node.name}"' if view.node.name else f"node #{view.index + 1}"
+
+
+def strings_of(message, path: Path = ()):
+    """(path, what, text) of every string in a message, recursively: values, list items, map keys and values."""
+    for fd, value in message.ListFields():
+        field_path = path + (fd.name,)
+        if fd.message_type is not None and fd.message_type.GetOptions().map_entry:
+            for key, item in value.items():
+                yield field_path + (key,), f"{fd.name} name", key
+                yield field_path + (key,), f"{fd.name} value of {key}", item
+        elif fd.message_type is not None:
+            items = value if fd.is_repeated else [value]
+            for index, item in enumerate(items):
+                yield from strings_of(item, field_path + (index,) if fd.is_repeated else field_path)
+        elif fd.type == FieldDescriptor.TYPE_STRING:
+            if fd.is_repeated:
+                for index, item in enumerate(value):
+                    yield field_path + (index,), fd.name, item
+            else:
+                yield field_path, fd.name, value

@@ -2,12 +2,14 @@
 
 What it checks:
     No string anywhere in the description (names, paths, topics, args, env keys and values, ...)
-    contains a C0 control character (newline, tab, NUL, ...), DEL, or a Unicode line separator
-    (U+0085, U+2028, U+2029).
+    contains a control character (C0: newline, tab, NUL, ...; DEL; C1: U+0080-U+009F), a Unicode
+    line separator (U+0085, U+2028, U+2029), or the noncharacters U+FFFE and U+FFFF.
 
 Why it matters:
     Strings end up in unit files, INI sections and command lines, where a line break or NUL
-    cannot be represented faithfully and could inject configuration.
+    cannot be represented faithfully and could inject configuration. C++ nodes read their
+    settings through rcl's YAML parser, which refuses C1 controls, U+FFFE and U+FFFF (the node
+    would not start) and folds U+0085 into a space.
 
 Example:
     node {
@@ -15,48 +17,31 @@ Example:
     }
 """
 
-from google.protobuf.descriptor import FieldDescriptor
+import unicodedata
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.rules.context import Finding
+from joshua_codegen.rules.context import Finding, strings_of
 
 CODE = "E115"
 NAME = "control-character"
 SEVERITY = ERROR
 STAGE = "check"
 LINE_SEPARATORS = {"\x85", "\u2028", "\u2029"}
+NONCHARACTERS = {"\ufffe", "\uffff"}
 
 
 def _bad_char(text: str) -> str | None:
     for char in text:
-        if char < " " or char == "\x7f" or char in LINE_SEPARATORS:
+        if char in LINE_SEPARATORS or char in NONCHARACTERS or unicodedata.category(char) == "Cc":
             return char
     return None
 
 
-def _strings(message, path):
-    """(path, field name, text) of every string in a message, recursively."""
-    for fd, value in message.ListFields():
-        field_path = path + (fd.name,)
-        if fd.message_type is not None and fd.message_type.GetOptions().map_entry:
-            for key, item in value.items():
-                yield field_path + (key,), f"{fd.name} name", key
-                yield field_path + (key,), f"{fd.name} value of {key}", item
-        elif fd.message_type is not None:
-            items = value if fd.is_repeated else [value]
-            for index, item in enumerate(items):
-                yield from _strings(item, field_path + (index,) if fd.is_repeated else field_path)
-        elif fd.type == FieldDescriptor.TYPE_STRING:
-            if fd.is_repeated:
-                for index, item in enumerate(value):
-                    yield field_path + (index,), fd.name, item
-            else:
-                yield field_path, fd.name, value
-
-
 def check(ctx):
-    for path, what, text in _strings(ctx.description, ()):
+    for path, what, text in strings_of(ctx.description):
         char = _bad_char(text)
-        if char is not None:
+        if char in NONCHARACTERS:
+            yield Finding(path, f"{what} contains U+{ord(char):04X}, which is not a character; remove it")
+        elif char is not None:
             yield Finding(path, f"{what} contains a control character (U+{ord(char):04X}); "
                                 "remove line breaks, tabs and other control characters")

@@ -1,0 +1,179 @@
+"""Proof that joshuac wrote an output directory: the stamp file, its check, and stale staging directories.
+
+`OUT/.joshuac-stamp` lists every file joshuac wrote into OUT with its SHA-256, in the format of
+`sha256sum` (`sha256sum -c .joshuac-stamp` checks a tree by hand). A build replaces OUT only when
+OUT is missing, empty, or holds exactly files listed in its stamp with unchanged content; anything
+else (a file joshuac did not write, an edited generated file, a symbolic link) is refused.
+
+A build stages its files in `.OUT.XXXXXXXX` next to OUT and holds an flock(2) on that directory
+while it works. A staging directory left by a killed build is removed by the next build of OUT
+when its name has that pattern, nobody holds its lock, and every file in it is named in its stamp.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import os
+import re
+import shutil
+import stat
+from pathlib import Path
+
+STAMP = ".joshuac-stamp"
+_STAMP_LINE = re.compile(r"([0-9a-f]{64})  (.+)")
+# Longest list of offending paths printed in a refusal.
+SHOWN_PATHS = 10
+
+
+def _digest(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def stamp_text(files: dict[str, str]) -> str:
+    """The stamp of a set of rendered files: one `<sha256>  <path>` line per file, sorted by path."""
+    return "".join(f"{_digest(text.encode('utf-8'))}  {path}\n" for path, text in sorted(files.items()))
+
+
+def read_stamp(directory: Path) -> dict[str, str] | None:
+    """{relative path: sha256} from a directory's stamp, or None when it has no readable stamp."""
+    stamp = directory / STAMP
+    if stamp.is_symlink() or not stamp.is_file():
+        return None
+    try:
+        text = stamp.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+    listed = {}
+    for line in text.splitlines():
+        match = _STAMP_LINE.fullmatch(line)
+        if match is None:
+            return None
+        listed[match.group(2)] = match.group(1)
+    return listed
+
+
+def _entries(directory: Path):
+    """(relative path, lstat) of everything under a directory, not following symbolic links."""
+    for root, dirs, files in os.walk(directory):
+        for name in sorted(dirs + files):
+            path = Path(root, name)
+            yield path.relative_to(directory).as_posix(), path.lstat()
+
+
+def _hash_file(path: Path) -> str | None:
+    try:
+        return _digest(path.read_bytes())
+    except OSError:
+        return None
+
+
+def foreign_and_changed(directory: Path) -> tuple[list[str], list[str]]:
+    """(paths joshuac did not write, listed files whose content changed) of an existing directory."""
+    listed = read_stamp(directory)
+    entries = list(_entries(directory))
+    if listed is None:
+        return [name for name, _ in entries if "/" not in name], []
+    parents = {str(parent) for name in listed for parent in Path(name).parents}
+    foreign, changed = [], []
+    for name, status in entries:
+        if stat.S_ISDIR(status.st_mode) and name in parents:
+            continue
+        if name == STAMP and stat.S_ISREG(status.st_mode):
+            continue
+        if name not in listed or not stat.S_ISREG(status.st_mode):
+            foreign.append(name)
+        elif _hash_file(directory / name) != listed[name]:
+            changed.append(name)
+    return foreign, changed
+
+
+def _shown(paths: list[str]) -> str:
+    more = f" and {len(paths) - SHOWN_PATHS} more" if len(paths) > SHOWN_PATHS else ""
+    return ", ".join(paths[:SHOWN_PATHS]) + more
+
+
+def refusal(out: Path, shown: Path | None = None) -> str | None:
+    """Why `out` may not be replaced by a build, or None when it may (missing, empty, or ours unchanged).
+
+    Messages name `shown` (the path as the user gave it) when given."""
+    reason = _refusal(out)
+    return reason.replace(str(out), str(shown)) if reason and shown is not None else reason
+
+
+def _refusal(out: Path) -> str | None:
+    if out.is_symlink():
+        return f"{out} is a symbolic link; give the directory itself"
+    if not out.exists():
+        return None
+    if not out.is_dir():
+        return f"{out} exists and is not a directory"
+    try:
+        if not any(out.iterdir()):
+            return None
+        foreign, changed = foreign_and_changed(out)
+    except OSError as exc:
+        return f"cannot read {out}: {exc.strerror or exc}"
+    if read_stamp(out) is None:
+        return (f"{out} is not empty and holds no {STAMP}: refusing to replace a directory joshuac did not write "
+                f"(it holds {_shown(foreign)}); remove it or choose another output directory")
+    reasons = []
+    if foreign:
+        reasons.append(f"files joshuac did not write: {_shown(foreign)}")
+    if changed:
+        reasons.append(f"generated files edited since the last build: {_shown(changed)}")
+    if reasons:
+        return (f"refusing to replace {out}, which holds " + "; and ".join(reasons)
+                + ". Move them out of the output directory (or delete them) and build again")
+    return None
+
+
+def lock_directory(path: Path) -> int | None:
+    """An open descriptor holding an exclusive flock on a directory, or None when another process holds it."""
+    fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _staging_pattern(out: Path) -> re.Pattern:
+    return re.compile(re.escape(f".{out.name}.") + r"(old\.)?[A-Za-z0-9_]{8}")
+
+
+def _is_stale_staging(path: Path) -> bool:
+    """An unlocked directory holding nothing but files named in its own stamp (or nothing at all)."""
+    listed = read_stamp(path) or {}
+    for name, status in _entries(path):
+        if stat.S_ISDIR(status.st_mode):
+            continue
+        if name != STAMP and name not in listed:
+            return False
+    return True
+
+
+def remove_stale_staging(out: Path) -> None:
+    """Remove the staging directories of `out` that killed builds left behind (never anyone else's)."""
+    pattern = _staging_pattern(out)
+    try:
+        candidates = sorted(out.parent.iterdir())
+    except OSError:
+        return
+    for path in candidates:
+        if not pattern.fullmatch(path.name) or path.is_symlink() or not path.is_dir():
+            continue
+        try:
+            if path.lstat().st_uid != os.getuid():
+                continue
+            fd = lock_directory(path)
+        except OSError:
+            continue
+        if fd is None:  # a build at work right now
+            continue
+        try:
+            if _is_stale_staging(path):
+                shutil.rmtree(path, ignore_errors=True)
+        finally:
+            os.close(fd)
