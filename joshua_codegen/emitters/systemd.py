@@ -2,6 +2,7 @@
 
 import posixpath
 
+from joshua_core import exit_codes
 from joshua_codegen import escape
 from joshua_codegen.emitters import fastdds, process_launch
 from joshua_codegen.model import Process, Robot
@@ -64,6 +65,7 @@ def service(robot: Robot, process: Process, prefix: str) -> dict:
         "start_limit_interval": timespan((process.max_restarts + 1) * process_launch.RESTART_RESET_AFTER_S),
         "working_directory": escape.systemd_raw(prefix),
         "uses_cpp": bool(process.cpp_binary),
+        "settings_exit_code": exit_codes.NODE_EXIT_SETTINGS if process.kind != "custom" else None,
         "cpp_binary": process_launch.cpp_binary_path(robot, process, prefix) if process.cpp_binary else "",
     }
 

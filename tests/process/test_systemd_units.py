@@ -8,7 +8,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from supervisor_harness import PYTHON, build, custom_node, quoted, robot
 
+from joshua_codegen.compile import compile_file
 from joshua_codegen.escape import systemd_command, systemd_quote
+from joshua_core.exit_codes import NODE_EXIT_SETTINGS
 
 SYSTEMD_ANALYZE = "/usr/bin/systemd-analyze"
 ROOT = Path(__file__).resolve().parents[2]
@@ -21,6 +23,11 @@ def verify(out: Path) -> subprocess.CompletedProcess:
     units = sorted(str(path) for path in (out / "systemd").iterdir())
     assert units
     return subprocess.run([SYSTEMD_ANALYZE, "verify", *units], capture_output=True, text=True, cwd=out)
+
+
+def build_units(config: Path) -> dict[str, str]:
+    files = compile_file(str(config)).files
+    return {path: text for path, text in files.items() if path.startswith("systemd/")}
 
 
 def settings_of(text: str) -> list[tuple[str, str]]:
@@ -134,6 +141,14 @@ def test_units_map_the_cascade_restarts_and_criticality(tmp_path):
     once = dict(settings_of((units / "joshua-r-once.service").read_text()))
     assert (helper["Restart"], "RemainAfterExit" in helper) == ("always", False)
     assert (once["Restart"], once["RemainAfterExit"], "RestartSec" in once) == ("no", "yes", False)
+    assert "RestartPreventExitStatus" not in main  # a CUSTOM program's exit 2 means what it means to it
+
+
+def test_a_node_with_unusable_settings_is_not_restarted_by_systemd():
+    units = build_units(ROOT / "config" / "robots" / "so100_leader_follower.pbtxt")
+    for name, text in units.items():
+        if name.endswith(".service"):
+            assert dict(settings_of(text))["RestartPreventExitStatus"] == str(NODE_EXIT_SETTINGS), name
 
 
 def test_python_nodes_run_through_env_and_cpp_nodes_through_a_fallback_script(tmp_path):
