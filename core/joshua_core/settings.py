@@ -7,8 +7,6 @@ agree on every field's name and type, and a build and a runtime of different con
 refuse each other in one line instead of misreading a field.
 """
 
-from google.protobuf import json_format
-
 from joshua_core.schema.node_settings_pb2 import NodeSettings, QosSettings, SimulationSettings, TopicSettings
 
 # Raise on every change of node_settings.proto that an older runtime or an older build could misread.
@@ -28,6 +26,8 @@ def to_literal(settings: NodeSettings) -> dict:
     Fields at their zero value ("" / 0 / false / empty / unset) are left out, fields in field-number
     order: an entrypoint shows what is set for its node and nothing else.
     """
+    from google.protobuf import json_format  # imported on use: a check never needs it
+
     return json_format.MessageToDict(settings, preserving_proto_field_name=True)
 
 
@@ -40,6 +40,8 @@ def parse(literal: dict) -> NodeSettings:
         raise SettingsFormatError(
             f"settings are of format version {version}, this joshua_runtime reads version {FORMAT_VERSION}; "
             "rebuild with the joshuac that matches the installed runtime")
+    from google.protobuf import json_format
+
     try:
         return json_format.ParseDict(literal, NodeSettings())
     except json_format.ParseError as exc:
