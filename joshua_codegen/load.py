@@ -28,7 +28,6 @@ UNREADABLE_FILE = "E007"
 NOT_TEXT = "E008"
 NOT_REGULAR_FILE = "E009"
 
-# Integer literals longer than this are refused before conversion (uint64 needs at most 20 digits).
 @dataclass
 class LoadResult:
     description: RobotDescription | None  # None when any load error was found

@@ -4,7 +4,7 @@ SO100_JOINTS = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wr
 # Servo ids of the joints on the arm's bus, in SO100_JOINTS order.
 SO100_SERVO_IDS = (1, 2, 3, 4, 5, 6)
 
-# Joint ranges in rad (spec/protocols.md section 3), in SO100_JOINTS order.
+# Approximate joint ranges in rad of the SO-100/101 (as public MuJoCo models of the arm give them).
 SO100_RANGES = {
     "shoulder_pan": (-1.92, 1.92),
     "shoulder_lift": (-1.75, 1.75),

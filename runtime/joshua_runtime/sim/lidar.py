@@ -8,7 +8,7 @@ import numpy as np
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.sim.model import site_id
 
-# LDS-01 facts (spec/protocols.md section 2).
+# LDS-01 facts (ROBOTIS hls_lfcd_lds_driver, hlds_laser_publisher.cpp, and the LDS-01 e-manual).
 RAYS = 360
 ANGLE_MIN = 0.0
 ANGLE_INCREMENT = 2.0 * math.pi / RAYS
