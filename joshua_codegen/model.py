@@ -59,6 +59,7 @@ class Process:
 
     `python` processes run `nodes/<name>.py`; `custom` ones run `executable` with `args`. When
     `cpp_binary` is set, the supervisor prefers `<cpp_bin_dir>/<cpp_binary>` with `cpp_args`.
+    A custom process declares no topics: it counts as carrying images, since it may.
     """
 
     name: str
@@ -74,6 +75,7 @@ class Process:
     critical: bool
     env: tuple[tuple[str, str], ...]
     devices: tuple[Device, ...]
+    carries_images: bool  # publishes or subscribes images, so DDS must fit them in shared memory
 
 
 @dataclass(frozen=True)

@@ -4,6 +4,7 @@ import os
 
 from joshua_codegen import defaults, escape, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
+from joshua_codegen.msg_catalog import IMAGE_MESSAGE_TYPES
 from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
@@ -30,7 +31,7 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         simulated = [model for model in nodes if model.simulated_by]
         section = node_settings.for_simulation(config, [model.settings for model in simulated])
         simulation = node_settings.for_engine(config, engine, section)
-        processes += (_engine_process(engine, simulated),)
+        processes += (_engine_process(engine, any(_carries_images(model) for model in simulated)),)
     return Robot(
         name=config.name,
         mode=mode,
@@ -138,7 +139,12 @@ def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel) -> Process
         critical=defaults.critical(node),
         env=tuple(sorted(env.items())),
         devices=model.devices,
+        carries_images=custom or _carries_images(model),
     )
+
+
+def _carries_images(model: NodeModel) -> bool:
+    return any(e.message_type in IMAGE_MESSAGE_TYPES for e in model.publishes + model.subscribes)
 
 
 def _cpp_args(model: NodeModel) -> tuple[str, ...]:
@@ -164,11 +170,11 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
     return tuple(args)
 
 
-def _engine_process(name: str, simulated: list[NodeModel]) -> Process:
+def _engine_process(name: str, carries_images: bool) -> Process:
     return Process(
         name=name, node_type=SIMULATION_ENGINE.name, kind="python", entrypoint=f"nodes/{name}.py", executable="",
         args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
-        critical=True, env=(), devices=(),
+        critical=True, env=(), devices=(), carries_images=carries_images,
     )
 
 

@@ -49,10 +49,16 @@ def environment():
         py=escape.python_literal,
         one_line=escape.one_line,
         xml_comment=escape.xml_comment,
+        xml_duration=xml_duration,
         dot_id=escape.dot_id,
         mermaid=escape.mermaid_label,
     )
     return env
+
+
+def xml_duration(milliseconds: int) -> str:
+    """A Fast DDS XML duration: `<sec>S</sec><nanosec>N</nanosec>`."""
+    return f"<sec>{milliseconds // 1000}</sec><nanosec>{milliseconds % 1000 * 1_000_000}</nanosec>"
 
 
 def template(name: str, **values) -> str:

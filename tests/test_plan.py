@@ -105,3 +105,33 @@ def test_a_simulated_robot_needs_none_of_the_devices_of_the_nodes_it_simulates()
     assert document["devices"] == []
     follower = next(node for node in document["nodes"] if node["name"] == "follower")
     assert follower["devices"] == [{"kind": "serial", "path": "/dev/ttyUSB0"}]
+
+
+def test_only_processes_that_carry_images_get_the_image_transport_profile():
+    description = describe("""robot_config { name: "r" mode: MODE_DATA_COLLECTION
+        node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/image" message_type: "sensor_msgs/msg/CompressedImage" }
+        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" }
+        node { name: "rec" type: DATA_SUBSCRIBER topic_name: "/joints" input_topics: ["/image"] output_directory: "/d" }
+        node { name: "follow" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/joints" }
+        node { name: "own" type: CUSTOM executable: "/bin/true" } }""")
+    robot = plan(description, "r.pbtxt")
+    assert {p.name: p.carries_images for p in robot.processes} == {
+        "cam": True, "arm": False, "rec": True, "follow": False, "own": True}  # a custom process may carry anything
+    files = render(robot, "/opt/r")
+    images, plain = "/opt/r/fastdds_profile_images.xml", "/opt/r/fastdds_profile.xml"
+    for name, profile in (("cam", images), ("arm", plain), ("rec", images), ("own", images)):
+        assert f"FASTRTPS_DEFAULT_PROFILES_FILE={profile}\n" in files[f"systemd/joshua-r-{name}.service"]
+        program = files["supervisord.conf"].split(f"[program:{name}]\n")[1].split("[program:")[0]
+        assert f'FASTRTPS_DEFAULT_PROFILES_FILE="{profile.replace("/opt/r", "%(here)s")}",' in program
+    assert "<segment_size>" in files["fastdds_profile_images.xml"] and "<segment_size>" not in files["fastdds_profile.xml"]
+
+
+def test_the_simulation_engine_carries_images_only_when_it_simulates_a_camera():
+    def engine(nodes: str) -> bool:
+        robot = plan(describe(f"""robot_config {{ name: "r" mode: MODE_SIMULATION simulation {{ model: "builtin:so100" }}
+            {nodes} }}"""), "r.pbtxt")
+        return next(p for p in robot.processes if p.node_type == "SIMULATION").carries_images
+
+    arm = 'node { type: ENCODER_PUBLISHER topic_name: "/joints" serial_port: "/dev/ttyUSB0" }'
+    assert engine(arm + ' node { type: CAMERA_PUBLISHER topic_name: "/image" }') is True
+    assert engine(arm) is False

@@ -23,7 +23,7 @@ def _here(text: str) -> str:
 def program(robot: Robot, process: Process) -> dict:
     """The settings of one [program:] section."""
     words = process_launch.launch_words(robot, process, HERE, [], HERE)
-    variables = process_launch.node_environment(robot, process, f"{HERE}/{fastdds.PROFILE_PATH}")
+    variables = process_launch.node_environment(robot, process, f"{HERE}/{fastdds.profile_path(process)}")
     environment, others = [], []
     for key, value in variables:  # what environment= cannot hold reaches the node through env(1)
         try:

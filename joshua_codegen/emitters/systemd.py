@@ -33,7 +33,7 @@ def restart(process: Process) -> str:
 def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], list[tuple[str, str]]]:
     """(the words ExecStart= runs, the variables Environment= sets) of one service."""
     words = process_launch.launch_words(robot, process, prefix, [process_launch.ENV_COMMAND], prefix)
-    variables = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.PROFILE_PATH))
+    variables = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.profile_path(process)))
     environment = [(key, value) for key, value in variables if process_launch.ENVIRONMENT_NAME.fullmatch(key)]
     words = process_launch.through_env(  # keys Environment= would refuse reach the node through env(1)
         words, [f"{key}={value}" for key, value in variables if not process_launch.ENVIRONMENT_NAME.fullmatch(key)])

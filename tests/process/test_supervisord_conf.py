@@ -136,6 +136,6 @@ def test_arguments_and_environment_reach_the_node_unchanged(tmp_path):
     assert {key: seen["env"][key] for key in (f"V{i}" for i in range(len(values)))} == {
         f"V{i}": v for i, v in enumerate(values)}
     assert seen["env"]["DASH-KEY"] == "d"
-    assert seen["env"]["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(out / "fastdds_profile.xml")
+    assert seen["env"]["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(out / "fastdds_profile_images.xml")  # custom: may carry images
     assert (seen["env"]["PYTHONUNBUFFERED"], seen["env"]["ROS_DOMAIN_ID"]) == ("1", "3")
     assert seen["cwd"] == str(out)

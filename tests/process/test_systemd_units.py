@@ -135,7 +135,7 @@ def test_units_map_the_cascade_restarts_and_criticality(tmp_path):
     assert unquote(main["ExecStart"])[:4] == [PYTHON, "-I", "-S", str(tmp_path / "behave.py")]
     environment = [value for key, value in settings_of((units / "joshua-r-main.service").read_text())
                    if key == "Environment"]
-    assert environment == ["FASTRTPS_DEFAULT_PROFILES_FILE=/srv/joshua/r/fastdds_profile.xml",
+    assert environment == ["FASTRTPS_DEFAULT_PROFILES_FILE=/srv/joshua/r/fastdds_profile_images.xml",
                            "PYTHONUNBUFFERED=1", "ROS_DOMAIN_ID=9"]
     helper = dict(settings_of((units / "joshua-r-helper.service").read_text()))
     once = dict(settings_of((units / "joshua-r-once.service").read_text()))

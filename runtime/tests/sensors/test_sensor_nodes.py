@@ -214,7 +214,7 @@ def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tm
     """A video file stands in for the camera; the Fast DDS profile carries the 921,600-byte images."""
     import cv2
     from joshua_codegen.compile import compile_file
-    from joshua_codegen.emitters.fastdds import PROFILE_PATH
+    from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
     from sensor_msgs.msg import Image
 
     width, height, colours = 640, 480, [(0, 0, 255), (0, 255, 0), (255, 0, 0), (0, 255, 255), (255, 255, 255)]
@@ -223,8 +223,8 @@ def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tm
     for colour in colours:
         writer.write(np.full((height, width, 3), colour, np.uint8))
     writer.release()
-    profile = tmp_path / PROFILE_PATH  # the one joshuac writes for every robot
-    profile.write_text(compile_file(str(ROOT / "config" / "robots" / "so100_arm.pbtxt")).files[PROFILE_PATH])
+    profile = tmp_path / IMAGES_PROFILE_PATH  # the one joshuac writes for the nodes that carry images
+    profile.write_text(compile_file(str(ROOT / "config" / "robots" / "so100_arm.pbtxt")).files[IMAGES_PROFILE_PATH])
     settings = compiled_node(f'name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" '
                              f'video_source: "{video}" width: {width} height: {height} rate_hz: 30 '
                              'frame_id: "front_optical"')
