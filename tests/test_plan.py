@@ -6,6 +6,7 @@ from google.protobuf import text_format
 
 from testsupport.joshuac_cli import ROOT
 from joshua_codegen.emitters.manifest import manifest
+from joshua_codegen.emitters.supervisor import supervisor_data
 from joshua_codegen.plan import plan
 from joshua_codegen.render import Context, render
 from joshua_core.settings import to_literal
@@ -135,3 +136,11 @@ def test_the_simulation_engine_carries_images_only_when_it_simulates_a_camera():
     arm = 'node { type: ENCODER_PUBLISHER topic_name: "/joints" serial_port: "/dev/ttyUSB0" }'
     assert engine(arm + ' node { type: CAMERA_PUBLISHER topic_name: "/image" }') is True
     assert engine(arm) is False
+
+
+def test_supervisor_data_names_each_process_its_own_dds_profile():
+    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+        node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/image" }
+        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" } }"""), "r.pbtxt")
+    profiles = {p["name"]: p["fastdds_profile"] for p in supervisor_data(robot)["processes"]}
+    assert profiles == {"cam": "fastdds_profile_images.xml", "arm": "fastdds_profile.xml"}

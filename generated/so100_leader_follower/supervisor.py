@@ -52,7 +52,6 @@ ROBOT = {
         'PYTHONUNBUFFERED': '1',
     },
     'cpp_bin_dir': '/opt/joshua/bin',
-    'fastdds_profile': 'fastdds_profile.xml',
     'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
     'supervisord_group': 'joshua-so100_leader_follower',
     'model_registry': {
@@ -79,6 +78,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': True,
             'env': {},
+            'fastdds_profile': 'fastdds_profile.xml',
             'devices': [
                 {
                     'kind': 'serial',
@@ -101,6 +101,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': True,
             'env': {},
+            'fastdds_profile': 'fastdds_profile.xml',
             'devices': [
                 {
                     'kind': 'serial',
@@ -123,6 +124,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': True,
             'env': {},
+            'fastdds_profile': 'fastdds_profile_images.xml',
             'devices': [
                 {
                     'kind': 'camera',
@@ -145,6 +147,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': True,
             'env': {},
+            'fastdds_profile': 'fastdds_profile.xml',
             'devices': [],
             'model_reference': '',
             'output_directory': '/data/episodes',
@@ -636,7 +639,7 @@ class Node:
 
     def make_environment(self):
         env = dict(os.environ)
-        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
+        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
         env.update(ROBOT["env"])
         env.update(self.spec["env"])
         return env

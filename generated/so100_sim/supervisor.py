@@ -52,7 +52,6 @@ ROBOT = {
         'PYTHONUNBUFFERED': '1',
     },
     'cpp_bin_dir': '/opt/joshua/bin',
-    'fastdds_profile': 'fastdds_profile.xml',
     'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
     'supervisord_group': 'joshua-so100_sim',
     'model_registry': {
@@ -79,6 +78,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': True,
             'env': {},
+            'fastdds_profile': 'fastdds_profile.xml',
             'devices': [],
             'model_reference': '',
             'output_directory': '',
@@ -96,6 +96,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': True,
             'env': {},
+            'fastdds_profile': 'fastdds_profile_images.xml',
             'devices': [],
             'model_reference': '',
             'output_directory': '',
@@ -587,7 +588,7 @@ class Node:
 
     def make_environment(self):
         env = dict(os.environ)
-        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
+        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
         env.update(ROBOT["env"])
         env.update(self.spec["env"])
         return env

@@ -33,7 +33,7 @@ class Node:
 
     def make_environment(self):
         env = dict(os.environ)
-        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(ROBOT["fastdds_profile"])
+        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
         env.update(ROBOT["env"])
         env.update(self.spec["env"])
         return env

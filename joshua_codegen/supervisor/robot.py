@@ -6,7 +6,6 @@ ROBOT: dict[str, Any] = {
     "name": "example",
     "env": {"PYTHONUNBUFFERED": "1"},
     "cpp_bin_dir": "bin",
-    "fastdds_profile": "fastdds_profile.xml",
     "fastdds_profile_variable": "FASTRTPS_DEFAULT_PROFILES_FILE",
     "supervisord_group": "joshua-example",
     "model_registry": {"prefix": "registry:", "variable": "JOSHUA_MODEL_REGISTRY", "default_root": "~/.cache/joshua/models",

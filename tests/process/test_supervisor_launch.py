@@ -137,8 +137,8 @@ def test_nodes_get_the_dds_profile_domain_and_description_environment_even_after
     finally:
         supervisor.close()
     env = json.loads(env_file.read_text())["env"]
-    assert env["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(moved / "fastdds_profile.xml")
-    assert (moved / "fastdds_profile.xml").is_file()
+    assert env["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(moved / "fastdds_profile_images.xml")  # custom: may carry images
+    assert (moved / "fastdds_profile_images.xml").is_file()
     assert env["PYTHONUNBUFFERED"] == "1"
     assert env["ROS_DOMAIN_ID"] == "42"
     assert (env["SHARED"], env["NODE_ONLY"], env["ROBOT_ONLY"]) == ("node wins", "n", '$HOME "q"')

@@ -13,7 +13,7 @@ from joshua_codegen.supervisor.robot import ROBOT
 def spec(**fields) -> dict:
     values = {"name": "n", "type": "CUSTOM", "kind": "custom", "entrypoint": "", "executable": "true", "args": ["-x"],
               "cpp_binary": "", "cpp_args": [], "restart": "RESTART_NEVER", "max_restarts": 0, "critical": False,
-              "env": {"EXTRA": "1"}, "devices": [],
+              "env": {"EXTRA": "1"}, "fastdds_profile": "fastdds_profile_images.xml", "devices": [],
               "model_reference": "", "output_directory": ""}
     values.update(fields)
     return values
@@ -21,7 +21,7 @@ def spec(**fields) -> dict:
 
 def test_environment_names_the_dds_profile_and_keeps_the_nodes_own_variables():
     env = Node(spec(), sys.executable).environment
-    assert env[ROBOT["fastdds_profile_variable"]].endswith(ROBOT["fastdds_profile"])
+    assert env[ROBOT["fastdds_profile_variable"]].endswith("/fastdds_profile_images.xml")
     assert env["PYTHONUNBUFFERED"] == "1" and env["EXTRA"] == "1"
 
 
