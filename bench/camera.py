@@ -1,26 +1,25 @@
 """Cross-process latency (p50/p99) and drop rate of 640x480 bgr8 images at 30 fps, with and without the Fast DDS profile.
 
-    .venv/bin/python bench/camera.py [--seconds 10] [--only with|without]
+    .venv/bin/python bench/camera.py [--seconds 10] [--only with|without] [--quick]
 
 A MOCK_CAMERA_PUBLISHER node process publishes; a subscriber process (this file with
 --subscribe) measures receive time - header stamp and counts missing frames from the frame
 number encoded in the scrolling pattern. Both use the camera's default QoS (keep-last 5, best
 effort, volatile). "with": both processes get FASTRTPS_DEFAULT_PROFILES_FILE set to the profile
-rendered from templates/fastdds_profile.xml.j2; "without": Fast DDS defaults.
+joshuac writes for the camera node; "without": Fast DDS defaults. --quick: 1 s of the "with" case.
 """
 
 import argparse
 import json
-import os
 import signal
 import subprocess
 import sys
 import tempfile
 import time
-import zlib
 from pathlib import Path
 
-from support.described_nodes import PYTHON, compiled_settings, node_command
+from support.described_nodes import PYTHON, compiled_settings, node_command, write_fastdds_profiles
+from support.ros_env import bench_environment
 
 WIDTH, HEIGHT, RATE_HZ = 640, 480, 30.0
 # The publisher; it and the subscriber use its topic and the camera's default QoS.
@@ -96,8 +95,8 @@ def percentile(values: list[float], fraction: float) -> float:
     return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))] if ordered else float("nan")
 
 
-def run_case(publisher: dict, profile: Path | None, seconds: float, domain: int) -> dict:
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
+def run_case(publisher: dict, profile: Path | None, seconds: float) -> dict:
+    env = bench_environment("camera")
     env.pop("FASTRTPS_DEFAULT_PROFILES_FILE", None)
     if profile is not None:
         env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(profile)
@@ -119,35 +118,29 @@ def run_case(publisher: dict, profile: Path | None, seconds: float, domain: int)
     }
 
 
-def render_profile(directory: Path) -> Path:
-    from joshua_codegen.render import template
-
-    path = directory / "fastdds_profile.xml"
-    path.write_text(template("fastdds_profile.xml.j2"))
-    return path
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=10.0, help="measured time per case")
     parser.add_argument("--only", choices=("with", "without"), help="run one case")
+    parser.add_argument("--quick", action="store_true", help="1 s of the 'with' case (for the tests)")
     parser.add_argument("--subscribe", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.subscribe:
         subscribe(args.seconds)
         return 0
+    if args.quick:
+        args.seconds, args.only = 1.0, "with"
     publisher = publisher_settings()
-    domain = zlib.crc32(str(os.getpid()).encode()) % 100 + 120
     with tempfile.TemporaryDirectory() as tmp:
-        profile = render_profile(Path(tmp))
+        profile = write_fastdds_profiles(DESCRIPTION, Path(tmp), path="bench_camera.pbtxt")["bench_camera"]
         cases = [("with", profile), ("without", None)]
         print(f"640x480 bgr8 Image ({WIDTH * HEIGHT * 3} bytes) at {RATE_HZ:g} fps, best effort depth 5, "
-              f"{args.seconds:g} s per case, ROS_DOMAIN_ID {domain}")
+              f"{args.seconds:g} s per case, ROS_DOMAIN_ID {bench_environment('camera')['ROS_DOMAIN_ID']}")
         print(f"{'profile':<8} {'received':>8} {'missing':>8} {'drop %':>7} {'p50 ms':>8} {'p99 ms':>8}")
         for name, path in cases:
             if args.only and name != args.only:
                 continue
-            r = run_case(publisher, path, args.seconds, domain)
+            r = run_case(publisher, path, args.seconds)
             print(f"{name:<8} {r['received']:>8} {r['missing']:>8} {100 * r['drop_rate']:>7.1f} "
                   f"{r['p50_ms']:>8.2f} {r['p99_ms']:>8.2f}", flush=True)
     return 0

@@ -1,5 +1,9 @@
-"""Whole-process time of `joshuac build` for the seed descriptions and synthetic 10/100/1000-node ones."""
+"""Whole-process time of `joshuac build` for the seed descriptions and synthetic 10/100/1000/3000-node ones.
 
+    .venv/bin/python bench/compile.py [--quick]        # --quick: one seed and 10 nodes, one run each
+"""
+
+import argparse
 import statistics
 import subprocess
 import sys
@@ -34,21 +38,21 @@ def synthetic(nodes: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def time_in_process(config: Path) -> float:
-    """Seconds of check + plan + render alone (no interpreter start, no file writes), best of RUNS."""
+def time_in_process(config: Path, runs: int) -> float:
+    """Seconds of check + plan + render alone (no interpreter start, no file writes), best of `runs`."""
     from joshua_codegen.compile import compile_file
 
     best = float("inf")
-    for _ in range(RUNS):
+    for _ in range(runs):
         start = time.perf_counter()
         compile_file(str(config))
         best = min(best, time.perf_counter() - start)
     return best
 
 
-def time_build(config: Path, out: Path) -> list[float]:
+def time_build(config: Path, out: Path, runs: int) -> list[float]:
     samples = []
-    for _ in range(RUNS):
+    for _ in range(runs):
         start = time.perf_counter()
         result = subprocess.run([JOSHUAC, "build", str(config), "-o", str(out)], capture_output=True, text=True)
         samples.append(time.perf_counter() - start)
@@ -58,18 +62,22 @@ def time_build(config: Path, out: Path) -> list[float]:
 
 
 def main() -> None:
-    print(f"joshuac build: whole process (median and min of {RUNS} runs), and compile alone in process (min)")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="one seed and 10 nodes, one run each (for the tests)")
+    args = parser.parse_args()
+    runs, sizes, seeds = (1, (10,), 1) if args.quick else (RUNS, SIZES, None)
+    print(f"joshuac build: whole process (median and min of {runs} runs), and compile alone in process (min)")
     print(f"{'description':32} {'nodes':>6} {'median s':>9} {'min s':>7} {'ms/node':>8} {'compile s':>10}")
     with tempfile.TemporaryDirectory() as tmp:
-        cases = [(c, c.read_text().count("node {")) for c in sorted((ROOT / "config" / "robots").glob("*.pbtxt"))]
-        for size in SIZES:
+        cases = [(c, c.read_text().count("node {")) for c in sorted((ROOT / "config" / "robots").glob("*.pbtxt"))][:seeds]
+        for size in sizes:
             path = Path(tmp) / f"synthetic_{size}.pbtxt"
             path.write_text(synthetic(size))
             cases.append((path, size))
         for config, count in cases:
-            samples = time_build(config, Path(tmp) / "out" / config.stem)
+            samples = time_build(config, Path(tmp) / "out" / config.stem, runs)
             median = statistics.median(samples)
-            compile_s = time_in_process(config)
+            compile_s = time_in_process(config, runs)
             print(f"{config.name:32} {count:>6} {median:>9.3f} {min(samples):>7.3f} {1000 * median / count:>8.2f}"
                   f" {compile_s:>10.3f}")
 

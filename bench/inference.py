@@ -1,6 +1,6 @@
 """ACT inference on CPU: select_action latency p50/p99 and the INFERENCE node's start-to-first-action time.
 
-    .venv/bin/python bench/inference.py [--calls 30] [--height 480 --width 640] [--starts 2]
+    .venv/bin/python bench/inference.py [--calls 30] [--height 480 --width 640] [--starts 2] [--quick]
 
 An ACT policy with LeRobot's default architecture (ResNet-18 backbone without downloaded weights,
 dim_model 512, 4 encoder layers, chunk 100), one camera and a 6-joint state, is saved with its
@@ -12,6 +12,8 @@ is started on the same policy while this process publishes the camera and joint 
 from process start to "ready" and to the first action received are reported. Most of it is
 importing torch and LeRobot: where the environment has no compiled bytecode and forbids writing
 it (PYTHONDONTWRITEBYTECODE), every start compiles them from source, which adds 10-20 s.
+--quick: the smallest ACT that still runs the same path (64x48 camera, dim_model 64, one encoder and
+one decoder layer, chunks of 10), a few calls and one node start.
 """
 
 import argparse
@@ -24,13 +26,13 @@ import sys
 import tempfile
 import threading
 import time
-import zlib
 from pathlib import Path
 
 import numpy as np
 
 from joshua_core import so100
-from support.described_nodes import compiled_settings, node_command
+from support.described_nodes import compiled_settings, node_command, write_fastdds_profiles
+from support.ros_env import bench_environment
 
 JOINTS = list(so100.SO100_JOINTS)
 # Only the policy node runs: this process publishes in place of the camera and the follower arm,
@@ -60,12 +62,16 @@ robot_config {
 POLICY = "policy"
 WARMUP_CALLS = 3
 CHUNKED_CALLS = 200
+CHUNK_SIZE = 100  # ACT's default
+QUICK_ACT = {"dim_model": 64, "dim_feedforward": 128, "n_encoder_layers": 1, "n_decoder_layers": 1,
+             "latent_dim": 8, "chunk_size": 10}
+QUICK_CALLS, QUICK_HEIGHT, QUICK_WIDTH = 3, 48, 64
 PUBLISH_HZ = 30.0
 FIRST_ACTION_TIMEOUT_S = 300.0
 STOP_TIMEOUT_S = 10.0
 
 
-def save_act(directory: Path, height: int, width: int, n_action_steps: int) -> Path:
+def save_act(directory: Path, height: int, width: int, n_action_steps: int, architecture: dict) -> Path:
     import torch
     from lerobot.configs.types import FeatureType, PolicyFeature
     from lerobot.policies.act.configuration_act import ACTConfig
@@ -74,6 +80,7 @@ def save_act(directory: Path, height: int, width: int, n_action_steps: int) -> P
 
     config = ACTConfig(
         device="cpu", push_to_hub=False, pretrained_backbone_weights=None, n_action_steps=n_action_steps,
+        **architecture,
         input_features={"observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, height, width)),
                         "observation.state": PolicyFeature(FeatureType.STATE, (len(JOINTS),))},
         output_features={"action": PolicyFeature(FeatureType.ACTION, (len(JOINTS),))},
@@ -120,10 +127,8 @@ def percentile(samples: list[float], fraction: float) -> float:
     return ordered[min(len(ordered) - 1, int(round(fraction * (len(ordered) - 1))))]
 
 
-def described_settings(policy_dir: Path, height: int, width: int) -> dict[str, dict]:
-    """Settings of the policy node and of the publishers this process stands in for, by node name."""
-    overrides = [f"{POLICY}.model_path={policy_dir}", f"camera.height={height}", f"camera.width={width}"]
-    return compiled_settings(DESCRIPTION, overrides, "bench_inference.pbtxt")
+def overrides(policy_dir: Path, height: int, width: int) -> list[str]:
+    return [f"{POLICY}.model_path={policy_dir}", f"camera.height={height}", f"camera.width={width}"]
 
 
 def start_to_first_action(settings: dict[str, dict], obs: dict, env: dict) -> tuple[float, float]:
@@ -187,26 +192,33 @@ def main() -> int:
     parser.add_argument("--height", type=int, default=480)
     parser.add_argument("--width", type=int, default=640)
     parser.add_argument("--starts", type=int, default=2, help="node starts measured")
+    parser.add_argument("--quick", action="store_true", help="the smallest ACT, a few calls, one start (for the tests)")
     args = parser.parse_args()
+    architecture, chunk, chunked_calls = {}, CHUNK_SIZE, CHUNKED_CALLS
+    if args.quick:
+        args.calls, args.height, args.width, args.starts = QUICK_CALLS, QUICK_HEIGHT, QUICK_WIDTH, 1
+        architecture, chunk = QUICK_ACT, QUICK_ACT["chunk_size"]
+        chunked_calls = 2 * chunk
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
     with tempfile.TemporaryDirectory(prefix="joshua-bench-inference-") as tmp:
         workdir = Path(tmp)
         every_call_dir = workdir / "act_every_call"
-        settings = described_settings(every_call_dir, args.height, args.width)
+        described = overrides(every_call_dir, args.height, args.width)
+        settings = compiled_settings(DESCRIPTION, described, "bench_inference.pbtxt")
         obs = observation(args.height, args.width)
-        print(f"ACT (default architecture), 1 camera {args.width}x{args.height}, {len(JOINTS)}-joint state, CPU, "
-              f"torch threads {__import__('torch').get_num_threads()}")
-        every_call = save_act(every_call_dir, args.height, args.width, n_action_steps=1)
-        chunked = save_act(workdir / "act_chunked", args.height, args.width, n_action_steps=100)
+        print(f"ACT ({'quick' if args.quick else 'default'} architecture), 1 camera {args.width}x{args.height}, "
+              f"{len(JOINTS)}-joint state, CPU, torch threads {__import__('torch').get_num_threads()}")
+        every_call = save_act(every_call_dir, args.height, args.width, 1, architecture)
+        chunked = save_act(workdir / "act_chunked", args.height, args.width, chunk, architecture)
         for label, policy_dir, calls in (("model at every call", every_call, args.calls),
-                                         ("chunk of 100 actions", chunked, CHUNKED_CALLS)):
+                                         (f"chunk of {chunk} actions", chunked, chunked_calls)):
             samples = latency_ms(policy_dir, obs, calls)
             print(f"select_action ({label:<20}) calls {calls:>4}  p50 {percentile(samples, 0.5):8.2f} ms  "
                   f"p99 {percentile(samples, 0.99):8.2f} ms  max {max(samples):8.2f} ms")
-        domain = zlib.crc32(b"bench/inference") % 100 + 120
-        os.environ["ROS_DOMAIN_ID"] = str(domain)
-        os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-        env = dict(os.environ, PYTHONUNBUFFERED="1")
+        profiles = write_fastdds_profiles(DESCRIPTION, workdir, described, "bench_inference.pbtxt")
+        # This process publishes the camera's images, so it loads the policy node's profile too.
+        env = bench_environment("inference", FASTRTPS_DEFAULT_PROFILES_FILE=str(profiles[POLICY]))
+        os.environ.update(env)
         for start in range(1, args.starts + 1):
             ready_s, first_s = start_to_first_action(settings, obs, env)
             print(f"INFERENCE node start {start}: ready after {ready_s:6.2f} s, first action after {first_s:6.2f} s")

@@ -1,6 +1,7 @@
 """Sustained recording rate of the DATA_SUBSCRIBER node: frames per second written without drops.
 
     .venv/bin/python bench/record.py [--seconds 8] [--cases 320x240@30,640x480@30,320x240@60] [--formats lerobot,parquet]
+    .venv/bin/python bench/record.py --quick        # one 1 s episode of 160x120 at 10 fps, lerobot
 
 For each case, MOCK_CAMERA_PUBLISHER (bgr8, best effort) and two MOCK_ENCODER_PUBLISHERs (leader
 action and follower state, 6 joints) publish at the recording rate; a DATA_SUBSCRIBER process
@@ -8,11 +9,10 @@ records one episode of --seconds, then gets SIGINT and saves it. Reported: frame
 frames expected at the nominal rate over the episode span, frames skipped (a stale input), the
 achieved rate, the frames in the saved dataset (read back with LeRobotDataset), and the time from
 SIGINT to exit (saving the episode; it must stay within the supervisor's 5 s SIGINT grace).
-Every process loads the Fast DDS profile joshuac generates (large shared-memory segment).
+Every process loads the Fast DDS profile joshuac writes for it.
 """
 
 import argparse
-import os
 import re
 import signal
 import subprocess
@@ -20,10 +20,10 @@ import sys
 import tempfile
 import threading
 import time
-import zlib
 from pathlib import Path
 
-from support.described_nodes import PYTHON, compiled_settings, node_command
+from support.described_nodes import PYTHON, compiled_settings, node_command, write_fastdds_profiles
+from support.ros_env import bench_environment
 
 # Each case sets the image size, every node's rate and the recorder's output (`--set`). The
 # encoders publish the SO-100's six joints; QoS is each node type's default.
@@ -61,9 +61,10 @@ def case_settings(case: str, output_format: str, workdir: Path) -> dict[str, dic
 
 
 class Process:
-    """A node process whose output lines are collected."""
+    """A node process whose output lines are collected; it loads the Fast DDS profile `profiles` names for it."""
 
-    def __init__(self, settings: dict, env: dict):
+    def __init__(self, settings: dict, env: dict, profiles: dict[str, Path]):
+        env = dict(env, FASTRTPS_DEFAULT_PROFILES_FILE=str(profiles[settings["name"]]))
         self.popen = subprocess.Popen(node_command(settings), env=env, stdout=subprocess.PIPE,
                                       stderr=subprocess.STDOUT, text=True)
         self.lines: list[str] = []
@@ -94,11 +95,11 @@ class Process:
             self.popen.wait()
 
 
-def run_case(settings: dict[str, dict], seconds, env) -> dict:
+def run_case(settings: dict[str, dict], seconds, env, profiles: dict[str, Path]) -> dict:
     camera, recording = settings["camera"], settings[RECORDER]
     rate = recording["rate_hz"]
-    sensors = [Process(settings[name], env) for name in settings if name != RECORDER]
-    recorder = Process(settings[RECORDER], env)
+    sensors = [Process(settings[name], env, profiles) for name in settings if name != RECORDER]
+    recorder = Process(settings[RECORDER], env, profiles)
     try:
         recorder.wait_for(FIRST_FRAME, STARTUP_TIMEOUT_S)
         time.sleep(seconds)
@@ -137,23 +138,22 @@ def main() -> int:
     parser.add_argument("--seconds", type=float, default=8.0, help="length of the recorded episode")
     parser.add_argument("--cases", default="320x240@30,640x480@30,320x240@60", help="WIDTHxHEIGHT@FPS,...")
     parser.add_argument("--formats", default="lerobot,parquet", help="output formats to measure")
+    parser.add_argument("--quick", action="store_true", help="one 1 s episode of 160x120@10, lerobot (for the tests)")
     args = parser.parse_args()
-    from joshua_codegen.render import template
-
+    if args.quick:
+        args.seconds, args.cases, args.formats = 1.0, "160x120@10", "lerobot"
     with tempfile.TemporaryDirectory(prefix="joshua-bench-record-") as tmp:
         workdir = Path(tmp)
-        profile = workdir / "fastdds_profile.xml"
-        profile.write_text(template("fastdds_profile.xml.j2"))
-        env = dict(os.environ, PYTHONUNBUFFERED="1", HF_HUB_OFFLINE="1", HF_DATASETS_CACHE=str(workdir / "hf-cache"),
-                   ROS_DOMAIN_ID=str(zlib.crc32(b"bench/record") % 100 + 120),
-                   ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
+        profiles = write_fastdds_profiles(DESCRIPTION, workdir, [f"{RECORDER}.output_directory={workdir}"],
+                                          "bench_record.pbtxt")
+        env = bench_environment("record", HF_HUB_OFFLINE="1", HF_DATASETS_CACHE=str(workdir / "hf-cache"))
         cases = [case_settings(case, output_format, workdir)
                  for case in args.cases.split(",") for output_format in args.formats.split(",")]
         print(f"episode of {args.seconds:g} s per case; rate = (frames - 1) / span of the episode")
         print(f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} "
               f"{'loaded':>6} {'SIGINT->exit s':>14}")
         for settings in cases:
-            r = run_case(settings, args.seconds, env)
+            r = run_case(settings, args.seconds, env, profiles)
             print(f"{r['case']:<26} {r['frames']:>6} {r['expected']:>8} {r['skipped']:>7} {r['rate']:>8.2f} "
                   f"{r['saved']:>6} {r['loaded']:>6} {r['exit_s']:>14.2f}", flush=True)
     return 0

@@ -1,6 +1,6 @@
 """MuJoCo simulation speed: physics real-time factor alone, and while publishing and rendering.
 
-    .venv/bin/python bench/sim.py [--seconds 10]
+    .venv/bin/python bench/sim.py [--seconds 10] [--quick]
 
 1. physics alone: builtin:so100 stepped in this process as fast as possible (mj_step only), with
    the arm following a moving goal so that actuators and contacts do real work.
@@ -10,6 +10,7 @@
    counts what arrives; the node's real-time factor, dropped time and frame counts come from the
    summary line it logs when it stops.
 3. loaded, as fast as possible: the same at realtime_factor 0, which shows the headroom.
+--quick: 0.5 s of physics alone and 1 s of the real-time run.
 """
 
 import argparse
@@ -22,7 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from support.described_nodes import compiled_settings, node_command
+from support.described_nodes import compiled_settings, node_command, write_fastdds_profiles
+from support.ros_env import bench_environment
 
 ENCODER_RATE_HZ = 200.0
 WIDTH, HEIGHT, CAMERA_RATE_HZ = 640, 480, 30.0
@@ -131,19 +133,18 @@ def loaded_run(engine: dict, seconds: float, env: dict) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=10.0, help="measurement time of each run")
+    parser.add_argument("--quick", action="store_true", help="short runs at real time only (for the tests)")
     args = parser.parse_args()
-    engines = {factor: engine_settings(factor) for factor in REALTIME_FACTORS}
+    physics_s = 0.5 if args.quick else args.seconds
+    args.seconds = 1.0 if args.quick else args.seconds
+    engines = {factor: engine_settings(factor) for factor in REALTIME_FACTORS[:1 if args.quick else None]}
 
     print(f"cores: {os.cpu_count()}  load average: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
-    print(f"physics alone (mj_step, builtin:so100, 2 ms step): real-time factor {physics_alone(args.seconds):.1f}")
-
-    from joshua_codegen.render import template
+    print(f"physics alone (mj_step, builtin:so100, 2 ms step): real-time factor {physics_alone(physics_s):.1f}")
 
     with tempfile.TemporaryDirectory() as tmp:
-        profile = Path(tmp) / "fastdds_profile.xml"
-        profile.write_text(template("fastdds_profile.xml.j2"))
-        env = dict(os.environ, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile), ROS_DOMAIN_ID=str(150 + os.getpid() % 50),
-                   ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
+        profile = write_fastdds_profiles(DESCRIPTION, Path(tmp), path="bench_sim.pbtxt")["simulation"]
+        env = bench_environment("sim", FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
         os.environ.update({k: env[k] for k in ("FASTRTPS_DEFAULT_PROFILES_FILE", "ROS_DOMAIN_ID",
                                                "ROS_AUTOMATIC_DISCOVERY_RANGE")})
         print(f"loaded: JointState at {ENCODER_RATE_HZ:.0f} Hz + {WIDTH}x{HEIGHT} rgb8 at {CAMERA_RATE_HZ:.0f} fps, "

@@ -1,6 +1,6 @@
 """Start and stop times of the generated supervisor.py beside real supervisord on the generated config.
 
-    .venv/bin/python bench/supervisor.py [--runs 5] [--sizes 1,8,32]
+    .venv/bin/python bench/supervisor.py [--runs 5] [--sizes 1,8,32] [--quick]
 
 For 1, 8 and 32 cooperative CUSTOM nodes (`sh` that reports its pid on a FIFO, then execs `sleep`,
 which exits on SIGINT), built once through plan() + render(): the time from launching the manager to
@@ -132,7 +132,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--sizes", default="1,8,32")
+    parser.add_argument("--quick", action="store_true", help="one run of 1 and 2 nodes (for the tests)")
     options = parser.parse_args()
+    if options.quick:
+        options.runs, options.sizes = 1, "1,2"
     bench([int(size) for size in options.sizes.split(",")], options.runs)
 
 

@@ -1,6 +1,6 @@
 """Leader-to-follower latency (p50/p99) and sustained loop rate of SO-100 teleoperation on emulated buses.
 
-    .venv/bin/python bench/teleop.py [--rate-hz 200] [--samples 600]
+    .venv/bin/python bench/teleop.py [--rate-hz 200] [--samples 600] [--quick]
 
 Two STS3215 emulators (6 servos each, 1 Mbaud wire time emulated) run in this process; an
 ENCODER_PUBLISHER process reads the leader bus and publishes /leader/joint_states (RELIABLE), an
@@ -9,12 +9,11 @@ turns the leader's servo 1 by hand and measures until the follower emulator rece
 Samples are spaced by a random fraction of the period so they land at every phase of the leader's
 read cycle. Each latency is split into the wait for the leader's next SYNC_READ (about half a
 period on average, whatever the software) and the pipeline from that read to the follower's goal
-(wire time, both processes, DDS). The loop rate is the rate of goal SYNC_WRITEs the follower receives.
+(wire time, both processes, DDS). The loop rate is the rate of goal SYNC_WRITEs the follower receives. --quick: 20 samples, a 1 s window.
 """
 
 import argparse
 import bisect
-import os
 import random
 import signal
 import statistics
@@ -29,6 +28,7 @@ from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 from support.described_nodes import compiled_settings, node_command
+from support.ros_env import bench_environment
 
 # The follower mirrors the leader. Each run sets the serial ports (the emulators' links) and the
 # rates (--rate-hz) with `--set`; servo ids 1-6, SO-100 joint names and 1 Mbaud are the bus defaults.
@@ -52,6 +52,7 @@ STARTUP_TIMEOUT_S = 60.0
 SAMPLE_TIMEOUT_S = 1.0
 SETTLE_S = 0.02  # pause after a sample so the follower has finished writing it
 RATE_WINDOW_S = 5.0
+QUICK_RATE_WINDOW_S, QUICK_SAMPLES = 1.0, 20
 STOP_TIMEOUT_S = 5.0
 GOAL_ADDRESS = register("Goal_Position").address
 LOW_TICKS, HIGH_TICKS = 1500, 2600
@@ -132,8 +133,11 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rate-hz", type=float, default=200.0)
     parser.add_argument("--samples", type=int, default=600)
+    parser.add_argument("--quick", action="store_true", help=f"{QUICK_SAMPLES} samples, a 1 s rate window (for the tests)")
     args = parser.parse_args()
-    env = dict(os.environ, ROS_DOMAIN_ID=str(150 + os.getpid() % 80), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    window_s = QUICK_RATE_WINDOW_S if args.quick else RATE_WINDOW_S
+    args.samples = QUICK_SAMPLES if args.quick else args.samples
+    env = bench_environment("teleop")
     period = 1.0 / args.rate_hz
     jitter = random.Random(0)
     with tempfile.TemporaryDirectory() as directory:
@@ -153,7 +157,7 @@ def main() -> int:
                 return 1
             reads_before, writes_before = leader_bus.stats["packets"], watch.writes
             window_start = time.monotonic()
-            time.sleep(RATE_WINDOW_S)
+            time.sleep(window_s)
             window = time.monotonic() - window_start
             read_rate = (leader_bus.stats["packets"] - reads_before) / window
             write_rate = (watch.writes - writes_before) / window

@@ -4,6 +4,7 @@ from dataclasses import dataclass
 
 from joshua_codegen.check import CheckResult, check_file, check_text
 from joshua_codegen.diagnostics import format_text
+from joshua_codegen.model import Robot
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
 from joshua_core.settings import to_literal
@@ -32,16 +33,21 @@ class DescriptionError(Exception):
     """A description given as text has errors; the message holds joshuac's diagnostics."""
 
 
+def plan_text(text: str, overrides=(), path: str = "description.pbtxt") -> Robot:
+    """The model of a description given as text. Raises DescriptionError when it has errors."""
+    result = check_text(path, text, overrides)
+    if result.has_errors or result.description is None:
+        raise DescriptionError(format_text(result.diagnostics, result.sources))
+    return result.robot or plan(result.description, path)
+
+
 def node_settings(text: str, overrides=(), path: str = "description.pbtxt") -> dict[str, dict]:
     """What the generated entrypoints would pass to run_node, by process name, for a description text.
 
     For tools and tests that start nodes without writing a build. Includes the simulation engine's
     settings in MODE_SIMULATION. Raises DescriptionError when the description has errors.
     """
-    result = check_text(path, text, overrides)
-    if result.has_errors or result.description is None:
-        raise DescriptionError(format_text(result.diagnostics, result.sources))
-    robot = result.robot or plan(result.description, path)
+    robot = plan_text(text, overrides, path)
     settings = {node.name: node.settings for node in robot.nodes}
     for process in robot.processes:
         settings[process.name] = robot.process_settings(process)

@@ -24,3 +24,21 @@ def node_command(settings: dict) -> list[str]:
     """The command that runs one node process, calling `run_node` as a generated entrypoint does."""
     code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({settings!r}))"
     return [PYTHON, "-c", code]
+
+
+def write_fastdds_profiles(description_text: str, directory: Path, overrides: Sequence[str] = (),
+                           path: str = "bench.pbtxt") -> dict[str, Path]:
+    """Write the Fast DDS profiles `joshuac build` writes for a description into `directory`;
+    return the one each process loads (its FASTRTPS_DEFAULT_PROFILES_FILE), by process name."""
+    from joshua_codegen.compile import plan_text
+    from joshua_codegen.emitters import fastdds
+    from joshua_codegen.render import render
+
+    try:
+        robot = plan_text(description_text, overrides, path)
+    except DescriptionError as exc:
+        raise SystemExit(f"the benchmark's description has errors:\n{exc}") from None
+    files = render(robot)
+    for name in fastdds.PROFILE_PATHS:
+        (directory / name).write_text(files[name])
+    return {process.name: directory / fastdds.profile_path(process) for process in robot.processes}

@@ -1,0 +1,23 @@
+"""Every benchmark in bench/ runs end to end in its quick mode and prints figures, so none can rot.
+
+The figures are the benchmarks' business: only the exit code and that some figure was printed are checked.
+"""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parent.parent / "bench"
+BENCH_TIMEOUT_S = 300.0  # a quick run takes seconds; this only ends a hang
+FIGURE = re.compile(r"\d+\.\d+")
+
+
+@pytest.mark.parametrize("script", sorted(path.name for path in BENCH.glob("*.py")))
+def test_bench_quick_mode_runs_and_prints_figures(script, ros_env):
+    result = subprocess.run([sys.executable, str(BENCH / script), "--quick"], cwd=BENCH, env=ros_env,
+                            capture_output=True, text=True, timeout=BENCH_TIMEOUT_S)
+    assert result.returncode == 0, f"{script} --quick exited {result.returncode}:\n{result.stdout}\n{result.stderr}"
+    assert FIGURE.search(result.stdout), f"{script} --quick printed no figure:\n{result.stdout}\n{result.stderr}"
