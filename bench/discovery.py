@@ -1,0 +1,228 @@
+"""Discovery time (process start -> node visible on the ROS graph) and memory (PSS) per node process.
+
+    .venv/bin/python bench/discovery.py [--sizes 1,8,32] [--runs 2] [--quick]
+
+For each size N, N MOCK_ENCODER_PUBLISHER node processes start at once, as generated entrypoints
+start them, with the Fast DDS profile joshuac gives them. An observer process started before them
+records when each node appears in its graph (`get_node_names`); once all are up, a second observer
+starts and records how long it takes to see all N. Each node prints the moment its imports are done
+(just before rclpy.init), so "discovery" is the time from there to visible, without Python's start.
+Every case runs as the machine is ("quiet") and under load (one busy-looping burner process per
+core, at the nodes' priority, started and stopped here); "unseen" counts nodes an observer had not
+seen after OBSERVE_TIMEOUT_S. Then PSS per node (/proc/PID/smaps_rollup) of N
+running nodes, with the profile of processes that carry images (large shared-memory segment) and
+with the profile of the others.
+"""
+
+import argparse
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
+from support.described_nodes import PYTHON, compiled_settings, write_fastdds_profiles
+from support.ros_env import bench_environment
+
+NAME = "disc"
+OBSERVER_POLL_S = 0.005
+OBSERVE_TIMEOUT_S = 60.0  # a node not seen by then counts as unseen
+STOP_TIMEOUT_S = 10.0
+IMPORTED = "imported at "
+READY, SEEN = "starting at ", "seen "
+# The node process: the generated entrypoint's call, with the moment its imports end printed first.
+NODE_CODE = """import sys, time
+import rclpy
+from joshua_runtime.entrypoint import run_node, node_class
+node_class({node_type!r})
+print("{imported}" + repr(time.monotonic()), flush=True)
+sys.exit(run_node({settings!r}))
+"""
+
+
+def description(count: int) -> str:
+    nodes = "\n".join(f'  node {{ name: "{NAME}{i:02d}" type: MOCK_ENCODER_PUBLISHER topic_name: "/{NAME}{i:02d}/joints" '
+                      f"rate_hz: 5 }}" for i in range(count))
+    return f'robot_config {{\n  name: "bench_discovery"\n  mode: MODE_TELEOPERATION\n{nodes}\n}}\n'
+
+
+def observe(expected: int, timeout_s: float) -> int:
+    """Observer process: print when it starts its participant, then each node named NAME* when first seen."""
+    import rclpy
+
+    print(f"{READY}{time.monotonic()!r}", flush=True)
+    rclpy.init()
+    node = rclpy.create_node(f"observer_{os.getpid()}")
+    seen: set[str] = set()
+    deadline = time.monotonic() + timeout_s
+    while len(seen) < expected and time.monotonic() < deadline:
+        for name in node.get_node_names():
+            if name.startswith(NAME) and name not in seen:
+                seen.add(name)
+                print(f"{SEEN}{name} {time.monotonic()!r}", flush=True)
+        time.sleep(OBSERVER_POLL_S)
+    node.destroy_node()
+    rclpy.shutdown()
+    return 0 if len(seen) == expected else 1
+
+
+class Lines:
+    """A process whose stdout lines are collected by a thread."""
+
+    def __init__(self, command: list[str], env: dict):
+        self.popen = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.lines: list[str] = []
+        self.reader = threading.Thread(target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout),
+                                       daemon=True)
+        self.reader.start()
+
+    def collect(self, prefix: str, count: int = 1, timeout_s: float = OBSERVE_TIMEOUT_S) -> list[str]:
+        """The lines starting with `prefix`, once there are `count` of them, the process ended or time ran out."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            found = [line for line in list(self.lines) if line.startswith(prefix)]
+            if len(found) >= count or (self.popen.poll() is not None and not self.reader.is_alive()):
+                return found
+            time.sleep(0.01)
+        return [line for line in list(self.lines) if line.startswith(prefix)]
+
+    def wait_for(self, prefix: str) -> str:
+        found = self.collect(prefix)
+        if not found:
+            raise SystemExit(f"no line {prefix!r} from {self.popen.args[:2]}:\n" + "\n".join(self.lines[-20:]))
+        return found[0]
+
+    def stop(self) -> None:
+        if self.popen.poll() is None:
+            self.popen.send_signal(signal.SIGINT)
+        try:
+            self.popen.wait(STOP_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            self.popen.kill()
+            self.popen.wait()
+        self.reader.join(STOP_TIMEOUT_S)
+
+
+def start_observer(expected: int, env: dict) -> tuple[Lines, float]:
+    observer = Lines([PYTHON, __file__, "--observe", str(expected)], env)
+    return observer, float(observer.wait_for(READY)[len(READY):])
+
+
+def seen_times(observer: Lines, expected: int) -> dict[str, float]:
+    """When the observer saw each node; a node it did not see within OBSERVE_TIMEOUT_S is left out."""
+    lines = observer.collect(SEEN, expected)
+    return {name: float(moment) for name, moment in (line[len(SEEN):].split() for line in lines)}
+
+
+def start_nodes(settings: dict[str, dict], env: dict) -> dict[str, tuple[Lines, float]]:
+    nodes = {}
+    for name, node in settings.items():
+        code = NODE_CODE.format(node_type=node["type"], imported=IMPORTED, settings=node)
+        nodes[name] = (Lines([PYTHON, "-c", code], env), time.monotonic())
+    return nodes
+
+
+def run_case(count: int, env: dict) -> dict[str, list[float]]:
+    """Seconds, per node: spawn -> visible and imports done -> visible (observer before), and
+    rclpy.init -> all visible (observer after)."""
+    settings = compiled_settings(description(count), path="bench_discovery.pbtxt")
+    before, _ = start_observer(count, env)
+    nodes = start_nodes(settings, env)
+    try:
+        seen = seen_times(before, count)
+        imported = {name: float(process.wait_for(IMPORTED)[len(IMPORTED):]) for name, (process, _) in nodes.items()}
+        after, after_ready = start_observer(count, env)
+        seen_after = seen_times(after, count)
+        after.stop()
+    finally:
+        before.stop()
+        for process, _ in nodes.values():
+            process.stop()
+    return {"spawn": [seen[name] - spawned for name, (_, spawned) in nodes.items() if name in seen],
+            "discovery": [seen[name] - imported[name] for name in nodes if name in seen],
+            "after": [max(seen_after.values()) - after_ready] if len(seen_after) == count else [],
+            "missed": [count - len(seen) + count - len(seen_after)]}
+
+
+@contextmanager
+def cpu_load(busy: bool):
+    """One busy-looping process per core while the block runs (none when not `busy`)."""
+    burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(os.cpu_count() if busy else 0)]
+    try:
+        yield
+    finally:
+        for burner in burners:
+            burner.kill()
+            burner.wait()
+
+
+def pss_kib(pid: int) -> int:
+    for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+        if line.startswith("Pss:"):
+            return int(line.split()[1])
+    raise SystemExit(f"no Pss line in /proc/{pid}/smaps_rollup")
+
+
+def pss_per_node(count: int, env: dict) -> float:
+    """Mean PSS in MiB of `count` running node processes, once all are visible."""
+    settings = compiled_settings(description(count), path="bench_discovery.pbtxt")
+    observer, _ = start_observer(count, env)
+    nodes = start_nodes(settings, env)
+    try:
+        seen_times(observer, count)
+        return statistics.fmean(pss_kib(process.popen.pid) for process, _ in nodes.values()) / 1024
+    finally:
+        observer.stop()
+        for process, _ in nodes.values():
+            process.stop()
+
+
+def summary(values: list[float]) -> str:
+    return f"{statistics.median(values):6.2f} / {max(values):6.2f}" if values else "none seen"
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="1,8,32", help="node counts, comma-separated")
+    parser.add_argument("--runs", type=int, default=2, help="runs of each case")
+    parser.add_argument("--quick", action="store_true", help="one run of 2 nodes (seconds, for the tests)")
+    parser.add_argument("--observe", type=int, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.observe is not None:
+        return observe(args.observe, OBSERVE_TIMEOUT_S)
+    sizes, runs = ([2], 1) if args.quick else ([int(size) for size in args.sizes.split(",")], args.runs)
+    with tempfile.TemporaryDirectory(prefix="joshua-bench-discovery-") as tmp:
+        profiles = write_fastdds_profiles(description(1), Path(tmp), path="bench_discovery.pbtxt")
+        plain = profiles[f"{NAME}00"]
+        images = Path(tmp) / IMAGES_PROFILE_PATH
+        env = bench_environment("discovery", FASTRTPS_DEFAULT_PROFILES_FILE=str(plain))
+        print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, ROS_DOMAIN_ID {env['ROS_DOMAIN_ID']}, "
+              f"{runs} run(s) per case, profile {plain.name}; seconds, median / max over nodes and runs")
+        print(f"{'load':<6} {'nodes':>5} {'spawn -> visible':>17} {'imports done -> visible':>24} "
+              f"{'observer after: init -> all visible':>36} {'unseen':>6}")
+        for busy in (False, True):
+            for count in sizes:
+                results = {"spawn": [], "discovery": [], "after": [], "missed": []}
+                with cpu_load(busy):
+                    for _ in range(runs):
+                        for key, values in run_case(count, env).items():
+                            results[key] += values
+                print(f"{'busy' if busy else 'quiet':<6} {count:>5} {summary(results['spawn']):>17} "
+                      f"{summary(results['discovery']):>24} {summary(results['after']):>36} "
+                      f"{sum(results['missed']):>6}", flush=True)
+        count = max(sizes)
+        print(f"PSS per node, {count} nodes running:")
+        for label, profile in (("with the image segment", images), ("without", plain)):
+            mib = pss_per_node(count, dict(env, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile)))
+            print(f"  {label:<24} {mib:7.1f} MiB ({profile.name})", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
