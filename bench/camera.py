@@ -18,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from support.described_nodes import PYTHON, compiled_settings, node_command, write_fastdds_profiles
+from support.described_nodes import PYTHON, compiled_settings, node_command, topic_qos, write_fastdds_profiles
 from support.ros_env import bench_environment
 
 WIDTH, HEIGHT, RATE_HZ = 640, 480, 30.0
@@ -62,8 +62,6 @@ def subscribe(seconds: float) -> None:
     import rclpy
     from sensor_msgs.msg import Image
 
-    from joshua_runtime.qos import qos_profile
-
     rclpy.init()
     node = rclpy.create_node("bench_camera_subscriber")
     latencies_ms, numbers, first = [], [], {}
@@ -78,7 +76,7 @@ def subscribe(seconds: float) -> None:
         numbers.append(frame_number(message.data))
 
     topic = publisher_settings()["topic"]
-    node.create_subscription(Image, topic["name"], received, qos_profile(topic["qos"]))
+    node.create_subscription(Image, topic["name"], received, topic_qos(topic))
     deadline = time.monotonic() + SUBSCRIBER_GRACE_S + seconds
     while time.monotonic() < deadline:
         rclpy.spin_once(node, timeout_sec=0.05)

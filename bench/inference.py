@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from joshua_core import so100
-from support.described_nodes import compiled_settings, node_command, write_fastdds_profiles
+from support.described_nodes import compiled_settings, node_command, topic_qos, write_fastdds_profiles
 from support.ros_env import bench_environment
 
 JOINTS = list(so100.SO100_JOINTS)
@@ -138,7 +138,6 @@ def start_to_first_action(settings: dict[str, dict], obs: dict, env: dict) -> tu
     from sensor_msgs.msg import Image, JointState
 
     from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
-    from joshua_runtime.qos import qos_profile
 
     context = rclpy.Context()
     rclpy.init(context=context)
@@ -148,11 +147,11 @@ def start_to_first_action(settings: dict[str, dict], obs: dict, env: dict) -> tu
     image = rgb_to_image(obs["observation.images.camera"])
     state = joint_state(JOINTS, obs["observation.state"])
     camera, follower, actions = settings["camera"]["topic"], settings["follower"]["topic"], settings[POLICY]["topic"]
-    images = node.create_publisher(Image, camera["name"], qos_profile(camera["qos"]))
-    states = node.create_publisher(JointState, follower["name"], qos_profile(follower["qos"]))
+    images = node.create_publisher(Image, camera["name"], topic_qos(camera))
+    states = node.create_publisher(JointState, follower["name"], topic_qos(follower))
     node.create_timer(1 / PUBLISH_HZ, lambda: (images.publish(image), states.publish(state)))
     first = threading.Event()
-    node.create_subscription(JointState, actions["name"], lambda _msg: first.set(), qos_profile(actions["qos"]))
+    node.create_subscription(JointState, actions["name"], lambda _msg: first.set(), topic_qos(actions))
     started = time.monotonic()
     process = subprocess.Popen(node_command(settings[POLICY]), env=env, stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True)

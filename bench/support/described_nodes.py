@@ -42,3 +42,11 @@ def write_fastdds_profiles(description_text: str, directory: Path, overrides: Se
     for name in fastdds.PROFILE_PATHS:
         (directory / name).write_text(files[name])
     return {process.name: directory / fastdds.profile_path(process) for process in robot.processes}
+
+
+def topic_qos(topic: dict):
+    """The rclpy QoSProfile of a topic of compiled settings (`{"name", "message_type", "qos"}`)."""
+    from joshua_core.settings import QosSettings
+    from joshua_runtime.qos import qos_profile
+
+    return qos_profile(QosSettings(**topic["qos"]))
