@@ -10,9 +10,6 @@ from __future__ import annotations
 import difflib
 import re
 
-# Messages as large as a camera frame: a process that carries them needs a large DDS shared-memory segment.
-IMAGE_MESSAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
-
 PACKAGES: dict[str, tuple[str, ...]] = {
     "std_msgs": (
         "Bool", "Byte", "ByteMultiArray", "Char", "ColorRGBA", "Empty", "Float32",

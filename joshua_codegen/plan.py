@@ -4,9 +4,8 @@ import os
 
 from joshua_codegen import defaults, escape, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
-from joshua_codegen.msg_catalog import IMAGE_MESSAGE_TYPES
 from joshua_core.models import REGISTRY_PREFIX
-from joshua_core.node_types import NODE_TYPES, SIMULATION_ENGINE
+from joshua_core.node_types import IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
 
 
@@ -144,7 +143,7 @@ def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel) -> Process
 
 
 def _carries_images(model: NodeModel) -> bool:
-    return any(e.message_type in IMAGE_MESSAGE_TYPES for e in model.publishes + model.subscribes)
+    return any(e.message_type in IMAGE_TYPES for e in model.publishes + model.subscribes)
 
 
 def _cpp_args(model: NodeModel) -> tuple[str, ...]:
