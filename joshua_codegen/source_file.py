@@ -16,7 +16,10 @@ import stat
 from joshua_codegen.diagnostics import ERROR, Diagnostic
 from joshua_codegen.load import NOT_REGULAR_FILE, UNREADABLE_FILE
 
-MAX_DESCRIPTION_BYTES = 16 * 1024 * 1024  # 16 MiB: the largest description file joshuac reads
+# 1 MiB: the largest description file joshuac reads. A 3000-node description is about 0.3 MiB; checking
+# costs up to ~30 s and ~1 GB for a 1 MiB file that is nothing but one list of erroneous items (350k
+# diagnostics), so a larger limit would let one file hold a machine for minutes.
+MAX_DESCRIPTION_BYTES = 1024 * 1024
 _READ_CHUNK = 1024 * 1024
 _KINDS = {
     stat.S_IFIFO: "a FIFO (named pipe)",
@@ -50,7 +53,7 @@ def _refuse_kind(path: str, status: os.stat_result) -> None:
 
 def _too_large(path: str, size: str) -> SourceProblem:
     return _problem(path, NOT_REGULAR_FILE,
-                    f"the file is too large ({size}); descriptions are limited to {MAX_DESCRIPTION_BYTES} bytes (16 MiB)")
+                    f"the file is too large ({size}); descriptions are limited to {MAX_DESCRIPTION_BYTES} bytes (1 MiB)")
 
 
 def read_description(path: str) -> bytes:

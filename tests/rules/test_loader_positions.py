@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings, strategies as st
 from google.protobuf import text_format
 from google.protobuf.text_format import Tokenizer
 
@@ -10,7 +11,7 @@ from joshua_codegen.check import check_file, check_text
 from joshua_codegen.load import load_text
 from joshua_codegen.positions import Location
 from joshua_core.schema import RobotDescription
-from joshua_codegen.syntax import token_position
+from joshua_codegen.syntax import tokens
 
 SEEDS = Path(__file__).parent / "seeds"
 
@@ -169,9 +170,22 @@ def test_unreadable_and_non_utf8_files_give_diagnostics(tmp_path):
     assert check_file(str(junk)).diagnostics[0].code == "E008"
 
 
-def test_token_position_agrees_with_the_tokenizers_public_error_position():
-    tokenizer = Tokenizer('a: "x"\n  # c\n  b { c: -1 }'.split("\n"))
+def protobuf_tokens(text: str) -> list[tuple[str, int, int]]:
+    """What protobuf's own Tokenizer yields, with the positions of its public ParseError."""
+    tokenizer, found = Tokenizer(text.split("\n"), skip_comments=False), []
     while not tokenizer.AtEnd():
         error = tokenizer.ParseError("")
-        assert token_position(tokenizer) == (error.GetLine(), error.GetColumn())
+        found.append((tokenizer.token, error.GetLine(), error.GetColumn()))
         tokenizer.NextToken()
+    return found
+
+
+def test_tokens_and_positions_agree_with_protobufs_tokenizer():
+    text = 'a: "x"\n  # c\n  b { c: -1 }  d: \'it\\\'s\' e: "open\n  f: 1.5e3 g: [1, -2, .5] # end\n\t\x0c h:"é"'
+    assert list(tokens(text)) == protobuf_tokens(text)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet=st.sampled_from(list("ab_19.+-:{}[]<>,;#'\"\\ \t\n\r\x0b\x0cé\u00a0\u2028")), max_size=60))
+def test_tokens_agree_with_protobufs_tokenizer_on_any_text(text):
+    assert list(tokens(text)) == protobuf_tokens(text)
