@@ -29,5 +29,5 @@ fi
 # Bytecode is compiled up front: with PYTHONDONTWRITEBYTECODE set, every node process would
 # otherwise compile rclpy, torch and the project from source at each start.
 uv sync --locked --inexact --quiet --compile-bytecode
-.venv/bin/python -m compileall -q joshua_codegen runtime/joshua_runtime bench >/dev/null
+.venv/bin/python -m compileall -q joshua_codegen core/joshua_core runtime/joshua_runtime bench testsupport >/dev/null
 .venv/bin/joshuac build config/robots/so100_leader_follower.pbtxt -o "$(mktemp -d)/warm" >/dev/null 2>&1 || true  # fills the compiled-template cache

@@ -79,7 +79,8 @@ def module_parts(name: str) -> tuple[tuple[str, ...], str]:
         if is_docstring or isinstance(node, (ast.Import, ast.ImportFrom)):
             removed.update(range(node.lineno - 1, node.end_lineno or node.lineno))
             if isinstance(node, (ast.Import, ast.ImportFrom)) and not is_package_import(node):
-                imports.append(ast.get_source_segment(source, node) or "")
+                # Slicing the lines, not ast.get_source_segment, which splits the whole source per call.
+                imports.append("\n".join(lines[node.lineno - 1:node.end_lineno or node.lineno]))
     kept = [line for number, line in enumerate(lines) if number not in removed]
     code = "\n".join(kept).strip("\n")
     return tuple(imports), f"# {docstring}\n\n\n{code}\n"
