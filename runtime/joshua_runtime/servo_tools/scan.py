@@ -1,0 +1,72 @@
+"""Find every servo on a bus at every STS3215 baud rate, and notice ids that two servos share."""
+
+from collections import Counter
+from dataclasses import dataclass
+
+from joshua_runtime.drivers import sts3215_protocol as proto
+from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
+from joshua_runtime.drivers.sts3215_transport import GarbledReply, NoAnswer
+
+BROADCAST_QUIET_S = 0.02  # after a reply to a broadcast PING, this much silence ends the round
+MODEL_NAMES = {777: "sts3215"}
+
+
+@dataclass(frozen=True)
+class FoundServo:
+    id: int
+    model: int
+    baud_rate: int
+    firmware: str
+
+    @property
+    def model_name(self) -> str:
+        return MODEL_NAMES.get(self.model, f"model {self.model}")
+
+    def as_json(self) -> dict:
+        return {"id": self.id, "model": self.model_name, "baud_rate": self.baud_rate, "firmware": self.firmware}
+
+
+@dataclass(frozen=True)
+class ScanResult:
+    servos: list[FoundServo]
+    shared_ids: list[tuple[int, int]]  # (id, baud rate) where replies collided
+
+
+def scan(bus, baud_rates=tuple(BAUD_RATE_CODES)) -> ScanResult:
+    """Broadcast a PING at each rate, then identify each answering id with an addressed READ."""
+    servos, shared = [], []
+    for baud_rate in baud_rates:
+        bus.transport.set_baud_rate(baud_rate)
+        packets, garbled = bus.transport.collect(proto.encode(proto.BROADCAST_ID, proto.INST_PING), BROADCAST_QUIET_S)
+        counts = Counter(packet.servo_id for packet in packets if packet.servo_id <= proto.MAX_SERVO_ID)
+        for servo_id in sorted(counts):
+            if counts[servo_id] > 1:
+                shared.append((servo_id, baud_rate))
+                continue
+            try:
+                servos.append(identify(bus, servo_id, baud_rate))
+            except GarbledReply:
+                shared.append((servo_id, baud_rate))
+            except NoAnswer:
+                continue
+        if garbled and not counts:
+            shared.append((-1, baud_rate))
+    return ScanResult(servos, shared)
+
+
+def identify(bus, servo_id: int, baud_rate: int) -> FoundServo:
+    """Model number and firmware version of one servo, read in one READ."""
+    bus.transport.set_baud_rate(baud_rate)
+    data = bus.read_bytes(servo_id, 0, 5)  # firmware major, minor, (reserved), Model_Number
+    return FoundServo(servo_id, int.from_bytes(data[3:5], "little"), baud_rate, f"{data[0]}.{data[1]}")
+
+
+def find(bus, servo_id: int, baud_rates=tuple(BAUD_RATE_CODES)) -> FoundServo:
+    """Where one id answers; NoAnswer when no rate reaches it, GarbledReply when two servos share it."""
+    for baud_rate in baud_rates:
+        try:
+            return identify(bus, servo_id, baud_rate)
+        except NoAnswer:
+            continue
+    raise NoAnswer(f"{bus.port}: no answer from servo id {servo_id} at any baud rate")
+
