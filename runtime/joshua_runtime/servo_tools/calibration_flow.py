@@ -5,8 +5,8 @@ reach, described per robot, rather than "the middle of the range" of every joint
 engine writes Homing_Offset so that pose reads tick 2047; then the user sweeps the joint between its
 end stops while MIN/POS/MAX update live. A continuous joint (wrist_roll) is homed the same way but
 keeps the full 0..4095 range, so its zero is exactly its homing pose on every arm: a leader and a
-follower homed at the same pose agree. A sweep that jumps by more than half a turn between two
-samples crossed the encoder's wrap point and is refused.
+follower homed at the same pose agree. A sweep that steps from one end of the encoder to the other
+between two samples crossed the wrap point and is refused.
 
 The engine does bus I/O only when called; a terminal command and the desktop app drive it.
 """
@@ -19,7 +19,7 @@ from joshua_runtime.errors import JoshuaError
 from joshua_runtime.so100 import SO100_JOINTS
 
 MAX_HOMING_OFFSET = (1 << BY_NAME["Homing_Offset"].sign_bit) - 1
-WRAP_JUMP_TICKS = TICKS_PER_TURN // 2
+WRAP_EDGE_TICKS = TICKS_PER_TURN // 8  # a step from this close to one end of the encoder to the other is a wrap
 MIN_SWEEP_TICKS = 20  # a "sweep" shorter than this was not a sweep
 
 SO100_HOMING_POSES = {
@@ -64,7 +64,8 @@ class JointRange:
     wrapped: bool = False
 
     def update(self, position: int) -> None:
-        if abs(position - self.position) > WRAP_JUMP_TICKS:
+        low_edge, high_edge = WRAP_EDGE_TICKS, MAX_TICK - WRAP_EDGE_TICKS
+        if min(self.position, position) < low_edge and max(self.position, position) > high_edge:
             self.wrapped = True
         self.position = position
         self.low, self.high = min(self.low, position), max(self.high, position)
