@@ -29,13 +29,13 @@ def calibrate(bus, arm, output: Path, out=sys.stdout, stdin=sys.stdin) -> dict:
     flow = CalibrationFlow(bus, arm)
     flow.start()
     for joint in arm.joints:
-        print(f"{flow.instruction(joint)} Press Enter.", file=out, flush=True)
+        print(f"{arm.homing_instruction(joint)} Press Enter.", file=out, flush=True)
         wait_for_enter(stdin)
         flow.home(joint)
         if joint in arm.continuous_joints:
-            print(flow.sweep_instruction(joint), file=out, flush=True)
+            print(arm.sweep_instruction(joint), file=out, flush=True)
             continue
-        print(f"{flow.sweep_instruction(joint)} Press Enter when done.", file=out, flush=True)
+        print(f"{arm.sweep_instruction(joint)} Press Enter when done.", file=out, flush=True)
         while not enter_pressed(stdin):
             reading = flow.sample(joint)
             if out.isatty():

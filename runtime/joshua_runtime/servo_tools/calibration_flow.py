@@ -41,6 +41,14 @@ class ArmModel:
     homing_poses: dict[str, str]
     continuous_joints: frozenset[str]
 
+    def homing_instruction(self, joint: str) -> str:
+        return f"Hold {joint} at its homing pose: {self.homing_poses[joint]}."
+
+    def sweep_instruction(self, joint: str) -> str:
+        if joint in self.continuous_joints:
+            return f"{joint} turns freely: its range is the full turn, no sweep needed."
+        return f"Move {joint} slowly from one end stop to the other."
+
 
 ARMS = {
     name: ArmModel(tuple(SO100_JOINTS), tuple(range(1, 7)), SO100_HOMING_POSES, frozenset({"wrist_roll"}))
@@ -82,14 +90,6 @@ class CalibrationFlow:
 
     def id_of(self, joint: str) -> int:
         return self.arm.ids[self.arm.joints.index(joint)]
-
-    def instruction(self, joint: str) -> str:
-        return f"Hold {joint} at its homing pose: {self.arm.homing_poses[joint]}."
-
-    def sweep_instruction(self, joint: str) -> str:
-        if joint in self.arm.continuous_joints:
-            return f"{joint} turns freely: its range is the full turn, no sweep needed."
-        return f"Move {joint} slowly from one end stop to the other."
 
     def start(self) -> None:
         """Torque off, position mode, offsets and limits cleared (unlocked until finish())."""
