@@ -111,6 +111,12 @@ class MainWindow(QMainWindow):
         self.setCentralWidget(central)
         self.resize(1480, 760)
 
+        if not worker.direct_bus:
+            for chart in self.charts[2:]:
+                chart.empty_text = "not reported over this link"
+            self.joint_panel.set_per_joint_torque(False)
+            self.tabs.setTabEnabled(self.tabs.indexOf(self.calibration), False)
+            self.tabs.setTabToolTip(self.tabs.indexOf(self.calibration), "needs a direct serial connection")
         self.worker = worker
         self.thread = LinkThread(worker)
         worker.telemetry.connect(self.on_telemetry)

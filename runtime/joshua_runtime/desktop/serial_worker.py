@@ -20,6 +20,8 @@ SERIAL_POLL_HZ = 50.0
 
 
 class SerialWorker(LinkWorker):
+    direct_bus = True
+
     def __init__(self, port: str, joints: list[str], ids: list[int], baud_rate: int,
                  calibration_file: str | None = None, poll_hz: float = SERIAL_POLL_HZ, arm: str = "so100"):
         super().__init__(poll_hz)

@@ -18,6 +18,8 @@ class LinkWorker(QObject):
     message = Signal(str)  # progress worth showing in the status bar
     calibration = Signal(object)  # calibration progress (serial links only)
 
+    direct_bus = False  # True when the link reaches the servos themselves (sensors, calibration, per-joint torque)
+
     def __init__(self, poll_hz: float):
         super().__init__()
         self.poll_hz = poll_hz

@@ -4,14 +4,10 @@ import os
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")  # before pytest-qt creates the QApplication
 
-from pathlib import Path  # noqa: E402
-
 import pytest  # noqa: E402
+from desktop_helpers import ARTIFACTS  # noqa: E402
 
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator  # noqa: E402
-
-# Screenshots are kept for review here (gitignored), and their paths printed.
-ARTIFACTS = Path(__file__).resolve().parents[3] / "artifacts" / "desktop"
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""Helpers of the desktop tests: build a panel on a worker, as joshua-desktop does."""
+"""Helpers of the desktop tests: build a panel on a worker, as joshua-desktop does; where screenshots go."""
 
 from pathlib import Path
 
@@ -10,15 +10,18 @@ SO100 = ARMS["so100"]
 JOINTS = list(SO100.joints)
 IDS = list(SO100.ids)
 LINK_TIMEOUT_MS = 10_000
+# Screenshots are kept for review here (gitignored), and their paths printed.
+ARTIFACTS = Path(__file__).resolve().parents[3] / "artifacts" / "desktop"
 
 
-def open_panel(qtbot, worker, calibration_output: Path | None = None, presets: Presets | None = None) -> MainWindow:
+def open_panel(qtbot, worker, calibration_output: Path | None = None, presets: Presets | None = None,
+               timeout_ms: int = LINK_TIMEOUT_MS) -> MainWindow:
     window = MainWindow(worker, JOINTS, so100_limits(), presets or Presets(), SO100,
                         calibration_output or Path("unused.json"))
     qtbot.addWidget(window)
     window.show()
     window.start()
-    qtbot.waitUntil(lambda: window.latest is not None, timeout=LINK_TIMEOUT_MS)
+    qtbot.waitUntil(lambda: window.latest is not None, timeout=timeout_ms)
     return window
 
 
