@@ -32,5 +32,8 @@ class HealthPanel(QWidget):
             else:
                 color = LEVEL_COLORS[sample.health]
                 text = "; ".join(sample.findings) or LEVEL_NAMES[sample.health]
-            self.dots[name].setStyleSheet(f"color: {color};")
-            self.texts[name].setText(text)
+            style = f"color: {color};"
+            if self.dots[name].styleSheet() != style:  # restyling is costly: only on a change
+                self.dots[name].setStyleSheet(style)
+            if self.texts[name].text() != text:
+                self.texts[name].setText(text)

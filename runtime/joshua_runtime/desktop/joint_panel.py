@@ -9,6 +9,8 @@ from PySide6.QtWidgets import QCheckBox, QGridLayout, QLabel, QProgressBar, QSli
 from joshua_runtime.desktop.model import JointLimits, JointSample
 
 SLIDER_STEPS_PER_DEGREE = 10
+LOAD_WARN_PERCENT = 80
+FAULT_STYLE = "color: #e5534b;"
 HEADERS = ("", "joint", "goal", "", "present", "load", "temp", "volts", "torque")
 
 
@@ -74,12 +76,17 @@ class JointRow:
     def show(self, sample: JointSample) -> None:
         self.present.setText(_degrees_text(sample.position))
         self.load.setValue(min(100, round(abs(sample.load_percent))))
-        self.load.setProperty("warn", abs(sample.load_percent) >= 80)
+        warn = abs(sample.load_percent) >= LOAD_WARN_PERCENT
+        if self.load.property("warn") != warn:
+            self.load.setProperty("warn", warn)
+            self.load.style().polish(self.load)
         self.temperature.setText("—" if sample.temperature_c is None else f"{sample.temperature_c:.0f} °C")
         self.voltage.setText("—" if sample.voltage_v is None else f"{sample.voltage_v:.1f} V")
         if sample.torque_on is not None:
             self.torque.setChecked(sample.torque_on)
-        self.present.setStyleSheet("color: #e5534b;" if sample.errors else "")
+        style = FAULT_STYLE if sample.errors else ""
+        if self.present.styleSheet() != style:  # restyling is costly: only on a change
+            self.present.setStyleSheet(style)
         if sample.torque_on is False or self._following:  # a limp joint's goal is where it is
             self.set_goal(sample.position)
             self._following = sample.torque_on is not True

@@ -30,7 +30,7 @@ def screenshot():
     """screenshot(window, name) -> the PNG path it saved under artifacts/desktop/."""
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
 
-    def save(window, name: str) -> Path:
+    def save(window, name: str):
         path = ARTIFACTS / f"{name}.png"
         assert window.grab().save(str(path))
         print(f"screenshot: {path}")
