@@ -4,6 +4,7 @@ from pathlib import Path
 
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import (
+    QCheckBox,
     QHBoxLayout,
     QHeaderView,
     QLabel,
@@ -43,16 +44,18 @@ class CalibrationPanel(QWidget):
         self.next_button = QPushButton("Next joint")
         self.output = QLineEdit(str(output))
         self.save_button = QPushButton("Save")
+        self.replace = QCheckBox("replace")
         self.start_button.clicked.connect(self.start)
         self.home_button.clicked.connect(self.home)
         self.next_button.clicked.connect(self.next_joint)
-        self.save_button.clicked.connect(lambda: self.step.emit("finish", Path(self.output.text())))
+        self.save_button.clicked.connect(self.save)
         buttons = QHBoxLayout()
         for button in (self.start_button, self.home_button, self.next_button):
             buttons.addWidget(button)
         buttons.addStretch(1)
         buttons.addWidget(QLabel("file"))
         buttons.addWidget(self.output, 2)
+        buttons.addWidget(self.replace)
         buttons.addWidget(self.save_button)
         layout = QVBoxLayout(self)
         layout.addWidget(self.instruction)
@@ -76,6 +79,14 @@ class CalibrationPanel(QWidget):
 
     def home(self) -> None:
         self.step.emit("home", self.joint)
+
+    def save(self) -> None:
+        """Ask the worker to store the calibration; an existing file is kept unless `replace` is ticked."""
+        path = Path(self.output.text())
+        if path.exists() and not self.replace.isChecked():
+            self.instruction.setText(f"{path} exists: tick replace to overwrite it, or choose another file.")
+            return
+        self.step.emit("finish", path)
 
     def next_joint(self) -> None:
         self._set(self.index, 1, "done")

@@ -39,8 +39,7 @@ def _scan(args) -> int:
         for servo in result.servos:
             print(f"id {servo.id:3d}  {servo.model_name}  {servo.baud_rate} baud  firmware {servo.firmware}")
     for servo_id, baud_rate in result.shared_ids:
-        which = f"id {servo_id}" if servo_id >= 0 else "an id"
-        print(f"joshua-servo: error: two servos share {which} at {baud_rate} baud (their replies collide)",
+        print(f"joshua-servo: error: two servos share id {servo_id} at {baud_rate} baud (their replies collide)",
               file=sys.stderr)
     if result.shared_ids:
         return EXIT_SHARED_ID

@@ -5,9 +5,11 @@ from dataclasses import dataclass
 
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
-from joshua_runtime.drivers.sts3215_transport import GarbledReply, NoAnswer
+from joshua_runtime.drivers.sts3215_transport import Expected, GarbledReply, NoAnswer
+from joshua_runtime.errors import DeviceError
 
 BROADCAST_QUIET_S = 0.02  # after a reply to a broadcast PING, this much silence ends the round
+SWEEP_REPLY_TIMEOUT_S = 0.01  # per id when pinging every id one by one
 MODEL_NAMES = {777: "sts3215"}
 
 
@@ -29,16 +31,22 @@ class FoundServo:
 @dataclass(frozen=True)
 class ScanResult:
     servos: list[FoundServo]
-    shared_ids: list[tuple[int, int]]  # (id, baud rate) where replies collided
+    shared_ids: list[tuple[int, int]]  # (id, baud rate) answered by more than one servo
 
 
 def scan(bus, baud_rates=tuple(BAUD_RATE_CODES)) -> ScanResult:
-    """Broadcast a PING at each rate, then identify each answering id with an addressed READ."""
+    """Broadcast a PING at each rate, then identify each answering id with an addressed READ.
+
+    When the broadcast's replies arrive garbled (servos that answer a broadcast at once), every id
+    is pinged one by one at that rate instead.
+    """
     servos, shared = [], []
     for baud_rate in baud_rates:
         bus.transport.set_baud_rate(baud_rate)
         packets, garbled = bus.transport.collect(proto.encode(proto.BROADCAST_ID, proto.INST_PING), BROADCAST_QUIET_S)
         counts = Counter(packet.servo_id for packet in packets if packet.servo_id <= proto.MAX_SERVO_ID)
+        if garbled:
+            counts = _ping_every_id(bus)
         for servo_id in sorted(counts):
             if counts[servo_id] > 1:
                 shared.append((servo_id, baud_rate))
@@ -49,9 +57,28 @@ def scan(bus, baud_rates=tuple(BAUD_RATE_CODES)) -> ScanResult:
                 shared.append((servo_id, baud_rate))
             except NoAnswer:
                 continue
-        if garbled and not counts:
-            shared.append((-1, baud_rate))
     return ScanResult(servos, shared)
+
+
+def _ping_every_id(bus) -> Counter:
+    """Ids answering an addressed PING (a garbled answer counts twice: a shared id)."""
+    transport = bus.transport
+    saved = transport.reply_timeout_s, transport.max_retries
+    transport.reply_timeout_s, transport.max_retries = SWEEP_REPLY_TIMEOUT_S, 0
+    counts = Counter()
+    try:
+        for servo_id in range(proto.MAX_SERVO_ID + 1):
+            try:
+                transport.transact(proto.encode(servo_id, proto.INST_PING), [Expected(servo_id, 0)])
+                counts[servo_id] = 1
+            except GarbledReply:
+                counts[servo_id] = 2
+            except DeviceError:
+                if not transport.is_open:
+                    raise
+    finally:
+        transport.reply_timeout_s, transport.max_retries = saved
+    return counts
 
 
 def identify(bus, servo_id: int, baud_rate: int) -> FoundServo:

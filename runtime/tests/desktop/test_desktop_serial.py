@@ -99,8 +99,13 @@ def test_calibration_tab_writes_a_lerobot_file(qtbot, emulators, tmp_path, scree
                 screenshot(window, "calibration")
             qtbot.mouseClick(panel.next_button, Qt.MouseButton.LeftButton)
         qtbot.waitUntil(panel.save_button.isEnabled, timeout=WAIT_MS)
+        output.write_text("{}")  # an earlier calibration is never replaced by surprise
         qtbot.mouseClick(panel.save_button, Qt.MouseButton.LeftButton)
-        qtbot.waitUntil(output.exists, timeout=LINK_TIMEOUT_MS)
+        assert panel.instruction.text().startswith(f"{output} exists: tick replace")
+        assert output.read_text() == "{}"
+        panel.replace.setChecked(True)
+        qtbot.mouseClick(panel.save_button, Qt.MouseButton.LeftButton)
+        qtbot.waitUntil(lambda: output.read_text() != "{}", timeout=LINK_TIMEOUT_MS)
         saved = json.loads(output.read_text())
         assert saved["elbow_flex"] == {"id": 3, "drive_mode": 0, "homing_offset": 1500 - 2047,
                                        "range_min": 2047 - 900, "range_max": 2047 + 1000}
