@@ -15,7 +15,7 @@ HEADERS = ("", "joint", "goal", "", "present", "load", "temp", "volts", "torque"
 
 
 def _degrees_text(radians: float | None) -> str:
-    return "—" if radians is None or radians != radians else f"{math.degrees(radians):+7.1f}°"
+    return "—" if radians is None or math.isnan(radians) else f"{math.degrees(radians):+7.1f}°"
 
 
 class JointRow:
@@ -123,7 +123,7 @@ class JointPanel(QWidget):
 
     def apply_goals(self, goals: dict[str, float]) -> None:
         for name, value in goals.items():
-            if name in self.rows and value == value:
+            if name in self.rows and not math.isnan(value):
                 self.rows[name].set_goal(value)
                 self.rows[name]._following = False
 

@@ -7,6 +7,7 @@ rest, grip_open, user poses) are resolved here and sent as goals, so any actuato
 Telemetry over ROS carries position and effort only: temperature and voltage stay empty.
 """
 
+import math
 import time
 
 import rclpy
@@ -81,7 +82,7 @@ class RosWorker(LinkWorker):
 
     @Slot(object)
     def send_goals(self, goals: dict) -> None:
-        named = {name: value for name, value in goals.items() if value == value}
+        named = {name: value for name, value in goals.items() if not math.isnan(value)}
         if named:
             self.goals.publish(JointState(name=list(named), position=list(named.values())))
 

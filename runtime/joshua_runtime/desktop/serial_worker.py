@@ -1,5 +1,6 @@
 """A link straight to an STS3215 bus: telemetry by SYNC_READ, goals by SYNC_WRITE, calibration on the bus."""
 
+import math
 import time
 
 from PySide6.QtCore import Slot
@@ -88,7 +89,7 @@ class SerialWorker(LinkWorker):
     def send_goals(self, goals: dict) -> None:
         index = {name: i for i, name in enumerate(self.joints)}
         raw = {self.ids[index[name]]: self.bus.calibration[index[name]].to_ticks(value)
-               for name, value in goals.items() if name in index and value == value}
+               for name, value in goals.items() if name in index and not math.isnan(value)}
         self._command(self.bus.sync_write, "Goal_Position", raw)
 
     @Slot(bool)

@@ -4,7 +4,7 @@ from collections import Counter
 from dataclasses import dataclass
 
 from joshua_runtime.drivers import sts3215_protocol as proto
-from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
+from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES, decode_value, register
 from joshua_runtime.drivers.sts3215_transport import Expected, GarbledReply, NoAnswer
 from joshua_runtime.errors import DeviceError
 
@@ -82,10 +82,16 @@ def _ping_every_id(bus) -> Counter:
 
 
 def identify(bus, servo_id: int, baud_rate: int) -> FoundServo:
-    """Model number and firmware version of one servo, read in one READ."""
+    """Model number and firmware version of one servo, read in one READ (addresses 0 to 4)."""
     bus.transport.set_baud_rate(baud_rate)
-    data = bus.read_bytes(servo_id, 0, 5)  # firmware major, minor, (reserved), Model_Number
-    return FoundServo(servo_id, int.from_bytes(data[3:5], "little"), baud_rate, f"{data[0]}.{data[1]}")
+    major, minor, model = (register(name) for name in ("Firmware_Major_Version", "Firmware_Minor_Version",
+                                                       "Model_Number"))
+    data = bus.read_bytes(servo_id, major.address, model.address + model.size - major.address)
+
+    def value(reg):
+        return decode_value(reg, data[reg.address - major.address :])
+
+    return FoundServo(servo_id, value(model), baud_rate, f"{value(major)}.{value(minor)}")
 
 
 def find(bus, servo_id: int, baud_rates=tuple(BAUD_RATE_CODES)) -> FoundServo:
