@@ -21,11 +21,11 @@ from pathlib import Path
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
-from joshua_runtime.emulators.sts3215 import Sts3215Emulator  # noqa: E402
-from joshua_runtime.errors import DeviceError  # noqa: E402
-from joshua_runtime.servo_tools.bus import open_bus  # noqa: E402
-from joshua_runtime.servo_tools.scan import scan  # noqa: E402
-from joshua_runtime.servo_tools.status import read_status  # noqa: E402
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+from joshua_runtime.errors import DeviceError
+from joshua_runtime.servo_tools.bus import open_bus
+from joshua_runtime.servo_tools.scan import scan
+from joshua_runtime.servo_tools.status import read_status
 
 IDS = [1, 2, 3, 4, 5, 6]
 FEED_HZ = 100.0
@@ -60,13 +60,17 @@ def bench_status(link: Path, seconds: float) -> tuple[float, int]:
 
 
 def bench_gui(seconds: float) -> tuple[float, float]:
-    from PySide6.QtCore import QTimer, Slot
-    from PySide6.QtWidgets import QApplication
-
     from joshua_runtime.desktop.main_window import MainWindow
-    from joshua_runtime.desktop.model import JointSample, Presets, Telemetry, so100_limits
+    from joshua_runtime.desktop.model import (
+        JointSample,
+        Presets,
+        Telemetry,
+        so100_limits,
+    )
     from joshua_runtime.desktop.worker import LinkWorker
     from joshua_runtime.servo_tools.calibration_flow import ARMS
+    from PySide6.QtCore import QTimer, Slot
+    from PySide6.QtWidgets import QApplication
 
     arm = ARMS["so100"]
 

@@ -64,8 +64,8 @@ def _run(args) -> int:
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication
 
-    from joshua_runtime.desktop.model import load_presets, so100_limits
     from joshua_runtime.desktop.main_window import MainWindow
+    from joshua_runtime.desktop.model import load_presets, so100_limits
     from joshua_runtime.servo_tools.calibration_flow import ARMS
 
     arm = ARMS[args.robot]

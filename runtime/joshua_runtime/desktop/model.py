@@ -6,8 +6,9 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from joshua_core.so100 import SO100_JOINTS, SO100_RANGES
+
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.so100 import SO100_JOINTS, SO100_RANGES
 
 PRESET_TORQUE_ON = "torque_on"
 PRESET_TORQUE_OFF = "torque_off"

@@ -17,7 +17,12 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 
-from joshua_runtime.desktop.model import PRESET_TORQUE_OFF, PRESET_TORQUE_ON, JointSample, Telemetry
+from joshua_runtime.desktop.model import (
+    PRESET_TORQUE_OFF,
+    PRESET_TORQUE_ON,
+    JointSample,
+    Telemetry,
+)
 from joshua_runtime.desktop.worker import LinkWorker
 
 ROS_SPIN_HZ = 100.0
@@ -44,7 +49,7 @@ class RosWorker(LinkWorker):
             self.context = rclpy.Context()
             rclpy.init(context=self.context)
             self.node = rclpy.create_node("joshua_desktop", context=self.context)
-        except Exception as exc:  # rclpy raises its own error types for a broken ROS environment
+        except RuntimeError as exc:  # rclpy's RCLError: a broken ROS environment
             self.failed.emit(f"cannot start ROS: {' '.join(str(exc).split())}")
             return False
         # Best effort takes both reliable and best-effort publishers; commands go reliable.

@@ -40,8 +40,6 @@ class Expected:
 class PortBusy(DeviceError):
     """Another program holds the serial port."""
 
-    exit_code = 4
-
 
 class NoAnswer(DeviceError):
     """A servo sent nothing back, on every attempt."""

@@ -13,10 +13,11 @@ The engine does bus I/O only when called; a terminal command and the desktop app
 
 from dataclasses import dataclass, field
 
+from joshua_core.so100 import SO100_JOINTS
+
 from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, MotorCalibration
 from joshua_runtime.drivers.sts3215_table import BY_NAME, MAX_TICK, TICKS_PER_TURN
 from joshua_runtime.errors import JoshuaError
-from joshua_runtime.so100 import SO100_JOINTS
 
 MAX_HOMING_OFFSET = (1 << BY_NAME["Homing_Offset"].sign_bit) - 1
 WRAP_EDGE_TICKS = TICKS_PER_TURN // 8  # a step from this close to one end of the encoder to the other is a wrap
@@ -58,8 +59,6 @@ ARMS = {
 
 class CalibrationError(JoshuaError):
     """The recorded calibration is unusable (no sweep, a wrap, a joint left out)."""
-
-    exit_code = 5
 
 
 @dataclass

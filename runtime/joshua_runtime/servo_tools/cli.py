@@ -19,15 +19,24 @@ from pathlib import Path
 
 from joshua_runtime.drivers.sts3215 import DEFAULT_BAUD_RATE
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
-from joshua_runtime.drivers.sts3215_transport import GarbledReply, NoAnswer
+from joshua_runtime.drivers.sts3215_transport import GarbledReply, NoAnswer, PortBusy
 from joshua_runtime.errors import JoshuaError
 from joshua_runtime.servo_tools import configure, find_port, scan, status
 from joshua_runtime.servo_tools.bus import open_bus
-from joshua_runtime.servo_tools.calibration_flow import ARMS
+from joshua_runtime.servo_tools.calibration_flow import ARMS, CalibrationError
 from joshua_runtime.servo_tools.configure import UsageError
 
-EXIT_SHARED_ID = 6
+EXIT_USAGE = 2
+EXIT_PORT_BUSY = 4
 EXIT_NO_ANSWER = 5
+EXIT_SHARED_ID = 6
+# This command's own codes; a node meeting the same errors exits with the runtime's (errors.py).
+EXIT_CODES = (
+    (UsageError, EXIT_USAGE),
+    (PortBusy, EXIT_PORT_BUSY),
+    (NoAnswer, EXIT_NO_ANSWER),
+    (CalibrationError, EXIT_NO_ANSWER),
+)
 
 
 def _scan(args) -> int:
@@ -86,7 +95,7 @@ def _status(args) -> int:
 
 
 def _find_port(args) -> int:
-    lister = lambda: find_port.list_devices(args.pattern or find_port.DEVICE_PATTERNS)  # noqa: E731
+    lister = lambda: find_port.list_devices(args.pattern or find_port.DEVICE_PATTERNS)
     if args.watch is not None:
         print(f"waiting up to {args.watch:g} s for a serial device to appear or vanish...", flush=True)
         change = find_port.watch_for_change(lister, args.watch)
@@ -166,12 +175,9 @@ def main(argv: list[str] | None = None) -> int:
     except GarbledReply as exc:
         print(f"joshua-servo: error: {exc} (two servos share this id?)", file=sys.stderr)
         return EXIT_SHARED_ID
-    except NoAnswer as exc:
-        print(f"joshua-servo: error: {exc}", file=sys.stderr)
-        return EXIT_NO_ANSWER
     except JoshuaError as exc:
         print(f"joshua-servo: error: {exc}", file=sys.stderr)
-        return exc.exit_code
+        return next((code for kind, code in EXIT_CODES if isinstance(exc, kind)), exc.exit_code)
     except (EOFError, KeyboardInterrupt):
         print("joshua-servo: stopped", file=sys.stderr)
         return 130

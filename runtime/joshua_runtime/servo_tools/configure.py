@@ -10,8 +10,6 @@ from joshua_runtime.servo_tools.scan import FoundServo, find, identify
 class UsageError(JoshuaError):
     """The command asks for something the servo cannot do."""
 
-    exit_code = 2
-
 
 def _write_eeprom(bus, servo_id: int, name: str, value: int) -> None:
     bus.write(servo_id, "Torque_Enable", 0)

@@ -4,10 +4,9 @@ import os
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")  # before pytest-qt creates the QApplication
 
-import pytest  # noqa: E402
-from desktop_helpers import ARTIFACTS  # noqa: E402
-
-from joshua_runtime.emulators.sts3215 import Sts3215Emulator  # noqa: E402
+import pytest
+from desktop_helpers import ARTIFACTS
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
 
 @pytest.fixture

@@ -6,17 +6,16 @@ import sys
 
 import pytest
 from desktop_helpers import ARTIFACTS
-from PySide6.QtGui import QImage
-
 from joshua_runtime.desktop.model import load_presets
 from joshua_runtime.errors import SettingsError
+from PySide6.QtGui import QImage
 
 JOINTS = ["shoulder_pan", "gripper"]
 
 
 def desktop(*argv):
     command = [sys.executable, "-m", "joshua_runtime.desktop.app", *map(str, argv)]
-    return subprocess.run(command, capture_output=True, text=True, timeout=60)
+    return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False)
 
 
 def test_screenshot_of_the_emulated_demo(tmp_path):

@@ -3,14 +3,14 @@
 import math
 
 from desktop_helpers import IDS, JOINTS, close_panel, open_panel
+from joshua_runtime.desktop.model import BUILTIN_PRESETS
+from joshua_runtime.desktop.ros_worker import RosWorker, preset_topic
+from joshua_runtime.drivers.calibration import uncalibrated
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QPushButton
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 
-from joshua_runtime.desktop.model import BUILTIN_PRESETS
-from joshua_runtime.desktop.ros_worker import RosWorker, preset_topic
-from joshua_runtime.drivers.calibration import uncalibrated
 from testsupport.compiled_settings import compiled_node
 
 STARTUP_TIMEOUT_MS = 30_000

@@ -4,11 +4,10 @@ import json
 import math
 
 from desktop_helpers import IDS, JOINTS, LINK_TIMEOUT_MS, close_panel, open_panel
-from PySide6.QtCore import Qt
-
 from joshua_runtime.desktop.model import BUILTIN_PRESETS
 from joshua_runtime.desktop.serial_worker import SerialWorker
 from joshua_runtime.drivers.calibration import uncalibrated
+from PySide6.QtCore import Qt
 
 WAIT_MS = 5000
 
@@ -24,7 +23,7 @@ def test_sliders_torque_presets_and_estop_drive_the_bus(qtbot, emulators, screen
     window = serial_panel(qtbot, emulator)
     try:
         assert window.link.text().startswith(f"serial {emulator.link} @ 1000000 baud, 6 servos")
-        torque_on = [b for b in window.findChildren(type(window.estop)) if b.text() == "Torque on"][0]
+        torque_on = next(b for b in window.findChildren(type(window.estop)) if b.text() == "Torque on")
         qtbot.mouseClick(torque_on, Qt.MouseButton.LeftButton)
         qtbot.waitUntil(lambda: all(emulator.read_register(i, "Torque_Enable") == 1 for i in IDS), timeout=WAIT_MS)
 
@@ -94,7 +93,7 @@ def test_calibration_tab_writes_a_lerobot_file(qtbot, emulators, tmp_path, scree
                 for ticks in stops:
                     emulator.turn_shaft(servo_id, (mounts[joint] + ticks) % 4096)
                     row = JOINTS.index(joint)
-                    qtbot.waitUntil(lambda: panel.table.item(row, 4).text() == str(2047 + ticks), timeout=WAIT_MS)
+                    qtbot.waitUntil(lambda r=row, t=ticks: panel.table.item(r, 4).text() == str(2047 + t), timeout=WAIT_MS)
             if joint == "elbow_flex":
                 screenshot(window, "calibration")
             qtbot.mouseClick(panel.next_button, Qt.MouseButton.LeftButton)

@@ -3,7 +3,6 @@
 import math
 
 import pytest
-
 from joshua_runtime.drivers.calibration import MotorCalibration
 from joshua_runtime.servo_tools.command_guard import CommandWatchdog, clamp_goals
 

@@ -2,13 +2,21 @@
 
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.servo_tools.bus import open_bus
-from joshua_runtime.servo_tools.diagnostics import ERROR, OK, WARN, Finding, assess, level, read_failure
+from joshua_runtime.servo_tools.diagnostics import (
+    ERROR,
+    OK,
+    WARN,
+    Finding,
+    assess,
+    level,
+    read_failure,
+)
 from joshua_runtime.servo_tools.status import ServoStatus, read_status
 
 
 def reading(**changes) -> ServoStatus:
-    values = dict(id=1, position=2048, speed=0, load_percent=0.0, voltage_v=12.1, temperature_c=30,
-                  error_bits=0, moving=False, current_ma=0.0)
+    values = {"id": 1, "position": 2048, "speed": 0, "load_percent": 0.0, "voltage_v": 12.1, "temperature_c": 30,
+              "error_bits": 0, "moving": False, "current_ma": 0.0}
     return ServoStatus(**{**values, **changes})
 
 

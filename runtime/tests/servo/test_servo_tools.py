@@ -5,10 +5,10 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import pytest
 import serial
-
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
 from joshua_runtime.emulators.pty_link import PtyLink
 from joshua_runtime.servo_tools import find_port
@@ -44,9 +44,8 @@ def test_console_script_scans_the_joshua_emulate_bus(tmp_path):
     )
     try:
         assert "sts3215: servos 3,7" in emulator.stdout.readline()
-        scan = subprocess.run(
-            [sys.executable, "-m", "joshua_runtime.servo_tools.cli", "scan", str(link)], capture_output=True, text=True
-        )
+        console_script = Path(sys.executable).parent / "joshua-servo"
+        scan = subprocess.run([console_script, "scan", str(link)], capture_output=True, text=True, check=False)
         assert scan.returncode == 0, scan.stderr
         assert scan.stdout.splitlines() == [
             "id   3  sts3215  1000000 baud  firmware 3.10",
