@@ -16,6 +16,7 @@ from pathlib import Path
 
 from joshua_runtime.errors import JoshuaError
 
+EXIT_NO_DISPLAY = 2
 EXIT_LINK_FAILED = 3
 DEFAULT_SCREENSHOT_DELAY_S = 2.0
 DEMO_PRESET_PERIOD_S = 1.5
@@ -51,8 +52,13 @@ def _ids(text: str) -> list[int]:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    if args.screenshot and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
-        os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+    has_display = any(os.environ.get(name) for name in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"))
+    if not has_display:
+        if not args.screenshot:
+            print("joshua-desktop: error: no display (set DISPLAY, or render offscreen with --screenshot PATH)",
+                  file=sys.stderr)
+            return EXIT_NO_DISPLAY
+        os.environ["QT_QPA_PLATFORM"] = "offscreen"
     try:
         return _run(args)
     except JoshuaError as exc:

@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from desktop_helpers import ARTIFACTS
@@ -14,7 +15,7 @@ JOINTS = ["shoulder_pan", "gripper"]
 
 
 def desktop(*argv):
-    command = [sys.executable, "-m", "joshua_runtime.desktop.app", *map(str, argv)]
+    command = [Path(sys.executable).parent / "joshua-desktop", *map(str, argv)]  # the console script
     return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False)
 
 
@@ -33,6 +34,14 @@ def test_a_port_that_is_not_there_exits_3_after_the_screenshot(tmp_path):
     path = tmp_path / "missing.png"
     result = desktop("--port", tmp_path / "ttyNONE", "--screenshot", path, "--quit-after", 1)
     assert result.returncode == 3 and path.exists()
+
+
+def test_no_display_is_one_line(tmp_path, monkeypatch):
+    for name in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"):
+        monkeypatch.delenv(name, raising=False)
+    result = desktop("--emulate")
+    assert result.returncode == 2
+    assert result.stderr == "joshua-desktop: error: no display (set DISPLAY, or render offscreen with --screenshot PATH)\n"
 
 
 def test_bad_preset_file_is_one_line(tmp_path):
