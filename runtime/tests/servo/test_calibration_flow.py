@@ -91,20 +91,20 @@ def read_lerobot(emulator, path):
                 raise
     try:
         assert bus.is_calibrated  # the registers our flow wrote are the ones LeRobot expects
-        return bus.sync_read("Present_Position")
+        return bus.sync_read("Present_Position"), bus.sync_read("Present_Position", normalize=False)
     finally:
         bus.disconnect(disable_torque=False)
 
 
 def test_same_pose_reads_the_same_on_both_arms_through_both_stacks(emulators, tmp_path):
-    readings = {}
+    readings, raw = {}, {}
     for role in ("follower", "leader"):
         emulator = emulators(f"tty{role.upper()}", ids=SO100_IDS)
         path = tmp_path / f"so100_{role}.json"
         person = calibrate_arm(emulator, role, path)
         for joint, ticks in POSE.items():
             person.put(joint, ticks)
-        ours, lerobot = read_ours(emulator, path), read_lerobot(emulator, path)
+        ours, (lerobot, raw[role]) = read_ours(emulator, path), read_lerobot(emulator, path)
         assert ours == pytest.approx(lerobot, abs=1e-9)
         readings[role] = ours
         saved = json.loads(path.read_text())
@@ -113,6 +113,10 @@ def test_same_pose_reads_the_same_on_both_arms_through_both_stacks(emulators, tm
     offsets = {role: json.loads((tmp_path / f"so100_{role}.json").read_text()) for role in readings}
     assert offsets["follower"]["elbow_flex"]["homing_offset"] != offsets["leader"]["elbow_flex"]["homing_offset"]
     assert readings["follower"] == pytest.approx(readings["leader"], abs=1e-9)
+    assert raw["follower"] == raw["leader"]  # so every LeRobot normalisation (RANGE_M100_100 too) agrees
+    for joint in SO100_JOINTS:
+        follower, leader = offsets["follower"][joint], offsets["leader"][joint]
+        assert (follower["range_min"], follower["range_max"]) == (leader["range_min"], leader["range_max"])
     assert readings["follower"]["wrist_roll"] == pytest.approx((1234 - 0.5) * 360 / 4095)
 
 
