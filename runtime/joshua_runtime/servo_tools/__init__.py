@@ -1,1 +1,1 @@
-"""Bench tools for STS3215 servo buses: scan, ids, baud rates, status, port finding, calibration."""
+"""Tools for STS3215 servo buses: scan, ids, baud rates, status, port finding, calibration, health and goal guards."""
