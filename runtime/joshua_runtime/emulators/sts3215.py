@@ -248,37 +248,35 @@ class Sts3215Emulator:
         except OSError:  # nobody reads the other side: the bytes are lost, as on a real bus
             pass
 
-    def _listening(self, servo_id: int | None = None) -> list[EmulatedServo]:
-        """Servos clocked at the line's speed (all of them when the speed is unknown), by id if given."""
+    def _listening(self) -> list[EmulatedServo]:
+        """Servos clocked at the line's speed (all of them when the speed is unknown), by id."""
         speed = self._pty.line_speed() if self._pty else None
         code = BAUD_RATE_CODES.get(speed, -1) if speed else None
-        return [
-            servo
-            for servo in sorted(self._servos, key=lambda s: s.id)
-            if (servo_id is None or servo.id == servo_id) and (code is None or servo.get("Baud_Rate") == code)
-        ]
+        servos = sorted(self._servos, key=lambda s: s.id)
+        return [servo for servo in servos if code is None or servo.get("Baud_Rate") == code]
 
     def _dispatch(self, packet: proto.Packet) -> tuple[list[bytes], float]:
         """Execute one instruction packet; return the status packets to send and the return delay."""
         now = time.monotonic()
         code, params, target = packet.code, packet.params, packet.servo_id
+        listening = self._listening()
         if code == proto.INST_SYNC_WRITE:
             if target == proto.BROADCAST_ID and len(params) >= 2:
-                self._sync_write(params[0], params[1], params[2:], now)
+                self._sync_write(listening, params[0], params[1], params[2:], now)
             return [], 0.0
         if code == proto.INST_SYNC_READ:
             if target != proto.BROADCAST_ID or len(params) < 2:
                 return [], 0.0
             replies, answering = [], []
             for servo_id in params[2:]:
-                servos = self._listening(servo_id)
+                servos = [s for s in listening if s.id == servo_id]
                 answering += servos
                 slot = [proto.encode(s.id, s.error_byte(), s.read(params[0], params[1], now)) for s in servos]
                 replies.append(collide(slot))
             return replies, self._return_delay(answering)
         broadcast = target == proto.BROADCAST_ID
         replies, answering = [], []
-        for servo in self._listening(None if broadcast else target):
+        for servo in [s for s in listening if broadcast or s.id == target]:
             servo_id = servo.id  # a servo whose ID or status level is rewritten answers as before
             answers = self._answers(servo, code, broadcast)
             result = servo.execute(code, params, now)
@@ -291,10 +289,10 @@ class Sts3215Emulator:
             replies = [collide(replies)]
         return replies, self._return_delay(answering)
 
-    def _sync_write(self, address: int, size: int, blocks: bytes, now: float) -> None:
+    def _sync_write(self, listening: list[EmulatedServo], address: int, size: int, blocks: bytes, now: float) -> None:
         for start in range(0, len(blocks) - size, size + 1):
             data = bytes(blocks[start + 1 : start + 1 + size])
-            for servo in self._listening(blocks[start]):
+            for servo in [s for s in listening if s.id == blocks[start]]:
                 servo.write(address, data, now)
                 self._notify_write(blocks[start], address, data, now)
 
