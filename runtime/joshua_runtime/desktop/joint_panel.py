@@ -82,7 +82,9 @@ class JointRow:
 
     def show(self, sample: JointSample) -> None:
         self.present.setText(_degrees_text(sample.position))
-        self.load.setValue(min(100, round(abs(sample.load_percent))))
+        load = min(100, round(abs(sample.load_percent)))
+        if self.load.value() != load:  # a progress bar repaints on every setValue
+            self.load.setValue(load)
         warn = abs(sample.load_percent) >= LOAD_WARN_PERCENT
         if self.load.property("warn") != warn:
             self.load.setProperty("warn", warn)

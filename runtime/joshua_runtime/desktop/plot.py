@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import shiboken6
-from PySide6.QtCore import QPointF, QRectF, Qt
+from PySide6.QtCore import QLineF, QRectF, Qt
 from PySide6.QtGui import QColor, QFont, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
@@ -95,7 +95,6 @@ class StripChart(QWidget):
 
     def paintEvent(self, _event) -> None:
         painter = QPainter(self)
-        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
         painter.fillRect(self.rect(), BACKGROUND)
         plot = QRectF(MARGIN_LEFT, MARGIN_TOP, self.width() - MARGIN_LEFT - MARGIN_RIGHT,
                       self.height() - MARGIN_TOP - MARGIN_BOTTOM)
@@ -125,6 +124,7 @@ class StripChart(QWidget):
         xs = plot.right() - (now - times[index]) / WINDOW_S * plot.width()
         scale = plot.height() / (high - low)
         painter.setClipRect(plot)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing)  # for the series only: the grid is axis-aligned
         for name, row in zip(self.names, values):
             ys = plot.bottom() - (row - low) * scale
             known = np.isfinite(ys)
@@ -137,20 +137,16 @@ class StripChart(QWidget):
         self.frames_painted += 1
 
     def _grid(self, painter: QPainter, plot: QRectF, low: float, high: float, step: float) -> None:
-        lines = round((high - low) / step)
-        for line in range(lines + 1):
-            value = low + line * step
-            y = plot.bottom() - plot.height() * line / lines
-            painter.setPen(QPen(GRID, 1))
-            painter.drawLine(QPointF(plot.left(), y), QPointF(plot.right(), y))
-            painter.setPen(TEXT)
-            painter.drawText(QRectF(0, y - 8, MARGIN_LEFT - 6, 16),
-                             Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, f"{value:g}")
+        count = round((high - low) / step)
+        rows = [plot.bottom() - plot.height() * line / count for line in range(count + 1)]
+        columns = [plot.right() - plot.width() * second / WINDOW_S for second in range(1, int(WINDOW_S))]
         painter.setPen(QPen(GRID, 1))
-        for second in range(1, int(WINDOW_S)):
-            x = plot.right() - plot.width() * second / WINDOW_S
-            painter.drawLine(QPointF(x, plot.top()), QPointF(x, plot.bottom()))
+        painter.drawLines([QLineF(plot.left(), y, plot.right(), y) for y in rows]
+                          + [QLineF(x, plot.top(), x, plot.bottom()) for x in columns])
         painter.setPen(TEXT)
+        for line, y in enumerate(rows):
+            painter.drawText(QRectF(0, y - 8, MARGIN_LEFT - 6, 16),
+                             Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, f"{low + line * step:g}")
         painter.drawText(QRectF(plot.left(), plot.bottom() + 2, plot.width(), MARGIN_BOTTOM - 2),
                          Qt.AlignmentFlag.AlignLeft, f"-{WINDOW_S:g} s")
         painter.drawText(QRectF(plot.left(), plot.bottom() + 2, plot.width(), MARGIN_BOTTOM - 2),
