@@ -14,7 +14,7 @@ from std_msgs.msg import String
 from testsupport.compiled_settings import compiled_node
 
 STARTUP_TIMEOUT_MS = 30_000
-WAIT_MS = 5000
+WAIT_MS = 10_000  # generous: the machine may be busy; a pass returns at once
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 

@@ -9,7 +9,7 @@ from joshua_runtime.desktop.serial_worker import SerialWorker
 from joshua_runtime.drivers.calibration import uncalibrated
 from PySide6.QtCore import Qt
 
-WAIT_MS = 5000
+WAIT_MS = 10_000  # generous: the machine may be busy; a pass returns at once
 
 
 def serial_panel(qtbot, emulator, **options):
