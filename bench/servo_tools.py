@@ -1,6 +1,6 @@
 """Bench tools on emulated STS3215 buses: scan time, status read rate, and the desktop panel's frame rate.
 
-    .venv/bin/python bench/servo_tools.py [--repeats 5] [--read-s 3] [--gui-s 5]
+    .venv/bin/python bench/servo_tools.py [--repeats 5] [--read-s 3] [--gui-s 5] [--quick]
 
 Scan: `joshua-servo scan`'s search (broadcast PING at each of the 8 baud rates, then one READ per
 servo found) on a 6-servo bus with 1 Mbaud wire time emulated. Status: back-to-back `joshua-servo
@@ -8,7 +8,8 @@ status` reads (one SYNC_READ of 15 bytes from 6 servos). GUI: the joshua-desktop
 fed 100 Hz telemetry of 6 joints from a worker thread through the same queued signal a real link
 uses; it reports the frames drawn per second against its 30 fps frame timer (wall clock: it drops
 when the machine is busy), and the GUI thread's CPU time for one frame (4 live plots with 10 s of
-history, numbers and bars refreshed), timed by repainting back to back.
+history, numbers and bars refreshed), timed by repainting back to back. --quick: one scan, half a
+second of reads, 1 s of history and 1 s of frames.
 """
 
 import argparse
@@ -31,6 +32,7 @@ from joshua_runtime.servo_tools.status import read_status
 IDS = [1, 2, 3, 4, 5, 6]
 FEED_HZ = 100.0
 HISTORY_S = 10.0
+QUICK_HISTORY_S, QUICK_GUI_S, QUICK_READ_S = 1.0, 1.0, 0.5
 REPAINTS = 50
 
 
@@ -60,7 +62,7 @@ def bench_status(link: Path, seconds: float) -> tuple[float, int]:
         return reads / (time.perf_counter() - start), failures
 
 
-def bench_gui(seconds: float) -> tuple[float, float]:
+def bench_gui(seconds: float, history_s: float = HISTORY_S) -> tuple[float, float]:
     from joshua_runtime.desktop.main_window import MainWindow
     from joshua_runtime.desktop.model import (
         JointSample,
@@ -133,8 +135,8 @@ def bench_gui(seconds: float) -> tuple[float, float]:
             marks.setdefault("costs", []).append(time.thread_time() - start)
         app.quit()
 
-    QTimer.singleShot(round(HISTORY_S * 1000), lambda: mark("start"))  # the plots hold 10 s of history
-    QTimer.singleShot(round((HISTORY_S + seconds) * 1000), measure_frames)
+    QTimer.singleShot(round(history_s * 1000), lambda: mark("start"))  # the plots hold 10 s of history
+    QTimer.singleShot(round((history_s + seconds) * 1000), measure_frames)
     app.exec()
     (start_s, start_frames), (end_s, end_frames) = marks["start"], marks["end"]
     fps = (end_frames - start_frames) / len(window.charts) / (end_s - start_s)
@@ -148,14 +150,18 @@ def main() -> int:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--read-s", type=float, default=3.0)
     parser.add_argument("--gui-s", type=float, default=5.0)
+    parser.add_argument("--quick", action="store_true", help="a few seconds in all (for the tests)")
     args = parser.parse_args()
+    history_s = HISTORY_S
+    if args.quick:
+        args.repeats, args.read_s, args.gui_s, history_s = 1, QUICK_READ_S, QUICK_GUI_S, QUICK_HISTORY_S
     with tempfile.TemporaryDirectory() as directory, Sts3215Emulator(Path(directory) / "ttyBENCH", IDS) as emulator:
         scan_s = bench_scan(emulator.link, args.repeats)
         print(f"scan of a 6-servo bus, 8 baud rates: median {scan_s * 1000:.0f} ms over {args.repeats} scans")
         rate, failures = bench_status(emulator.link, args.read_s)
         print(f"status of 6 servos (one SYNC_READ each): {rate:.0f} reads/s ({rate * len(IDS):.0f} servo readings/s), "
               f"{failures} failed")
-    fps, frame_s = bench_gui(args.gui_s)
+    fps, frame_s = bench_gui(args.gui_s, history_s)
     print(f"desktop panel, 100 Hz telemetry, 4 live plots: {fps:.1f} fps drawn (30 fps timer), "
           f"one frame {frame_s * 1000:.1f} ms of CPU (up to {1 / frame_s:.0f} fps on one free core)")
     return 0
