@@ -5,7 +5,7 @@ cd "$(dirname "$0")/.."
 export UV_PYTHON_DOWNLOADS=never
 
 # System packages: systemd-analyze (unit checks) and Mesa EGL (MuJoCo offscreen rendering).
-APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2)
+APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core)
 missing=()
 for package in "${APT_PACKAGES[@]}"; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")

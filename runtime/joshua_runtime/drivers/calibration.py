@@ -45,10 +45,13 @@ class MotorCalibration:
     def speed_to_radians(self, ticks_per_s: float) -> float:
         return self.sign * ticks_per_s * RADIANS_PER_TICK
 
+    def unclamped_ticks(self, radians: float) -> int:
+        """The raw position of a joint angle, in or out of the calibrated range."""
+        return round(self.middle + self.sign * radians / RADIANS_PER_TICK)
+
     def to_ticks(self, radians: float) -> int:
         """The goal for a joint angle, clamped to the calibrated range."""
-        ticks = round(self.middle + self.sign * radians / RADIANS_PER_TICK)
-        return min(max(ticks, self.range_min), self.range_max)
+        return min(max(self.unclamped_ticks(radians), self.range_min), self.range_max)
 
     def speed_to_ticks(self, radians_per_s: float) -> int:
         return round(abs(radians_per_s) / RADIANS_PER_TICK)

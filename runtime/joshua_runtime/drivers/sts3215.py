@@ -143,6 +143,11 @@ class Sts3215Driver(Driver):
         packet = proto.encode(servo_id, proto.INST_READ, bytes([address, size]))
         return self.transport.transact(packet, [Expected(servo_id, size)])[0].params
 
+    def read_bytes(self, servo_id: int, address: int, size: int) -> bytes:
+        """READ `size` raw bytes of the control table from `address`."""
+        self._ensure_open()
+        return self._read_block(servo_id, address, size)
+
     def read(self, servo_id: int, name: str) -> int:
         self._ensure_open()
         reg = register(name)
@@ -164,6 +169,11 @@ class Sts3215Driver(Driver):
         ids = self.ids if ids is None else list(ids)
         packets = self._sync_read_block(reg.address, reg.size, ids)
         return {p.servo_id: decode_value(reg, p.params) for p in packets}
+
+    def sync_read_bytes(self, address: int, size: int, ids: list[int]) -> dict[int, bytes]:
+        """SYNC_READ `size` raw bytes from `address` of each servo in `ids`."""
+        self._ensure_open()
+        return {p.servo_id: p.params for p in self._sync_read_block(address, size, list(ids))}
 
     def _sync_read_block(self, address: int, size: int, ids: list[int]) -> list[proto.Packet]:
         request = proto.encode_sync_read(address, size, ids)

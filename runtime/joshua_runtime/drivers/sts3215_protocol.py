@@ -103,6 +103,7 @@ class PacketParser:
 
     def __init__(self):
         self._buffer = bytearray()
+        self.discarded = 0  # bytes skipped because they framed no valid packet (noise, collisions)
 
     def feed(self, data: bytes) -> None:
         self._buffer += data
@@ -118,6 +119,7 @@ class PacketParser:
     def drop_byte(self) -> None:
         """Give up on a stalled partial frame: skip its first byte and rescan."""
         del self._buffer[:1]
+        self.discarded += 1
 
     def bytes_wanted(self) -> int:
         """How many more bytes would complete the frame at the head of the buffer (at least 1)."""
@@ -133,16 +135,20 @@ class PacketParser:
             if start < 0:
                 # Keep a trailing FF: it may be the first half of the next header.
                 keep = 1 if buffer[-1:] == b"\xff" else 0
+                self.discarded += len(buffer) - keep
                 del buffer[: len(buffer) - keep]
                 return None
+            self.discarded += start
             del buffer[:start]
             if len(buffer) < 4:
                 return None
             if buffer[2] == 0xFF:  # FF FF FF: the header starts one byte later
+                self.discarded += 1
                 del buffer[:1]
                 continue
             length = buffer[3]
             if length < 2 or length > MAX_LENGTH:
+                self.discarded += 1
                 del buffer[:1]
                 continue
             total = length + 4
@@ -151,5 +157,6 @@ class PacketParser:
             body = bytes(buffer[2 : total - 1])
             ok = checksum(body) == buffer[total - 1]
             packet = Packet(servo_id=body[0], code=body[2], params=body[3:], checksum_ok=ok)
+            self.discarded += 0 if ok else 1
             del buffer[: total if ok else 1]
             return packet

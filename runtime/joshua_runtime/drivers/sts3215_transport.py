@@ -2,10 +2,13 @@
 
 A transaction writes one instruction and waits for the status packets it should produce. A missing
 reply (REPLY_TIMEOUT_S plus the reply's time on the wire) or a reply with a bad checksum makes it try
-again, up to `max_retries` more times, after discarding whatever is left in the input buffer. A
-vanished port closes the transport and raises DeviceError; the owner reopens it later.
+again, up to `max_retries` more times, after discarding whatever is left in the input buffer. Bytes
+that never frame a packet (two servos answering at once) count as a garbled reply. The port is
+locked with flock on open, so a second program opening it gets PortBusy. A vanished port closes the
+transport and raises DeviceError; the owner reopens it later.
 """
 
+import errno
 import os
 import select
 import termios
@@ -34,14 +37,40 @@ class Expected:
     param_bytes: int
 
 
+class PortBusy(DeviceError):
+    """Another program holds the serial port."""
+
+
+class NoAnswer(DeviceError):
+    """A servo sent nothing back, on every attempt."""
+
+
+class GarbledReply(DeviceError):
+    """Replies arrived but never framed a packet: usually two servos sharing one id."""
+
+
+class CorruptReply(DeviceError):
+    """Replies framed but failed their checksum or had the wrong size."""
+
+
 class _NoAnswer(Exception):
     def __init__(self, servo_id: int):
         self.servo_id = servo_id
 
 
-class _Corrupt(Exception):
-    def __init__(self, servo_id: int):
-        self.servo_id = servo_id
+class _Corrupt(_NoAnswer):
+    pass
+
+
+class _Garbled(_NoAnswer):
+    pass
+
+
+_FAILURES = {  # attempt failure -> (stats key, error raised after the last attempt, what it says)
+    _Garbled: ("garbled", GarbledReply, "garbled replies from"),
+    _Corrupt: ("checksum_errors", CorruptReply, "corrupt replies from"),
+    _NoAnswer: ("timeouts", NoAnswer, "no answer from"),
+}
 
 
 class SerialTransport:
@@ -73,6 +102,8 @@ class SerialTransport:
                 self.port, self.baud_rate, timeout=0, write_timeout=WRITE_TIMEOUT_S, exclusive=True
             )
         except (serial.SerialException, OSError, ValueError) as exc:
+            if getattr(exc, "errno", None) in (errno.EAGAIN, errno.EWOULDBLOCK, errno.EBUSY):
+                raise PortBusy(f"serial port {self.port} is busy: another program has it open") from None
             raise DeviceError(f"cannot open serial port {self.port}: {_reason(exc)}") from None
         self._parser.clear()
 
@@ -85,6 +116,37 @@ class SerialTransport:
             pass
         self._serial = None
 
+    def set_baud_rate(self, baud_rate: int) -> None:
+        """Switch the line speed (the port stays open)."""
+        self.baud_rate = baud_rate
+        if self._serial is not None:
+            try:
+                self._serial.baudrate = baud_rate
+            except (serial.SerialException, OSError, ValueError, termios.error) as exc:
+                self._lost(exc)
+
+    def collect(self, packet: bytes, quiet_s: float) -> tuple[list[proto.Packet], bool]:
+        """Write `packet` and gather every status packet: wait the reply timeout for the first byte,
+        then stop once the line stays quiet for `quiet_s`.
+
+        Returns the well-formed packets and whether any bytes failed to frame one (a collision).
+        """
+        self._write(packet)
+        packets, garbled = [], False
+        discarded_before = self._parser.discarded
+        wait_s = self.reply_timeout_s
+        while True:
+            data = self._read_some(wait_s + STATUS_OVERHEAD_BYTES * BITS_PER_BYTE / self.baud_rate)
+            wait_s = quiet_s
+            if not data:
+                return packets, garbled or self._parser.pending > 0 or self._parser.discarded > discarded_before
+            self._parser.feed(data)
+            while (found := self._parser.pop()) is not None:
+                if found.checksum_ok:
+                    packets.append(found)
+                else:
+                    garbled = True
+
     def send(self, packet: bytes) -> None:
         """Write a packet that has no reply (SYNC_WRITE, broadcast)."""
         self._write(packet, discard_input=False)
@@ -92,7 +154,7 @@ class SerialTransport:
     def transact(self, packet: bytes, expected: list[Expected]) -> list[proto.Packet]:
         """Write `packet` and return its status packets in order, retrying timeouts and bad checksums."""
         attempts = 1 + self.max_retries
-        failure: Exception | None = None
+        failure: _NoAnswer | None = None
         for attempt in range(attempts):
             if attempt:
                 self.stats["retries"] += 1
@@ -100,13 +162,10 @@ class SerialTransport:
             try:
                 return [self._receive(item) for item in expected]
             except _NoAnswer as exc:
-                self.stats["timeouts"] += 1
+                self.stats[_FAILURES[type(exc)][0]] += 1
                 failure = exc
-            except _Corrupt as exc:
-                self.stats["checksum_errors"] += 1
-                failure = exc
-        what = "corrupt replies from" if isinstance(failure, _Corrupt) else "no answer from"
-        raise DeviceError(f"{self.port}: {what} servo id {failure.servo_id} after {attempts} attempts")
+        _, error, what = _FAILURES[type(failure)]
+        raise error(f"{self.port}: {what} servo id {failure.servo_id} after {attempts} attempts")
 
     def _write(self, packet: bytes, discard_input: bool = True) -> None:
         """Write one packet; before a transaction, drop unread bytes (late replies to earlier requests)."""
@@ -123,6 +182,7 @@ class SerialTransport:
     def _receive(self, item: Expected) -> proto.Packet:
         reply_bytes = STATUS_OVERHEAD_BYTES + item.param_bytes
         deadline = time.monotonic() + self.reply_timeout_s + reply_bytes * BITS_PER_BYTE / self.baud_rate
+        discarded_before = self._parser.discarded
         while True:
             packet = self._parser.pop()
             if packet is not None:
@@ -136,7 +196,8 @@ class SerialTransport:
                 return packet
             remaining = deadline - time.monotonic()
             if remaining <= 0:
-                raise _NoAnswer(item.servo_id)
+                garbled = self._parser.pending or self._parser.discarded > discarded_before
+                raise (_Garbled if garbled else _NoAnswer)(item.servo_id)
             self._parser.feed(self._read_some(remaining))
 
     def _read_some(self, wait_s: float) -> bytes:

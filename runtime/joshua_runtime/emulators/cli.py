@@ -23,8 +23,11 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="joshua-emulate", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="device", required=True)
     sts = sub.add_parser("sts3215", help="a Feetech STS3215 servo bus")
-    sts.add_argument("--ids", type=_ids, default=[1, 2, 3, 4, 5, 6], help="servo ids, e.g. 1,2,3")
+    sts.add_argument(
+        "--ids", type=_ids, default=[1, 2, 3, 4, 5, 6], help="servo ids, e.g. 1,2,3 (1,1 wires two servos with id 1)"
+    )
     sts.add_argument("--link", required=True, help="path of the symlink to the pty")
+    sts.add_argument("--baud-rate", type=int, default=1_000_000, help="line speed the servos start at")
     sts.add_argument("--drop-rate", type=float, default=0.0, help="fraction of replies dropped")
     sts.add_argument("--corrupt-rate", type=float, default=0.0, help="fraction of replies with a bad checksum")
     sts.add_argument("--seed", type=int, default=0, help="seed of the fault injection")
@@ -51,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
         from joshua_runtime.emulators.lds01 import serve
     try:
         serve(args, should_stop=lambda: stop["flag"])
-    except OSError as exc:
+    except (OSError, ValueError) as exc:
         print(f"joshua-emulate: error: {exc}", file=sys.stderr)
         return 1
     return 0

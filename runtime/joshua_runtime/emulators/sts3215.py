@@ -6,7 +6,9 @@
 
 Only addressed packets are answered (PING also on broadcast); SYNC_READ replies come in request
 order; SYNC_WRITE, ACTION on broadcast and restart are never answered; Response_Status_Level 0
-limits replies to PING and READ. Garbage is skipped and a stalled partial frame is dropped after
+limits replies to PING and READ. A servo hears only packets sent at the line speed its Baud_Rate
+register selects (read from the pty's termios, as a UART is clocked). Two servos may share an id:
+both answer, and their replies collide on the wire (`collide`). Garbage is skipped and a stalled partial frame is dropped after
 PARTIAL_FRAME_TIMEOUT_S. Replies are delayed by their time on a wire at `baud_rate` plus the servo's
 Return_Delay_Time, and can be dropped or corrupted (bad checksum) at seeded random rates or on demand.
 """
@@ -21,7 +23,13 @@ from collections.abc import Callable
 from pathlib import Path
 
 from joshua_runtime.drivers import sts3215_protocol as proto
-from joshua_runtime.drivers.sts3215_table import MODEL_NUMBER_STS3215, encode_value, register
+from joshua_runtime.drivers.sts3215_table import (
+    BAUD_RATE_CODES,
+    MODEL_NUMBER_STS3215,
+    TICKS_PER_TURN,
+    encode_value,
+    register,
+)
 from joshua_runtime.emulators.pty_link import PtyLink
 from joshua_runtime.emulators.sts3215_servo import EmulatedServo
 
@@ -42,7 +50,11 @@ PacketListener = Callable[[proto.Packet, float], None]
 
 
 class Sts3215Emulator:
-    """N emulated servos behind one pty at `link`; start() serves them from a background thread."""
+    """N emulated servos behind one pty at `link`; start() serves them from a background thread.
+
+    `ids` may repeat an id (two servos wired with the same id); the in-process API then addresses
+    the first of them, and `servos(id)` lists all.
+    """
 
     def __init__(
         self,
@@ -59,7 +71,10 @@ class Sts3215Emulator:
     ):
         self.link = Path(link)
         now = time.monotonic()
-        self._servos = {servo_id: EmulatedServo(servo_id, position, now, model_number) for servo_id in ids}
+        if baud_rate not in BAUD_RATE_CODES:
+            raise ValueError(f"STS3215 baud rates are {', '.join(map(str, BAUD_RATE_CODES))}, not {baud_rate}")
+        code = BAUD_RATE_CODES[baud_rate]
+        self._servos = [EmulatedServo(servo_id, position, now, model_number, code) for servo_id in ids]
         self.drop_rate = drop_rate
         self.corrupt_rate = corrupt_rate
         self.baud_rate = baud_rate
@@ -112,16 +127,35 @@ class Sts3215Emulator:
     @property
     def ids(self) -> list[int]:
         with self._lock:
-            return sorted(self._servos)
+            return sorted(servo.id for servo in self._servos)
 
     def servo(self, servo_id: int) -> EmulatedServo:
         """Direct access to one servo's state (call its methods only while the bus is idle)."""
-        return self._servos[servo_id]
+        found = self.servos(servo_id)
+        if not found:
+            raise KeyError(f"no emulated servo with id {servo_id}")
+        return found[0]
+
+    def servos(self, servo_id: int) -> list[EmulatedServo]:
+        """Every servo answering to `servo_id` (more than one when ids collide)."""
+        return [servo for servo in self._servos if servo.id == servo_id]
 
     def move_by_hand(self, servo_id: int, position: float) -> None:
         """Turn a servo's shaft to `position` ticks (present-position frame)."""
         with self._lock:
-            self._servos[servo_id].move_by_hand(position, time.monotonic())
+            self.servo(servo_id).move_by_hand(position, time.monotonic())
+            self._handled.notify_all()
+
+    def turn_shaft(self, servo_id: int, encoder_ticks: float) -> None:
+        """Turn a servo's shaft so its encoder reads `encoder_ticks` before Homing_Offset is applied.
+
+        This is the physical angle: two arms in the same pose give different encoder readings when
+        their horns were mounted differently, and calibration exists to hide that.
+        """
+        with self._lock:
+            servo = self.servo(servo_id)
+            offset = servo.get("Homing_Offset")
+            servo.move_by_hand((encoder_ticks - offset) % TICKS_PER_TURN, time.monotonic())
             self._handled.notify_all()
 
     def position(self, servo_id: int) -> int:
@@ -129,7 +163,7 @@ class Sts3215Emulator:
 
     def read_register(self, servo_id: int, name: str) -> int:
         with self._lock:
-            servo = self._servos[servo_id]
+            servo = self.servo(servo_id)
             servo.advance(time.monotonic())
             return servo.get(name)
 
@@ -137,19 +171,19 @@ class Sts3215Emulator:
         """Write a register as a WRITE instruction would (read-only registers: see set_sensor)."""
         reg = register(name)
         with self._lock:
-            self._servos[servo_id].write(reg.address, encode_value(reg, value), time.monotonic())
+            self.servo(servo_id).write(reg.address, encode_value(reg, value), time.monotonic())
             self._handled.notify_all()
 
     def set_sensor(self, servo_id: int, name: str, value: int) -> None:
         """Set Present_Voltage or Present_Temperature, e.g. to trigger the voltage or overheat bit."""
         with self._lock:
-            self._servos[servo_id].set_sensor(name, value, time.monotonic())
+            self.servo(servo_id).set_sensor(name, value, time.monotonic())
             self._handled.notify_all()
 
     def inject_error(self, servo_id: int, bits: int) -> None:
         """Report these status error bits (e.g. proto.ERROR_OVERLOAD) until cleared with 0."""
         with self._lock:
-            self._servos[servo_id].inject_errors(bits, time.monotonic())
+            self.servo(servo_id).inject_errors(bits, time.monotonic())
             self._handled.notify_all()
 
     def drop_next_replies(self, count: int) -> None:
@@ -203,7 +237,7 @@ class Sts3215Emulator:
             for listener in self.packet_listeners:
                 listener(packet, time.monotonic())
             replies, delay_s = self._dispatch(packet)
-            wire = b"".join(self._with_faults(reply) for reply in replies)
+            wire = b"".join(self._with_faults(reply) for reply in replies if reply)
             self._handled.notify_all()
         if not wire:
             return
@@ -214,24 +248,35 @@ class Sts3215Emulator:
         except OSError:  # nobody reads the other side: the bytes are lost, as on a real bus
             pass
 
+    def _listening(self) -> list[EmulatedServo]:
+        """Servos clocked at the line's speed (all of them when the speed is unknown), by id."""
+        speed = self._pty.line_speed() if self._pty else None
+        code = BAUD_RATE_CODES.get(speed, -1) if speed else None
+        servos = sorted(self._servos, key=lambda s: s.id)
+        return [servo for servo in servos if code is None or servo.get("Baud_Rate") == code]
+
     def _dispatch(self, packet: proto.Packet) -> tuple[list[bytes], float]:
         """Execute one instruction packet; return the status packets to send and the return delay."""
         now = time.monotonic()
         code, params, target = packet.code, packet.params, packet.servo_id
+        listening = self._listening()
         if code == proto.INST_SYNC_WRITE:
             if target == proto.BROADCAST_ID and len(params) >= 2:
-                self._sync_write(params[0], params[1], params[2:], now)
+                self._sync_write(listening, params[0], params[1], params[2:], now)
             return [], 0.0
         if code == proto.INST_SYNC_READ:
             if target != proto.BROADCAST_ID or len(params) < 2:
                 return [], 0.0
-            servos = [self._servos[i] for i in params[2:] if i in self._servos]
-            replies = [proto.encode(s.id, s.error_byte(), s.read(params[0], params[1], now)) for s in servos]
-            return replies, self._return_delay(servos)
+            replies, answering = [], []
+            for servo_id in params[2:]:
+                servos = [s for s in listening if s.id == servo_id]
+                answering += servos
+                slot = [proto.encode(s.id, s.error_byte(), s.read(params[0], params[1], now)) for s in servos]
+                replies.append(collide(slot))
+            return replies, self._return_delay(answering)
         broadcast = target == proto.BROADCAST_ID
-        servos = [self._servos[i] for i in sorted(self._servos)] if broadcast else [self._servos.get(target)]
         replies, answering = [], []
-        for servo in filter(None, servos):
+        for servo in [s for s in listening if broadcast or s.id == target]:
             servo_id = servo.id  # a servo whose ID or status level is rewritten answers as before
             answers = self._answers(servo, code, broadcast)
             result = servo.execute(code, params, now)
@@ -240,17 +285,16 @@ class Sts3215Emulator:
             if result is not None and answers:
                 replies.append(proto.encode(servo_id, servo.error_byte(), result))
                 answering.append(servo)
-        self._rekey()
+        if not broadcast:
+            replies = [collide(replies)]
         return replies, self._return_delay(answering)
 
-    def _sync_write(self, address: int, size: int, blocks: bytes, now: float) -> None:
+    def _sync_write(self, listening: list[EmulatedServo], address: int, size: int, blocks: bytes, now: float) -> None:
         for start in range(0, len(blocks) - size, size + 1):
-            servo = self._servos.get(blocks[start])
-            if servo is not None:
-                data = bytes(blocks[start + 1 : start + 1 + size])
+            data = bytes(blocks[start + 1 : start + 1 + size])
+            for servo in [s for s in listening if s.id == blocks[start]]:
                 servo.write(address, data, now)
                 self._notify_write(blocks[start], address, data, now)
-        self._rekey()
 
     @staticmethod
     def _answers(servo: EmulatedServo, code: int, broadcast: bool) -> bool:
@@ -268,11 +312,6 @@ class Sts3215Emulator:
         for listener in self.write_listeners:
             listener(servo_id, address, data, now)
 
-    def _rekey(self) -> None:
-        """Follow ID changes written over the bus."""
-        if any(servo.id != key for key, servo in self._servos.items()):
-            self._servos = {servo.id: servo for servo in self._servos.values()}
-
     def _with_faults(self, reply: bytes) -> bytes:
         self.stats["replies"] += 1
         if self._forced["drop"] or (self.drop_rate and self._random.random() < self.drop_rate):
@@ -286,10 +325,32 @@ class Sts3215Emulator:
         return reply
 
 
+def collide(replies: list[bytes]) -> bytes:
+    """What the wire carries when these replies are sent at once.
+
+    The line idles high and a driven 0 wins, so overlapping bytes AND together; the servos' clocks
+    never line up exactly, so each further reply is modelled one byte later than the previous one.
+    One reply passes unchanged; two identical ones still garble each other.
+    """
+    if len(replies) <= 1:
+        return replies[0] if replies else b""
+    width = max(len(reply) for reply in replies) + len(replies) - 1
+    wire = bytearray(b"\xff" * width)
+    for shift, reply in enumerate(replies):
+        for index, value in enumerate(reply):
+            wire[shift + index] &= value
+    return bytes(wire)
+
+
 def serve(args, should_stop: Callable[[], bool]) -> None:
     """`joshua-emulate sts3215`: serve args.ids on args.link until should_stop() is true."""
     emulator = Sts3215Emulator(
-        args.link, args.ids, drop_rate=args.drop_rate, corrupt_rate=args.corrupt_rate, seed=args.seed
+        args.link,
+        args.ids,
+        drop_rate=args.drop_rate,
+        corrupt_rate=args.corrupt_rate,
+        seed=args.seed,
+        baud_rate=args.baud_rate,
     )
     with emulator:
         print(f"sts3215: servos {','.join(map(str, args.ids))} on {args.link} -> {emulator.device_name}", flush=True)

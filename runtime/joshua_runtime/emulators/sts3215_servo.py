@@ -39,11 +39,19 @@ MODE_SPEED = 1
 class EmulatedServo:
     """State of one servo; every method takes the current monotonic time `now` in seconds."""
 
-    def __init__(self, servo_id: int, position: float, now: float, model_number: int = MODEL_NUMBER_STS3215):
+    def __init__(
+        self,
+        servo_id: int,
+        position: float,
+        now: float,
+        model_number: int = MODEL_NUMBER_STS3215,
+        baud_rate_code: int = 0,
+    ):
         self.model_number = model_number
         self.memory = bytearray(TABLE_SIZE)
         self._load_factory_defaults()
         self._set("ID", servo_id)
+        self._set("Baud_Rate", baud_rate_code)
         self.saved_eeprom = bytes(self.memory[:EEPROM_END])
         self.position = float(position)
         self.velocity = 0.0

@@ -272,3 +272,38 @@ def test_joshua_emulate_command_serves_until_sigint(tmp_path):
     assert process.returncode == 0
     assert stdout.startswith(f"sts3215: servos 4,5 on {link} -> /dev/pts/")
     assert not link.exists()
+
+
+def test_a_servo_hears_only_its_own_baud_rate(emulators):
+    emulator = emulators("ttyBAUD", ids=[1, 2])
+    emulator.write_register(2, "Baud_Rate", 4)  # 115200
+    port = RawPort(emulator.link)
+    try:
+        assert port.ask(proto.encode(1, proto.INST_PING), 6) == proto.encode(1, 0)
+        assert port.silent_after(proto.encode(2, proto.INST_PING))
+        port.serial.baudrate = 115_200
+        assert port.ask(proto.encode(2, proto.INST_PING), 6) == proto.encode(2, 0)
+        assert port.silent_after(proto.encode(1, proto.INST_PING))
+    finally:
+        port.close()
+
+
+def test_two_servos_on_one_id_collide_on_the_wire(emulators):
+    emulator = emulators("ttyTWIN", ids=[1, 1])
+    port = RawPort(emulator.link)
+    try:
+        wire = port.ask(proto.encode(1, proto.INST_PING), 7)
+    finally:
+        port.close()
+    reply = proto.encode(1, 0)
+    assert wire == bytes(a & b for a, b in zip(reply + b"\xff", b"\xff" + reply))
+    parser = proto.PacketParser()
+    parser.feed(wire)
+    assert parser.pop() is None and parser.discarded > 0
+
+
+def test_turning_a_shaft_reads_through_the_homing_offset(emulators):
+    emulator = emulators("ttySHAFT", ids=[1])
+    emulator.write_register(1, "Homing_Offset", -300)
+    emulator.turn_shaft(1, 4000)
+    assert emulator.position(1) == (4000 + 300) % 4096

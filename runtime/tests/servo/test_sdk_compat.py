@@ -77,3 +77,15 @@ def test_lerobot_feetech_bus_connects_and_sync_reads(emulators):
     finally:
         bus.disconnect()
     assert [emulator.read_register(i, "Torque_Enable") for i in SO100_IDS] == [0] * 6
+
+
+def test_sdk_talks_at_another_baud_rate_and_sees_a_shared_id_fail(emulators):
+    emulator = emulators("ttySDKBAUD", ids=[1, 1, 2], baud_rate=500_000)
+    port, packets = sdk_port(emulator)
+    try:
+        assert packets.ping(port, 2)[1] == scs.COMM_RX_TIMEOUT  # the SDK opens at 1 Mbaud
+        assert port.setBaudRate(500_000)
+        assert packets.ping(port, 2) == (777, scs.COMM_SUCCESS, 0)
+        assert packets.ping(port, 1)[1] != scs.COMM_SUCCESS
+    finally:
+        port.closePort()
