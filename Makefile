@@ -8,7 +8,7 @@ RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 PYTEST_ARGS ?=
 
-.PHONY: setup run test generate proto bench check
+.PHONY: setup run test generate proto bench check cpp
 
 setup:
 	@bash scripts/setup.sh
@@ -26,6 +26,10 @@ generate: setup
 	@for robot in $(ROBOTS); do \
 		rm -rf generated/$$robot && $(VENV)/joshuac build config/robots/$$robot.pbtxt -o generated/$$robot || exit 1; \
 	done
+
+## cpp: build the C++ node binaries into build/bin/ (a no-op when they are up to date; setup runs it).
+cpp:
+	@$(MAKE) --no-print-directory -C cpp
 
 ## proto: regenerate joshua_codegen/schema/*_pb2.py from proto/.
 proto: setup

@@ -4,8 +4,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export UV_PYTHON_DOWNLOADS=never
 
-# System packages: systemd-analyze (unit checks) and Mesa EGL (MuJoCo offscreen rendering).
-APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core)
+# System packages: systemd-analyze (unit checks), Mesa EGL (MuJoCo offscreen rendering), the libraries
+# Qt needs offscreen, and the compiler and JSON header of the C++ nodes.
+APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core g++ make nlohmann-json3-dev)
 missing=()
 for package in "${APT_PACKAGES[@]}"; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
@@ -31,3 +32,8 @@ fi
 uv sync --locked --inexact --quiet --compile-bytecode
 .venv/bin/python -m compileall -q joshua_codegen core/joshua_core runtime/joshua_runtime bench testsupport >/dev/null
 .venv/bin/joshuac build config/robots/so100_leader_follower.pbtxt -o "$(mktemp -d)/warm" >/dev/null 2>&1 || true  # fills the compiled-template cache
+
+# C++ node binaries (build/bin/), compiled against the ROS 2 wheels just installed; a no-op when up to date.
+if ! make --no-print-directory -s -C cpp; then
+  echo "setup: warning: the C++ nodes did not build; nodes preferring CPP fall back to Python" >&2
+fi

@@ -1,0 +1,157 @@
+// rcl context, node and wait loop behind joshua::Node, and the run() wrapper giving exit codes.
+#include "joshua_rcl/node.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <thread>
+
+#include "joshua_rcl/signals.hpp"
+#include "rcl/arguments.h"
+#include "rcl/init.h"
+#include "rcl/init_options.h"
+
+namespace joshua {
+namespace {
+
+void log_line(const char* level, const std::string& node, const std::string& message) {
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  std::fprintf(stderr, "[%s] [%.9f] [%s]: %s\n", level, now, node.c_str(), message.c_str());
+  std::fflush(stderr);
+}
+
+// Parses the arguments once before rcl_init, which only logs "Failed to parse global arguments".
+void check_arguments(int argc, char** argv, rcl_allocator_t allocator) {
+  rcl_arguments_t arguments = rcl_get_zero_initialized_arguments();
+  const rcl_ret_t parsed = rcl_parse_arguments(argc, argv, allocator, &arguments);
+  const std::string error = parsed == RCL_RET_OK ? "" : take_rcl_error();
+  if (parsed == RCL_RET_OK) discard(rcl_arguments_fini(&arguments));
+  if (parsed == RCL_RET_INVALID_ROS_ARGS) throw SettingsError("invalid --ros-args: " + error);
+  if (parsed != RCL_RET_OK) throw JoshuaError("cannot parse arguments: " + error);
+}
+
+}  // namespace
+
+std::string take_rcl_error() {
+  std::string text = rcl_get_error_string().str;
+  rcl_reset_error();
+  const size_t location = text.find(", at /");  // rcl appends the source positions of its build
+  return location == std::string::npos ? text : text.substr(0, location);
+}
+
+void check_rcl(rcl_ret_t ret, const std::string& what) {
+  if (ret != RCL_RET_OK) throw JoshuaError(what + ": " + take_rcl_error());
+}
+
+Node::Node(int argc, char** argv, const std::string& default_name) : name_(default_name) {
+  rcl_allocator_t allocator = rcl_get_default_allocator();
+  check_arguments(argc, argv, allocator);
+  rcl_init_options_t options = rcl_get_zero_initialized_init_options();
+  check_rcl(rcl_init_options_init(&options, allocator), "cannot initialise rcl");
+  const rcl_ret_t init = rcl_init(argc, argv, &options, &context_);
+  discard(rcl_init_options_fini(&options));
+  if (init == RCL_RET_INVALID_ROS_ARGS) throw SettingsError("invalid --ros-args: " + take_rcl_error());
+  check_rcl(init, "cannot initialise rcl");
+
+  rcl_node_options_t node_options = rcl_node_get_default_options();
+  const rcl_ret_t created = rcl_node_init(&node_, default_name.c_str(), "", &context_, &node_options);
+  if (created == RCL_RET_NODE_INVALID_NAME || created == RCL_RET_NODE_INVALID_NAMESPACE) {
+    throw SettingsError("invalid node name: " + take_rcl_error());
+  }
+  check_rcl(created, "cannot create node");
+  name_ = rcl_node_get_name(&node_);
+
+  rcl_params_t* overrides = nullptr;
+  const rcl_ret_t parsed = rcl_arguments_get_param_overrides(&context_.global_arguments, &overrides);
+  if (parsed != RCL_RET_OK) throw SettingsError("invalid parameters: " + take_rcl_error());
+  parameters_ = std::make_unique<Parameters>(overrides, rcl_node_get_fully_qualified_name(&node_));
+}
+
+Node::~Node() {
+  if (rcl_wait_set_is_valid(&wait_set_)) discard(rcl_wait_set_fini(&wait_set_));
+  subscriptions_.clear();
+  entities_.clear();
+  parameters_.reset();
+  if (rcl_node_is_valid(&node_)) discard(rcl_node_fini(&node_));
+  if (rcl_context_is_valid(&context_)) discard(rcl_shutdown(&context_));
+  discard(rcl_context_fini(&context_));
+}
+
+void Node::every(double period_s, std::function<void()> callback) {
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(period_s));
+  timers_.push_back(Timer{period, Clock::now() + period, std::move(callback)});
+}
+
+void Node::spin() {
+  if (!subscriptions_.empty()) {
+    check_rcl(rcl_wait_set_init(&wait_set_, subscriptions_.size(), 0, 0, 0, 0, 0, &context_,
+                                rcl_get_default_allocator()),
+              "cannot create a wait set");
+  }
+  while (!stop_requested()) {
+    Clock::duration timeout = SHUTDOWN_POLL;
+    const Clock::time_point now = Clock::now();
+    for (const Timer& timer : timers_) timeout = std::min(timeout, timer.next - now);
+    wait_for_work(std::max(timeout, Clock::duration::zero()));
+    run_due_timers();
+  }
+}
+
+void Node::wait_for_work(Clock::duration timeout) {
+  if (subscriptions_.empty()) {
+    std::this_thread::sleep_for(timeout);
+    return;
+  }
+  check_rcl(rcl_wait_set_clear(&wait_set_), "wait set");
+  for (SubscriptionBase* subscription : subscriptions_) {
+    check_rcl(rcl_wait_set_add_subscription(&wait_set_, subscription->handle(), nullptr), "wait set");
+  }
+  const int64_t timeout_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  const rcl_ret_t ret = rcl_wait(&wait_set_, timeout_ns);
+  if (ret == RCL_RET_TIMEOUT) return;
+  check_rcl(ret, "wait failed");
+  for (size_t i = 0; i < subscriptions_.size(); ++i) {
+    if (wait_set_.subscriptions[i] != nullptr) subscriptions_[i]->take_all();
+  }
+}
+
+void Node::run_due_timers() {
+  for (Timer& timer : timers_) {
+    const Clock::time_point now = Clock::now();
+    if (now < timer.next) continue;
+    timer.next += timer.period;
+    if (timer.next <= now) timer.next = now + timer.period;
+    timer.callback();
+  }
+}
+
+void Node::info(const std::string& message) const { log_line("INFO", name_, message); }
+
+void Node::warn(const std::string& message) const { log_line("WARN", name_, message); }
+
+int run(int argc, char** argv, const std::string& default_name, Application& application) {
+  install_stop_handlers();
+  std::unique_ptr<Node> node;
+  std::string name = default_name;
+  int code = 0;
+  try {
+    node = std::make_unique<Node>(argc, argv, default_name);
+    name = node->name();
+    application.start(*node);
+    node->spin();
+  } catch (const StopRequested&) {
+  } catch (const JoshuaError& error) {
+    std::cerr << name << ": error: " << error.what() << std::endl;
+    code = error.exit_code();
+  }
+  try {
+    application.close();
+  } catch (const JoshuaError& error) {
+    std::cerr << name << ": error while closing: " << error.what() << std::endl;
+    code = code ? code : error.exit_code();
+  }
+  return code;
+}
+
+}  // namespace joshua

@@ -1,0 +1,97 @@
+// One ROS 2 node on rcl: context and name from argv, parameters, endpoints, timers and the wait loop.
+//
+//     int main(int argc, char** argv) {
+//       MyNode app;                                  // an Application: start() and close()
+//       return joshua::run(argc, argv, "my_node", app);
+//     }
+//
+// run() installs the SIGINT/SIGTERM handlers, starts the node, spins until a signal arrives (noticed
+// within SHUTDOWN_POLL), calls close() and returns the exit code of the Python runtime: 0 after a
+// signal (also during start-up), else the JoshuaError's code with one line `NAME: error: ...` on stderr.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "joshua_rcl/endpoints.hpp"
+#include "joshua_rcl/parameters.hpp"
+#include "rcl/context.h"
+#include "rcl/node.h"
+#include "rcl/wait.h"
+
+namespace joshua {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::chrono::milliseconds SHUTDOWN_POLL{50};
+
+class Node {
+ public:
+  // Parses `--ros-args` (remapping `__node:=NAME`, `-p k:=v`) with rcl; `default_name` without `__node`.
+  Node(int argc, char** argv, const std::string& default_name);
+  ~Node();
+  Node(const Node&) = delete;
+  Node& operator=(const Node&) = delete;
+
+  const std::string& name() const { return name_; }
+  const Parameters& parameters() const { return *parameters_; }
+
+  template <class Message>
+  Publisher<Message>& publisher(const std::string& topic, const rmw_qos_profile_t& qos) {
+    auto owned = std::make_unique<Publisher<Message>>(&node_, topic, qos);
+    Publisher<Message>& publisher = *owned;
+    entities_.push_back(std::move(owned));
+    return publisher;
+  }
+
+  template <class Message>
+  void subscribe(const std::string& topic, const rmw_qos_profile_t& qos,
+                 typename Subscription<Message>::Callback callback) {
+    auto owned = std::make_unique<Subscription<Message>>(&node_, topic, qos, std::move(callback));
+    subscriptions_.push_back(owned.get());
+    entities_.push_back(std::move(owned));
+  }
+
+  // Calls `callback` every `period_s` seconds from the wait loop (missed ticks are skipped).
+  void every(double period_s, std::function<void()> callback);
+
+  // Runs timers and subscription callbacks until SIGINT or SIGTERM.
+  void spin();
+
+  void info(const std::string& message) const;
+  void warn(const std::string& message) const;
+
+ private:
+  struct Timer {
+    Clock::duration period;
+    Clock::time_point next;
+    std::function<void()> callback;
+  };
+
+  void wait_for_work(Clock::duration timeout);
+  void run_due_timers();
+
+  rcl_context_t context_ = rcl_get_zero_initialized_context();
+  rcl_node_t node_ = rcl_get_zero_initialized_node();
+  rcl_wait_set_t wait_set_ = rcl_get_zero_initialized_wait_set();
+  std::string name_;
+  std::unique_ptr<Parameters> parameters_;
+  std::vector<std::unique_ptr<Entity>> entities_;
+  std::vector<SubscriptionBase*> subscriptions_;
+  std::vector<Timer> timers_;
+};
+
+// What a node binary does on top of a Node: open devices and create endpoints, then release them.
+class Application {
+ public:
+  virtual ~Application() = default;
+  virtual void start(Node& node) = 0;
+  // Called once after spinning stops, also after a failed start.
+  virtual void close() {}
+};
+
+int run(int argc, char** argv, const std::string& default_name, Application& application);
+
+}  // namespace joshua
