@@ -112,7 +112,7 @@ LIDAR_PUBLISHER = NodeTypeSpec(
 ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     name="ACTUATOR_SUBSCRIBER", family="actuator", topic="subscribes", message_types=(JOINT_STATE,),
     state_topic=True, hardware=True,
-    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic",),
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic", "frame_id", "keep_torque_on_exit"),
     fields=_SERVO_BUS_FIELDS | {"state_topic", "keep_torque_on_exit"}, required=("serial_port",),
     claims=("serial_port",), runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
     sim_bridge=f"{_BRIDGES}:ActuatorBridge",

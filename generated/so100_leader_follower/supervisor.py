@@ -96,7 +96,7 @@ ROBOT = {
             'executable': '',
             'args': [],
             'cpp_binary': 'actuator_subscriber',
-            'cpp_args': ['--ros-args', '-r', '__node:=actuator_subscriber', '-p', "topic_name:='/leader/joint_states'", '-p', "message_type:='sensor_msgs/msg/JointState'", '-p', 'qos_depth:=10', '-p', "qos_reliability:='RELIABLE'", '-p', "qos_durability:='VOLATILE'", '-p', "qos_history:='KEEP_LAST'", '-p', "serial_port:='/dev/ttyUSB1'", '-p', 'baud_rate:=1000000', '-p', 'device_ids:=[1, 2, 3, 4, 5, 6]', '-p', "joint_names:=['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper']", '-p', 'rate_hz:=100.0'],
+            'cpp_args': ['--ros-args', '-r', '__node:=actuator_subscriber', '-p', "topic_name:='/leader/joint_states'", '-p', "message_type:='sensor_msgs/msg/JointState'", '-p', 'qos_depth:=10', '-p', "qos_reliability:='RELIABLE'", '-p', "qos_durability:='VOLATILE'", '-p', "qos_history:='KEEP_LAST'", '-p', "serial_port:='/dev/ttyUSB1'", '-p', 'baud_rate:=1000000', '-p', 'device_ids:=[1, 2, 3, 4, 5, 6]', '-p', "joint_names:=['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper']", '-p', 'rate_hz:=100.0', '-p', "frame_id:='base_link'", '-p', 'keep_torque_on_exit:=false'],
             'restart': 'RESTART_ON_FAILURE',
             'max_restarts': 5,
             'critical': True,
