@@ -18,22 +18,20 @@ using sensor_msgs::msg::JointState;
 
 class ActuatorSubscriber : public Application {
  public:
-  explicit ActuatorSubscriber() = default;
-
   void start(Node& node) override {
     node_ = &node;
     const Parameters& parameters = node.parameters();
     const double period = period_s(parameters);
     keep_torque_on_exit_ = parameters.get_bool("keep_torque_on_exit");
+    const std::string topic = parameters.require_string("topic_name");
+    const std::string state_topic = parameters.get_string("state_topic");
+    const rmw_qos_profile_t qos = qos_from_parameters(parameters);
+    frame_id_ = parameters.get_string("frame_id");
     bus_ = bus_from_parameters(parameters, joint_names_);
     bus_->open();
     bus_->enable_torque();
     guard_ = std::make_unique<BusGuard>(*bus_, node, [this] { bus_->enable_torque(); });
-    frame_id_ = parameters.get_string("frame_id");
-    const rmw_qos_profile_t qos = qos_from_parameters(parameters);
-    node.subscribe<JointState>(parameters.require_string("topic_name"), qos,
-                               [this](const JointState& message) { command(message); });
-    const std::string state_topic = parameters.get_string("state_topic");
+    node.subscribe<JointState>(topic, qos, [this](const JointState& message) { command(message); });
     if (!state_topic.empty()) {
       joint_states_ = &node.publisher<JointState>(state_topic, qos);
       node.every(period, [this] { publish_state(); });

@@ -17,13 +17,14 @@ class EncoderPublisher : public Application {
   void start(Node& node) override {
     const Parameters& parameters = node.parameters();
     const double period = period_s(parameters);
+    const std::string topic = parameters.require_string("topic_name");
+    const rmw_qos_profile_t qos = qos_from_parameters(parameters);
+    frame_id_ = parameters.get_string("frame_id");
     bus_ = bus_from_parameters(parameters, joint_names_);
     bus_->open();
     bus_->disable_torque();
     guard_ = std::make_unique<BusGuard>(*bus_, node, [this] { bus_->disable_torque(); });
-    frame_id_ = parameters.get_string("frame_id");
-    joint_states_ = &node.publisher<sensor_msgs::msg::JointState>(parameters.require_string("topic_name"),
-                                                                   qos_from_parameters(parameters));
+    joint_states_ = &node.publisher<sensor_msgs::msg::JointState>(topic, qos);
     node.every(period, [this] { publish(); });
   }
 

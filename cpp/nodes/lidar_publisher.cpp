@@ -31,9 +31,10 @@ class LidarPublisher : public Application {
     if (baud_rate <= 0) baud_rate = Lds01::DEFAULT_BAUD_RATE;
     frame_id_ = parameters.get_string("frame_id");
     if (frame_id_.empty()) frame_id_ = DEFAULT_FRAME_ID;
+    const rmw_qos_profile_t qos = qos_from_parameters(parameters);
     lidar_ = std::make_unique<Lds01>(port, static_cast<int>(baud_rate));
     lidar_->open();
-    scans_ = &node.publisher<LaserScan>(topic, qos_from_parameters(parameters));
+    scans_ = &node.publisher<LaserScan>(topic, qos);
     node.every(POLL_PERIOD_S, [this] { publish_turns(); });
   }
 

@@ -1,0 +1,65 @@
+"""Helpers of the C++ node tests: the binaries in build/bin and the command line the supervisor gives them.
+
+The command of a node comes from the real compiler (the `cpp_args` of its planned process), so these
+tests run each binary exactly as the generated supervisor execs it.
+"""
+
+import subprocess
+from collections.abc import Sequence
+from pathlib import Path
+
+import pytest
+
+from joshua_codegen.check import check_text
+from joshua_codegen.diagnostics import format_text
+from joshua_codegen.plan import plan
+from testsupport.node_process import stop_process
+
+ROOT = Path(__file__).resolve().parents[3]
+BIN_DIR = ROOT / "build" / "bin"
+NODE_START_TIMEOUT_S = 30.0  # the Python twin is a cold rclpy process on a busy 2-core machine
+MESSAGE_TIMEOUT_S = 15.0
+STOP_BOUND_S = 2.0  # generous; the contract (0.5 s) is measured by bench/cpp_nodes.py
+
+
+def cpp_commands(description_text: str, overrides: Sequence[str] = (),
+                 path: str = "test_description.pbtxt") -> dict[str, list[str]]:
+    """argv of every node that has a C++ binary, by node name: `BIN_DIR/<binary> --ros-args ...`."""
+    result = check_text(path, description_text, overrides)
+    if result.has_errors or result.description is None:
+        pytest.fail(f"the test description does not compile:\n{format_text(result.diagnostics, result.sources)}",
+                    pytrace=False)
+    robot = plan(result.description, path)
+    return {p.name: [str(BIN_DIR / p.cpp_binary), *p.cpp_args] for p in robot.processes if p.cpp_binary}
+
+
+class CppNodeProcess:
+    """A C++ node binary run with `argv` and `env`; the same interface as testsupport's NodeProcess."""
+
+    def __init__(self, argv: list[str], env: dict):
+        self.process = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def stop(self, signum) -> tuple[int, float, str]:
+        """Send `signum`; return (exit code, seconds until exit, stderr)."""
+        return stop_process(self.process, signum)
+
+    def wait(self, timeout: float = NODE_START_TIMEOUT_S) -> tuple[int, str]:
+        _, stderr = self.process.communicate(timeout=timeout)
+        return self.process.returncode, stderr
+
+    def failure(self) -> str:
+        if self.process.poll() is None:
+            return "process still running"
+        return f"exit code {self.process.returncode}: {self.process.communicate()[1]}"
+
+    def kill(self) -> None:
+        if self.process.poll() is None:
+            self.process.kill()
+        self.process.communicate()
+
+
+def error_line(stderr: str) -> str:
+    """The message of the node's one-line error `NAME: error: MESSAGE` (the last line of stderr)."""
+    lines = stderr.strip().splitlines()
+    assert lines and ": error: " in lines[-1], stderr
+    return lines[-1].split(": error: ", 1)[1]
