@@ -14,9 +14,10 @@ setup:
 	@bash scripts/setup.sh
 
 ## run: build the demo description into a temporary directory and run it (Ctrl-C stops it;
-## DURATION=10 makes it stop by itself).
+## DURATION=10 makes it stop by itself). Nodes preferring CPP run the binaries setup built in build/bin.
 run: setup
-	$(VENV)/joshuac run $(RUN_CONFIG) --status-interval 2 $(if $(DURATION),--duration $(DURATION))
+	$(VENV)/joshuac run $(RUN_CONFIG) --set "cpp_bin_dir=$(CURDIR)/build/bin" --status-interval 2 \
+		$(if $(DURATION),--duration $(DURATION))
 
 test: setup
 	$(VENV)/pytest $(PYTEST_ARGS)

@@ -36,7 +36,6 @@ robot_config {{
 """
 READER_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
-SETTLE_S = 0.1
 
 
 def twins(kind: str, node_type: str, topic: str, fields: str, overrides: list[str]):
@@ -49,16 +48,22 @@ def endpoint_qos(infos) -> list:
     return [(info.topic_type, info.qos_profile.reliability, info.qos_profile.durability) for info in infos]
 
 
-def assert_same_joint_states(python: JointState, cpp: JointState) -> None:
-    assert python.header.frame_id == cpp.header.frame_id
-    assert list(python.name) == list(cpp.name) == JOINTS
-    for field in ("position", "velocity", "effort"):
-        assert list(getattr(cpp, field)) == pytest.approx(list(getattr(python, field)), abs=1e-12), field
+def same_joint_states(python: JointState | None, cpp: JointState | None) -> bool:
+    """Same frame, joint names, positions, velocities and efforts (to 1e-12)."""
+    if python is None or cpp is None or list(python.name) != JOINTS or list(cpp.name) != JOINTS:
+        return False
+    return python.header.frame_id == cpp.header.frame_id and all(
+        list(getattr(cpp, field)) == pytest.approx(list(getattr(python, field)), abs=1e-12)
+        for field in ("position", "velocity", "effort"))
 
 
-def settle(ros_client) -> None:
-    """Spin a moment, so that the last messages are readings taken after the emulators settled."""
-    ros_client.spin_until(lambda: False, SETTLE_S)
+def assert_twins_agree(ros_client, python_topic: str, cpp_topic: str) -> None:
+    """Both nodes come to publish the same JointState (readings of the same, settled emulator state)."""
+
+    def agree() -> bool:
+        return same_joint_states(ros_client.last(python_topic), ros_client.last(cpp_topic))
+
+    assert ros_client.spin_until(agree, MESSAGE_TIMEOUT_S), (ros_client.last(python_topic), ros_client.last(cpp_topic))
 
 
 def stop_both(python, cpp, signum) -> None:
@@ -99,8 +104,8 @@ def test_encoders_publish_the_same_calibrated_joint_states(buses, calibration_fi
             return all(m is not None and list(m.position) == pytest.approx(expected, abs=1e-12) for m in messages)
 
         assert ros_client.spin_until(both_show_pose, NODE_START_TIMEOUT_S), (python.failure(), cpp.failure())
-        settle(ros_client)
-        assert_same_joint_states(ros_client.last("/py/joint_states"), ros_client.last("/cpp/joint_states"))
+        assert_twins_agree(ros_client, "/py/joint_states", "/cpp/joint_states")
+        assert ros_client.last("/cpp/joint_states").header.frame_id == "arm_base"
 
     python_info = ros_client.publishers_info("/py/joint_states", MESSAGE_TIMEOUT_S)
     cpp_info = ros_client.publishers_info("/cpp/joint_states", MESSAGE_TIMEOUT_S)
@@ -153,8 +158,8 @@ def test_actuators_write_the_same_goals_and_report_the_same_state(buses, calibra
                                                  for i in IDS), MESSAGE_TIMEOUT_S)
         assert cpp_bus.wait_until(lambda: all(cpp_bus.position(i) == cpp_bus.read_register(i, "Goal_Position")
                                               for i in IDS), MESSAGE_TIMEOUT_S)
-        settle(ros_client)
-        assert_same_joint_states(ros_client.last("/py/state"), ros_client.last("/cpp/state"))
+        assert_twins_agree(ros_client, "/py/state", "/cpp/state")
+        assert ros_client.last("/cpp/state").header.frame_id == "follower_base"
 
     stop_both(python, cpp, signal.SIGINT)
     # keep_torque_on_exit: both leave the arm holding its pose.
