@@ -1,5 +1,6 @@
 """The whole compiler as one pure function: description text in, diagnostics and files out."""
 
+import os
 from dataclasses import dataclass
 
 from joshua_codegen.check import CheckResult, check_file, check_text
@@ -39,6 +40,15 @@ def plan_text(text: str, overrides=(), path: str = "description.pbtxt") -> Robot
     if result.has_errors or result.description is None:
         raise DescriptionError(format_text(result.diagnostics, result.sources))
     return result.robot or plan(result.description, path)
+
+
+def cpp_commands(text: str, bin_dir: str, overrides=(), path: str = "description.pbtxt") -> dict[str, list[str]]:
+    """The argv the supervisor execs for each node with a C++ binary (`BIN_DIR/<binary> --ros-args ...`), by name.
+
+    Raises DescriptionError when the description has errors.
+    """
+    robot = plan_text(text, overrides, path)
+    return {p.name: [os.path.join(bin_dir, p.cpp_binary), *p.cpp_args] for p in robot.processes if p.cpp_binary}
 
 
 def node_settings(text: str, overrides=(), path: str = "description.pbtxt") -> dict[str, dict]:

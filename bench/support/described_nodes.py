@@ -3,9 +3,11 @@
 from collections.abc import Sequence
 from pathlib import Path
 
-from joshua_codegen.compile import DescriptionError, node_settings
+from joshua_codegen.compile import DescriptionError, cpp_commands, node_settings
 
-PYTHON = str(Path(__file__).resolve().parents[2] / ".venv" / "bin" / "python")
+ROOT = Path(__file__).resolve().parents[2]
+PYTHON = str(ROOT / ".venv" / "bin" / "python")
+CPP_BIN_DIR = ROOT / "build" / "bin"  # where `make cpp` puts the C++ node binaries
 
 
 def compiled_settings(description_text: str, overrides: Sequence[str] = (), path: str = "bench.pbtxt") -> dict[str, dict]:
@@ -16,6 +18,15 @@ def compiled_settings(description_text: str, overrides: Sequence[str] = (), path
     """
     try:
         return node_settings(description_text, overrides, path)
+    except DescriptionError as exc:
+        raise SystemExit(f"the benchmark's description has errors:\n{exc}") from None
+
+
+def compiled_cpp_commands(description_text: str, overrides: Sequence[str] = (),
+                          path: str = "bench.pbtxt") -> dict[str, list[str]]:
+    """The argv the supervisor execs for each node with a C++ binary in build/bin, by name."""
+    try:
+        return cpp_commands(description_text, str(CPP_BIN_DIR), overrides, path)
     except DescriptionError as exc:
         raise SystemExit(f"the benchmark's description has errors:\n{exc}") from None
 

@@ -2,6 +2,7 @@
 #include "joshua_rcl/node.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <ctime>
 #include <iostream>
@@ -130,6 +131,13 @@ void Node::info(const std::string& message) const { log_line("INFO", name_, mess
 
 void Node::warn(const std::string& message) const { log_line("WARN", name_, message); }
 
+[[noreturn]] void exit_process(int code) {
+  // By now the node and its DDS participant are gone; the DDS libraries' static destructors would
+  // still wait ~0.1 s for their threads, so the process leaves without running them.
+  std::fflush(nullptr);
+  std::_Exit(code);
+}
+
 int run(int argc, char** argv, const std::string& default_name, Application& application) {
   install_stop_handlers();
   std::unique_ptr<Node> node;
@@ -151,7 +159,8 @@ int run(int argc, char** argv, const std::string& default_name, Application& app
     std::cerr << name << ": error while closing: " << error.what() << std::endl;
     code = code ? code : error.exit_code();
   }
-  return code;
+  node.reset();
+  exit_process(code);
 }
 
 }  // namespace joshua

@@ -6,8 +6,9 @@
 //     }
 //
 // run() installs the SIGINT/SIGTERM handlers, starts the node, spins until a signal arrives (noticed
-// within SHUTDOWN_POLL), calls close() and returns the exit code of the Python runtime: 0 after a
-// signal (also during start-up), else the JoshuaError's code with one line `NAME: error: ...` on stderr.
+// within SHUTDOWN_POLL), calls close(), destroys the node and ends the process with the exit code of
+// the Python runtime: 0 after a signal (also during start-up), else the JoshuaError's code with one
+// line `NAME: error: ...` on stderr. It does not return.
 #pragma once
 
 #include <chrono>
@@ -92,6 +93,6 @@ class Application {
   virtual void close() {}
 };
 
-int run(int argc, char** argv, const std::string& default_name, Application& application);
+[[noreturn]] int run(int argc, char** argv, const std::string& default_name, Application& application);
 
 }  // namespace joshua

@@ -10,9 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from joshua_codegen.check import check_text
-from joshua_codegen.diagnostics import format_text
-from joshua_codegen.plan import plan
+from joshua_codegen.compile import DescriptionError
+from joshua_codegen.compile import cpp_commands as compiled_cpp_commands
 from testsupport.node_process import stop_process
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -25,12 +24,10 @@ STOP_BOUND_S = 2.0  # generous; the contract (0.5 s) is measured by bench/cpp_no
 def cpp_commands(description_text: str, overrides: Sequence[str] = (),
                  path: str = "test_description.pbtxt") -> dict[str, list[str]]:
     """argv of every node that has a C++ binary, by node name: `BIN_DIR/<binary> --ros-args ...`."""
-    result = check_text(path, description_text, overrides)
-    if result.has_errors or result.description is None:
-        pytest.fail(f"the test description does not compile:\n{format_text(result.diagnostics, result.sources)}",
-                    pytrace=False)
-    robot = plan(result.description, path)
-    return {p.name: [str(BIN_DIR / p.cpp_binary), *p.cpp_args] for p in robot.processes if p.cpp_binary}
+    try:
+        return compiled_cpp_commands(description_text, str(BIN_DIR), overrides, path)
+    except DescriptionError as exc:
+        pytest.fail(f"the test description does not compile:\n{exc}", pytrace=False)
 
 
 class CppNodeProcess:

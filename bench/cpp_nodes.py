@@ -1,0 +1,240 @@
+"""C++ and Python hardware nodes side by side: start-up, CPU, memory, stop time and teleop latency.
+
+    make cpp && .venv/bin/python bench/cpp_nodes.py [--samples 300] [--fast-rate-hz 1000]
+
+Every node runs against protocol-level emulators in this process (STS3215 buses, an LDS-01) over real
+DDS, started as the generated supervisor starts it: the Python entrypoint (`run_node(SETTINGS)`) or
+the C++ binary in build/bin with its `--ros-args`. One node at a time, per backend: seconds from spawn
+to its first message (ACTUATOR_SUBSCRIBER: to torque on), the CPU seconds used by then, CPU use while
+running at its rate, PSS, and seconds from SIGINT to exit 0. Then leader -> follower latency (both
+nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-rate-hz, about what
+one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire.
+"""
+
+import argparse
+import os
+import random
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+from support.described_nodes import CPP_BIN_DIR, compiled_cpp_commands, compiled_settings, node_command
+from teleop import HIGH_TICKS, LOW_TICKS, RATE_WINDOW_S, SAMPLE_TIMEOUT_S, SETTLE_S, GoalWatch, ReadLog, percentile
+
+from joshua_runtime.drivers.sts3215_table import register
+from joshua_runtime.emulators.lds01 import Lds01Emulator
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+
+DESCRIPTION = """
+robot_config {
+  name: "bench_cpp"
+  mode: MODE_TELEOPERATION
+  node { name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" preferred_backend: CPP }
+  node { name: "follower" type: ACTUATOR_SUBSCRIBER topic_name: "/leader/joint_states" preferred_backend: CPP }
+  node { name: "lidar" type: LIDAR_PUBLISHER topic_name: "/scan" preferred_backend: CPP }
+}
+"""
+BACKENDS = ("Python", "C++")
+STARTUP_TIMEOUT_S = 60.0
+STOP_TIMEOUT_S = 5.0
+STEADY_S = 5.0
+TORQUE_ENABLE_ADDRESS = register("Torque_Enable").address
+CLOCK_TICKS_PER_S = os.sysconf("SC_CLK_TCK")
+
+
+def commands(links: dict[str, Path], rate_hz: float) -> dict[str, dict[str, list[str]]]:
+    """argv of each node by backend then name, with its device at `links[name]` and servo nodes at rate_hz."""
+    overrides = [f"{name}.serial_port={link}" for name, link in links.items()]
+    overrides += [f"leader.rate_hz={rate_hz}", f"follower.rate_hz={rate_hz}"]
+    settings = compiled_settings(DESCRIPTION, overrides, "bench_cpp.pbtxt")
+    return {"Python": {name: node_command(settings[name]) for name in links},
+            "C++": compiled_cpp_commands(DESCRIPTION, overrides, "bench_cpp.pbtxt")}
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS_PER_S  # utime, stime
+
+
+def pss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/smaps_rollup").read_text().splitlines():
+        if line.startswith("Pss:"):
+            return int(line.split()[1]) / 1024
+    return float("nan")
+
+
+def stop(process: subprocess.Popen) -> tuple[int, float]:
+    """SIGINT; (exit code, seconds until it exited)."""
+    sent = time.monotonic()
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+    try:
+        process.communicate(timeout=STOP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.communicate()
+    return process.returncode, time.monotonic() - sent
+
+
+class FirstMessages:
+    """An rclpy node spun in a thread, noting when the first message arrives on each watched topic."""
+
+    def __init__(self):
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.qos import qos_profile_sensor_data
+        from sensor_msgs.msg import JointState, LaserScan
+
+        rclpy.init()
+        self.node = rclpy.create_node("bench_cpp_client")
+        self.arrived: dict[str, float] = {}
+        self.node.create_subscription(JointState, "/leader/joint_states", self._noter("/leader/joint_states"), 10)
+        self.node.create_subscription(LaserScan, "/scan", self._noter("/scan"), qos_profile_sensor_data)
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+
+    def _noter(self, topic: str):
+        return lambda _message: self.arrived.setdefault(topic, time.monotonic())
+
+    def close(self) -> None:
+        import rclpy
+
+        self.executor.shutdown(timeout_sec=1)
+        rclpy.shutdown()
+
+
+def first_time(arrived: dict, key: str, process: subprocess.Popen) -> float | None:
+    deadline = time.monotonic() + STARTUP_TIMEOUT_S
+    while key not in arrived and time.monotonic() < deadline and process.poll() is None:
+        time.sleep(0.002)
+    return arrived.get(key)
+
+
+def measure_node(name: str, argv: list[str], env: dict, client: FirstMessages, torque_on: dict,
+                 steady_s: float = STEADY_S) -> dict:
+    """Start-up, CPU, PSS and stop figures of one node run alone."""
+    client.arrived.clear()
+    torque_on.clear()
+    started = time.monotonic()
+    process = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if name == "follower":
+        ready = first_time(torque_on, "follower", process)
+    else:
+        ready = first_time(client.arrived, "/scan" if name == "lidar" else "/leader/joint_states", process)
+    if ready is None:
+        stop(process)
+        raise SystemExit(f"{name} ({argv[0]}) sent nothing: {process.stderr.read() if process.stderr else ''}")
+    start_cpu = cpu_seconds(process.pid)
+    time.sleep(steady_s)
+    steady_cpu = (cpu_seconds(process.pid) - start_cpu) / steady_s if steady_s else 0.0
+    pss = pss_mb(process.pid)
+    code, stop_s = stop(process)
+    return {"first_s": ready - started, "start_cpu_s": start_cpu, "steady_cpu": steady_cpu, "pss_mb": pss,
+            "exit": code, "stop_s": stop_s}
+
+
+def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int) -> dict:
+    """Leader -> follower latency and loop rates of one backend's leader and follower (as bench/teleop.py)."""
+    watch, reads = GoalWatch(), ReadLog()
+    follower_bus.write_listeners.append(watch)
+    leader_bus.packet_listeners.append(reads)
+    for servo_id in leader_bus.ids:
+        leader_bus.move_by_hand(servo_id, 2048)
+    nodes = [subprocess.Popen(argv[name], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+             for name in ("leader", "follower")]
+    jitter, period = random.Random(0), 1.0 / rate_hz
+    latencies, waits, missed = [], [], 0
+    try:
+        if watch.wait_for(2048, STARTUP_TIMEOUT_S) is None:
+            raise SystemExit("no goal reached the follower")
+        reads_before, writes_before = len(reads.times), watch.writes
+        time.sleep(RATE_WINDOW_S)
+        read_rate = (len(reads.times) - reads_before) / RATE_WINDOW_S
+        write_rate = (watch.writes - writes_before) / RATE_WINDOW_S
+        for index in range(samples):
+            goal = HIGH_TICKS if index % 2 == 0 else LOW_TICKS
+            time.sleep(SETTLE_S + jitter.random() * period)
+            moved_at = time.monotonic()
+            leader_bus.move_by_hand(1, goal)
+            arrived_at = watch.wait_for(goal, SAMPLE_TIMEOUT_S)
+            if arrived_at is None:
+                missed += 1
+                continue
+            latencies.append(1000 * (arrived_at - moved_at))
+            waits.append(1000 * (reads.first_after(moved_at) - moved_at))
+    finally:
+        codes = [stop(node)[0] for node in nodes]
+        follower_bus.write_listeners.remove(watch)
+        leader_bus.packet_listeners.remove(reads)
+    pipeline = [total - wait for total, wait in zip(latencies, waits)]
+    return {"p50": percentile(latencies, 0.5), "p99": percentile(latencies, 0.99), "mean": statistics.fmean(latencies),
+            "pipeline_p50": percentile(pipeline, 0.5), "pipeline_p99": percentile(pipeline, 0.99),
+            "read_rate": read_rate, "write_rate": write_rate, "missed": missed, "codes": codes}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=300)
+    parser.add_argument("--fast-rate-hz", type=float, default=1000.0)
+    args = parser.parse_args()
+    missing = [name for name in ("encoder_publisher", "actuator_subscriber", "lidar_publisher")
+               if not (CPP_BIN_DIR / name).is_file()]
+    if missing:
+        print(f"no C++ binaries {missing} in {CPP_BIN_DIR}: run `make cpp` first", file=sys.stderr)
+        return 1
+    domain = 150 + os.getpid() % 80
+    os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    with tempfile.TemporaryDirectory() as directory:
+        links = {name: Path(directory) / f"tty{name.upper()}" for name in ("leader", "follower", "lidar")}
+        leader_bus = Sts3215Emulator(links["leader"]).start()
+        follower_bus = Sts3215Emulator(links["follower"]).start()
+        lidar = Lds01Emulator(links["lidar"]).start()
+        torque_on: dict[str, float] = {}
+        follower_bus.write_listeners.append(
+            lambda _id, address, data, now: address == TORQUE_ENABLE_ADDRESS and data[:1] == b"\x01"
+            and torque_on.setdefault("follower", now))
+        client = FirstMessages()
+        try:
+            node_argv = commands(links, 100.0)
+            for backend in BACKENDS:  # warm the page cache: a cold first start is a disk figure, not a node's
+                measure_node("leader", node_argv[backend]["leader"], env, client, torque_on, steady_s=0)
+            nodes = {(name, backend): measure_node(name, node_argv[backend][name], env, client, torque_on)
+                     for name in ("leader", "follower", "lidar") for backend in BACKENDS}
+        finally:
+            client.close()  # its callbacks would compete with the emulators for the GIL during teleop
+        latency = {}
+        try:
+            for rate in (200.0, args.fast_rate_hz):
+                teleop_argv = commands(links, rate)
+                for backend in BACKENDS:
+                    latency[rate, backend] = teleop(teleop_argv[backend], env, leader_bus, follower_bus, rate,
+                                                    args.samples)
+        finally:
+            leader_bus.stop()
+            follower_bus.stop()
+            lidar.stop()
+    print("hardware nodes, one at a time on emulated devices (servo nodes at 100 Hz, lidar 5 turns/s)")
+    print(f"  {'node':<9} {'backend':<7} {'first msg':>9} {'CPU-s then':>10} {'CPU running':>11} {'PSS':>8} "
+          f"{'SIGINT->exit':>12}")
+    for (name, backend), r in nodes.items():
+        print(f"  {name:<9} {backend:<7} {r['first_s']:>8.3f}s {r['start_cpu_s']:>9.2f}s {100 * r['steady_cpu']:>10.1f}% "
+              f"{r['pss_mb']:>6.1f}MB {1000 * r['stop_s']:>9.0f} ms (exit {r['exit']})")
+    print(f"teleop leader -> follower over emulated 1 Mbaud buses, 6 servos, {args.samples} samples each")
+    for (rate, backend), r in latency.items():
+        print(f"  {rate:>6g} Hz {backend:<7} p50 {r['p50']:.2f} ms, p99 {r['p99']:.2f} ms, mean {r['mean']:.2f} ms "
+              f"(read -> goal p50 {r['pipeline_p50']:.2f} ms, p99 {r['pipeline_p99']:.2f} ms); "
+              f"{r['read_rate']:.0f} leader transactions/s, {r['write_rate']:.0f} goal writes/s; "
+              f"{r['missed']} missed; exit codes {r['codes']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
