@@ -4,6 +4,7 @@ Also how the binaries read `--ros-args`: string parameters stay strings whatever
 signal during start-up still ends the node cleanly.
 """
 
+import math
 import signal
 import time
 
@@ -109,3 +110,29 @@ def test_a_signal_during_start_up_ends_the_node_with_0(buses, start_cpp):
     code, seconds, stderr = node.stop(signal.SIGTERM)
     assert (code, stderr) == (0, "")
     assert seconds < STOP_BOUND_S
+
+
+def test_the_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(buses, start_cpp, ros_client):
+    bus = buses("ttyREPLUG")
+    node = start_cpp(cpp_commands(pair("ENCODER_PUBLISHER"), [f"cpp_node.serial_port={bus.link}"])["cpp_node"])
+    ros_client.listen("/cpp", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/cpp") is not None, NODE_START_TIMEOUT_S), node.failure()
+
+    bus.stop()
+    ros_client.spin_until(lambda: False, 0.5)
+    bus.move_by_hand(1, 3000)
+    bus.write_register(1, "Goal_Position", 3000)
+    bus.write_register(1, "Torque_Enable", 1)  # a power-cycled leader must be released again
+    bus.start()
+    expected = (3000 - 4095 / 2) * 2 * math.pi / 4095
+    assert ros_client.spin_until(lambda: abs(ros_client.last("/cpp").position[0] - expected) < 1e-9,
+                                 NODE_START_TIMEOUT_S), (ros_client.last("/cpp"), node.failure())
+    assert node.process.poll() is None
+    assert bus.wait_until(lambda: bus.read_register(1, "Torque_Enable") == 0, NODE_START_TIMEOUT_S)
+
+    bus.stop()
+    code, stderr = node.wait()
+    assert code == 3
+    assert stderr.strip().splitlines()[-1] == (
+        f"cpp_node: error: {bus.link}: bus failing for 3 s: serial port {bus.link} not found")
+    assert "[INFO]" in stderr and f"{bus.link}: reconnected" in stderr

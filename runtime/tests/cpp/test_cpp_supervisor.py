@@ -50,7 +50,8 @@ def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_clie
     try:
         ros_client.listen("/leader/joint_states", JointState, RELIABLE_QOS)
         assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states") is not None, STARTUP_TIMEOUT_S)
-        assert [follower_bus.read_register(i, "Torque_Enable") for i in range(1, 7)] == [1] * 6
+        assert follower_bus.wait_until(
+            lambda: [follower_bus.read_register(i, "Torque_Enable") for i in range(1, 7)] == [1] * 6, STARTUP_TIMEOUT_S)
         for pose in POSES:
             for servo_id, ticks in pose.items():
                 leader_bus.move_by_hand(servo_id, ticks)
