@@ -13,7 +13,7 @@ from cpp_support import MESSAGE_TIMEOUT_S, NODE_START_TIMEOUT_S, STOP_BOUND_S, c
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState, LaserScan
 
-from joshua_runtime import so100
+from joshua_core import so100
 from joshua_runtime.drivers.calibration import MotorCalibration
 from testsupport.compiled_settings import compiled_settings
 
@@ -128,7 +128,7 @@ def test_actuators_write_the_same_goals_and_report_the_same_state(buses, calibra
     settings, argv = twins("follower", "ACTUATOR_SUBSCRIBER", "command", fields, overrides)
     # Both follow one command topic.
     settings["topic"]["name"] = "/command"
-    argv[argv.index("topic_name:=/cpp/command")] = "topic_name:=/command"
+    argv = [("topic_name:=/command" if arg.startswith("topic_name:=") else arg) for arg in argv]
     python, cpp = start_node(settings), start_cpp(argv)
     ros_client.listen("/py/state", JointState, READER_QOS)
     ros_client.listen("/cpp/state", JointState, READER_QOS)
