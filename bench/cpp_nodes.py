@@ -23,12 +23,25 @@ import threading
 import time
 from pathlib import Path
 
-from support.described_nodes import CPP_BIN_DIR, compiled_cpp_commands, compiled_settings, node_command
-from teleop import HIGH_TICKS, LOW_TICKS, RATE_WINDOW_S, SAMPLE_TIMEOUT_S, SETTLE_S, GoalWatch, ReadLog, percentile
-
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+from support.described_nodes import (
+    CPP_BIN_DIR,
+    compiled_cpp_commands,
+    compiled_settings,
+    node_command,
+)
+from teleop import (
+    HIGH_TICKS,
+    LOW_TICKS,
+    RATE_WINDOW_S,
+    SAMPLE_TIMEOUT_S,
+    SETTLE_S,
+    GoalWatch,
+    ReadLog,
+    percentile,
+)
 
 DESCRIPTION = """
 robot_config {

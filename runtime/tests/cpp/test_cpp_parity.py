@@ -9,12 +9,17 @@ import json
 import signal
 
 import pytest
-from cpp_support import MESSAGE_TIMEOUT_S, NODE_START_TIMEOUT_S, STOP_BOUND_S, cpp_commands
+from cpp_support import (
+    MESSAGE_TIMEOUT_S,
+    NODE_START_TIMEOUT_S,
+    STOP_BOUND_S,
+    cpp_commands,
+)
+from joshua_core import so100
+from joshua_runtime.drivers.calibration import MotorCalibration
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState, LaserScan
 
-from joshua_core import so100
-from joshua_runtime.drivers.calibration import MotorCalibration
 from testsupport.compiled_settings import compiled_settings
 
 JOINTS = list(so100.SO100_JOINTS)
@@ -146,7 +151,7 @@ def test_actuators_write_the_same_goals_and_report_the_same_state(buses, calibra
     for command in (named, unnamed):
         before = [cpp_bus.read_register(i, "Goal_Position") for i in IDS]
 
-        def goals_arrived() -> bool:
+        def goals_arrived(command=command, before=before) -> bool:
             commands.publish(command)
             goals = [[bus.read_register(i, "Goal_Position") for i in IDS] for bus in (python_bus, cpp_bus)]
             return goals[0] == goals[1] != before

@@ -56,7 +56,7 @@ def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_clie
             for servo_id, ticks in pose.items():
                 leader_bus.move_by_hand(servo_id, ticks)
 
-            def follower_tracks() -> bool:
+            def follower_tracks(pose=pose) -> bool:
                 return all(abs(follower_bus.position(i) - t) <= TRACKING_TOLERANCE_TICKS for i, t in pose.items())
 
             assert follower_bus.wait_until(follower_tracks, TRACKING_TIMEOUT_S), {
@@ -72,8 +72,8 @@ def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_clie
     for node in ("encoder_publisher", "actuator_subscriber"):
         binary = re.escape(str(cpp_bin_dir / node))
         assert re.search(rf"^\[ *[0-9.]+\] {node}: started pid [0-9]+ \(C\+\+\): {binary} --ros-args", output,
-                         re.M), output
-        assert re.search(rf"^\[ *[0-9.]+\] {node}: pid [0-9]+ exited with code 0 ", output, re.M), output
-    warnings = re.findall(r"^\[ *[0-9.]+\] (\S+): warning: C\+\+ binary", output, re.M)
+                         re.MULTILINE), output
+        assert re.search(rf"^\[ *[0-9.]+\] {node}: pid [0-9]+ exited with code 0 ", output, re.MULTILINE), output
+    warnings = re.findall(r"^\[ *[0-9.]+\] (\S+): warning: C\+\+ binary", output, re.MULTILINE)
     assert warnings == ["camera_publisher"], output  # the only node whose binary is really absent
     assert [follower_bus.read_register(i, "Torque_Enable") for i in range(1, 7)] == [0] * 6  # released at exit
