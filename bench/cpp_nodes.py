@@ -5,7 +5,7 @@
 Every node runs against protocol-level emulators in this process (STS3215 buses, an LDS-01) over real
 DDS, started as the generated supervisor starts it: the Python entrypoint (`run_node(SETTINGS)`) or
 the C++ binary in build/bin with its `--ros-args`. One node at a time, per backend: seconds from spawn
-to its first message (ACTUATOR_SUBSCRIBER: to torque on), the CPU seconds used by then, CPU use while
+to its first use of the device and to its first message, the CPU seconds used by then, CPU use while
 running at its rate, PSS, and seconds from SIGINT to exit 0. Then leader -> follower latency (both
 nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-rate-hz, about what
 one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire.
@@ -23,6 +23,7 @@ import threading
 import time
 from pathlib import Path
 
+from joshua_runtime.drivers.sts3215_protocol import INST_SYNC_READ
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
@@ -57,6 +58,8 @@ STARTUP_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 5.0
 STEADY_S = 5.0
 TORQUE_ENABLE_ADDRESS = register("Torque_Enable").address
+TOPICS = {"leader": "/leader/joint_states", "lidar": "/scan"}  # what each node publishes
+DEVICE_READY = ("leader", "follower")  # nodes whose first use of their bus the emulator sees
 CLOCK_TICKS_PER_S = os.sysconf("SC_CLK_TCK")
 
 
@@ -81,17 +84,17 @@ def pss_mb(pid: int) -> float:
     return float("nan")
 
 
-def stop(process: subprocess.Popen) -> tuple[int, float]:
-    """SIGINT; (exit code, seconds until it exited)."""
+def stop(process: subprocess.Popen) -> tuple[int, float, str]:
+    """SIGINT; (exit code, seconds until it exited, its stderr)."""
     sent = time.monotonic()
     if process.poll() is None:
         process.send_signal(signal.SIGINT)
     try:
-        process.communicate(timeout=STOP_TIMEOUT_S)
+        _, stderr = process.communicate(timeout=STOP_TIMEOUT_S)
     except subprocess.TimeoutExpired:
         process.kill()
-        process.communicate()
-    return process.returncode, time.monotonic() - sent
+        _, stderr = process.communicate()
+    return process.returncode, time.monotonic() - sent, stderr or ""
 
 
 class FirstMessages:
@@ -123,6 +126,10 @@ class FirstMessages:
         rclpy.shutdown()
 
 
+def seconds(value: float | None) -> str:
+    return "-" if value is None else f"{value:.3f}s"
+
+
 def first_time(arrived: dict, key: str, process: subprocess.Popen) -> float | None:
     deadline = time.monotonic() + STARTUP_TIMEOUT_S
     while key not in arrived and time.monotonic() < deadline and process.poll() is None:
@@ -130,27 +137,24 @@ def first_time(arrived: dict, key: str, process: subprocess.Popen) -> float | No
     return arrived.get(key)
 
 
-def measure_node(name: str, argv: list[str], env: dict, client: FirstMessages, torque_on: dict,
+def measure_node(name: str, argv: list[str], env: dict, client: FirstMessages, device_ready: dict,
                  steady_s: float = STEADY_S) -> dict:
     """Start-up, CPU, PSS and stop figures of one node run alone."""
     client.arrived.clear()
-    torque_on.clear()
+    device_ready.clear()
     started = time.monotonic()
     process = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if name == "follower":
-        ready = first_time(torque_on, "follower", process)
-    else:
-        ready = first_time(client.arrived, "/scan" if name == "lidar" else "/leader/joint_states", process)
-    if ready is None:
-        stop(process)
-        raise SystemExit(f"{name} ({argv[0]}) sent nothing: {process.stderr.read() if process.stderr else ''}")
+    device = first_time(device_ready, name, process) if name in DEVICE_READY else None
+    message = first_time(client.arrived, TOPICS[name], process) if name in TOPICS else None
+    if (name in DEVICE_READY and device is None) or (name in TOPICS and message is None):
+        raise SystemExit(f"{name} ({argv[0]}) did not start: {stop(process)[2]}")
     start_cpu = cpu_seconds(process.pid)
     time.sleep(steady_s)
     steady_cpu = (cpu_seconds(process.pid) - start_cpu) / steady_s if steady_s else 0.0
     pss = pss_mb(process.pid)
-    code, stop_s = stop(process)
-    return {"first_s": ready - started, "start_cpu_s": start_cpu, "steady_cpu": steady_cpu, "pss_mb": pss,
-            "exit": code, "stop_s": stop_s}
+    code, stop_s, _ = stop(process)
+    return {"device_s": device and device - started, "message_s": message and message - started,
+            "start_cpu_s": start_cpu, "steady_cpu": steady_cpu, "pss_mb": pss, "exit": code, "stop_s": stop_s}
 
 
 def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int) -> dict:
@@ -160,13 +164,13 @@ def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate
     leader_bus.packet_listeners.append(reads)
     for servo_id in leader_bus.ids:
         leader_bus.move_by_hand(servo_id, 2048)
-    nodes = [subprocess.Popen(argv[name], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    nodes = [subprocess.Popen(argv[name], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
              for name in ("leader", "follower")]
     jitter, period = random.Random(0), 1.0 / rate_hz
     latencies, waits, missed = [], [], 0
     try:
         if watch.wait_for(2048, STARTUP_TIMEOUT_S) is None:
-            raise SystemExit("no goal reached the follower")
+            raise SystemExit(f"no goal reached the follower; node stderr: {[stop(node)[2] for node in nodes]}")
         reads_before, writes_before = len(reads.times), watch.writes
         time.sleep(RATE_WINDOW_S)
         read_rate = (len(reads.times) - reads_before) / RATE_WINDOW_S
@@ -202,6 +206,7 @@ def main() -> int:
     if missing:
         print(f"no C++ binaries {missing} in {CPP_BIN_DIR}: run `make cpp` first", file=sys.stderr)
         return 1
+    load_before = os.getloadavg()[0]
     domain = 150 + os.getpid() % 80
     os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
     env = dict(os.environ, PYTHONUNBUFFERED="1")
@@ -210,16 +215,18 @@ def main() -> int:
         leader_bus = Sts3215Emulator(links["leader"]).start()
         follower_bus = Sts3215Emulator(links["follower"]).start()
         lidar = Lds01Emulator(links["lidar"]).start()
-        torque_on: dict[str, float] = {}
+        device_ready: dict[str, float] = {}
+        leader_bus.packet_listeners.append(
+            lambda packet, now: packet.code == INST_SYNC_READ and device_ready.setdefault("leader", now))
         follower_bus.write_listeners.append(
             lambda _id, address, data, now: address == TORQUE_ENABLE_ADDRESS and data[:1] == b"\x01"
-            and torque_on.setdefault("follower", now))
+            and device_ready.setdefault("follower", now))
         client = FirstMessages()
         try:
             node_argv = commands(links, 100.0)
             for backend in BACKENDS:  # warm the page cache: a cold first start is a disk figure, not a node's
-                measure_node("leader", node_argv[backend]["leader"], env, client, torque_on, steady_s=0)
-            nodes = {(name, backend): measure_node(name, node_argv[backend][name], env, client, torque_on)
+                measure_node("leader", node_argv[backend]["leader"], env, client, device_ready, steady_s=0)
+            nodes = {(name, backend): measure_node(name, node_argv[backend][name], env, client, device_ready)
                      for name in ("leader", "follower", "lidar") for backend in BACKENDS}
         finally:
             client.close()  # its callbacks would compete with the emulators for the GIL during teleop
@@ -234,12 +241,16 @@ def main() -> int:
             leader_bus.stop()
             follower_bus.stop()
             lidar.stop()
-    print("hardware nodes, one at a time on emulated devices (servo nodes at 100 Hz, lidar 5 turns/s)")
-    print(f"  {'node':<9} {'backend':<7} {'first msg':>9} {'CPU-s then':>10} {'CPU running':>11} {'PSS':>8} "
-          f"{'SIGINT->exit':>12}")
+    print(f"load average while measuring: {load_before:.1f} -> {os.getloadavg()[0]:.1f} (2 cores)")
+    print("hardware nodes, one at a time on emulated devices (servo nodes at 100 Hz, lidar 5 turns/s); device "
+          "ready: first SYNC_READ (leader), torque on (follower); first message: received by a subscriber "
+          "that was waiting, so it includes DDS discovery, which a Python node's own start-up hides")
+    print(f"  {'node':<9} {'backend':<7} {'device ready':>12} {'first msg':>9} {'CPU-s then':>10} {'CPU running':>11} "
+          f"{'PSS':>8} {'SIGINT->exit':>12}")
     for (name, backend), r in nodes.items():
-        print(f"  {name:<9} {backend:<7} {r['first_s']:>8.3f}s {r['start_cpu_s']:>9.2f}s {100 * r['steady_cpu']:>10.1f}% "
-              f"{r['pss_mb']:>6.1f}MB {1000 * r['stop_s']:>9.0f} ms (exit {r['exit']})")
+        print(f"  {name:<9} {backend:<7} {seconds(r['device_s']):>12} {seconds(r['message_s']):>9} "
+              f"{r['start_cpu_s']:>9.2f}s {100 * r['steady_cpu']:>10.1f}% {r['pss_mb']:>6.1f}MB "
+              f"{1000 * r['stop_s']:>9.0f} ms (exit {r['exit']})")
     print(f"teleop leader -> follower over emulated 1 Mbaud buses, 6 servos, {args.samples} samples each")
     for (rate, backend), r in latency.items():
         print(f"  {rate:>6g} Hz {backend:<7} p50 {r['p50']:.2f} ms, p99 {r['p99']:.2f} ms, mean {r['mean']:.2f} ms "
