@@ -131,6 +131,8 @@ void Node::info(const std::string& message) const { log_line("INFO", name_, mess
 
 void Node::warn(const std::string& message) const { log_line("WARN", name_, message); }
 
+namespace {
+
 [[noreturn]] void exit_process(int code) {
   // By now the node and its DDS participant are gone; the DDS libraries' static destructors would
   // still wait ~0.1 s for their threads, so the process leaves without running them.
@@ -138,7 +140,9 @@ void Node::warn(const std::string& message) const { log_line("WARN", name_, mess
   std::_Exit(code);
 }
 
-int run(int argc, char** argv, const std::string& default_name, Application& application) {
+}  // namespace
+
+void run(int argc, char** argv, const std::string& default_name, Application& application) {
   install_stop_handlers();
   std::unique_ptr<Node> node;
   std::string name = default_name;
@@ -152,6 +156,9 @@ int run(int argc, char** argv, const std::string& default_name, Application& app
   } catch (const JoshuaError& error) {
     std::cerr << name << ": error: " << error.what() << std::endl;
     code = error.exit_code();
+  } catch (const std::exception& error) {  // a bug or an exhausted resource: still one line, exit code 1
+    std::cerr << name << ": error: " << error.what() << std::endl;
+    code = 1;
   }
   try {
     application.close();

@@ -2,7 +2,7 @@
 //
 //     int main(int argc, char** argv) {
 //       MyNode app;                                  // an Application: start() and close()
-//       return joshua::run(argc, argv, "my_node", app);
+//       joshua::run(argc, argv, "my_node", app);
 //     }
 //
 // run() installs the SIGINT/SIGTERM handlers, starts the node, spins until a signal arrives (noticed
@@ -93,6 +93,6 @@ class Application {
   virtual void close() {}
 };
 
-[[noreturn]] int run(int argc, char** argv, const std::string& default_name, Application& application);
+[[noreturn]] void run(int argc, char** argv, const std::string& default_name, Application& application);
 
 }  // namespace joshua

@@ -74,5 +74,5 @@ class ActuatorSubscriber : public Application {
 
 int main(int argc, char** argv) {
   ActuatorSubscriber application;
-  return joshua::run(argc, argv, "actuator_subscriber", application);
+  joshua::run(argc, argv, "actuator_subscriber", application);
 }

@@ -51,5 +51,5 @@ class EncoderPublisher : public Application {
 
 int main(int argc, char** argv) {
   EncoderPublisher application;
-  return joshua::run(argc, argv, "encoder_publisher", application);
+  joshua::run(argc, argv, "encoder_publisher", application);
 }

@@ -74,5 +74,5 @@ class LidarPublisher : public Application {
 
 int main(int argc, char** argv) {
   LidarPublisher application;
-  return joshua::run(argc, argv, "lidar_publisher", application);
+  joshua::run(argc, argv, "lidar_publisher", application);
 }

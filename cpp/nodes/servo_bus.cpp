@@ -126,7 +126,8 @@ void BusGuard::failed(Clock::time_point now, const DeviceError& error) {
 
 void BusGuard::check_grace(Clock::time_point now) {
   if (now - failing_since_ >= DEVICE_LOST_GRACE) {
-    throw DeviceError(bus_.port() + ": bus failing for 3 s: " + last_error_);
+    const auto grace_s = std::chrono::duration_cast<std::chrono::seconds>(DEVICE_LOST_GRACE).count();
+    throw DeviceError(bus_.port() + ": bus failing for " + std::to_string(grace_s) + " s: " + last_error_);
   }
 }
 
