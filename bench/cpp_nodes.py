@@ -1,6 +1,6 @@
 """C++ and Python hardware nodes side by side: start-up, CPU, memory, stop time and teleop latency.
 
-    make cpp && .venv/bin/python bench/cpp_nodes.py [--samples 300] [--fast-rate-hz 1000]
+    .venv/bin/python bench/cpp_nodes.py [--samples 300] [--fast-rate-hz 1000] [--quick]
 
 Every node runs against protocol-level emulators in this process (STS3215 buses, an LDS-01) over real
 DDS, started as the generated supervisor starts it: the Python entrypoint (`run_node(SETTINGS)`) or
@@ -8,7 +8,9 @@ the C++ binary in build/bin with its `--ros-args`. One node at a time, per backe
 to its first use of the device and to its first message, the CPU seconds used by then, CPU use while
 running at its rate, PSS, and seconds from SIGINT to exit 0. Then leader -> follower latency (both
 nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-rate-hz, about what
-one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire.
+one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire. The binaries are brought up
+to date with `make cpp` first (a no-op when they are). --quick: 0.5 s of steady running, 200 Hz only,
+20 samples, a 1 s rate window.
 """
 
 import argparse
@@ -29,13 +31,17 @@ from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 from support.described_nodes import (
     CPP_BIN_DIR,
+    ROOT,
     compiled_cpp_commands,
     compiled_settings,
     node_command,
 )
+from support.ros_env import bench_environment
 from teleop import (
     HIGH_TICKS,
     LOW_TICKS,
+    QUICK_RATE_WINDOW_S,
+    QUICK_SAMPLES,
     RATE_WINDOW_S,
     SAMPLE_TIMEOUT_S,
     SETTLE_S,
@@ -56,7 +62,7 @@ robot_config {
 BACKENDS = ("Python", "C++")
 STARTUP_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 5.0
-STEADY_S = 5.0
+STEADY_S, QUICK_STEADY_S = 5.0, 0.5
 TORQUE_ENABLE_ADDRESS = register("Torque_Enable").address
 TOPICS = {"leader": "/leader/joint_states", "lidar": "/scan"}  # what each node publishes
 DEVICE_READY = ("leader", "follower")  # nodes whose first use of their bus the emulator sees
@@ -157,7 +163,8 @@ def measure_node(name: str, argv: list[str], env: dict, client: FirstMessages, d
             "start_cpu_s": start_cpu, "steady_cpu": steady_cpu, "pss_mb": pss, "exit": code, "stop_s": stop_s}
 
 
-def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int) -> dict:
+def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int,
+           window_s: float) -> dict:
     """Leader -> follower latency and loop rates of one backend's leader and follower (as bench/teleop.py)."""
     watch, reads = GoalWatch(), ReadLog()
     follower_bus.write_listeners.append(watch)
@@ -172,9 +179,9 @@ def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate
         if watch.wait_for(2048, STARTUP_TIMEOUT_S) is None:
             raise SystemExit(f"no goal reached the follower; node stderr: {[stop(node)[2] for node in nodes]}")
         reads_before, writes_before = len(reads.times), watch.writes
-        time.sleep(RATE_WINDOW_S)
-        read_rate = (len(reads.times) - reads_before) / RATE_WINDOW_S
-        write_rate = (watch.writes - writes_before) / RATE_WINDOW_S
+        time.sleep(window_s)
+        read_rate = (len(reads.times) - reads_before) / window_s
+        write_rate = (watch.writes - writes_before) / window_s
         for index in range(samples):
             goal = HIGH_TICKS if index % 2 == 0 else LOW_TICKS
             time.sleep(SETTLE_S + jitter.random() * period)
@@ -200,16 +207,19 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=300)
     parser.add_argument("--fast-rate-hz", type=float, default=1000.0)
+    parser.add_argument("--quick", action="store_true", help="a short run of every figure (for the tests)")
     args = parser.parse_args()
-    missing = [name for name in ("encoder_publisher", "actuator_subscriber", "lidar_publisher")
-               if not (CPP_BIN_DIR / name).is_file()]
-    if missing:
-        print(f"no C++ binaries {missing} in {CPP_BIN_DIR}: run `make cpp` first", file=sys.stderr)
+    steady_s = QUICK_STEADY_S if args.quick else STEADY_S
+    window_s = QUICK_RATE_WINDOW_S if args.quick else RATE_WINDOW_S
+    samples = QUICK_SAMPLES if args.quick else args.samples
+    rates = (200.0,) if args.quick else (200.0, args.fast_rate_hz)
+    built = subprocess.run(["make", "--no-print-directory", "-s", "-C", str(ROOT / "cpp")], check=False)
+    if built.returncode != 0:
+        print(f"the C++ nodes do not build (make -C cpp); no binaries in {CPP_BIN_DIR}", file=sys.stderr)
         return 1
     load_before = os.getloadavg()[0]
-    domain = 150 + os.getpid() % 80
-    os.environ.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    env = bench_environment("cpp_nodes")
+    os.environ.update({key: env[key] for key in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")})
     with tempfile.TemporaryDirectory() as directory:
         links = {name: Path(directory) / f"tty{name.upper()}" for name in ("leader", "follower", "lidar")}
         leader_bus = Sts3215Emulator(links["leader"]).start()
@@ -226,17 +236,18 @@ def main() -> int:
             node_argv = commands(links, 100.0)
             for backend in BACKENDS:  # warm the page cache: a cold first start is a disk figure, not a node's
                 measure_node("leader", node_argv[backend]["leader"], env, client, device_ready, steady_s=0)
-            nodes = {(name, backend): measure_node(name, node_argv[backend][name], env, client, device_ready)
+            nodes = {(name, backend): measure_node(name, node_argv[backend][name], env, client, device_ready,
+                                                   steady_s)
                      for name in ("leader", "follower", "lidar") for backend in BACKENDS}
         finally:
             client.close()  # its callbacks would compete with the emulators for the GIL during teleop
         latency = {}
         try:
-            for rate in (200.0, args.fast_rate_hz):
+            for rate in rates:
                 teleop_argv = commands(links, rate)
                 for backend in BACKENDS:
                     latency[rate, backend] = teleop(teleop_argv[backend], env, leader_bus, follower_bus, rate,
-                                                    args.samples)
+                                                    samples, window_s)
         finally:
             leader_bus.stop()
             follower_bus.stop()
@@ -251,7 +262,7 @@ def main() -> int:
         print(f"  {name:<9} {backend:<7} {seconds(r['device_s']):>12} {seconds(r['message_s']):>9} "
               f"{r['start_cpu_s']:>9.2f}s {100 * r['steady_cpu']:>10.1f}% {r['pss_mb']:>6.1f}MB "
               f"{1000 * r['stop_s']:>9.0f} ms (exit {r['exit']})")
-    print(f"teleop leader -> follower over emulated 1 Mbaud buses, 6 servos, {args.samples} samples each")
+    print(f"teleop leader -> follower over emulated 1 Mbaud buses, 6 servos, {samples} samples each")
     for (rate, backend), r in latency.items():
         print(f"  {rate:>6g} Hz {backend:<7} p50 {r['p50']:.2f} ms, p99 {r['p99']:.2f} ms, mean {r['mean']:.2f} ms "
               f"(read -> goal p50 {r['pipeline_p50']:.2f} ms, p99 {r['pipeline_p99']:.2f} ms); "
