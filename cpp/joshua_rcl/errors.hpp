@@ -1,4 +1,4 @@
-// Failures a node reports as one line on stderr, with the exit codes of the Python runtime.
+// Failures a node reports as one line on stderr, with the exit codes of core/joshua_core/exit_codes.py.
 #pragma once
 
 #include <stdexcept>
