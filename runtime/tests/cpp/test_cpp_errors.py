@@ -136,3 +136,18 @@ def test_the_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(bus
     assert stderr.strip().splitlines()[-1] == (
         f"cpp_node: error: {bus.link}: bus failing for 3 s: serial port {bus.link} not found")
     assert "[INFO]" in stderr and f"{bus.link}: reconnected" in stderr
+
+
+def test_the_encoder_retries_through_lost_and_corrupt_replies(buses, start_cpp, ros_client):
+    noisy = buses("ttyNOISY", drop_rate=0.1, corrupt_rate=0.05, seed=3)
+    for servo_id, ticks in zip(range(1, 7), (1000, 1500, 2000, 2500, 3000, 3500)):
+        noisy.move_by_hand(servo_id, ticks)
+    node = start_cpp(cpp_commands(pair("ENCODER_PUBLISHER"), [f"cpp_node.serial_port={noisy.link}"])["cpp_node"])
+    ros_client.listen("/cpp", JointState, RELIABLE, keep=20)
+    assert ros_client.spin_until(lambda: ros_client.count("/cpp") >= 20, NODE_START_TIMEOUT_S), node.failure()
+    expected = [(ticks - 4095 / 2) * 2 * math.pi / 4095 for ticks in (1000, 1500, 2000, 2500, 3000, 3500)]
+    for message in ros_client.messages("/cpp"):
+        assert list(message.position) == pytest.approx(expected, abs=1e-12)
+    assert noisy.stats["dropped"] > 0 and noisy.stats["corrupted"] > 0
+    code, _, stderr = node.stop(signal.SIGINT)
+    assert code == 0, stderr
