@@ -13,7 +13,7 @@ import sys
 import cv2
 import numpy as np
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from sensor_msgs.msg import JointState
+from sensor_msgs.msg import Image, JointState
 
 from testsupport.joshuac_cli import ROOT, joshuac
 
@@ -22,6 +22,7 @@ TRACKING_TIMEOUT_S = 15.0
 SHUTDOWN_TIMEOUT_S = 10.0
 TRACKING_TOLERANCE_TICKS = 3
 RELIABLE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 POSES = ({1: 1500, 2: 2500, 3: 1800, 4: 2300, 5: 1000, 6: 2600}, {1: 2600, 2: 1400, 3: 3000, 4: 900, 5: 2000, 6: 1200})
 
 
@@ -49,7 +50,10 @@ def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_clie
                                   stderr=subprocess.STDOUT, text=True)
     try:
         ros_client.listen("/leader/joint_states", JointState, RELIABLE_QOS)
-        assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states") is not None, STARTUP_TIMEOUT_S)
+        ros_client.listen("/camera/image_raw", Image, SENSOR_QOS)
+        # The Python camera too: a robot stopped while its Python nodes still import is another test's matter.
+        assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states") is not None
+                                     and ros_client.last("/camera/image_raw") is not None, STARTUP_TIMEOUT_S)
         assert follower_bus.wait_until(
             lambda: [follower_bus.read_register(i, "Torque_Enable") for i in range(1, 7)] == [1] * 6, STARTUP_TIMEOUT_S)
         for pose in POSES:
