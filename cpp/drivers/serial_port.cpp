@@ -34,8 +34,8 @@ void SerialPort::open() {
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
     const int error = errno;
     ::close(fd);
-    throw DeviceError("cannot open serial port " + path_ + ": " +
-                      (error == EWOULDBLOCK ? std::string("in use by another process") : reason(error)));
+    if (error == EWOULDBLOCK) throw DeviceError("serial port " + path_ + " is busy: another program has it open");
+    throw DeviceError("cannot open serial port " + path_ + ": " + reason(error));
   }
   struct termios2 tty = {};
   tty.c_cflag = CS8 | CREAD | CLOCAL | BOTHER | (BOTHER << IBSHIFT);

@@ -19,7 +19,7 @@ constexpr size_t READ_CHUNK_BYTES = 512;
 constexpr double BITS_PER_BYTE = 10;  // 8N1
 constexpr size_t STATUS_OVERHEAD_BYTES = 6;
 constexpr double LOAD_FULL_SCALE = 1000.0;
-enum Reply { REPLY_OK, REPLY_TIMEOUT, REPLY_CORRUPT };
+enum Reply { REPLY_OK, REPLY_TIMEOUT, REPLY_CORRUPT, REPLY_GARBLED };
 
 double seconds_since(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
@@ -135,7 +135,9 @@ std::vector<Packet> Sts3215Bus::transact(const Bytes& packet, const std::vector<
     }
     if (failure == REPLY_OK) return replies;
   }
-  const char* what = failure == REPLY_CORRUPT ? "corrupt replies from" : "no answer from";
+  const char* what = failure == REPLY_CORRUPT   ? "corrupt replies from"
+                     : failure == REPLY_GARBLED ? "garbled replies from"
+                                                : "no answer from";
   throw DeviceError(port() + ": " + what + " servo id " + std::to_string(failed_id) + " after " +
                     std::to_string(attempts) + " attempts");
 }
@@ -144,6 +146,7 @@ int Sts3215Bus::receive(const Expected& item, Packet& packet) {
   const size_t reply_bytes = STATUS_OVERHEAD_BYTES + item.param_bytes;
   const double timeout = REPLY_TIMEOUT_S + reply_bytes * BITS_PER_BYTE / port_.baud_rate();
   const SteadyClock::time_point start = SteadyClock::now();
+  const size_t discarded_before = parser_.discarded();
   uint8_t chunk[READ_CHUNK_BYTES];
   while (true) {
     if (auto popped = parser_.pop()) {
@@ -154,7 +157,11 @@ int Sts3215Bus::receive(const Expected& item, Packet& packet) {
       return REPLY_OK;
     }
     const double remaining = timeout - seconds_since(start);
-    if (remaining <= 0) return REPLY_TIMEOUT;
+    if (remaining <= 0) {
+      // Bytes that framed no packet: usually two servos answering to one id.
+      const bool garbled = parser_.pending() > 0 || parser_.discarded() > discarded_before;
+      return garbled ? REPLY_GARBLED : REPLY_TIMEOUT;
+    }
     const size_t got = port_.read_some(chunk, sizeof chunk, remaining);
     parser_.feed(chunk, got);
   }

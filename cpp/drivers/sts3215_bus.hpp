@@ -55,7 +55,7 @@ class Sts3215Bus {
   void write_register(uint8_t servo_id, const sts3215::Register& reg, int value);
   std::vector<sts3215::Packet> transact(const sts3215::Bytes& packet, const std::vector<Expected>& expected);
   void send(const sts3215::Bytes& packet) { port_.write_all(packet.data(), packet.size()); }
-  // Waits for one status packet: 0 when `packet` holds it, else why not (timeout, corrupt reply).
+  // Waits for one status packet: 0 when `packet` holds it, else why not (timeout, corrupt or garbled reply).
   int receive(const Expected& item, sts3215::Packet& packet);
   sts3215::Bytes read_block(uint8_t servo_id, uint8_t address, uint8_t size);
   std::vector<sts3215::Packet> sync_read_block(uint8_t address, uint8_t size);

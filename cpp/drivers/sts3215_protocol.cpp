@@ -61,6 +61,11 @@ int decode_value(const Register& reg, const uint8_t* data) {
   return raw & (1u << reg.sign_bit) ? -magnitude : magnitude;
 }
 
+void PacketParser::drop(size_t count) {
+  buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<long>(count));
+  discarded_ += count;
+}
+
 std::optional<Packet> PacketParser::pop() {
   while (true) {
     size_t start = 0;
@@ -70,18 +75,18 @@ std::optional<Packet> PacketParser::pop() {
     if (start + 1 >= buffer_.size()) {
       // Keep a trailing FF: it may be the first half of the next header.
       const bool keep = !buffer_.empty() && buffer_.back() == HEADER_BYTE;
-      buffer_.erase(buffer_.begin(), buffer_.end() - (keep ? 1 : 0));
+      drop(buffer_.size() - (keep ? 1 : 0));
       return std::nullopt;
     }
-    buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<long>(start));
+    drop(start);
     if (buffer_.size() < 4) return std::nullopt;
     if (buffer_[2] == HEADER_BYTE) {  // FF FF FF: the header starts one byte later
-      buffer_.erase(buffer_.begin());
+      drop(1);
       continue;
     }
     const uint8_t length = buffer_[3];
     if (length < 2 || length > MAX_LENGTH) {
-      buffer_.erase(buffer_.begin());
+      drop(1);
       continue;
     }
     const size_t total = length + 4u;
@@ -89,7 +94,11 @@ std::optional<Packet> PacketParser::pop() {
     const bool ok = checksum(buffer_.data() + 2, total - 3) == buffer_[total - 1];
     Packet packet{buffer_[2], buffer_[4], Bytes(buffer_.begin() + 5, buffer_.begin() + static_cast<long>(total) - 1),
                   ok};
-    buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<long>(ok ? total : 1));
+    if (ok) {
+      buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<long>(total));
+    } else {
+      drop(1);
+    }
     return packet;
   }
 }

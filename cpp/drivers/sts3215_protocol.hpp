@@ -59,14 +59,20 @@ int decode_value(const Register& reg, const uint8_t* data);
 
 // Incremental decoder: feed() bytes, then pop() packets. A frame with a bad checksum is returned once
 // with checksum_ok false and only its first byte consumed, so a packet hidden inside it is still found.
+// `discarded()` counts bytes that framed no valid packet (noise, two servos answering at once).
 class PacketParser {
  public:
   void feed(const uint8_t* data, size_t size) { buffer_.insert(buffer_.end(), data, data + size); }
   void clear() { buffer_.clear(); }
   std::optional<Packet> pop();
+  size_t pending() const { return buffer_.size(); }
+  size_t discarded() const { return discarded_; }
 
  private:
+  void drop(size_t count);
+
   Bytes buffer_;
+  size_t discarded_ = 0;
 };
 
 }  // namespace joshua::sts3215

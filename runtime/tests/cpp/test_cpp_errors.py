@@ -151,3 +151,25 @@ def test_the_encoder_retries_through_lost_and_corrupt_replies(buses, start_cpp, 
     assert noisy.stats["dropped"] > 0 and noisy.stats["corrupted"] > 0
     code, _, stderr = node.stop(signal.SIGINT)
     assert code == 0, stderr
+
+
+def test_a_port_held_by_another_node_is_busy_for_both_backends(buses, start_node, start_cpp, ros_client):
+    bus = buses("ttyHELD")
+    text = pair("ENCODER_PUBLISHER")
+    overrides = [f"py_node.serial_port={bus.link}", f"cpp_node.serial_port={bus.link}-other"]
+    holder = start_cpp(cpp_commands(text, [f"cpp_node.serial_port={bus.link}"])["cpp_node"])
+    ros_client.listen("/cpp", JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.last("/cpp") is not None, NODE_START_TIMEOUT_S), holder.failure()
+    second_cpp = start_cpp(with_parameter(cpp_commands(text, overrides)["cpp_node"], f"serial_port:={bus.link}"))
+    python = start_node(compiled_settings(text, overrides)["py_node"])
+    results = [node.wait(NODE_START_TIMEOUT_S) for node in (python, second_cpp)]
+    assert [(code, error_line(stderr)) for code, stderr in results] == [
+        (3, f"serial port {bus.link} is busy: another program has it open")] * 2
+    assert holder.process.poll() is None
+
+
+def test_two_servos_sharing_an_id_stop_both_backends_alike(tmp_path, buses, start_node, start_cpp):
+    for suffix in ("-py", "-cpp"):
+        buses(f"ttyTWINS{suffix}", ids=[1, 1, 2, 3, 4, 5, 6])
+    python, cpp = run_pair(start_node, start_cpp, pair("ENCODER_PUBLISHER", port=str(tmp_path / "ttyTWINS")))
+    assert cpp == python == (3, f"{tmp_path / 'ttyTWINS'}: no answer from servo id 1")
