@@ -1,7 +1,8 @@
 """`joshuac check`: load a description, apply `--set` overrides, run every rule, collect diagnostics.
 
-Load errors stop before the rules (a half-read description would only cause confusing
-follow-up errors); override errors do not. When `has_errors` is False, `description` is valid
+Load errors inside nodes do not stop the rules: they check every node that was read whole (the
+others are "unknown", see rules/__init__.py). Load errors elsewhere (robot settings, the file root)
+stop before the rules, since every rule reads those. Override errors do not stop them. When `has_errors` is False, `description` is valid
 for every later stage: enum values, names, topics, ranges and required fields are checked.
 """
 
@@ -11,9 +12,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, sort_diagnostics
-from joshua_codegen.load import NOT_TEXT, load_text
+from joshua_codegen.load import NOT_TEXT, LoadResult, load_text
 from joshua_codegen.model import Robot
-from joshua_codegen.overrides import OVERRIDE_PATH, apply_overrides
+from joshua_codegen.overrides import OVERRIDE_PATH, UNKNOWN_OVERRIDE_TARGET, apply_overrides
 from joshua_codegen.rules import run_rules
 from joshua_codegen.rules.context import RuleContext
 from joshua_core.schema import RobotDescription
@@ -64,8 +65,10 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
                              "the file contains a NUL character: is it a binary file?")
         return CheckResult(path, text, None, [problem], overrides)
     loaded = load_text(path, text)
-    if loaded.description is None:
+    if loaded.description is None and loaded.partial is None:
         return CheckResult(path, text, None, sort_diagnostics(loaded.diagnostics), overrides)
+    if loaded.description is None:
+        return _check_partial(path, text, loaded, overrides, prefix)
     description, source, diagnostics = apply_overrides(loaded.description, loaded.source_map, overrides)
     sources = CheckResult(path, text, description, [], overrides).sources
     context = RuleContext(description, source, sources, prefix)
@@ -74,6 +77,19 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
         return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
     diagnostics += run_rules(context, stage="plan")
     return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context.robot)
+
+
+def _check_partial(path: str, text: str, loaded: LoadResult, overrides: tuple[str, ...],
+                   prefix: str | None) -> CheckResult:
+    """The load errors plus what the rules find in the nodes that were read whole; no description
+    comes out (later stages need a valid one). An override naming an unknown node is not reported."""
+    partial, source, diagnostics = apply_overrides(loaded.partial, loaded.source_map, overrides)
+    if loaded.unknown_nodes:
+        diagnostics = [d for d in diagnostics if d.code != UNKNOWN_OVERRIDE_TARGET]
+    sources = CheckResult(path, text, partial, [], overrides).sources
+    context = RuleContext(partial, source, sources, prefix, loaded.unknown_nodes)
+    diagnostics = loaded.diagnostics + diagnostics + run_rules(context)
+    return CheckResult(path, text, None, sort_diagnostics(diagnostics), overrides)
 
 
 def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:

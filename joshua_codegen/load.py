@@ -1,7 +1,9 @@
 """Loader: .pbtxt text to a RobotDescription plus the source position of every field and value.
 
 It binds the syntax tree of `syntax.py` to the schema and reports every unknown field, bad value
-and repeated field at once (E002-E005); a syntax error (E001) ends parsing. What it accepts,
+and repeated field at once (E002-E005), and every syntax error (E001) it can get past
+(`syntax_recovery.py`). A node holding any of these problems is "unknown": the partial description
+keeps it, empty or half-read, and names it in `unknown_nodes`, so the rules can check the rest. What it accepts,
 `google.protobuf.text_format.Parse` accepts too, with the same result; it is stricter in three ways:
 a singular field may be written only once, enum numbers must name a value, and map keys are unique.
 """
@@ -15,7 +17,8 @@ from google.protobuf.descriptor import Descriptor, FieldDescriptor
 from joshua_codegen.diagnostics import ERROR, Diagnostic, Related
 from joshua_codegen.positions import Location, Path, SourceMap
 from joshua_core.schema import RobotConfig, RobotDescription
-from joshua_codegen.syntax import Block, Field, ListValue, Scalar, SyntaxProblem, Token, parse_syntax
+from joshua_codegen.syntax import Block, Broken, Field, ListValue, Scalar, SyntaxProblem, Token
+from joshua_codegen.syntax_recovery import parse_recovering
 from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, shown, suggest
 
 SYNTAX_ERROR = "E001"
@@ -33,6 +36,10 @@ class LoadResult:
     description: RobotDescription | None  # None when any load error was found
     source_map: SourceMap
     diagnostics: list[Diagnostic]
+    # What could be read despite the errors: every node but those in `unknown_nodes` is as written.
+    # None when a problem lies outside the nodes (robot settings, the file root): nothing is known then.
+    partial: RobotDescription | None = None
+    unknown_nodes: frozenset[int] = frozenset()
 
 
 def _blocks() -> dict[str, str]:
@@ -63,11 +70,18 @@ class _Binder:
         self.path = path
         self.source = SourceMap(path)
         self.diagnostics: list[Diagnostic] = []
+        self.node_index: int | None = None  # the node being bound, if any
+        self.unknown_nodes: set[int] = set()
+        self.outside_nodes = False  # a problem was found outside every node
 
     def location(self, first: Token, last: Token) -> Location:
         return Location(self.path, first.line, first.column, last.line, last.end_column)
 
     def report(self, code: str, first: Token, last: Token, message: str, related: tuple[Related, ...] = ()):
+        if self.node_index is None:
+            self.outside_nodes = True
+        else:
+            self.unknown_nodes.add(self.node_index)
         where = self.location(first, last)
         self.diagnostics.append(Diagnostic(self.path, where.line, where.column, code, ERROR, message,
                                            where.end_line, where.end_column, related))
@@ -114,7 +128,7 @@ class _Binder:
 
     def blocks_of(self, field: Field, fd: FieldDescriptor) -> list[Block]:
         value = field.value
-        if isinstance(value, Block):
+        if isinstance(value, (Block, Broken)):
             return [value]
         if isinstance(value, Scalar):
             self.report(INVALID_VALUE, value.first, value.last,
@@ -136,22 +150,39 @@ class _Binder:
     def bind_message_field(self, field: Field, fd: FieldDescriptor, message, key: Path) -> None:
         listed = isinstance(field.value, ListValue)
         for block in self.blocks_of(field, fd):
-            if fd.message_type.GetOptions().map_entry:
+            if isinstance(block, Broken) and not fd.is_repeated:
+                self.report_known_problem()
+            elif fd.message_type.GetOptions().map_entry:
                 self.bind_map_entry(block, fd, message, key)
             elif fd.is_repeated:
                 container = getattr(message, fd.name)
                 element = key + (len(container),)
-                start = block.open if listed else field.name
+                start = block.first if listed else field.name
                 self.source.add(element, self.location(start, start))
-                self.bind_fields(block.fields, container.add(), element)
+                self.bind_element(block, container.add(), element)
             else:
                 child = getattr(message, fd.name)
                 child.SetInParent()
                 self.bind_fields(block.fields, child, key)
 
-    def bind_map_entry(self, block: Block, fd: FieldDescriptor, message, key: Path) -> None:
+    def bind_element(self, block: Block | Broken, element, path: Path) -> None:
+        """One element of a repeated message field; a node's problems make that node unknown."""
+        is_node = path[:2] == ("robot_config", "node")
+        outer = self.node_index
+        if is_node:
+            self.node_index = path[2]
+        if isinstance(block, Broken):  # its syntax error is reported already
+            self.report_known_problem()
+        else:
+            self.bind_fields(block.fields, element, path)
+        self.node_index = outer
+
+    def bind_map_entry(self, block: Block | Broken, fd: FieldDescriptor, message, key: Path) -> None:
         container = getattr(message, fd.name)
         entry = container.GetEntryClass()()
+        if isinstance(block, Broken):
+            self.report_known_problem()
+            return
         before = len(self.diagnostics)
         self.bind_fields(block.fields, entry, key + (len(container),))
         if len(self.diagnostics) != before:
@@ -169,6 +200,9 @@ class _Binder:
 
     def bind_scalar_field(self, field: Field, fd: FieldDescriptor, message, key: Path) -> None:
         value = field.value
+        if isinstance(value, Broken):  # its syntax error is reported already
+            self.report_known_problem()
+            return
         if isinstance(value, Block):
             self.report(INVALID_VALUE, value.open, value.open,
                         f'"{fd.name}" takes a value, not a message: write {fd.name}: ...')
@@ -197,6 +231,13 @@ class _Binder:
             else:
                 self.source.add(key + (len(container),), self.location(item.first, item.last))
                 container.append(parsed)
+
+    def report_known_problem(self) -> None:
+        """Mark the current scope as not understood, for a problem reported elsewhere."""
+        if self.node_index is None:
+            self.outside_nodes = True
+        else:
+            self.unknown_nodes.add(self.node_index)
 
     def scalar_value(self, fd: FieldDescriptor, item: Scalar):
         if fd.type == FieldDescriptor.TYPE_ENUM:
@@ -229,14 +270,18 @@ def _wrong_root(binder: _Binder, fields: list[Field]) -> list[Field]:
     return kept
 
 
+def _syntax_diagnostic(path: str, problem: SyntaxProblem) -> Diagnostic:
+    related = tuple(Related(path, line, column, message) for line, column, message in problem.notes)
+    return Diagnostic(path, problem.line, problem.column, SYNTAX_ERROR, ERROR, problem.message,
+                      problem.line, problem.end_column, related)
+
+
 def load_text(path: str, text: str) -> LoadResult:
     """Parse and bind one description; never raises for any input text."""
     binder = _Binder(path)
-    try:
-        document = parse_syntax(text)
-    except SyntaxProblem as problem:
-        binder.diagnostics.append(Diagnostic(path, problem.line, problem.column, SYNTAX_ERROR, ERROR,
-                                             problem.message, problem.line, problem.end_column))
+    document, problems = parse_recovering(text)
+    binder.diagnostics += [_syntax_diagnostic(path, problem) for problem in problems]
+    if document is None:
         return LoadResult(None, binder.source, binder.diagnostics)
     description = RobotDescription()
     binder.bind_fields(_wrong_root(binder, document.fields), description, ())
@@ -247,5 +292,7 @@ def load_text(path: str, text: str) -> LoadResult:
         binder.diagnostics.append(Diagnostic(path, 1, 1, MISSING_ROBOT_CONFIG, ERROR,
                                              "missing robot_config { ... }"))
     if binder.diagnostics:
-        return LoadResult(None, binder.source, binder.diagnostics)
+        understood = not binder.outside_nodes and description.HasField("robot_config")
+        return LoadResult(None, binder.source, binder.diagnostics, description if understood else None,
+                          frozenset(binder.unknown_nodes))
     return LoadResult(description, binder.source, [])

@@ -15,115 +15,17 @@ Lines and columns are 1-based; columns count characters.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field as dataclass_field
-
 import re
+from dataclasses import dataclass
+
+from joshua_codegen.syntax_tree import (  # noqa: F401 (re-exported: the tree is part of this module's interface)
+    QUOTES, Block, Broken, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, Token, Value,
+)
 
 # Deeper nesting than this is refused (the schema nests four levels), so parsing never recurses far.
 MAX_NESTING = 32
-QUOTES = ("'", '"')
 _OPENERS = {"{": "}", "<": ">"}
-
-
-@dataclass(frozen=True)
-class Token:
-    text: str
-    line: int
-    column: int
-
-    @property
-    def end_column(self) -> int:
-        """Column just past the token (tokens never span lines)."""
-        return self.column + len(self.text)
-
-
-@dataclass(frozen=True)
-class Comment:
-    text: str
-    line: int
-    column: int
-    # True when the comment follows another token on the same line.
-    trailing: bool
-
-
-@dataclass
-class Scalar:
-    tokens: list[Token]
-
-    @property
-    def first(self) -> Token:
-        return self.tokens[0]
-
-    @property
-    def last(self) -> Token:
-        return self.tokens[-1]
-
-    @property
-    def is_string(self) -> bool:
-        return self.tokens[0].text[:1] in QUOTES
-
-
-@dataclass
-class Block:
-    open: Token
-    fields: list[Field]
-    close: Token
-    trailing_open: Comment | None = None  # comment on the line of the opening brace
-    dangling: list[Comment] = dataclass_field(default_factory=list)  # comments before the close
-
-    @property
-    def first(self) -> Token:
-        return self.open
-
-    @property
-    def last(self) -> Token:
-        return self.close
-
-
-@dataclass
-class ListValue:
-    open: Token
-    items: list[Scalar | Block]
-    close: Token
-    inner_comments: list[Comment] = dataclass_field(default_factory=list)
-
-    @property
-    def first(self) -> Token:
-        return self.open
-
-    @property
-    def last(self) -> Token:
-        return self.close
-
-
-Value = Scalar | Block | ListValue
-
-
-@dataclass
-class Field:
-    name: Token
-    colon: bool
-    value: Value
-    leading: list[Comment] = dataclass_field(default_factory=list)  # own-line comments above
-    blank_before: bool = False  # an empty line separated it from what came before
-    trailing: Comment | None = None  # comment after the value, on the same line
-
-
-@dataclass
-class Document:
-    fields: list[Field]
-    dangling: list[Comment]  # comments after the last field
-
-
-class SyntaxProblem(Exception):
-    """The text is not protobuf text format; carries the position of the offending token."""
-
-    def __init__(self, message: str, line: int, column: int, end_column: int | None = None):
-        super().__init__(message)
-        self.message = message
-        self.line = line
-        self.column = column
-        self.end_column = end_column if end_column is not None else column + 1
+_CLOSERS = frozenset(_OPENERS.values())
 
 
 # The tokens of protobuf's text_format.Tokenizer (identifier, number, and a string in either quote that
@@ -153,13 +55,20 @@ class _Stream:
         self._tokens = tokens(text)
         self.comments: list[Comment] = []
         self.last_line = 0  # line of the last token consumed (0 before any)
+        self.previous: Token | None = None  # the last token consumed
         self.current: Token | None = None
+        self.nesting = 0  # blocks opened and not closed by the tokens consumed
+        self.line_starts: list[Token] = []  # the first token of every line that has one
+        self.line_indent: dict[int, int] = {}  # line -> column of its first token
         self._load()
 
     def _load(self) -> None:
         for text, line, column in self._tokens:
             if not text.startswith("#"):
                 self.current = Token(text, line, column)
+                if line not in self.line_indent:
+                    self.line_indent[line] = column
+                    self.line_starts.append(self.current)
                 return
             self.comments.append(Comment(text.rstrip(), line, column, trailing=line == self.last_line))
         self.current = None
@@ -169,8 +78,20 @@ class _Stream:
         if token is None:
             raise self.problem("unexpected end of file")
         self.last_line = token.line
+        self.previous = token
+        if token.text in _OPENERS:
+            self.nesting += 1
+        elif token.text in _CLOSERS:
+            self.nesting -= 1
         self._load()
         return token
+
+    def advance_quietly(self) -> None:
+        """Advance, dropping the comments met (while skipping a broken field)."""
+        if self.current is not None:
+            self.advance()
+        self.comments.clear()
+
     def take_comments(self) -> list[Comment]:
         comments, self.comments = self.comments, []
         return comments
@@ -180,13 +101,17 @@ class _Stream:
             return self.comments.pop(0)
         return None
 
+    def starts_line(self) -> bool:
+        """Whether the current token is the first of its line."""
+        return self.current is not None and self.current.line != self.last_line
+
     def looking_at(self, text: str) -> bool:
         return self.current is not None and self.current.text == text
 
     def problem(self, message: str) -> SyntaxProblem:
         token = self.current
         if token is None:
-            return SyntaxProblem(message, *self.end)
+            return SyntaxProblem(message, *self.end, at_end=True)
         return SyntaxProblem(message, token.line, token.column, token.end_column)
 
 
@@ -219,15 +144,38 @@ def _is_terminated(text: str) -> bool:
     return False
 
 
-class _Parser:
-    def __init__(self, text: str):
+@dataclass
+class BlockTrace:
+    """Where a block opened and closed (`close` None while open), for finding an unclosed one."""
+
+    name: Token  # the field name before it (its opening brace for a block in a list)
+    open: Token
+    close: Token | None = None
+    ended_before: Token | None = None  # when closed by indentation: the token it ended before
+
+
+class GiveUp(Exception):
+    """Recovery found no place to resume parsing; the problems already collected stand."""
+
+
+class Parser:
+    """Recursive-descent parser. With `recover`, a problem in a field of a top-level block is collected
+    and parsing resumes at the next field of that block (`syntax_recovery.py` drives it); blocks whose
+    opening brace is in `implicit_closes` end before the first line indented like their opening line."""
+
+    def __init__(self, text: str, recover: bool = False, implicit_closes: dict | None = None):
         self.stream = _Stream(text)
+        self.recover = recover
+        self.implicit_closes = implicit_closes or {}
+        self.problems: list[SyntaxProblem] = []
+        self.traces: list[BlockTrace] = []
+        self.closed_by_indent = False  # the block being parsed ended by indentation, not by its closer
 
     def document(self) -> Document:
         fields = self.fields(closer=None, depth=0)
         return Document(fields, self.stream.take_comments())
 
-    def fields(self, closer: str | None, depth: int) -> list[Field]:
+    def fields(self, closer: str | None, depth: int, limit: int | None = None) -> list[Field]:
         stream = self.stream
         fields: list[Field] = []
         while True:
@@ -236,9 +184,45 @@ class _Parser:
                 if closer is not None:
                     raise stream.problem(f'expected "{closer}" before the end of the file')
                 return fields
+            if limit is not None and stream.starts_line() and (
+                    token.column < limit or (token.column == limit and token.text != closer)):
+                self.closed_by_indent = True  # a closer further left belongs to an outer block
+                return fields
             if closer is not None and token.text == closer:
                 return fields
-            fields.append(self.field(depth))
+            if self.recover and depth == 1:
+                fields.append(self.recovering_field(closer, depth))
+            else:
+                fields.append(self.field(depth))
+
+    def recovering_field(self, closer: str | None, depth: int) -> Field:
+        """A field, or a Broken placeholder after collecting its problem and skipping to the next field."""
+        stream = self.stream
+        first = stream.current
+        try:
+            return self.field(depth)
+        except SyntaxProblem as problem:
+            if problem.at_end:
+                raise
+            self.problems.append(problem)
+            self.skip_to_field(closer, depth, problem.line)
+            return Field(first, False, Broken(first, stream.previous or first))
+
+    def skip_to_field(self, closer: str | None, depth: int, after_line: int) -> None:
+        """Skip to the next line starting with a field name at this depth, or to the block's closer."""
+        stream = self.stream
+        stream.advance_quietly()
+        while stream.current is not None:
+            if stream.nesting < depth:
+                raise GiveUp()
+            if stream.nesting == depth:
+                token = stream.current
+                if token.text == closer:
+                    return
+                if token.line > after_line and stream.starts_line() and _is_name(token.text):
+                    return
+            stream.advance_quietly()
+        raise stream.problem(f'expected "{closer}" before the end of the file')
 
     def field(self, depth: int) -> Field:
         stream = self.stream
@@ -258,7 +242,7 @@ class _Parser:
             raise stream.problem(f'expected a value for "{name.text}" before the end of the file')
         opener = stream.current.text
         if opener in _OPENERS:
-            value: Value = self.block(depth + 1)
+            value: Value = self.block(depth + 1, name)
         elif opener == "[":
             value = self.list_value(depth + 1)
         elif not colon:
@@ -272,16 +256,27 @@ class _Parser:
         field.trailing = stream.take_trailing()
         return field
 
-    def block(self, depth: int) -> Block:
+    def block(self, depth: int, name: Token | None = None) -> Block:
         stream = self.stream
         if depth > MAX_NESTING:
             raise stream.problem(f"messages nested deeper than {MAX_NESTING} levels")
         open_token = stream.advance()
+        trace = BlockTrace(name or open_token, open_token)
+        self.traces.append(trace)
         closer = _OPENERS[open_token.text]
         trailing_open = stream.take_trailing()
-        fields = self.fields(closer, depth)
+        limit = self.implicit_closes.get((open_token.line, open_token.column))
+        fields = self.fields(closer, depth, limit)
         dangling = stream.take_comments()
-        close = stream.advance()
+        if not self.closed_by_indent:
+            close = stream.advance()
+        else:  # closed by indentation (recovery): an empty token just after the last one
+            self.closed_by_indent = False
+            trace.ended_before = stream.current
+            last = stream.previous
+            close = Token("", last.line, last.end_column)
+            stream.nesting -= 1
+        trace.close = close
         return Block(open_token, fields, close, trailing_open, dangling)
 
     def list_value(self, depth: int) -> ListValue:
@@ -324,4 +319,4 @@ class _Parser:
 
 def parse_syntax(text: str) -> Document:
     """Parse text into a syntax tree; raises SyntaxProblem at the first syntax error."""
-    return _Parser(text).document()
+    return Parser(text).document()

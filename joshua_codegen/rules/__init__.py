@@ -16,6 +16,11 @@ and a docstring under the headings "What it checks", "Why it matters" and "Examp
 `STAGE` says who reports it: "load" (the loader), "override" (the `--set` parser), "check" (the
 module's own `check(ctx)`, which yields `Finding`s) or "plan" (also `check(ctx)`, reading the planned
 model `ctx.robot`; run only when nothing before found an error, since only a valid description plans).
+
+When loading found problems inside some nodes only, the "check" rules still run on the rest: those
+nodes are left out of `ctx.nodes` and of the topic index. A rule that concludes from something being
+absent ("nobody publishes it", "no INFERENCE node") sets `NEEDS_EVERY_NODE = True` and is skipped then,
+since the unknown node might be what is missing.
 """
 
 from __future__ import annotations
@@ -66,6 +71,8 @@ def run_rules(context: RuleContext, stage: str = "check") -> list[Diagnostic]:
     diagnostics = []
     for module in all_rules():
         if module.STAGE != stage:
+            continue
+        if context.unknown_nodes and getattr(module, "NEEDS_EVERY_NODE", False):
             continue
         for finding in module.check(context):
             diagnostics.append(_diagnostic(module, finding, context))

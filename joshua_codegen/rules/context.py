@@ -66,14 +66,16 @@ class Endpoint:
 
 class RuleContext:
     def __init__(self, description: RobotDescription, source: SourceMap, sources: dict[str, str] | None = None,
-                 prefix: str | None = None):
+                 prefix: str | None = None, unknown_nodes: frozenset[int] = frozenset()):
         self.description = description
         self.config = description.robot_config
         self.source = source
         self.sources = sources or {}  # texts by path (the file, and `--set` lines), for exact columns
         self.prefix = effective_prefix(self.config.name, prefix)  # where the output lives on the robot
         names = defaults.node_names(self.config)
-        self.nodes = [NodeView(i, node, names[i]) for i, node in enumerate(self.config.node)]
+        # Nodes the loader could not read whole are left out (see rules/__init__.py).
+        self.unknown_nodes = unknown_nodes
+        self.nodes = [NodeView(i, node, names[i]) for i, node in enumerate(self.config.node) if i not in unknown_nodes]
 
     @cached_property
     def robot(self) -> Robot:
@@ -100,9 +102,10 @@ class RuleContext:
         subscribers: dict[str, list[Endpoint]] = defaultdict(list)
         readers: dict[str, list[Endpoint]] = defaultdict(list)
         by_role = {topology.PUBLISHER: publishers, topology.SUBSCRIBER: subscribers, topology.READER: readers}
-        for declared in topology.declarations(self.config, [view.name for view in self.nodes]):
-            view = self.nodes[declared.index]
-            if view.node.type == pb.NODE_TYPE_UNSPECIFIED:
+        views = {view.index: view for view in self.nodes}
+        for declared in topology.declarations(self.config, defaults.node_names(self.config)):
+            view = views.get(declared.index)
+            if view is None or view.node.type == pb.NODE_TYPE_UNSPECIFIED:
                 continue
             message_type = declared.message_type if msg_catalog.is_known(declared.message_type) else ""
             by_role[declared.role][declared.topic].append(

@@ -22,6 +22,7 @@ CODE = "E501"
 NAME = "inference-mode-without-policy"
 SEVERITY = ERROR
 STAGE = "check"
+NEEDS_EVERY_NODE = True
 
 
 def check(ctx):

@@ -21,6 +21,7 @@ CODE = "E503"
 NAME = "calibration-mode-without-calibration-node"
 SEVERITY = ERROR
 STAGE = "check"
+NEEDS_EVERY_NODE = True
 
 
 def check(ctx):

@@ -24,6 +24,7 @@ CODE = "W202"
 NAME = "unpublished-topic"
 SEVERITY = WARNING
 STAGE = "check"
+NEEDS_EVERY_NODE = True
 
 
 def check(ctx):

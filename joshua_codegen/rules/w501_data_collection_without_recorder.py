@@ -22,6 +22,7 @@ CODE = "W501"
 NAME = "data-collection-without-recorder"
 SEVERITY = WARNING
 STAGE = "check"
+NEEDS_EVERY_NODE = True
 
 
 def check(ctx):

@@ -110,7 +110,7 @@ robot_config {
     [
         ("", ("E006", 1, 1, "the description is empty: expected robot_config { ... }")),
         ("# only a comment\n", ("E006", 1, 1, "the description is empty: expected robot_config { ... }")),
-        ("robot_config {\n", ("E001", 2, 1, 'expected "}" before the end of the file')),
+        ("robot_config {\n", ("E001", 1, 1, '"robot_config {" opened here is never closed')),
         ("robot_config { name: 'x }", ("E001", 1, 22, "unterminated string (a string must close on the line it opens)")),
         ('robot_config { name: "x\\" }', ("E001", 1, 22, "unterminated string (a string must close on the line it opens)")),
         ("robot_config { name = 1 }", ("E001", 1, 21, 'expected ":" or "{" after field name "name", found "="')),
@@ -144,7 +144,7 @@ robot_config {
 def test_load_errors_have_positions_and_clear_messages(text, expected):
     result = check_text("r.pbtxt", text)
     assert result.description is None
-    first = result.diagnostics[0]
+    first = next(d for d in result.diagnostics if d.code < "E100")  # rules may report other nodes too
     code, line, column, message = expected
     assert (first.code, first.line, first.column) == (code, line, column)
     if message is not None:
