@@ -41,9 +41,11 @@ def parse_recovering(text: str) -> tuple[Document | None, list[SyntaxProblem]]:
                 ending = [] if parser.problems and problem.at_end else [problem]
                 return None, unclosed + parser.problems + ending
             report, trace, indent = found
-            unclosed.append(report)
             key = (trace.open.line, trace.open.column)
-            if key in implicit or len(implicit) >= MAX_UNCLOSED or indent is None:
+            if key in implicit:  # closing it by indentation did not help: stop with what is known
+                return None, unclosed + parser.problems
+            unclosed.append(report)
+            if len(implicit) >= MAX_UNCLOSED or indent is None:
                 return None, unclosed + parser.problems
             implicit[key] = indent
             continue
