@@ -136,7 +136,8 @@ DATA_SUBSCRIBER = NodeTypeSpec(
     name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
     python_only=True, fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz"}),
-    required=("output_directory",), rate_hz=30.0, runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
+    required=("output_directory", "input_topics"), rate_hz=30.0,
+    runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
 )
 CUSTOM = NodeTypeSpec(
     name="CUSTOM", family="custom", topic="", python_only=True, fields=frozenset({"executable", "args"}),

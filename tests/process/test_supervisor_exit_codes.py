@@ -58,6 +58,7 @@ def test_a_recorder_that_cannot_save_its_episode_makes_the_supervisor_fail_and_s
     out = build(tmp_path, robot([
         'node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/arm/joint_states" rate_hz: 30 }',
         (f'node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/arm/joint_states" output_format: "parquet" '
+         'input_topics: ["/arm/joint_states"] '
          f'output_directory: "{dataset}" rate_hz: 10 restart: RESTART_NEVER }}'),
     ], sigint=30, sigterm=5))
     env = dict(ros_env, **OFFLINE, HF_DATASETS_CACHE=str(tmp_path / "hf-cache"), HF_LEROBOT_HOME=str(tmp_path / "hf"))

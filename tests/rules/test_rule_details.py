@@ -29,7 +29,7 @@ def test_relative_absolute_and_private_names_of_one_topic_match():
 
 def test_a_recorder_topic_is_the_joint_state_action_and_other_types_are_reported():
     arm = 'type: MOCK_ENCODER_PUBLISHER topic_name: "/j"'
-    untyped = 'type: DATA_SUBSCRIBER topic_name: "/j" output_directory: "/d"'
+    untyped = 'type: DATA_SUBSCRIBER topic_name: "/j" output_directory: "/d" input_topics: "/j"'
     assert codes(robot(arm, untyped)) == []
     camera = 'type: MOCK_CAMERA_PUBLISHER topic_name: "/j"'
     assert codes(robot(camera, untyped.replace('topic_name: "/j"', 'topic_name: "/j" qos_reliability: BEST_EFFORT'))) == [
@@ -46,7 +46,7 @@ def test_custom_nodes_declare_no_topics():
 def test_one_finding_per_subscriber_however_many_publishers():
     publishers = [f'name: "p{i}" type: MOCK_ENCODER_PUBLISHER topic_name: "/c" qos_reliability: BEST_EFFORT'
                   for i in range(300)]
-    subscriber = 'type: DATA_SUBSCRIBER topic_name: "/c" output_directory: "/d"'
+    subscriber = 'type: DATA_SUBSCRIBER topic_name: "/c" output_directory: "/d" input_topics: "/c"'
     result = check_text("r.pbtxt", robot(*publishers, subscriber))
     assert [d.code for d in result.diagnostics] == ["E301"]
     assert result.diagnostics[0].message == ('publisher "p0" (and 299 more) offers BEST_EFFORT, '

@@ -21,6 +21,16 @@ SETTINGS = {
             'durability': 'VOLATILE',
         },
     },
+    'state_topic': {
+        'name': '/follower/joint_states',
+        'message_type': 'sensor_msgs/msg/JointState',
+        'qos': {
+            'history': 'KEEP_LAST',
+            'depth': 10,
+            'reliability': 'RELIABLE',
+            'durability': 'VOLATILE',
+        },
+    },
     'qos': {
         'history': 'KEEP_LAST',
         'depth': 10,

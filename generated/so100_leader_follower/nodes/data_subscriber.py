@@ -21,6 +21,28 @@ SETTINGS = {
             'durability': 'VOLATILE',
         },
     },
+    'inputs': [
+        {
+            'name': '/camera/image_raw',
+            'message_type': 'sensor_msgs/msg/Image',
+            'qos': {
+                'history': 'KEEP_LAST',
+                'depth': 5,
+                'reliability': 'BEST_EFFORT',
+                'durability': 'VOLATILE',
+            },
+        },
+        {
+            'name': '/follower/joint_states',
+            'message_type': 'sensor_msgs/msg/JointState',
+            'qos': {
+                'history': 'KEEP_LAST',
+                'depth': 10,
+                'reliability': 'RELIABLE',
+                'durability': 'VOLATILE',
+            },
+        },
+    ],
     'qos': {
         'history': 'KEEP_LAST',
         'depth': 10,
