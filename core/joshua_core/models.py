@@ -1,14 +1,21 @@
-"""Names both sides agree on for models: built-in MJCF models, GL backends and the model-registry prefix."""
+"""Names both sides agree on for models: built-in MJCF models, GL backends, policy types and the model-registry prefix."""
+
+from joshua_core.so100 import SO100_JOINTS
 
 # `simulation { model: "builtin:NAME" }` names an MJCF model shipped with joshua_runtime.
 BUILTIN_PREFIX = "builtin:"
 BUILTIN_MODELS = ("so100",)
+# The hinge joints of each built-in model: a simulated servo node's joint_names must be among them.
+BUILTIN_MODEL_JOINTS = {"so100": SO100_JOINTS}
 # Offscreen GL backends the simulation can render with; the first is the default.
 GL_BACKENDS = ("egl", "osmesa")
 # `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.
 REGISTRY_PREFIX = "registry:"
 # What DATA_SUBSCRIBER writes (`output_format`); the first is the default.
 OUTPUT_FORMATS = ("lerobot", "parquet")
+# LeRobot policy types an INFERENCE node can run (`policy_type`, compared without case; a saved policy's
+# config.json names its type, and the node refuses any other).
+POLICY_TYPES = ("act", "diffusion")
 # Torch devices an INFERENCE node runs a policy on (`device`); the first is the default.
 DEVICES = ("cpu", "cuda")
 # Where the registry lives: $JOSHUA_MODEL_REGISTRY, else REGISTRY_DEFAULT_ROOT (with ~ expanded); an entry

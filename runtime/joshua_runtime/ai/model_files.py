@@ -15,9 +15,9 @@ import json
 import os
 from pathlib import Path
 
+from joshua_core.models import POLICY_TYPES as SUPPORTED_POLICY_TYPES  # noqa: F401 (read by the policy loaders)
 from joshua_runtime.errors import SettingsError
 
-SUPPORTED_POLICY_TYPES = ("act", "diffusion")
 CONFIG_FILE = "config.json"
 WEIGHTS_FILE = "model.safetensors"
 PROCESSOR_FILES = ("policy_preprocessor.json", "policy_postprocessor.json")
