@@ -5,14 +5,11 @@
 - `sensor_msgs/msg/JointState` inputs become `observation.state`: the positions of every JointState
   input, concatenated in the order the inputs are listed, each in the order of the message's `name`.
   Feature names are `<joint>.pos` (LeRobot's SO-100 convention).
-- `sensor_msgs/msg/Image` (or `CompressedImage`) inputs become `observation.images.<key>`, where `<key>` is the topic name
-  without its leading slash and without a last segment starting with `image` (`image_raw`,
-  `image_rect`, ...), the remaining segments joined by `_`:
-  `/camera/image_raw` -> `camera`, `/arm/wrist/image` -> `arm_wrist`, `/front` -> `front`.
+- `sensor_msgs/msg/Image` (or `CompressedImage`) inputs become `observation.images.<key>`
+  (joshua_core/feature_keys.py: `/camera/image_raw` -> `camera`).
 """
 
-import re
-
+from joshua_core.feature_keys import IMAGE_PREFIX, image_feature, image_key  # noqa: F401 (part of this mapping)
 from joshua_core.node_types import IMAGE_TYPES, JOINT_STATE, OBSERVATION_TYPES
 from joshua_core.settings import TopicSettings
 from joshua_runtime.errors import SettingsError
@@ -20,24 +17,7 @@ from joshua_runtime.errors import SettingsError
 
 ACTION = "action"
 STATE = "observation.state"
-IMAGE_PREFIX = "observation.images."
 POSITION_SUFFIX = ".pos"
-
-_NOT_KEY_CHARACTER = re.compile(r"[^A-Za-z0-9_]")
-
-
-def image_key(topic_name: str) -> str:
-    """The `<key>` of `observation.images.<key>` for an Image topic (see the module docstring)."""
-    parts = [part for part in topic_name.split("/") if part]
-    if len(parts) > 1 and parts[-1].startswith("image"):
-        parts = parts[:-1]
-    key = _NOT_KEY_CHARACTER.sub("_", "_".join(parts))
-    return key or "image"
-
-
-def image_feature(topic_name: str) -> str:
-    """`observation.images.<key>` for an Image topic."""
-    return IMAGE_PREFIX + image_key(topic_name)
 
 
 def position_names(joint_names: list[str]) -> list[str]:
