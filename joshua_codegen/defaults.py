@@ -93,17 +93,21 @@ def message_type(node: pb.Node) -> str:
 
 def qos(node: pb.Node) -> dict:
     """The node's resolved QoS: `{"history", "depth", "reliability", "durability"}`."""
-    sensor = entry(node).sensor_qos
-    history = pb.History.Name(node.qos_history) if node.qos_history else "KEEP_LAST"
-    if node.HasField("qos_depth"):
-        depth = node.qos_depth
+    return resolved_qos(node, entry(node).sensor_qos)
+
+
+def resolved_qos(holder: pb.Node | pb.TopicDeclaration, sensor: bool = False) -> dict:
+    """The QoS of a message holding qos_* fields (a node, or a topic a CUSTOM node declares)."""
+    history = pb.History.Name(holder.qos_history) if holder.qos_history else "KEEP_LAST"
+    if holder.HasField("qos_depth"):
+        depth = holder.qos_depth
     else:
         depth = 0 if history == "KEEP_ALL" else (5 if sensor else 10)
-    if node.qos_reliability:
-        reliability = pb.Reliability.Name(node.qos_reliability)
+    if holder.qos_reliability:
+        reliability = pb.Reliability.Name(holder.qos_reliability)
     else:
         reliability = "BEST_EFFORT" if sensor else "RELIABLE"
-    durability = pb.Durability.Name(node.qos_durability) if node.qos_durability else "VOLATILE"
+    durability = pb.Durability.Name(holder.qos_durability) if holder.qos_durability else "VOLATILE"
     return {"history": history, "depth": depth, "reliability": reliability, "durability": durability}
 
 

@@ -4,6 +4,7 @@ import os
 
 from joshua_codegen import defaults, escape, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
+from joshua_codegen.positions import node_path
 from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
@@ -90,7 +91,8 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int, declared
             continue
         endpoint = _endpoint(item, item.message_type, QoS(**item.qos))
         (published if item.role == topology.PUBLISHER else main).append(endpoint)
-        fields[item.at[-1]] = endpoint
+        if len(item.at) == len(node_path(index)) + 1:  # the node's own topic_name or state_topic
+            fields[item.at[-1]] = endpoint
     topic, state = fields.get("topic_name"), fields.get("state_topic")
     devices = tuple(_devices(node, name))
     settings = node_settings.for_node(config, node, name, topic, state, inputs)

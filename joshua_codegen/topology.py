@@ -14,7 +14,8 @@ PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"
 
 @dataclass(frozen=True)
 class Declaration:
-    """One topic a node declares: its topic_name, its state_topic or one of its input_topics.
+    """One topic a node declares: its topic_name, its state_topic, one of its input_topics, or (CUSTOM)
+    one of its `publishes` / `subscribes` entries.
 
     `message_type` is the declared or default type ("" for a reader: it takes its publishers' type);
     `qos` the node's resolved QoS (None for a reader: it matches its publishers).
@@ -26,7 +27,7 @@ class Declaration:
     role: str  # PUBLISHER, SUBSCRIBER or READER
     message_type: str
     qos: dict | None
-    at: Path  # the field that declares the topic
+    at: Path  # the field that declares the topic (its qos_* fields are its siblings)
 
 
 def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
@@ -51,4 +52,9 @@ def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
         if entry.reads_inputs:
             for k, value in enumerate(node.input_topics):
                 declare(value, READER, "", None, "input_topics", k)
+        if entry.declares_topics:
+            for field, role in (("publishes", PUBLISHER), ("subscribes", SUBSCRIBER)):
+                for k, topic in enumerate(getattr(node, field)):
+                    declare(topic.topic_name, role, topic.message_type, defaults.resolved_qos(topic),
+                            field, k, "topic_name")
     return found

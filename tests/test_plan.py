@@ -61,6 +61,27 @@ def test_actuator_state_topic_is_a_publisher_in_the_topology():
     assert to_literal(robot.node("follower").settings)["state_topic"]["name"] == "/follower/joint_states"
 
 
+def test_topics_a_custom_node_declares_reach_the_manifest_and_the_graph():
+    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+        node { name: "teleop" type: CUSTOM executable: "/bin/teleop"
+               publishes { topic_name: "/arm/commands" message_type: "sensor_msgs/msg/JointState" qos_depth: 3 }
+               subscribes { topic_name: "/camera" message_type: "sensor_msgs/msg/Image" qos_reliability: BEST_EFFORT } }
+        node { name: "arm" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/arm/commands" }
+        node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/camera" } }"""), "r.pbtxt")
+    document = manifest(robot, Context(prefix="/opt/joshua/r"))
+    teleop = next(n for n in document["nodes"] if n["name"] == "teleop")
+    assert (teleop["publishes"], teleop["subscribes"]) == (["/arm/commands"], ["/camera"])
+    commands = next(t for t in document["topics"] if t["name"] == "/arm/commands")
+    assert [(p["node"], p["qos"]["depth"]) for p in commands["publishers"]] == [("teleop", 3)]
+    assert commands["message_type"] == "sensor_msgs/msg/JointState"
+    camera = next(t for t in document["topics"] if t["name"] == "/camera")
+    assert [(s["node"], s["qos"]["reliability"]) for s in camera["subscribers"]] == [("teleop", "BEST_EFFORT")]
+    dot = render(robot, "/opt/joshua/r")["topology.dot"]
+    assert 'n0 [shape=box, label="teleop\\nCUSTOM\\nPYTHON"];' in dot
+    assert 'n0 -> t0 [label="reliable, volatile, depth 3"];' in dot  # t0: /arm/commands
+    assert 't1 -> n0 [label="best_effort, volatile, depth 10"];' in dot  # t1: /camera
+
+
 def _endpoints(document: dict) -> list:
     return [(t["name"], t["message_type"],
              sorted((p["node"], json.dumps(p["qos"], sort_keys=True)) for p in t["publishers"]),

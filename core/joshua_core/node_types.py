@@ -74,6 +74,11 @@ class NodeTypeSpec:
         return bool(self.input_types)
 
     @property
+    def declares_topics(self) -> bool:
+        """Its topics are declared in `publishes` / `subscribes` blocks, not by topic_name (CUSTOM)."""
+        return "publishes" in self.fields
+
+    @property
     def servo_bus(self) -> bool:
         """It reads joints through an STS3215 servo bus (or stands in for one that does)."""
         return self.family in ("encoder", "actuator", "calibration")
@@ -140,7 +145,8 @@ DATA_SUBSCRIBER = NodeTypeSpec(
     runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
 )
 CUSTOM = NodeTypeSpec(
-    name="CUSTOM", family="custom", topic="", python_only=True, fields=frozenset({"executable", "args"}),
+    name="CUSTOM", family="custom", topic="", python_only=True,
+    fields=frozenset({"executable", "args", "publishes", "subscribes"}),
     required=("executable",),
 )
 

@@ -127,10 +127,22 @@ class RuleContext:
         """Resolved topic -> nodes reading it through input_topics."""
         return self._endpoints[2]
 
-    def qos_at(self, view: NodeView, policy_field: str, fallback: Path) -> Path:
-        """The QoS field's path when written, else `fallback` (the topic field)."""
-        path = view.at(policy_field)
-        return path if self.written(path) else fallback
+    def qos_at(self, endpoint: Endpoint, policy_field: str) -> Path:
+        """The path of the QoS field that applies to an endpoint when written, else of its topic field."""
+        path = endpoint.at[:-1] + (policy_field,)
+        return path if self.written(path) else endpoint.at
+
+    @cached_property
+    def topic_holders(self) -> list[tuple[NodeView, Node | pb.TopicDeclaration, Path]]:
+        """(node, message, path) of every message with topic fields (topic_name, message_type, qos_*):
+        each node, and each topic a CUSTOM node declares in `publishes` / `subscribes`."""
+        holders = []
+        for view in self.nodes:
+            holders.append((view, view.node, view.path))
+            if defaults.entry(view.node).declares_topics:
+                for field in ("publishes", "subscribes"):
+                    holders += [(view, topic, view.at(field, k)) for k, topic in enumerate(getattr(view.node, field))]
+        return holders
 
 
 def is_set(message, field: str) -> bool:

@@ -2,7 +2,8 @@
 
 What it checks:
     Every node except CUSTOM sets `topic_name`: the topic it publishes (publishers, INFERENCE,
-    OPERATIONAL_LIMIT_CALIBRATION) or subscribes to (ACTUATOR_SUBSCRIBER, DATA_SUBSCRIBER).
+    OPERATIONAL_LIMIT_CALIBRATION) or subscribes to (ACTUATOR_SUBSCRIBER, DATA_SUBSCRIBER). Every
+    topic a CUSTOM node declares (`publishes { ... }`, `subscribes { ... }`) sets its `topic_name`.
 
 Why it matters:
     A node without a topic has nothing to publish or nothing to act on.
@@ -27,3 +28,6 @@ def check(ctx):
     for view in ctx.typed_nodes:
         if view.node.type != pb.CUSTOM and not view.node.topic_name:
             yield Finding(view.path, f"{view.label} has no topic_name")
+    for view, holder, path in ctx.topic_holders:
+        if holder is not view.node and not holder.topic_name:
+            yield Finding(path, f"a topic {view.label} declares in {path[-2]} has no topic_name")

@@ -1,7 +1,7 @@
 """E201 unknown-message-type: message_type is not a known ROS 2 message of the form pkg/msg/Type.
 
 What it checks:
-    A written `message_type` has the ROS 2 form `pkg/msg/Type` and names a message of std_msgs,
+    A written `message_type` (of a node, or of a topic a CUSTOM node declares) has the ROS 2 form `pkg/msg/Type` and names a message of std_msgs,
     sensor_msgs, geometry_msgs, nav_msgs or tf2_msgs (ROS 2 Jazzy; see joshua_codegen/msg_catalog.py).
     The message suggests the closest known type.
 
@@ -27,8 +27,8 @@ PACKAGES = ", ".join(msg_catalog.PACKAGES)
 
 
 def check(ctx):
-    for view in ctx.nodes:
-        value = view.node.message_type
+    for _view, holder, path in ctx.topic_holders:
+        value = holder.message_type
         if not value or msg_catalog.is_known(value):
             continue
         if msg_catalog.is_well_formed(value):
@@ -36,4 +36,4 @@ def check(ctx):
         else:
             message = f'message type "{value}" is not of the form pkg/msg/Type'
         hint = msg_catalog.closest(value)
-        yield Finding(view.at("message_type"), message + (f'; did you mean "{hint}"?' if hint else ""))
+        yield Finding(path + ("message_type",), message + (f'; did you mean "{hint}"?' if hint else ""))

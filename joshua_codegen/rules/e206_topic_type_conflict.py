@@ -22,7 +22,7 @@ STAGE = "check"
 
 
 def _type_field(ctx, endpoint):
-    path = endpoint.view.at("message_type")
+    path = endpoint.at[:-1] + ("message_type",)
     if endpoint.at[-1] == "topic_name" and ctx.written(path):
         return path
     return endpoint.at

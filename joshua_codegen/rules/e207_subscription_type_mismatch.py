@@ -30,7 +30,7 @@ def check(ctx):
         published = {p.message_type for p in publishers}
         for sub in subscribers:
             if sub.message_type and sub.message_type not in published:
-                path = sub.view.at("message_type")
+                path = sub.at[:-1] + ("message_type",)
                 where = path if ctx.written(path) else sub.at
                 yield Finding(where, f'node "{sub.view.name}" subscribes to "{topic}" as {sub.message_type}, '
                                      f"but it is published as {publishers[0].message_type}",

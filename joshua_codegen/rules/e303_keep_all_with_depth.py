@@ -1,7 +1,7 @@
 """E303 keep-all-with-depth: qos_depth set together with qos_history KEEP_ALL.
 
 What it checks:
-    A node with `qos_history: KEEP_ALL` leaves `qos_depth` unset.
+    A node (or a topic a CUSTOM node declares) with `qos_history: KEEP_ALL` leaves `qos_depth` unset.
 
 Why it matters:
     KEEP_ALL ignores the depth; writing one suggests KEEP_LAST was meant, and the memory use
@@ -25,7 +25,7 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.nodes:
-        if view.node.qos_history == pb.KEEP_ALL and view.node.HasField("qos_depth"):
-            yield Finding(view.at("qos_depth"), "qos_depth is ignored with KEEP_ALL history; "
+    for _view, holder, path in ctx.topic_holders:
+        if holder.qos_history == pb.KEEP_ALL and holder.HasField("qos_depth"):
+            yield Finding(path + ("qos_depth",), "qos_depth is ignored with KEEP_ALL history; "
                                                 "remove it, or use qos_history: KEEP_LAST")

@@ -1,7 +1,7 @@
 """E304 keep-last-zero-depth: KEEP_LAST history with a depth of 0.
 
 What it checks:
-    A node with KEEP_LAST history (the default) does not set `qos_depth: 0`.
+    A node (or a topic a CUSTOM node declares) with KEEP_LAST history (the default) does not set `qos_depth: 0`.
 
 Why it matters:
     A KEEP_LAST queue of depth 0 holds no message (rmw replaces it with a default or refuses it).
@@ -23,8 +23,7 @@ STAGE = "check"
 
 
 def check(ctx):
-    for view in ctx.nodes:
-        node = view.node
-        if node.qos_history != pb.KEEP_ALL and node.HasField("qos_depth") and node.qos_depth == 0:
-            yield Finding(view.at("qos_depth"), "qos_depth 0 with KEEP_LAST history keeps no message; "
+    for _view, holder, path in ctx.topic_holders:
+        if holder.qos_history != pb.KEEP_ALL and holder.HasField("qos_depth") and holder.qos_depth == 0:
+            yield Finding(path + ("qos_depth",), "qos_depth 0 with KEEP_LAST history keeps no message; "
                                                 "use a depth of 1 or more")

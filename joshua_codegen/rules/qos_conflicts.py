@@ -19,8 +19,8 @@ def conflicts(ctx: RuleContext, policy: str, field: str):
             first = weaker[0]
             more = f" (and {len(weaker) - 1} more)" if len(weaker) > 1 else ""
             yield Finding(
-                ctx.qos_at(sub.view, field, sub.at),
+                ctx.qos_at(sub, field),
                 f'publisher "{first.view.name}"{more} offers {first.qos[policy]}, '
                 f'subscriber "{sub.view.name}" requires {sub.qos[policy]} on "{topic}"',
-                ((ctx.qos_at(first.view, field, first.at), "publisher declared here"),),
+                ((ctx.qos_at(first, field), "publisher declared here"),),
             )

@@ -38,9 +38,33 @@ def test_a_recorder_topic_is_the_joint_state_action_and_other_types_are_reported
     assert codes(robot(arm, typed)) == [("E202", 5, 32), ("E207", 5, 32)]
 
 
-def test_custom_nodes_declare_no_topics():
+def test_a_custom_node_topic_name_is_ignored_with_a_warning_naming_the_declaration_blocks():
     text = robot('type: CUSTOM executable: "/bin/tool" topic_name: "/a"', 'type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/a"')
-    assert codes(text) == [("W202", 5, 41)]
+    result = check_text("r.pbtxt", text)
+    assert [(d.code, d.line, d.column) for d in result.diagnostics] == [("W101", 4, 47), ("W202", 5, 41)]
+    assert "publishes { topic_name: ... message_type: ... }" in result.diagnostics[0].message
+
+
+def test_topics_a_custom_node_declares_take_part_in_type_and_qos_checks():
+    teleop = ('name: "teleop" type: CUSTOM executable: "/bin/teleop" '
+              'publishes { topic_name: "/arm/commands" message_type: "sensor_msgs/msg/JointState" '
+              'qos_reliability: BEST_EFFORT } '
+              'subscribes { topic_name: "/camera" message_type: "sensor_msgs/msg/JointState" qos_depth: 0 }')
+    arm = 'type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/arm/commands"'
+    camera = 'type: MOCK_CAMERA_PUBLISHER topic_name: "/camera"'
+    result = check_text("r.pbtxt", robot(teleop, arm, camera))
+    # The subscription: E301 (the camera offers BEST_EFFORT), E207 at its message_type, E304 at its
+    # qos_depth; the arm: E301, with the note at the declaration's qos_reliability.
+    assert [(d.code, d.line, d.column) for d in result.diagnostics] == [
+        ("E301", 4, 191), ("E207", 4, 213), ("E304", 4, 256), ("E301", 5, 41)]
+    assert [(r.line, r.column) for r in result.diagnostics[3].related] == [(4, 147)]
+
+
+def test_a_custom_subscription_counts_as_a_subscriber_of_a_published_topic():
+    teleop = ('type: CUSTOM executable: "/bin/t" subscribes { topic_name: "/cam" '
+              'message_type: "sensor_msgs/msg/Image" qos_reliability: BEST_EFFORT }')
+    assert codes(robot(teleop, 'type: MOCK_CAMERA_PUBLISHER topic_name: "/cam"')) == []
+    assert codes(robot(teleop)) == [("W202", 4, 57)]
 
 
 def test_one_finding_per_subscriber_however_many_publishers():
