@@ -16,7 +16,8 @@ PREFIX_ROOM = "x" * 255
 
 set_option = click.option(
     "--set", "overrides", multiple=True, metavar="KEY=VALUE",
-    help="Override a field before validation, e.g. mode=MODE_SIMULATION or NODE.qos_depth=10 (repeatable).",
+    help="Override a field before validation, e.g. mode=MODE_SIMULATION or NODE.qos_depth=10 (repeatable). "
+         "Lists replace the whole list: NODE.device_ids=1,2,3 or NODE.device_ids=[1,2,3].",
 )
 format_option = click.option(
     "--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
@@ -135,11 +136,14 @@ def graph(config, graph_format, overrides) -> None:
 
 
 @cli.command()
-@click.argument("code")
+@click.argument("code", required=False)
 def explain(code) -> None:
-    """Explain a diagnostic code, e.g. joshuac explain E301."""
-    from joshua_codegen.rules import all_rules, explain as explain_code
+    """Explain a diagnostic code, e.g. joshuac explain E301; without one, list every code."""
+    from joshua_codegen.rules import all_rules, explain as explain_code, summaries
 
+    if code is None:
+        click.echo("".join(line + "\n" for line in summaries()), nl=False)
+        return
     text = explain_code(code.upper())
     if text is None:
         known = ", ".join(sorted(rule.CODE for rule in all_rules()))

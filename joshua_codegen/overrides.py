@@ -3,7 +3,8 @@
 Keys: a robot field (`mode`, `name`, `ros_domain_id`), a field of a robot block
 (`shutdown.sigint_grace_s`, `simulation.model`), an environment entry (`env.NAME`), or a node
 field addressed by the node's name (`NODE_NAME.qos_depth`, `NODE_NAME.env.NAME`). Values are
-parsed per field type; repeated fields take a comma-separated list that replaces the whole list.
+parsed per field type; a repeated field takes a list that replaces the whole list, comma-separated
+(`device_ids=1,2,3`) or bracketed as in a description (`device_ids=[1, 2, 3]`, `input_topics=["/a", "/b"]`).
 Problems are diagnostics at path `--set`, line = the override's 1-based position.
 """
 
@@ -18,7 +19,7 @@ from joshua_codegen.diagnostics import ERROR, Diagnostic
 from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, suggest
 from joshua_codegen.positions import Location, Path, SourceMap
 from joshua_core.schema import RobotConfig, RobotDescription
-from joshua_codegen.syntax import Scalar, Token
+from joshua_codegen.syntax import ListValue, Scalar, SyntaxProblem, Token, parse_syntax
 
 OVERRIDE_PATH = "--set"
 MALFORMED_OVERRIDE = "E010"
@@ -49,10 +50,37 @@ def _value(fd: FieldDescriptor, text: str):
         raise OverrideProblem(INVALID_OVERRIDE_VALUE, str(problem)) from None
 
 
+def _list_item(fd: FieldDescriptor, item: Scalar):
+    """One item of a bracketed list, read as in a description (strings may be quoted or bare)."""
+    if fd.type == FieldDescriptor.TYPE_STRING and not item.is_string:
+        return item.first.text
+    if fd.type == FieldDescriptor.TYPE_ENUM:
+        return _value(fd, item.first.text)
+    try:
+        return parse_scalar(fd, item)
+    except ValueProblem as problem:
+        raise OverrideProblem(INVALID_OVERRIDE_VALUE, str(problem)) from None
+
+
+def _list(fd: FieldDescriptor, text: str) -> list:
+    """A repeated field's new values: `1,2,3` (comma-separated) or `[1, 2, 3]` / `["a", "b"]` (as in a description)."""
+    stripped = text.strip()
+    if not stripped.startswith("["):
+        return [_value(fd, item.strip()) for item in text.split(",")] if stripped else []
+    try:
+        document = parse_syntax(f"{fd.name}: {stripped}")
+    except SyntaxProblem as problem:
+        message = problem.message.replace("end of file", "end of the value")
+        raise OverrideProblem(INVALID_OVERRIDE_VALUE, f"{fd.name}: {message}") from None
+    value = document.fields[0].value if len(document.fields) == 1 else None
+    if not isinstance(value, ListValue) or any(not isinstance(item, Scalar) for item in value.items):
+        raise OverrideProblem(INVALID_OVERRIDE_VALUE, f"{fd.name} takes a list of values: [1, 2, 3] or 1,2,3")
+    return [_list_item(fd, item) for item in value.items]
+
+
 def _assign(message, fd: FieldDescriptor, text: str) -> None:
     if fd.is_repeated:
-        items = [item.strip() for item in text.split(",")] if text.strip() else []
-        values = [_value(fd, item) for item in items]
+        values = _list(fd, text)
         container = getattr(message, fd.name)
         del container[:]
         container.extend(values)

@@ -66,6 +66,16 @@ def explain(code: str) -> str | None:
     return f"{title}\nSeverity: {module.SEVERITY}\n{body}\n"
 
 
+def summaries() -> list[str]:
+    """One line per code, sorted: `E301 reliability-incompatible  error    <what it reports>`."""
+    lines = []
+    for module in all_rules():
+        title = (module.__doc__ or "").strip().partition("\n")[0]
+        what = title.partition(": ")[2]
+        lines.append(f"{module.CODE} {module.NAME:<40} {module.SEVERITY:<8} {what}".rstrip())
+    return lines
+
+
 def run_rules(context: RuleContext, stage: str = "check") -> list[Diagnostic]:
     """Every finding of every rule of a stage ("check" or "plan"), as diagnostics (unsorted)."""
     diagnostics = []

@@ -58,6 +58,20 @@ def test_nodes_are_addressed_by_their_derived_or_own_name():
     assert dict(camera.env) == {"OPENCV_LOG_LEVEL": "ERROR"}
 
 
+def test_lists_may_be_bracketed_as_in_a_description():
+    config = config_after(
+        "encoder_publisher.device_ids=[1,2,3]",
+        "actuator_subscriber.device_ids=[ 4, 5 ]",
+        'data_subscriber.input_topics=["/camera/image_raw", "/leader/joint_states"]',
+        'encoder_publisher.joint_names=["a, b", "c", d]',
+    )
+    encoder, actuator, camera, recorder = config.node
+    assert list(encoder.device_ids) == [1, 2, 3] and list(actuator.device_ids) == [4, 5]
+    assert list(recorder.input_topics) == ["/camera/image_raw", "/leader/joint_states"]
+    assert list(encoder.joint_names) == ["a, b", "c", "d"]
+    assert list(config_after("actuator_subscriber.device_ids=[]").node[1].device_ids) == []
+
+
 def test_an_empty_value_clears_a_repeated_field():
     assert list(config_after("actuator_subscriber.device_ids=").node[1].device_ids) == []
 
@@ -90,6 +104,10 @@ def test_the_parsed_input_is_never_mutated():
         ("ros_domain_id=-1", "E012", "ros_domain_id takes an unsigned 32-bit integer (0 to 4294967295), got -1"),
         ("encoder_publisher.device_ids=1,two", "E012", "device_ids takes an unsigned 32-bit integer, got two"),
         ("camera_publisher.critical=maybe", "E012", "critical takes true or false, got maybe"),
+        ("encoder_publisher.device_ids=[1,x]", "E012", "device_ids takes an unsigned 32-bit integer, got x"),
+        ("encoder_publisher.device_ids=[1,2", "E012",
+         'device_ids: expected "," or "]" in a list, found end of the value'),
+        ("encoder_publisher.device_ids=[{}]", "E012", "device_ids takes a list of values: [1, 2, 3] or 1,2,3"),
     ],
 )
 def test_bad_overrides_are_diagnostics_at_their_position(override, code, message):
