@@ -2,8 +2,9 @@
 
 What it checks:
     Each subscription (topic_name of ACTUATOR_SUBSCRIBER and DATA_SUBSCRIBER, and every
-    input_topics entry of INFERENCE and DATA_SUBSCRIBER) has a publisher in the description.
-    CUSTOM nodes declare no topics, and processes outside the description are not known.
+    input_topics entry of INFERENCE and DATA_SUBSCRIBER, and every topic a CUSTOM node declares in
+    `subscribes`) has a publisher in the description; processes outside it are not known. When a
+    published topic is spelt alike, the message suggests it.
 
 Why it matters:
     Unless something outside the description publishes it, the node waits forever for data. An
@@ -15,10 +16,15 @@ Example:
       type: ACTUATOR_SUBSCRIBER
       topic_name: "/arm/commands"    # warning: nothing in this description publishes "/arm/commands"
     }
+    node {
+      type: INFERENCE
+      input_topics: ["/camera/imag_raw"]  # warning: ... publishes "/camera/imag_raw"; did you mean "/camera/image_raw"?
+    }
 """
 
 from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.rules.context import Finding
+from joshua_codegen.values import suggest
 
 CODE = "W202"
 NAME = "unpublished-topic"
@@ -32,5 +38,8 @@ def check(ctx):
         for topic, endpoints in index.items():
             if topic in ctx.publishers:
                 continue
+            hint = suggest(topic, ctx.publishers)
+            message = f'nothing in this description publishes "{topic}"'
+            message += f'; did you mean "{hint}"?' if hint else ""
             for endpoint in endpoints:
-                yield Finding(endpoint.at, f'nothing in this description publishes "{topic}"')
+                yield Finding(endpoint.at, message)
