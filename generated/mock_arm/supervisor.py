@@ -169,7 +169,10 @@ EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before e
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
 
-CPP_FALLBACK_WARNING = "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint"
+# Names the fix: the binaries are built by `make cpp` of the joshuac repository; cpp_bin_dir selects them.
+CPP_FALLBACK_WARNING = ("warning: C++ binary {binary} is missing or not executable; running the Python entrypoint "
+                        "(make cpp in the joshuac repository builds the binaries into build/bin; "
+                        "set cpp_bin_dir in the description to the directory holding them)")
 
 
 # What every part of supervisor.py uses: the log line, prctl, exit-status text, process groups, paths.

@@ -116,7 +116,9 @@ def test_without_the_cpp_binary_the_python_entrypoint_runs_after_one_warning(tmp
     warnings = [line for line in supervisor.log().splitlines() if "warning" in line]
     assert len(warnings) == 1
     assert warnings[0].endswith(f"arm: warning: C++ binary {tmp_path}/bin/encoder_publisher is missing or not "
-                                "executable; running the Python entrypoint")
+                                "executable; running the Python entrypoint (make cpp in the joshuac repository "
+                                "builds the binaries into build/bin; set cpp_bin_dir in the description to the "
+                                "directory holding them)")
 
 
 def test_nodes_get_the_dds_profile_domain_and_description_environment_even_after_a_move(tmp_path):
