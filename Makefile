@@ -8,10 +8,18 @@ RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 PYTEST_ARGS ?=
 
-.PHONY: setup run test generate proto bench check cpp
+.PHONY: setup install uninstall run test generate proto bench check cpp
 
 setup:
 	@bash scripts/setup.sh
+
+## install: set up, then put joshuac, joshua-emulate and joshua-registry on PATH for new shells
+## (wrappers in BINDIR, default ~/.local/bin, running this checkout's .venv; see scripts/install.sh).
+install: setup
+	@bash scripts/install.sh install
+
+uninstall:
+	@bash scripts/install.sh uninstall
 
 ## run: build the demo description into a temporary directory and run it (Ctrl-C stops it;
 ## DURATION=10 makes it stop by itself). Nodes preferring CPP run the binaries setup built in build/bin.
