@@ -65,3 +65,14 @@ def test_explain_accepts_lower_case_and_rejects_unknown_codes():
     assert explain("e301") == explain("E301")
     assert "Severity: error" in explain("E301")
     assert explain("E999") is None
+
+
+def test_explain_without_a_code_lists_every_code_with_its_name():
+    from testsupport.joshuac_cli import joshuac
+
+    result = joshuac("explain")
+    assert result.returncode == 0
+    lines = result.stdout.splitlines()
+    assert [line.split()[0] for line in lines] == CODES
+    assert lines[CODES.index("E122")].split()[:3] == ["E122", "unsupported-policy-type", "error"]
+    assert lines[CODES.index("E122")].endswith("an INFERENCE node's policy_type is not one the runtime can run.")

@@ -138,3 +138,10 @@ def test_two_nodes_with_one_name_cannot_be_addressed():
     result = check_text("r.pbtxt", text, ["arm.qos_depth=1"])
     assert [(d.code, d.message) for d in result.diagnostics if d.path == "--set"] == [
         ("E011", '2 nodes are named "arm"')]
+
+
+def test_the_help_says_how_lists_are_written():
+    from testsupport.joshuac_cli import joshuac
+
+    help_text = " ".join(joshuac("check", "--help").stdout.split())
+    assert "NODE.device_ids=1,2,3 or NODE.device_ids=[1,2,3]" in help_text
