@@ -59,7 +59,7 @@ class Process:
 
     `python` processes run `nodes/<name>.py`; `custom` ones run `executable` with `args`. When
     `cpp_binary` is set, the supervisor prefers `<cpp_bin_dir>/<cpp_binary>` with `cpp_args`.
-    A custom process declares no topics: it counts as carrying images, since it may.
+    A custom process counts as carrying images: the topics it declares need not be all it uses.
     """
 
     name: str
