@@ -18,7 +18,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from joshua_codegen.syntax_tree import (  # noqa: F401 (re-exported: the tree is part of this module's interface)
+from joshua_codegen.syntax_tree import (  # re-exported: the tree is part of this module's interface
     QUOTES, Block, Broken, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, Token, Value,
 )
 

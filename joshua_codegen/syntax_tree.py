@@ -5,7 +5,8 @@ Built by `syntax.py`; lines and columns are 1-based and count characters.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field as dataclass_field
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 
 QUOTES = ("'", '"')
 

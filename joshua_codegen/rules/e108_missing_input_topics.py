@@ -21,9 +21,10 @@ Example:
     }
 """
 
+from joshua_core.schema import robot_config_pb2 as pb
+
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E108"
 NAME = "missing-input-topics"

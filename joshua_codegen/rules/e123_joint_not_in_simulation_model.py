@@ -18,11 +18,12 @@ Example:
     }
 """
 
+from joshua_core.models import BUILTIN_MODEL_JOINTS, BUILTIN_PREFIX
+from joshua_core.schema import robot_config_pb2 as pb
+
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.models import BUILTIN_MODEL_JOINTS, BUILTIN_PREFIX
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E123"
 NAME = "joint-not-in-simulation-model"

@@ -65,7 +65,7 @@ def test_lists_may_be_bracketed_as_in_a_description():
         'data_subscriber.input_topics=["/camera/image_raw", "/leader/joint_states"]',
         'encoder_publisher.joint_names=["a, b", "c", d]',
     )
-    encoder, actuator, camera, recorder = config.node
+    encoder, actuator, _camera, recorder = config.node
     assert list(encoder.device_ids) == [1, 2, 3] and list(actuator.device_ids) == [4, 5]
     assert list(recorder.input_topics) == ["/camera/image_raw", "/leader/joint_states"]
     assert list(encoder.joint_names) == ["a, b", "c", "d"]
