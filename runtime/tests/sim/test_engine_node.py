@@ -178,8 +178,11 @@ def test_unusable_settings_exit_with_one_line(start_node, overrides, unchecked, 
 
 
 def test_unknown_joint_exits_with_settings_error(start_node):
+    """joshuac refuses such a description (E123); settings written by hand reach the engine's own check."""
     settings = sim_settings.simulation(
-        sim_settings.ENCODER, overrides=["arm_encoder.device_ids=1,2", "arm_encoder.joint_names=shoulder_pan,elbow"])
+        sim_settings.ENCODER, overrides=["arm_encoder.device_ids=1,2", "arm_encoder.joint_names=shoulder_pan,wrist_flex"])
+    [encoder] = settings["simulation"]["simulates"]
+    encoder["joint_names"] = ["shoulder_pan", "elbow"]
     returncode, stderr = start_node(settings).wait(STARTUP_TIMEOUT_S)
     assert returncode == 2
     assert "simulation: error: simulation model has no hinge or slide joint 'elbow'" in stderr
