@@ -7,19 +7,18 @@ pybricks_bumble.py implements the same interface over a Bumble BLE stack (a USB 
 emulated hub over HCI on TCP).
 """
 
-import re
 from collections.abc import Callable
 
+from joshua_core.devices import BLE_ADDRESS
 from joshua_runtime.drivers.pybricks_protocol import CAPABILITIES_UUID, COMMAND_EVENT_UUID
 from joshua_runtime.errors import DeviceError
 
-ADDRESS = re.compile(r"^[0-9A-Fa-f]{2}(:[0-9A-Fa-f]{2}){5}$")
 SCAN_TIMEOUT_S = 10.0
 
 
 def is_address(hub: str) -> bool:
     """`hub` is a Bluetooth address (else it is the hub's advertised name)."""
-    return bool(ADDRESS.match(hub))
+    return bool(BLE_ADDRESS.fullmatch(hub))
 
 
 class HubTransport:
