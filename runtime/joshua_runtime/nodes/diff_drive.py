@@ -2,7 +2,7 @@
 
 A base supplies its wheels (`WheelDrive`); `BaseTopics` turns each Twist into wheel speeds (limited
 together to the motors' top speed, so the path keeps its curvature), stops the wheels when no Twist
-came for command_timeout_s, and at rate_hz integrates the wheel angles into nav_msgs/msg/Odometry on
+came for command_timeout_s, and at rate_hz integrates the newest wheel angles into nav_msgs/msg/Odometry on
 odom_topic (frame_id -> child frame base_link) and a JointState of the wheels on state_topic.
 """
 
@@ -61,6 +61,7 @@ class BaseTopics:
         self.frame_id = settings.frame_id
         self.last_command: float | None = None
         self.previous: tuple[float, float, float] | None = None
+        self.velocities = (0.0, 0.0)
         self.odom_publisher = node.publisher(settings_checks.topic(settings, "odom_topic"))
         self.state_publisher = node.publisher(settings.state_topic) if settings.HasField("state_topic") else None
         self.subscription = node.subscription(settings_checks.topic(settings), self.on_twist)
@@ -77,18 +78,18 @@ class BaseTopics:
             self.last_command = None
             self.node.log.info(f"no Twist for {self.timeout_s:g} s: wheels stopped")
         reading = self.wheels.wheel_angles()
-        if reading is None or reading == self.previous:
+        if reading is None:
             return
-        velocities = (0.0, 0.0)
-        if self.previous is not None and reading[2] > self.previous[2]:
-            dt = reading[2] - self.previous[2]
-            velocities = ((reading[0] - self.previous[0]) / dt, (reading[1] - self.previous[1]) / dt)
-        self.previous = reading
-        pose = self.odometry.update(*reading)
+        if reading != self.previous:  # a new reading; else the last pose is published again, at rate_hz
+            if self.previous is not None and reading[2] > self.previous[2]:
+                dt = reading[2] - self.previous[2]
+                self.velocities = ((reading[0] - self.previous[0]) / dt, (reading[1] - self.previous[1]) / dt)
+            self.previous = reading
+            self.odometry.update(*reading)
         stamp = self.node.stamp()
-        self.odom_publisher.publish(self.odometry_message(pose, stamp))
+        self.odom_publisher.publish(self.odometry_message(self.odometry.pose, stamp))
         if self.state_publisher is not None:
-            state = JointState(name=self.names, position=[reading[0], reading[1]], velocity=list(velocities))
+            state = JointState(name=self.names, position=[reading[0], reading[1]], velocity=list(self.velocities))
             state.header.stamp, state.header.frame_id = stamp, CHILD_FRAME_ID
             self.state_publisher.publish(state)
 
