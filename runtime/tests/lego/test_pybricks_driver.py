@@ -87,3 +87,14 @@ def test_joshua_emulate_serves_the_hub_to_another_process(blob):
     finally:
         emulator.terminate()
         assert emulator.wait(5) == 0
+
+
+def test_without_bluez_bleak_fails_in_one_clear_line(blob):
+    from joshua_runtime.drivers.pybricks_transport import BleakTransport
+
+    driver = PybricksHub("Pybricks Hub", BleakTransport(), blob)
+    try:
+        with pytest.raises(DeviceError, match="BlueZ|cannot connect|no Pybricks hub"):
+            driver.open()
+    finally:
+        driver.close()
