@@ -28,6 +28,7 @@ STATUS_WAIT_S = 0.3
 START_TIMEOUT_S = 3.0
 FIRST_REPORT_TIMEOUT_S = 2.0
 RECONNECT_PERIOD_S = 0.5
+ACK_TIMEOUT_S = 1.0
 CLOSE_TIMEOUT_S = 2.0
 
 
@@ -37,7 +38,6 @@ class PybricksHub(Driver):
     def __init__(self, hub: str, transport: HubTransport, program: bytes):
         self.hub, self.transport, self.program = hub, transport, program
         self.latest: AngleReport | None = None
-        self.latest_at = 0.0
         self.connected = False
         self.reconnects = 0
         self.lines = LineAssembler()
@@ -142,7 +142,7 @@ class PybricksHub(Driver):
         sent = time.perf_counter()
         try:
             await self.transport.write_command(bytes([CMD_WRITE_STDIN]) + encode_line(fields[0], self._seq, *fields[1:]))
-            await asyncio.wait_for(ack, 1.0)
+            await asyncio.wait_for(ack, ACK_TIMEOUT_S)
             return time.perf_counter() - sent
         except Exception:  # a link that drops mid-command fails the write in transport-specific ways
             return None
@@ -162,7 +162,7 @@ class PybricksHub(Driver):
     def _on_line(self, fields: list[str]) -> None:
         report = parse_angles(fields)
         if report is not None:
-            self.latest, self.latest_at = report, time.monotonic()
+            self.latest = report
             self._reported.set()
         elif fields[0] == "K" and len(fields) == 2 and fields[1].isdigit():
             ack = self._acks.get(int(fields[1]))

@@ -13,7 +13,7 @@ import struct
 import time
 from dataclasses import dataclass
 
-from bumble.att import ATT_Error, Attribute
+from bumble.att import ATT_DEFAULT_MTU, ATT_Error, Attribute
 from bumble.core import UUID, AdvertisingData
 from bumble.device import Connection, Device
 from bumble.gatt import Characteristic, CharacteristicValue, Service
@@ -184,7 +184,7 @@ class EmulatedHub:
         if self.faults.garbage_rate and self.random.random() < self.faults.garbage_rate:
             start = self.random.randrange(len(GARBAGE))
             line = GARBAGE[start:] + line
-        mtu = self.connection.att_mtu if self.connection is not None else 23
+        mtu = self.connection.att_mtu if self.connection is not None else ATT_DEFAULT_MTU
         chunk = mtu - 3 - 1
         for offset in range(0, len(line), chunk):
             self._notify(bytes([hub.EVENT_STDOUT]) + line[offset:offset + chunk])

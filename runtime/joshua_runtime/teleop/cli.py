@@ -21,6 +21,8 @@ from joshua_runtime.teleop.mapping import KeyboardTeleop, joy_velocity
 KEY_HELP = "w/s forward/back, a/d turn, q/e/z/c curves, space stop, +/- speed, Esc quit"
 QUIT_KEYS = ("\x1b", "\x03", "\x04")
 READ_SIZE = 16
+# Longest the loop waits for DDS before it looks at the keyboard again.
+SPIN_SLICE_S = 0.02
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -93,7 +95,7 @@ def main(argv: list[str] | None = None) -> int:
             tty.setcbreak(keyboard.fileno())
             print(f"joshua-teleop: {KEY_HELP}\r", flush=True)
         while not stop.is_set():
-            rclpy.spin_once(node, timeout_sec=0.02)
+            rclpy.spin_once(node, timeout_sec=SPIN_SLICE_S)
             if keyboard is None or not select.select([keyboard], [], [], 0)[0]:
                 continue
             data = os.read(keyboard.fileno(), READ_SIZE).decode(errors="replace")
