@@ -94,9 +94,9 @@ def odometry_rate(port: int, window_s: float) -> None:
     from rclpy.qos import QoSProfile, ReliabilityPolicy
 
     settings = compiled_settings(CONFIG.read_text(), [f"base.ble_transport=tcp-client:127.0.0.1:{port}"])["base"]
-    env = {**os.environ, "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", "ROS_DOMAIN_ID": str(os.getpid() % 100 + 100)}
-    os.environ.update(env)
-    base = subprocess.Popen(node_command(settings), env=env)
+    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+    os.environ.setdefault("ROS_DOMAIN_ID", str(os.getpid() % 100 + 100))
+    base = subprocess.Popen(node_command(settings), env=os.environ)
     rclpy.init()
     node = rclpy.create_node("bench_lego")
     qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
