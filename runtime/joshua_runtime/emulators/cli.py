@@ -24,6 +24,16 @@ def _ids(text: str) -> list[int]:
     return ids
 
 
+def _port(text: str) -> int:
+    try:
+        port = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a TCP port number, got {text!r}")
+    if not 1 <= port <= 65535:
+        raise argparse.ArgumentTypeError("TCP ports are 1-65535")
+    return port
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="joshua-emulate", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -43,7 +53,7 @@ def _parser() -> argparse.ArgumentParser:
     lds.add_argument("--corrupt-rate", type=float, default=0.0, help="fraction of corrupted packets")
     lds.add_argument("--seed", type=int, default=0, help="seed of the fault injection")
     hub = sub.add_parser("pybricks", help="a Pybricks hub with two wheel motors, over Bluetooth LE HCI on TCP")
-    hub.add_argument("--port", type=int, default=9100, help="TCP port of the HCI on 127.0.0.1")
+    hub.add_argument("--port", type=_port, default=9100, help="TCP port of the HCI on 127.0.0.1")
     hub.add_argument("--name", default="Pybricks Hub", help="advertised hub name")
     hub.add_argument("--never-start", action="store_true", help="accept the program but never run it")
     hub.add_argument("--garbage-rate", type=float, default=0.0, help="fraction of stdout lines after garbage")
