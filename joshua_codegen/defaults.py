@@ -2,7 +2,7 @@
 
 from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
 from joshua_core.models import DEVICES, GL_BACKENDS, OUTPUT_FORMATS
-from joshua_core.node_types import JOINT_STATE, NODE_TYPES, SIMULATION_ENGINE, NodeTypeSpec
+from joshua_core.node_types import BASE_WHEEL_JOINTS, JOINT_STATE, NODE_TYPES, ODOMETRY, SIMULATION_ENGINE, NodeTypeSpec
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
 
@@ -42,6 +42,8 @@ READS_INPUTS = _types(lambda t: t.reads_inputs)
 # Message types each node type may use on topic_name; the first is the default.
 MESSAGE_TYPES = {number: entry.message_types for number, entry in SPECS.items() if entry.message_types}
 STATE_MESSAGE_TYPE = JOINT_STATE
+ODOM_MESSAGE_TYPE = ODOMETRY
+BASES = _types(lambda t: t.family == "base")
 # Node fields that only some node types read; every other type ignores them (W101).
 FIELD_APPLIES_TO = {
     name: _types(lambda t, name=name: name in t.fields)
@@ -49,6 +51,10 @@ FIELD_APPLIES_TO = {
 }
 # Values a few string fields accept (OUTPUT_FORMATS, DEVICES: the first is the default), and defaults.
 CAMERA_WIDTH, CAMERA_HEIGHT = 640, 480
+# A LEGO car: 56 mm wheels, 12 cm apart; the wheels stop half a second after the last Twist.
+WHEEL_RADIUS_M, TRACK_WIDTH_M, COMMAND_TIMEOUT_S = 0.028, 0.12, 0.5
+HUB_NAME = "Pybricks Hub"
+ODOM_TOPIC = "/odom"
 REALTIME_FACTOR = 1.0
 
 
@@ -128,10 +134,32 @@ def device_ids(node: pb.Node) -> list[int]:
 def joint_names(node: pb.Node) -> list[str]:
     if node.joint_names:
         return list(node.joint_names)
+    if node.type in BASES:
+        return list(BASE_WHEEL_JOINTS)
     ids = device_ids(node)
     if len(ids) == len(SO100_JOINTS):
         return list(SO100_JOINTS)
     return [f"joint_{i}" for i in ids]
+
+
+def wheel_radius_m(node: pb.Node) -> float:
+    return node.wheel_radius_m if node.HasField("wheel_radius_m") else WHEEL_RADIUS_M
+
+
+def track_width_m(node: pb.Node) -> float:
+    return node.track_width_m if node.HasField("track_width_m") else TRACK_WIDTH_M
+
+
+def command_timeout_s(node: pb.Node) -> float:
+    return node.command_timeout_s if node.HasField("command_timeout_s") else COMMAND_TIMEOUT_S
+
+
+def hub(node: pb.Node) -> str:
+    return node.hub or HUB_NAME
+
+
+def odom_topic(node: pb.Node) -> str:
+    return node.odom_topic or ODOM_TOPIC
 
 
 def rate_hz(node: pb.Node) -> float:

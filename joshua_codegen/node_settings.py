@@ -18,13 +18,15 @@ def _common(config: pb.RobotConfig, name: str, type_name: str) -> NodeSettings:
 
 
 def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint | None, state: Endpoint | None,
-             inputs: list[Endpoint]) -> NodeSettings:
+             inputs: list[Endpoint], odom: Endpoint | None = None) -> NodeSettings:
     """The settings of one described node; fields its type does not read are left at their zero value."""
     settings = _common(config, name, defaults.type_name(node.type))
     if topic is not None:
         settings.topic.CopyFrom(_topic(topic))
     if state is not None:
         settings.state_topic.CopyFrom(_topic(state))
+    if odom is not None:
+        settings.odom_topic.CopyFrom(_topic(odom))
     settings.inputs.extend(_topic(endpoint) for endpoint in inputs)
     settings.qos.CopyFrom(QosSettings(**defaults.qos(node)))
     ids = defaults.device_ids(node)
@@ -32,7 +34,7 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
         "serial_port": node.serial_port,
         "baud_rate": defaults.baud_rate(node),
         "device_ids": ids,
-        "joint_names": defaults.joint_names(node) if ids or node.joint_names else [],
+        "joint_names": defaults.joint_names(node) if ids or node.joint_names or node.type in defaults.BASES else [],
         "calibration_file": node.calibration_file,
         "keep_torque_on_exit": node.keep_torque_on_exit,
         "camera_index": defaults.camera_index(node),
@@ -46,6 +48,11 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
         "device": defaults.device(node),
         "output_format": defaults.output_format(node),
         "output_directory": node.output_directory,
+        "wheel_radius_m": defaults.wheel_radius_m(node),
+        "track_width_m": defaults.track_width_m(node),
+        "hub": defaults.hub(node),
+        "command_timeout_s": defaults.command_timeout_s(node),
+        "ble_transport": node.ble_transport,
     }
     for key, value in applicable.items():
         if key in defaults.FIELD_APPLIES_TO and node.type not in defaults.FIELD_APPLIES_TO[key]:

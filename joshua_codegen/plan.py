@@ -91,11 +91,11 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int, declared
             continue
         endpoint = _endpoint(item, item.message_type, QoS(**item.qos))
         (published if item.role == topology.PUBLISHER else main).append(endpoint)
-        if len(item.at) == len(node_path(index)) + 1:  # the node's own topic_name or state_topic
+        if len(item.at) == len(node_path(index)) + 1:  # the node's own topic_name, state_topic or odom_topic
             fields[item.at[-1]] = endpoint
-    topic, state = fields.get("topic_name"), fields.get("state_topic")
+    topic, state, odom = fields.get("topic_name"), fields.get("state_topic"), fields.get("odom_topic")
     devices = tuple(_devices(node, name))
-    settings = node_settings.for_node(config, node, name, topic, state, inputs)
+    settings = node_settings.for_node(config, node, name, topic, state, inputs, odom)
     return NodeModel(
         name=name,
         type=defaults.type_name(node.type),

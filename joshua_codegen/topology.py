@@ -14,8 +14,8 @@ PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"
 
 @dataclass(frozen=True)
 class Declaration:
-    """One topic a node declares: its topic_name, its state_topic, one of its input_topics, or (CUSTOM)
-    one of its `publishes` / `subscribes` entries.
+    """One topic a node declares: its topic_name, state_topic, odom_topic, one of its input_topics, or
+    (CUSTOM) one of its `publishes` / `subscribes` entries.
 
     `message_type` is the declared or default type ("" for a reader: it takes its publishers' type);
     `qos` the node's resolved QoS (None for a reader: it matches its publishers).
@@ -49,6 +49,8 @@ def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
             declare(node.topic_name, SUBSCRIBER, defaults.message_type(node), qos, "topic_name")
         if entry.state_topic and node.state_topic:
             declare(node.state_topic, PUBLISHER, defaults.STATE_MESSAGE_TYPE, qos, "state_topic")
+        if entry.odom_topic:
+            declare(defaults.odom_topic(node), PUBLISHER, defaults.ODOM_MESSAGE_TYPE, qos, "odom_topic")
         if entry.reads_inputs:
             for k, value in enumerate(node.input_topics):
                 declare(value, READER, "", None, "input_topics", k)

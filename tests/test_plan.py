@@ -165,3 +165,19 @@ def test_supervisor_data_names_each_process_its_own_dds_profile():
         node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" } }"""), "r.pbtxt")
     profiles = {p["name"]: p["fastdds_profile"] for p in supervisor_data(robot)["processes"]}
     assert profiles == {"cam": "fastdds_profile_images.xml", "arm": "fastdds_profile.xml"}
+
+
+def test_the_simulated_lego_car_serves_the_real_base_topics_types_and_qos():
+    real_description = seed("lego_bot")
+    simulated_description = RobotDescription()
+    simulated_description.CopyFrom(real_description)
+    simulated_description.robot_config.mode = pb.MODE_SIMULATION
+    context = Context(prefix="/opt/joshua/lego_bot")
+    real = manifest(plan(real_description, "lego_bot.pbtxt"), context)
+    simulated = manifest(plan(simulated_description, "lego_bot.pbtxt"), context)
+    assert _endpoints(simulated) == _endpoints(real)
+    assert [(t["name"], t["message_type"]) for t in real["topics"]] == [
+        ("/cmd_vel", "geometry_msgs/msg/Twist"), ("/odom", "nav_msgs/msg/Odometry"),
+        ("/wheel_states", "sensor_msgs/msg/JointState")]
+    assert [p["name"] for p in simulated["processes"]] == ["simulation"]
+    assert simulated["processes"][0]["simulates"] == ["base"]

@@ -1,12 +1,13 @@
 """Names both sides agree on for models: built-in MJCF models, GL backends, policy types and the model-registry prefix."""
 
+from joshua_core.node_types import BASE_WHEEL_JOINTS
 from joshua_core.so100 import SO100_JOINTS
 
 # `simulation { model: "builtin:NAME" }` names an MJCF model shipped with joshua_runtime.
 BUILTIN_PREFIX = "builtin:"
-BUILTIN_MODELS = ("so100",)
-# The hinge joints of each built-in model: a simulated servo node's joint_names must be among them.
-BUILTIN_MODEL_JOINTS = {"so100": SO100_JOINTS}
+BUILTIN_MODELS = ("so100", "lego_bot")
+# The hinge joints of each built-in model: a simulated servo node's or base's joint_names must be among them.
+BUILTIN_MODEL_JOINTS = {"so100": SO100_JOINTS, "lego_bot": BASE_WHEEL_JOINTS}
 # Offscreen GL backends the simulation can render with; the first is the default.
 GL_BACKENDS = ("egl", "osmesa")
 # `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.

@@ -13,10 +13,16 @@ _SERVO_BUS_FIELDS = frozenset({"serial_port", "baud_rate", "device_ids", "joint_
                                "rate_hz", "frame_id"})
 _CAMERA_FIELDS = frozenset({"camera_index", "video_source", "width", "height", "rate_hz", "frame_id"})
 _LIDAR_FIELDS = frozenset({"serial_port", "baud_rate", "rate_hz", "frame_id"})
+_BASE_FIELDS = frozenset({"wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport",
+                          "state_topic", "joint_names", "rate_hz", "frame_id"})
 # Parameters every C++ node binary receives first, as `-p name:=value`.
 _CPP_TOPIC_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
 _CPP_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
 JOINT_STATE = "sensor_msgs/msg/JointState"
+TWIST = "geometry_msgs/msg/Twist"
+ODOMETRY = "nav_msgs/msg/Odometry"
+# The wheel joints a differential-drive base publishes unless its joint_names say otherwise.
+BASE_WHEEL_JOINTS = ("left_wheel", "right_wheel")
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
 # What a policy can observe and a dataset can record: images and joint states.
 OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
@@ -26,11 +32,12 @@ OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 class NodeTypeSpec:
     """What one node type is, declared once.
 
-    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, custom
+    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, base, custom
     topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
     message_types  allowed on topic_name; the first is the default
     input_types    the message types its input_topics may carry (empty: it reads none)
     state_topic    it also publishes present joint states on state_topic when set
+    odom_topic     it also publishes nav_msgs/msg/Odometry on odom_topic (default /odom)
     hardware       it touches a device; MODE_SIMULATION replaces it with the simulation engine
     mock_of        the hardware type a MOCK_* stands in for (it reads the same fields)
     python_only    it always runs its Python implementation, whatever preferred_backend says
@@ -50,6 +57,7 @@ class NodeTypeSpec:
     message_types: tuple[str, ...] = ()
     input_types: tuple[str, ...] = ()
     state_topic: bool = False
+    odom_topic: bool = False
     hardware: bool = False
     mock_of: str = ""
     python_only: bool = False
@@ -88,8 +96,8 @@ def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
     """The synthetic stand-in of a hardware type: same topics and fields, no device, always Python."""
     return NodeTypeSpec(
         name=f"MOCK_{real.name}", family=real.family, topic=real.topic, message_types=real.message_types,
-        state_topic=real.state_topic, mock_of=real.name, python_only=True,
-        fields=real.fields - {"keep_torque_on_exit"}, rate_hz=real.rate_hz, frame_id=real.frame_id,
+        state_topic=real.state_topic, odom_topic=real.odom_topic, mock_of=real.name, python_only=True,
+        fields=real.fields - {"keep_torque_on_exit", "hub", "ble_transport"}, rate_hz=real.rate_hz, frame_id=real.frame_id,
         sensor_qos=real.sensor_qos, runtime_class=runtime_class,
     )
 
@@ -144,6 +152,11 @@ DATA_SUBSCRIBER = NodeTypeSpec(
     required=("output_directory", "input_topics"), rate_hz=30.0,
     runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
 )
+DIFF_DRIVE_BASE = NodeTypeSpec(
+    name="DIFF_DRIVE_BASE", family="base", topic="subscribes", message_types=(TWIST,), state_topic=True,
+    odom_topic=True, hardware=True, python_only=True, fields=_BASE_FIELDS, rate_hz=50.0, frame_id="odom",
+    runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase", sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
+)
 CUSTOM = NodeTypeSpec(
     name="CUSTOM", family="custom", topic="", python_only=True,
     fields=frozenset({"executable", "args", "publishes", "subscribes"}),
@@ -157,7 +170,8 @@ NODE_TYPES: dict[str, NodeTypeSpec] = {spec.name: spec for spec in (
     _mock(ENCODER_PUBLISHER, f"{_NODES}.mock_encoder_publisher:MockEncoderPublisher"),
     _mock(LIDAR_PUBLISHER, f"{_NODES}.mock_lidar_publisher:MockLidarPublisher"),
     _mock(ACTUATOR_SUBSCRIBER, f"{_NODES}.mock_actuator_subscriber:MockActuatorSubscriber"),
-    CUSTOM,
+    CUSTOM, DIFF_DRIVE_BASE,
+    _mock(DIFF_DRIVE_BASE, f"{_NODES}.mock_diff_drive_base:MockDiffDriveBase"),
 )}
 
 # The process that stands in for every hardware node in MODE_SIMULATION: not a NodeType of the schema.

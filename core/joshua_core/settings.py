@@ -10,7 +10,7 @@ refuse each other in one line instead of misreading a field.
 from joshua_core.schema.node_settings_pb2 import NodeSettings, QosSettings, SimulationSettings, TopicSettings
 
 # Raise on every change of node_settings.proto that an older runtime or an older build could misread.
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 
 __all__ = ["FORMAT_VERSION", "NodeSettings", "QosSettings", "SettingsFormatError", "SimulationSettings",
            "TopicSettings", "parse", "to_literal"]

@@ -1,10 +1,11 @@
-"""E123 joint-not-in-simulation-model: a simulated servo node names a joint the built-in model lacks.
+"""E123 joint-not-in-simulation-model: a simulated servo node or base names a joint the built-in model lacks.
 
 What it checks:
     In MODE_SIMULATION with a built-in model (`builtin:so100`), every joint of every servo node that
     the simulation stands in for (ENCODER_PUBLISHER, ACTUATOR_SUBSCRIBER, OPERATIONAL_LIMIT_CALIBRATION)
     is a joint of that model: its `joint_names`, or the names derived from `device_ids`
-    (`joint_<id>` unless there are six ids).
+    (`joint_<id>` unless there are six ids). The same holds for the wheel joints of a simulated
+    DIFF_DRIVE_BASE (`builtin:lego_bot`: left_wheel, right_wheel).
 
 Why it matters:
     The simulation drives and reads joints by name; the simulated node refuses to start when one is
@@ -38,7 +39,8 @@ def check(ctx):
         return
     known = ", ".join(joints)
     for view in ctx.typed_nodes:
-        if view.node.type not in defaults.SERVO_BUS or view.node.type not in defaults.HARDWARE:
+        simulated_joints = view.node.type in defaults.SERVO_BUS or view.node.type in defaults.BASES
+        if not simulated_joints or view.node.type not in defaults.HARDWARE:
             continue
         for k, name in enumerate(defaults.joint_names(view.node)):
             if name in joints:

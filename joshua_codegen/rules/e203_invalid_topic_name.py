@@ -1,8 +1,8 @@
 """E203 invalid-topic-name: a topic name that breaks the ROS 2 naming rules.
 
 What it checks:
-    `topic_name`, `state_topic`, every `input_topics` entry and the topic_name of every topic a
-    CUSTOM node declares (`publishes`, `subscribes`) is an absolute (`/a/b`), relative
+    `topic_name`, `state_topic`, `odom_topic`, every `input_topics` entry and the topic_name of every
+    topic a CUSTOM node declares (`publishes`, `subscribes`) is an absolute (`/a/b`), relative
     (`a/b`) or private (`~/a`) ROS 2 name: letters, digits, "_" and "/" only, no "//", no trailing
     "/", no part starting with a digit, "~" only as the first character and followed by "/",
     no substitutions (`{node}`), at most 247 characters once resolved. Nodes have no namespace,
@@ -36,6 +36,8 @@ def check(ctx):
             named.append((view.at("topic_name"), node.topic_name))
         if node.state_topic:
             named.append((view.at("state_topic"), node.state_topic))
+        if node.odom_topic:
+            named.append((view.at("odom_topic"), node.odom_topic))
         named.extend((view.at("input_topics", k), name) for k, name in enumerate(node.input_topics))
         if defaults.entry(node).declares_topics:
             for field in ("publishes", "subscribes"):

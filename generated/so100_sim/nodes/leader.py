@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 2,
+    'format_version': 3,
     'robot': 'so100_sim',
     'mode': 'MODE_SIMULATION',
     'name': 'leader',

@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 2,
+    'format_version': 3,
     'robot': 'so100_sim',
     'mode': 'MODE_SIMULATION',
     'name': 'simulation',
@@ -17,7 +17,7 @@ SETTINGS = {
         'gl_backend': 'egl',
         'simulates': [
             {
-                'format_version': 2,
+                'format_version': 3,
                 'robot': 'so100_sim',
                 'mode': 'MODE_SIMULATION',
                 'name': 'follower',
@@ -56,7 +56,7 @@ SETTINGS = {
                 'frame_id': 'base_link',
             },
             {
-                'format_version': 2,
+                'format_version': 3,
                 'robot': 'so100_sim',
                 'mode': 'MODE_SIMULATION',
                 'name': 'camera',

@@ -1,7 +1,12 @@
-"""`joshua-emulate`: serve an emulated device on a pseudo-terminal until SIGINT or SIGTERM.
+"""`joshua-emulate`: serve an emulated device (on a pseudo-terminal, or Bluetooth HCI on TCP) until SIGINT or SIGTERM.
 
     joshua-emulate sts3215 --ids 1,2,3,4,5,6 --link /tmp/ttyLEADER
     joshua-emulate lds01 --link /tmp/ttyLIDAR
+    joshua-emulate pybricks --port 9100
+
+pybricks: a Pybricks hub with two wheel motors on a virtual Bluetooth link. The emulator serves the
+HCI of a virtual controller in range of the hub on 127.0.0.1:PORT; a base node reaches the hub by
+setting `ble_transport: "tcp-client:127.0.0.1:PORT"` (hub "Pybricks Hub" or F4:B8:5E:00:00:01).
 """
 
 import argparse
@@ -19,8 +24,19 @@ def _ids(text: str) -> list[int]:
     return ids
 
 
+def _port(text: str) -> int:
+    try:
+        port = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a TCP port number, got {text!r}")
+    if not 1 <= port <= 65535:
+        raise argparse.ArgumentTypeError("TCP ports are 1-65535")
+    return port
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="joshua-emulate", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="joshua-emulate", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="device", required=True)
     sts = sub.add_parser("sts3215", help="a Feetech STS3215 servo bus")
     sts.add_argument(
@@ -36,6 +52,13 @@ def _parser() -> argparse.ArgumentParser:
     lds.add_argument("--rpm", type=float, default=300.0, help="rotation speed")
     lds.add_argument("--corrupt-rate", type=float, default=0.0, help="fraction of corrupted packets")
     lds.add_argument("--seed", type=int, default=0, help="seed of the fault injection")
+    hub = sub.add_parser("pybricks", help="a Pybricks hub with two wheel motors, over Bluetooth LE HCI on TCP")
+    hub.add_argument("--port", type=_port, default=9100, help="TCP port of the HCI on 127.0.0.1")
+    hub.add_argument("--name", default="Pybricks Hub", help="advertised hub name")
+    hub.add_argument("--never-start", action="store_true", help="accept the program but never run it")
+    hub.add_argument("--garbage-rate", type=float, default=0.0, help="fraction of stdout lines after garbage")
+    hub.add_argument("--drop-link-after", type=int, default=0, help="drop the link on this stdin command")
+    hub.add_argument("--seed", type=int, default=0, help="seed of the fault injection")
     return parser
 
 
@@ -50,6 +73,8 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, request_stop)
     if args.device == "sts3215":
         from joshua_runtime.emulators.sts3215 import serve
+    elif args.device == "pybricks":
+        from joshua_runtime.emulators.pybricks_link import serve
     else:
         from joshua_runtime.emulators.lds01 import serve
     try:

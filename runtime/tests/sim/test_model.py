@@ -70,7 +70,7 @@ def test_camera_lookup_names_the_known_cameras(so100):
     "spec, message",
     [
         ("", r"simulation model is not set"),
-        ("builtin:so101", r"unknown built-in simulation model 'builtin:so101' \(known: builtin:so100\)"),
+        ("builtin:so101", r"unknown built-in simulation model 'builtin:so101' \(known: builtin:lego_bot, builtin:so100\)"),
         ("missing.xml", r"simulation model 'missing.xml' does not exist"),
     ],
 )

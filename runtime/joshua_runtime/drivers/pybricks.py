@@ -1,0 +1,209 @@
+"""Driver of a Pybricks hub running the two-motor hub program (pybricks_hub_program.py), ROS-free.
+
+`open()` connects through a HubTransport, downloads and starts the hub program unless it already
+runs, and waits for its first angle report. Commands then go to the program's stdin as framed lines
+(pybricks_protocol.py); its angle reports arrive on stdout and `latest` holds the newest one. The
+BLE work runs on an asyncio loop in a thread of its own, so a ROS node calls plain methods. When the
+link drops, the driver reconnects every RECONNECT_PERIOD_S until `close()`; commands given meanwhile
+are dropped (the hub program stops the wheels when it hears nothing for HUB_WATCHDOG_MS).
+"""
+
+import asyncio
+import struct
+import threading
+import time
+from concurrent.futures import Future
+
+from joshua_runtime.drivers.driver import Driver
+from joshua_runtime.drivers.pybricks_protocol import (
+    CMD_START_PROGRAM, CMD_STOP_PROGRAM, CMD_WRITE_PROGRAM_META, CMD_WRITE_RAM, CMD_WRITE_STDIN, EVENT_STATUS,
+    EVENT_STDOUT, STATUS_PROGRAM_RUNNING, WRITE_RAM_HEADER, AngleReport, LineAssembler, encode_line, parse_angles,
+    status_flags, unpack_capabilities,
+)
+from joshua_runtime.drivers.pybricks_transport import HubTransport
+from joshua_runtime.errors import DeviceError
+
+CONNECT_TIMEOUT_S = 15.0
+STATUS_WAIT_S = 0.3
+START_TIMEOUT_S = 3.0
+FIRST_REPORT_TIMEOUT_S = 2.0
+RECONNECT_PERIOD_S = 0.5
+ACK_TIMEOUT_S = 1.0
+CLOSE_TIMEOUT_S = 2.0
+
+
+class PybricksHub(Driver):
+    """One hub running the motor program; speeds in deg/s, angles in degrees (left, right)."""
+
+    def __init__(self, hub: str, transport: HubTransport, program: bytes):
+        self.hub, self.transport, self.program = hub, transport, program
+        self.latest: AngleReport | None = None
+        self.connected = False
+        self.reconnects = 0
+        self.lines = LineAssembler()
+        self._seq = 0
+        self._acks: dict[int, asyncio.Future] = {}
+        self._status: int | None = None
+        self._status_changed: asyncio.Event | None = None
+        self._reported: asyncio.Event | None = None
+        self._closing = False
+        self._loop = asyncio.new_event_loop()
+        self._thread = threading.Thread(target=self._loop.run_forever, name="pybricks-ble", daemon=True)
+
+    # --- plain methods, called from any thread --------------------------------------------------
+
+    def open(self) -> None:
+        self.run_on_loop(self._setup(), CONNECT_TIMEOUT_S + START_TIMEOUT_S + FIRST_REPORT_TIMEOUT_S)
+
+    def set_speeds(self, left_dps: float, right_dps: float) -> Future:
+        """Send both wheel speeds; the future resolves when the hub acknowledged them (None if the link is down)."""
+        return asyncio.run_coroutine_threadsafe(self._command("V", float(left_dps), float(right_dps)), self._loop)
+
+    def stop_wheels(self) -> Future:
+        return asyncio.run_coroutine_threadsafe(self._command("S"), self._loop)
+
+    def close(self) -> None:
+        if not self._thread.is_alive():
+            return
+        try:
+            self.run_on_loop(self._shutdown(), CLOSE_TIMEOUT_S)
+        except DeviceError:
+            pass
+        asyncio.run_coroutine_threadsafe(_cancel_other_tasks(), self._loop).result(CLOSE_TIMEOUT_S)
+        self._loop.call_soon_threadsafe(self._loop.stop)
+        self._thread.join(CLOSE_TIMEOUT_S)
+
+    def run_on_loop(self, coroutine, timeout: float):
+        """Run a coroutine on the driver's event loop and return its result; DeviceError after `timeout`."""
+        if not self._thread.is_alive():
+            self._thread.start()
+        try:
+            return asyncio.run_coroutine_threadsafe(asyncio.wait_for(coroutine, timeout), self._loop).result()
+        except (asyncio.TimeoutError, TimeoutError):
+            raise DeviceError(f"Pybricks hub {self.hub!r} did not answer within {timeout:g} s") from None
+
+    # --- on the driver's event loop -------------------------------------------------------------
+
+    async def _setup(self) -> None:
+        self._status_changed, self._reported = asyncio.Event(), asyncio.Event()
+        await self.transport.connect(self.hub, self._on_event, self._on_disconnect)
+        self.connected = True
+        await self._ensure_program()
+
+    async def _ensure_program(self) -> None:
+        """Start the program unless it runs; wait for its first angle report."""
+        await self._wait_status(STATUS_WAIT_S)
+        if not (self._status or 0) & STATUS_PROGRAM_RUNNING:
+            await self._download()
+            self._reported.clear()
+            await self.transport.write_command(bytes([CMD_START_PROGRAM]))
+            if not await self._wait_running(START_TIMEOUT_S):
+                raise DeviceError(f"Pybricks hub {self.hub!r} did not start its program within {START_TIMEOUT_S:g} s")
+        try:
+            await asyncio.wait_for(self._reported.wait(), FIRST_REPORT_TIMEOUT_S)
+        except asyncio.TimeoutError:
+            raise DeviceError(f"Pybricks hub {self.hub!r} runs a program that sends no wheel angles: "
+                              "is another program on the hub?") from None
+
+    async def _download(self) -> None:
+        caps = unpack_capabilities(await self.transport.read_capabilities())
+        if len(self.program) > caps.max_program:
+            raise DeviceError(f"hub program is {len(self.program)} bytes, the hub takes {caps.max_program}")
+        chunk = caps.max_write - WRITE_RAM_HEADER
+        await self.transport.write_command(struct.pack("<BI", CMD_WRITE_PROGRAM_META, 0))
+        for offset in range(0, len(self.program), chunk):
+            payload = self.program[offset:offset + chunk]
+            await self.transport.write_command(struct.pack("<BI", CMD_WRITE_RAM, offset) + payload)
+        await self.transport.write_command(struct.pack("<BI", CMD_WRITE_PROGRAM_META, len(self.program)))
+
+    async def _wait_status(self, timeout: float) -> None:
+        if self._status is None:
+            try:
+                await asyncio.wait_for(self._status_changed.wait(), timeout)
+            except asyncio.TimeoutError:
+                pass
+
+    async def _wait_running(self, timeout: float) -> bool:
+        deadline = time.monotonic() + timeout
+        while not (self._status or 0) & STATUS_PROGRAM_RUNNING:
+            self._status_changed.clear()
+            try:
+                await asyncio.wait_for(self._status_changed.wait(), max(deadline - time.monotonic(), 0))
+            except asyncio.TimeoutError:
+                return False
+        return True
+
+    async def _command(self, *fields) -> float | None:
+        """Write one command line; the round-trip time in seconds once acknowledged, None when not sent."""
+        if not self.connected:
+            return None
+        self._seq = self._seq % 9999 + 1
+        ack = self._acks[self._seq] = self._loop.create_future()
+        sent = time.perf_counter()
+        try:
+            await self.transport.write_command(bytes([CMD_WRITE_STDIN]) + encode_line(fields[0], self._seq, *fields[1:]))
+            await asyncio.wait_for(ack, ACK_TIMEOUT_S)
+            return time.perf_counter() - sent
+        except Exception:  # a link that drops mid-command fails the write in transport-specific ways
+            return None
+        finally:
+            self._acks.pop(self._seq, None)
+
+    def _on_event(self, event: bytes) -> None:
+        if not event:
+            return
+        if event[0] == EVENT_STATUS and len(event) >= 5:
+            self._status = status_flags(event)
+            self._status_changed.set()
+        elif event[0] == EVENT_STDOUT:
+            for fields in self.lines.feed(event[1:]):
+                self._on_line(fields)
+
+    def _on_line(self, fields: list[str]) -> None:
+        report = parse_angles(fields)
+        if report is not None:
+            self.latest = report
+            self._reported.set()
+        elif fields[0] == "K" and len(fields) == 2 and fields[1].isdigit():
+            ack = self._acks.get(int(fields[1]))
+            if ack is not None and not ack.done():
+                ack.set_result(True)
+
+    def _on_disconnect(self) -> None:
+        self.connected = False
+        self._status = None
+        if not self._closing:
+            self._loop.create_task(self._reconnect())
+
+    async def _reconnect(self) -> None:
+        while not self._closing and not self.connected:
+            await asyncio.sleep(RECONNECT_PERIOD_S)
+            try:
+                await self.transport.connect(self.hub, self._on_event, self._on_disconnect)
+                self.connected = True
+                await self._ensure_program()
+                self.reconnects += 1
+            except DeviceError:
+                self.connected = False
+                await self.transport.disconnect()
+
+    async def _shutdown(self) -> None:
+        self._closing = True
+        if self.connected:
+            await self._command("S")
+            try:
+                await self.transport.write_command(bytes([CMD_STOP_PROGRAM]))
+            except Exception:  # the link may be gone already; there is nothing left to stop then
+                pass
+        await self.transport.disconnect()
+        close = getattr(self.transport, "close", None)
+        if close is not None:
+            await close()
+
+
+async def _cancel_other_tasks() -> None:
+    """End what still runs on the loop (a reconnection attempt, Bumble's timers) before it stops."""
+    tasks = [t for t in asyncio.all_tasks() if t is not asyncio.current_task()]
+    for task in tasks:
+        task.cancel()
+    await asyncio.gather(*tasks, return_exceptions=True)
