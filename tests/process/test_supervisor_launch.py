@@ -152,13 +152,13 @@ def test_status_interval_prints_one_line_per_node(tmp_path):
     out = build(tmp_path, robot([custom_node("a", log), custom_node("b", log)]))
     supervisor = Supervisor(out, "--status-interval", "0.2")
     try:
-        supervisor.wait_log(r"supervisor: status: 2 running\n.* a: running pid \d+ for [\d.]+ s, custom, 0 restarts\n"
-                            r".* b: running pid \d+ for [\d.]+ s, custom, 0 restarts$")
+        supervisor.wait_log(r"supervisor: status: 2 running\n.* a: running pid \d+ for [\d.]+ s, custom, ready, 0 restarts\n"
+                            r".* b: running pid \d+ for [\d.]+ s, custom, ready, 0 restarts$")
         supervisor.signal(signal.SIGINT)
         assert supervisor.wait() == 0
     finally:
         supervisor.close()
-    assert "ready: 2 of 2 nodes running" in supervisor.log()
+    assert "ready: 2 of 2 nodes ready" in supervisor.log()
 
 
 def test_bad_command_line_exits_2(tmp_path):
@@ -180,5 +180,6 @@ def test_generated_supervisor_is_standard_library_python_3_10_with_a_header(tmp_
     imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import)
                 for alias in node.names}
     imported |= {node.module.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
-    assert imported <= {"argparse", "ctypes", "os", "select", "shlex", "shutil", "signal", "sys", "time"}
+    assert imported <= {"argparse", "ctypes", "os", "select", "shlex", "shutil", "signal", "socket", "struct",
+                        "subprocess", "sys", "time"}
     assert os.access(out / "supervisor.py", os.X_OK)
