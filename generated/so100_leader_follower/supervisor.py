@@ -9,8 +9,12 @@ Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this 
 the directory can move. Nodes run in the directory the supervisor was started from.
 
 - Preflight: before anything starts, every device, model directory, registry: model reference, output
-  directory, entrypoint and program is checked; all problems are listed and the supervisor exits with
-  EXIT_PREFLIGHT.
+  directory, entrypoint and program is checked, and the node interpreter (--python) must import
+  joshua_runtime of this build's node-settings format; all problems are listed and the supervisor
+  exits with EXIT_PREFLIGHT.
+- Readiness: every node gets NOTIFY_SOCKET (sd_notify); a node is ready once its main process sends
+  READY=1 (a CUSTOM program: once it starts). "ready: N of N nodes ready" is logged when every running
+  node is; a node not ready READY_TIMEOUT_S after its start is warned about, not stopped.
 - Each node is fork()+execv()ed in its own session (process group); it gets SIGKILL through
   PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every descendant if the
   supervisor is killed outright: the whole cgroup the nodes joined where one can be created, else
