@@ -45,15 +45,6 @@ def extras(robot: Robot) -> list[str]:
     return sorted({spec(p.node_type).runtime_extra for p in robot.processes if spec(p.node_type)} - {""})
 
 
-def default_venv(robot: Robot) -> str:
-    """Where install.sh puts the environment: the one `python_executable` names (`DIR/bin/python...`),
-    else DEFAULT_VENV."""
-    executable = Path(robot.python_executable)
-    if executable.is_absolute() and executable.parent.name == "bin" and executable.name.startswith("python"):
-        return str(executable.parent.parent)
-    return DEFAULT_VENV
-
-
 def uv(*arguments: str) -> str:
     """Run uv in the source tree; its standard output."""
     from uv import find_uv_bin
@@ -92,7 +83,7 @@ def bundle_files(robot: Robot) -> dict[str, str | bytes]:
         raise BundleError(f"--bundle builds the runtime from joshuac's source tree, which {SOURCE_ROOT} is not; "
                           "run the joshuac of a checkout of the repository")
     built = wheels()
-    script = template("install.sh.j2", robot=robot, venv=default_venv(robot), python=PYTHON,
+    script = template("install.sh.j2", robot=robot, venv=DEFAULT_VENV, python=PYTHON,
                       wheels=sorted(built), wheel_arguments=" ".join(f'"$here"/{WHEEL_DIR}/{shell_word(name)}' for name in sorted(built)),
                       requirements=REQUIREMENTS, extras=extras(robot),
                       format_version=FORMAT_VERSION)
