@@ -105,7 +105,7 @@ def test_without_the_cpp_binary_the_python_entrypoint_runs_after_one_warning(tmp
     serial.write_text("")
     python = stand_in(tmp_path / "fake" / "python")
     out = build(tmp_path, robot([encoder(tmp_path, serial)], extra=f'cpp_bin_dir: "{tmp_path / "bin"}"'))
-    supervisor = Supervisor(out, "--python", str(python))
+    supervisor = Supervisor(out, "--python", str(python), "--skip-preflight")  # the stand-in is no interpreter
     try:
         argv = argv_lines(tmp_path / "fake" / "argv.txt")
         supervisor.signal(signal.SIGINT)
