@@ -21,6 +21,7 @@ from pathlib import Path
 
 from joshua_core.node_types import spec
 from joshua_core.settings import FORMAT_VERSION
+
 from joshua_codegen.escape import shell_word
 from joshua_codegen.model import Robot
 from joshua_codegen.render import template

@@ -6,6 +6,7 @@ import socket
 import time
 
 from joshua_runtime.notify import Notifier
+
 from testsupport.compiled_settings import compiled_node
 
 RECEIVE_TIMEOUT_S = 30.0

@@ -4,9 +4,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+from ai_support import ROBOT, NodeProcess, compiled, mock_encoder, node_block
 from sensor_msgs.msg import JointState
 
-from ai_support import ROBOT, NodeProcess, compiled, mock_encoder, node_block
 from testsupport.joshuac_cli import joshuac
 
 EPISODE = str(Path(sys.executable).parent / "joshua-episode")
