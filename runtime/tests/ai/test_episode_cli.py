@@ -17,8 +17,10 @@ CLI_TIMEOUT_S = 120
 
 def nodes(output: Path) -> str:
     return (mock_encoder("leader", "/ep/leader/joint_states", JOINTS, 30.0)
+            + mock_encoder("follower", "/ep/follower/joint_states", JOINTS, 30.0)
             + node_block(RECORDER, "DATA_SUBSCRIBER", topic_name="/ep/leader/joint_states",
-                         output_directory=str(output), output_format="parquet", rate_hz=10.0))
+                         input_topics=["/ep/follower/joint_states"], output_directory=str(output),
+                         output_format="parquet", rate_hz=10.0))
 
 
 def episode(env: dict, *arguments: str) -> subprocess.CompletedProcess:
@@ -29,11 +31,12 @@ def test_start_stop_and_discard_report_what_the_recorder_did(tmp_path, ai_env, r
     from joshua_runtime.ai.ros_arrays import joint_state
 
     settings = compiled("MODE_DATA_COLLECTION", nodes(tmp_path / "dataset"))[RECORDER]
-    ros_peer.publish_periodically("/ep/leader/joint_states", JointState, 30.0,
-                                  lambda: joint_state(JOINTS, [0.1, 0.2]))
+    for arm in ("leader", "follower"):
+        ros_peer.publish_periodically(f"/ep/{arm}/joint_states", JointState, 30.0,
+                                      lambda: joint_state(JOINTS, [0.1, 0.2]))
     node = NodeProcess(settings, ai_env)
     try:
-        node.wait_for(r"ready: recording 1 topics at 10 fps")
+        node.wait_for(r"ready: recording 2 topics at 10 fps")
         node.wait_for("first frame of the episode recorded")
         stopped = episode(ai_env, "stop", "--node", RECORDER)
         assert stopped.returncode == 0, stopped.stderr
