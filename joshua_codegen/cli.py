@@ -103,13 +103,23 @@ def check(configs, overrides, output_format) -> None:
 @click.option("--prefix", default=None, callback=_absolute_prefix,
               help="Absolute path where OUT lives on the robot. Default /opt/joshua/<robot>.")
 @click.option("--check", "check_only", is_flag=True, help="Write nothing; exit 1 with a diff when OUT differs.")
+@click.option("--bundle", is_flag=True,
+              help="Also write what a robot needs to run OUT without this repository: OUT/wheels/ and OUT/install.sh.")
 @set_option
 @format_option
-def build(config, out, prefix, check_only, overrides, output_format) -> None:
+def build(config, out, prefix, check_only, bundle, overrides, output_format) -> None:
     """Generate entrypoints, units, manifest and supervisor into OUT."""
     from joshua_codegen.write import OutputError, diff_tree, write_tree
 
     compilation = compile_or_exit(config, overrides, output_format, prefix)
+    if bundle:
+        from joshua_codegen.bundle import BundleError, bundle_files
+
+        try:
+            compilation.files = {**compilation.files, **bundle_files(compilation.robot)}
+        except BundleError as exc:
+            click.echo(f"joshuac: error: {exc}", err=True)
+            sys.exit(EXIT_ERRORS)
     if check_only:
         difference = diff_tree(compilation.files, Path(out))
         if difference:

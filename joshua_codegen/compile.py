@@ -16,6 +16,7 @@ from joshua_codegen.render import render
 class Compilation:
     check: CheckResult
     files: dict[str, str] | None  # None when the description has errors
+    robot: Robot | None = None  # the planned model, when files were rendered
 
     @property
     def robot_name(self) -> str | None:
@@ -28,7 +29,8 @@ def compile_file(path: str, overrides=(), prefix: str | None = None) -> Compilat
     result = check_file(path, overrides, prefix)
     if result.has_errors or result.description is None:
         return Compilation(result, None)
-    return Compilation(result, render(result.robot or plan(result.description, path), prefix))
+    robot = result.robot or plan(result.description, path)
+    return Compilation(result, render(robot, prefix), robot)
 
 
 class DescriptionError(Exception):

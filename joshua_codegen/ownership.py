@@ -30,9 +30,14 @@ def _digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def stamp_text(files: dict[str, str]) -> str:
+def content_bytes(content: str | bytes) -> bytes:
+    """A file's content as written: text in UTF-8, binary files (the bundle's wheels) as they are."""
+    return content if isinstance(content, bytes) else content.encode("utf-8")
+
+
+def stamp_text(files: dict[str, str | bytes]) -> str:
     """The stamp of a set of rendered files: one `<sha256>  <path>` line per file, sorted by path."""
-    return "".join(f"{_digest(text.encode('utf-8'))}  {path}\n" for path, text in sorted(files.items()))
+    return "".join(f"{_digest(content_bytes(text))}  {path}\n" for path, text in sorted(files.items()))
 
 
 def read_stamp(directory: Path) -> dict[str, str] | None:

@@ -47,6 +47,7 @@ def environment():
     )
     env.filters.update(
         py=escape.python_literal,
+        sh=escape.shell_word,
         one_line=escape.one_line,
         xml_comment=escape.xml_comment,
         xml_duration=xml_duration,
@@ -83,4 +84,4 @@ def render(robot: Robot, prefix: str | None = None) -> dict[str, str]:
 
 def is_executable(path: str) -> bool:
     """Generated scripts get mode 0755, everything else 0644."""
-    return path.endswith(".py")
+    return path.endswith((".py", ".sh"))

@@ -12,7 +12,7 @@ import tempfile
 from pathlib import Path
 
 from joshua_core.atomic import exchange_directories
-from joshua_codegen.ownership import STAMP, refusal, remove_stale_staging, stamp_text
+from joshua_codegen.ownership import STAMP, content_bytes, refusal, remove_stale_staging, stamp_text
 from joshua_codegen.render import is_executable
 
 
@@ -24,7 +24,7 @@ def _file_mode(path: str) -> int:
     return 0o755 if is_executable(path) else 0o644
 
 
-def stamped(files: dict[str, str]) -> dict[str, str]:
+def stamped(files: dict[str, str | bytes]) -> dict[str, str | bytes]:
     """The files a build writes: the rendered ones and the stamp that proves joshuac wrote them."""
     return {**files, STAMP: stamp_text(files)}
 
@@ -53,7 +53,7 @@ def _staging_directory(out: Path) -> tuple[Path, int]:
         os.close(fd)
 
 
-def write_tree(files: dict[str, str], out: Path) -> None:
+def write_tree(files: dict[str, str | bytes], out: Path) -> None:
     """Make `out` hold exactly `files` and their stamp: all of them or, on failure, what it held before.
 
     Refuses (OutputError, nothing touched) when `out` holds anything joshuac did not write.
@@ -75,7 +75,7 @@ def write_tree(files: dict[str, str], out: Path) -> None:
         for relative, text in files.items():
             target = staging / relative
             target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_text(text, encoding="utf-8", newline="\n")
+            target.write_bytes(content_bytes(text))
             os.chmod(target, _file_mode(relative))
         for directory in [staging, *(p for p in staging.rglob("*") if p.is_dir())]:
             os.chmod(directory, 0o755)
@@ -132,13 +132,18 @@ def read_tree(out: Path) -> dict[str, tuple[str | None, int]]:
     return tree
 
 
-def diff_tree(files: dict[str, str], out: Path) -> str:
+def diff_tree(files: dict[str, str | bytes], out: Path) -> str:
     """A unified diff from what `out` holds to what it should hold ("" when identical)."""
     files = stamped(files)
     current = read_tree(out)
     chunks = []
     for relative in sorted(set(files) | set(current)):
         want = files.get(relative)
+        if isinstance(want, bytes):
+            have_bytes = (out / relative).read_bytes() if relative in current else None
+            if have_bytes != want:
+                chunks.append(f"Binary file {out / relative} differs\n")
+            continue
         have, mode = current.get(relative, (None, None))
         if relative in current and want is not None and have == want:
             if mode != _file_mode(relative):

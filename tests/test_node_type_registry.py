@@ -70,3 +70,11 @@ def test_checker_accepts_exactly_the_built_in_models_the_runtime_has():
     assert set(BUILTIN_MODELS) == set(model.BUILTIN_MODEL_FILES)
     for path in model.BUILTIN_MODEL_FILES.values():
         assert path.is_file(), path
+
+
+def test_runtime_extras_are_extras_of_the_runtime_package():
+    import tomllib
+
+    declared = tomllib.loads((Path(__file__).resolve().parents[1] / "runtime" / "pyproject.toml").read_text())
+    extras = set(declared["project"]["optional-dependencies"])
+    assert {entry.runtime_extra for entry in PROCESS_TYPES.values()} - {""} <= extras

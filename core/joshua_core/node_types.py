@@ -49,6 +49,7 @@ class NodeTypeSpec:
     sensor_qos     BEST_EFFORT with depth 5 by default (else RELIABLE, depth 10)
     runtime_class  `module:Class` of its joshua_runtime implementation
     sim_bridge     `module:Class` standing in for it in the simulation (hardware types)
+    runtime_extra  the extra of joshua-runtime its implementation needs installed ("" for none)
     """
 
     name: str
@@ -70,6 +71,7 @@ class NodeTypeSpec:
     sensor_qos: bool = False
     runtime_class: str = ""
     sim_bridge: str = ""
+    runtime_extra: str = ""
 
     @property
     def binary(self) -> str:
@@ -143,7 +145,7 @@ INFERENCE = NodeTypeSpec(
     python_only=True,
     fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),
     required=("model_path", "input_topics"), claims=("model_path",), rate_hz=30.0,
-    runtime_class="joshua_runtime.ai.inference_node:InferenceNode",
+    runtime_class="joshua_runtime.ai.inference_node:InferenceNode", runtime_extra="ai",
 )
 DATA_SUBSCRIBER = NodeTypeSpec(
     name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,),
@@ -151,6 +153,7 @@ DATA_SUBSCRIBER = NodeTypeSpec(
     python_only=True, fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz"}),
     required=("output_directory", "input_topics"), rate_hz=30.0,
     runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
+    runtime_extra="ai",
 )
 DIFF_DRIVE_BASE = NodeTypeSpec(
     name="DIFF_DRIVE_BASE", family="base", topic="subscribes", message_types=(TWIST,), state_topic=True,
@@ -177,7 +180,7 @@ NODE_TYPES: dict[str, NodeTypeSpec] = {spec.name: spec for spec in (
 # The process that stands in for every hardware node in MODE_SIMULATION: not a NodeType of the schema.
 SIMULATION_ENGINE = NodeTypeSpec(
     name="SIMULATION", family="simulation", topic="", python_only=True,
-    runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode",
+    runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode", runtime_extra="sim",
 )
 # Every type a runtime process can be started as, by the name written in its settings.
 PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE}

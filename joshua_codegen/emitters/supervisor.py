@@ -11,6 +11,7 @@ from pathlib import Path
 
 from joshua_codegen import supervisor as package
 from joshua_core import exit_codes
+from joshua_core.settings import FORMAT_VERSION
 from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
 from joshua_codegen.emitters import fastdds, process_launch, supervisord
 from joshua_codegen.model import Process, Robot
@@ -56,6 +57,7 @@ def supervisor_data(robot: Robot) -> dict:
         "model_registry": {"prefix": REGISTRY_PREFIX, "variable": REGISTRY_ENV, "default_root": REGISTRY_DEFAULT_ROOT,
                            "entry_file": REGISTRY_ENTRY_FILE},
         "node_exit_codes": {"settings": exit_codes.NODE_EXIT_SETTINGS, "data_lost": exit_codes.NODE_EXIT_DATA_LOST},
+        "settings_format_version": FORMAT_VERSION,
         "processes": [process_data(robot, process) for process in robot.processes],
     }
 

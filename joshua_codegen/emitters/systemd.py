@@ -10,6 +10,10 @@ from joshua_codegen.render import Context, template
 
 SYSTEMD_RESTART = {"RESTART_NEVER": "no", "RESTART_ON_FAILURE": "on-failure", "RESTART_ALWAYS": "always"}
 MIN_TIMESPAN_MS = 1  # systemd reads 0 as "no timeout at all"
+# Readiness of nodes that speak sd_notify (joshua_runtime.notify): how long systemd waits for READY=1,
+# and the watchdog their loop feeds every WATCHDOG_S / 2.
+READY_TIMEOUT_S = 90.0
+WATCHDOG_S = 20.0
 
 
 def target_name(robot: Robot) -> str:
@@ -28,6 +32,13 @@ def timespan(seconds: float) -> str:
 
 def restart(process: Process) -> str:
     return "no" if process.max_restarts == 0 else SYSTEMD_RESTART[process.restart]
+
+
+def notifies(process: Process) -> bool:
+    """The node sends READY=1 and WATCHDOG=1: a runtime node always running its Python entrypoint.
+
+    CUSTOM programs may not speak the protocol, and a C++ binary chosen at start need not either."""
+    return process.kind == "python" and not process.cpp_binary
 
 
 def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], list[tuple[str, str]]]:
@@ -66,6 +77,9 @@ def service(robot: Robot, process: Process, prefix: str) -> dict:
         "working_directory": escape.systemd_raw(prefix),
         "uses_cpp": bool(process.cpp_binary),
         "settings_exit_code": exit_codes.NODE_EXIT_SETTINGS if process.kind != "custom" else None,
+        "notify": notifies(process),
+        "ready_timeout": timespan(READY_TIMEOUT_S),
+        "watchdog": timespan(WATCHDOG_S),
         "cpp_binary": process_launch.cpp_binary_path(robot, process, prefix) if process.cpp_binary else "",
     }
 

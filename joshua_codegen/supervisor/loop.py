@@ -23,6 +23,7 @@ from joshua_codegen.supervisor.containment import (
 )
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
+from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
     KILL_WAIT_S,
@@ -57,6 +58,7 @@ class Supervisor:
         self.outcome = Outcome()
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
+        self.readiness = Readiness(self.nodes, ROBOT["name"])
 
     # Setup
 
@@ -80,14 +82,15 @@ class Supervisor:
         self.guard = Guard(self.contain())
         self.guard.start()
         self.install_signals()
+        self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
         for node in self.nodes:
             if self.requests:
                 break  # asked to stop while starting: the rest stay pending
             self.launch(node)
         running = sum(node.state == "running" for node in self.nodes)
-        log("supervisor", f"ready: {running} of {len(self.nodes)} nodes running "
-                          f"({(time.monotonic() - START) * 1000:.1f} ms after start)")
+        log("supervisor", f"started: {running} of {len(self.nodes)} nodes running "
+                          f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready")
         while not self.finished():
             self.wait(self.timeout())
             self.reap()
@@ -144,6 +147,7 @@ class Supervisor:
         self.by_pid[pid] = node
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
+        self.readiness.on_launch(node, node.started_at)
 
     def reap(self):
         self.abandoned_since = None
@@ -177,6 +181,7 @@ class Supervisor:
 
     def on_exit(self, node, pid, status):
         node.pid = None
+        self.readiness.on_exit(node)
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
@@ -309,7 +314,7 @@ class Supervisor:
         return False
 
     def timeout(self):
-        moments = [self.duration_end, self.next_status, self.stage_deadline]
+        moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
         moments = [moment for moment in moments if moment is not None]
         now = time.monotonic()
@@ -338,6 +343,7 @@ class Supervisor:
             self.request_stop(f"duration of {self.options.duration} s elapsed")
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
+        self.readiness.on_timer(now, self.stopping)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 node.restart_at = None

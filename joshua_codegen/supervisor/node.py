@@ -29,6 +29,9 @@ class Node:
         self.backend = ""
         self.last_exit = ""
         self.warned_fallback = False
+        self.ready = False  # it said READY=1 since its last start (a CUSTOM node: it started); see notify.py
+        self.ready_deadline = None  # when it is warned about for not being ready
+        self.status_text = ""  # its last STATUS= notification
         self.environment = self.make_environment()
 
     def make_environment(self):
@@ -68,7 +71,7 @@ class Node:
     def status_line(self, now):
         if self.state == "running":
             return (f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
-                    f"{self.restarts} restarts")
+                    f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts")
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")

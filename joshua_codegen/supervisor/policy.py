@@ -15,6 +15,8 @@ TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for n
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
+READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may take to report its runtime
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
 EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])

@@ -1,11 +1,44 @@
 """Preflight: every reason the robot cannot start, found before anything starts."""
 
 import os
+import subprocess
 
 from joshua_codegen.supervisor.common import under_script_dir
+from joshua_codegen.supervisor.policy import RUNTIME_PROBE_TIMEOUT_S
 from joshua_codegen.supervisor.robot import ROBOT
 
 PROBE_PREFIX = ".joshua-preflight-"  # a file created and removed at once, to learn a directory is writable
+RUNTIME_PROBE = "import joshua_runtime, joshua_core.settings as s; print(s.FORMAT_VERSION)"
+INSTALL_SCRIPT = "install.sh"  # written next to supervisor.py by `joshuac build --bundle`
+
+
+def runtime_fix(python: str) -> str:
+    """How to install the runtime this build needs for `python`."""
+    script = under_script_dir(INSTALL_SCRIPT)
+    if os.path.isfile(script):
+        return f"install it: sh {script} (then run supervisor.py with that environment's python)"
+    return (f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
+            f"or install this repository's core/ and runtime/ for {python}")
+
+
+def runtime_problem(python: str, env: dict[str, str]) -> str | None:
+    """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
+    expected = ROBOT["settings_format_version"]
+    try:
+        probe = subprocess.run([python, "-c", RUNTIME_PROBE], env=env, capture_output=True, text=True,
+                               timeout=RUNTIME_PROBE_TIMEOUT_S, stdin=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired:
+        return f"{python} did not report its joshua_runtime within {RUNTIME_PROBE_TIMEOUT_S:g} s"
+    except OSError as exc:
+        return f"cannot run {python}: {exc.strerror or exc}"
+    lines = probe.stdout.split()
+    if probe.returncode != 0 or not lines or not lines[-1].isdigit():
+        reason = (probe.stderr.strip().splitlines() or [f"exit code {probe.returncode}"])[-1]
+        return f"{python} cannot import the runtime ({reason}); {runtime_fix(python)}"
+    if int(lines[-1]) != expected:
+        return (f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
+                f"format {expected}; {runtime_fix(python)}")
+    return None
 
 
 def registry_problem(reference: str, env: dict[str, str]) -> str | None:
@@ -77,4 +110,9 @@ def preflight(nodes, python):
                 problems.append(f"{node.name}: entrypoint {entrypoint} is missing")
     if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
         problems.append(f"Python interpreter {python} is not an executable file")
+    elif needs_python:
+        environment = next(node.environment for node in nodes if node.spec["kind"] != "custom")
+        problem = runtime_problem(python, environment)
+        if problem:
+            problems.append(problem)
     return problems

@@ -11,6 +11,7 @@ ROBOT: dict[str, Any] = {
     "model_registry": {"prefix": "registry:", "variable": "JOSHUA_MODEL_REGISTRY", "default_root": "~/.cache/joshua/models",
                        "entry_file": "joshua_model.json"},
     "node_exit_codes": {"settings": 2, "data_lost": 6},
+    "settings_format_version": 2,
     "processes": [],
 }
 

@@ -4,6 +4,11 @@ A node class receives its NodeSettings (the settings contract, joshua_core.setti
 releases its device in `close()`. `run()` owns rclpy: it installs its own SIGINT/SIGTERM handlers,
 spins in short slices so that a signal ends the loop within `SHUTDOWN_POLL_S`, then closes the node
 and returns exit code 0.
+
+Readiness (sd_notify, see notify.py): a node is ready when `start()` returns, unless its class sets
+`ready_later` and calls `announce_ready()` itself once its background loading is done. Announcing logs
+one "ready: ..." line with what the node serves and sends READY=1 to the process manager; the loop
+pings the manager's watchdog while it spins.
 """
 
 import signal
@@ -18,18 +23,25 @@ from rclpy.signals import SignalHandlerOptions
 from joshua_core.settings import NodeSettings, TopicSettings
 from joshua_runtime.errors import JoshuaError
 from joshua_runtime.messages import message_class
+from joshua_runtime.notify import Notifier
 from joshua_runtime.qos import qos_profile
 
 SHUTDOWN_POLL_S = 0.05
+# Topics every rclpy node has; not part of what a node serves.
+INFRASTRUCTURE_TOPICS = ("/rosout", "/parameter_events")
 
 
 class JoshuaNode:
     """One ROS 2 node configured by joshuac settings. Subclasses override start() and close()."""
 
+    ready_later = False  # True: start() leaves loading to a thread, which calls announce_ready() when done
+
     def __init__(self, settings: NodeSettings, ros_node: Node):
         self.settings = settings
         self.ros = ros_node
         self.log = ros_node.get_logger()
+        self.notifier = Notifier(None)
+        self.is_ready = False
 
     @property
     def name(self) -> str:
@@ -40,6 +52,31 @@ class JoshuaNode:
 
     def close(self) -> None:
         """Release devices. Called once, after spinning stops, also after a failed start."""
+
+    def serving(self) -> str:
+        """What the node serves, for its ready line: the topics it publishes and subscribes, its rate, its device."""
+        published = sorted({p.topic_name for p in self.ros.publishers} - set(INFRASTRUCTURE_TOPICS))
+        subscribed = sorted({s.topic_name for s in self.ros.subscriptions} - set(INFRASTRUCTURE_TOPICS))
+        parts = []
+        if published:
+            parts.append(f"publishing {', '.join(published)}")
+        if subscribed:
+            parts.append(f"subscribing {', '.join(subscribed)}")
+        if self.settings.rate_hz:
+            parts.append(f"at {self.settings.rate_hz:g} Hz")
+        device = self.settings.serial_port or self.settings.video_source
+        if device:
+            parts.append(f"on {device}")
+        return " ".join(parts) or "no topics"
+
+    def announce_ready(self, detail: str = "") -> None:
+        """Log the ready line and tell the process manager (READY=1); later calls do nothing."""
+        if self.is_ready:
+            return
+        self.is_ready = True
+        summary = (f"{detail}; " if detail else "") + self.serving()
+        self.log.info(f"ready: {summary}")
+        self.notifier.ready(summary)
 
     def publisher(self, topic: TopicSettings):
         """Create a publisher for a topic of the settings."""
@@ -88,6 +125,7 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
     """
     stop = stop or StopSignal().install()
     ros_node = executor = node = None
+    notifier = Notifier.from_environment()
     code = 0
     try:
         rclpy.init(args=None, signal_handler_options=SignalHandlerOptions.NO)
@@ -95,10 +133,15 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
         executor = SingleThreadedExecutor()
         executor.add_node(ros_node)
         node = node_class(settings, ros_node)
+        node.notifier = notifier
         node.start()
         stop.starting = False
+        if not node.ready_later:
+            node.announce_ready()
         while not stop.event.is_set():
+            notifier.watchdog()
             executor.spin_once(timeout_sec=SHUTDOWN_POLL_S)
+        notifier.stopping()
     except StopRequested:
         pass
     except JoshuaError as exc:
@@ -117,4 +160,5 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
         if ros_node is not None:
             ros_node.destroy_node()
         rclpy.try_shutdown()
+        notifier.close()
     return code

@@ -3,6 +3,7 @@
 import ast
 import json
 import os
+import re
 import shutil
 import signal
 
@@ -97,6 +98,7 @@ def test_an_executable_cpp_binary_runs_with_its_ros_arguments(tmp_path):
     [process] = plan(describe(config), "robot.pbtxt").processes
     assert argv == [str(binary), *process.cpp_args]
     assert "arm: started pid" in supervisor.log() and "(C++)" in supervisor.log()
+    assert re.search(r"arm: ready after [\d.]+ s: a C\+\+ binary: ready when started", supervisor.log())
     assert "warning" not in supervisor.log()
 
 
@@ -105,7 +107,7 @@ def test_without_the_cpp_binary_the_python_entrypoint_runs_after_one_warning(tmp
     serial.write_text("")
     python = stand_in(tmp_path / "fake" / "python")
     out = build(tmp_path, robot([encoder(tmp_path, serial)], extra=f'cpp_bin_dir: "{tmp_path / "bin"}"'))
-    supervisor = Supervisor(out, "--python", str(python))
+    supervisor = Supervisor(out, "--python", str(python), "--skip-preflight")  # the stand-in is no interpreter
     try:
         argv = argv_lines(tmp_path / "fake" / "argv.txt")
         supervisor.signal(signal.SIGINT)
@@ -152,13 +154,13 @@ def test_status_interval_prints_one_line_per_node(tmp_path):
     out = build(tmp_path, robot([custom_node("a", log), custom_node("b", log)]))
     supervisor = Supervisor(out, "--status-interval", "0.2")
     try:
-        supervisor.wait_log(r"supervisor: status: 2 running\n.* a: running pid \d+ for [\d.]+ s, custom, 0 restarts\n"
-                            r".* b: running pid \d+ for [\d.]+ s, custom, 0 restarts$")
+        supervisor.wait_log(r"supervisor: status: 2 running\n.* a: running pid \d+ for [\d.]+ s, custom, ready, 0 restarts\n"
+                            r".* b: running pid \d+ for [\d.]+ s, custom, ready, 0 restarts$")
         supervisor.signal(signal.SIGINT)
         assert supervisor.wait() == 0
     finally:
         supervisor.close()
-    assert "ready: 2 of 2 nodes running" in supervisor.log()
+    assert "ready: 2 of 2 nodes ready" in supervisor.log()
 
 
 def test_bad_command_line_exits_2(tmp_path):
@@ -180,5 +182,6 @@ def test_generated_supervisor_is_standard_library_python_3_10_with_a_header(tmp_
     imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import)
                 for alias in node.names}
     imported |= {node.module.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
-    assert imported <= {"argparse", "ctypes", "os", "select", "shlex", "shutil", "signal", "sys", "time"}
+    assert imported <= {"argparse", "ctypes", "os", "select", "shlex", "shutil", "signal", "socket", "struct",
+                        "subprocess", "sys", "time"}
     assert os.access(out / "supervisor.py", os.X_OK)

@@ -163,3 +163,17 @@ def test_python_nodes_run_through_env_and_cpp_nodes_through_a_fallback_script(tm
     assert script.startswith("if [ -f /opt/joshua/bin/encoder_publisher ] && [ -x /opt/joshua/bin/encoder_publisher ]; "
                              "then exec /opt/joshua/bin/encoder_publisher --ros-args -r __node:=encoder_publisher ")
     assert script.endswith("exec /usr/bin/env python3 /opt/joshua/so100/nodes/encoder_publisher.py")
+
+
+def test_runtime_nodes_notify_readiness_and_feed_a_watchdog_while_others_start_as_exec(tmp_path):
+    config = (ROOT / "config" / "robots" / "so100_leader_follower.pbtxt").read_text()
+    config = config.replace("robot_config {", 'robot_config {\n  node { name: "tool" type: CUSTOM executable: "/bin/true" }', 1)
+    out = build(tmp_path, config)
+    units = {path.name.split("-", 2)[2].removesuffix(".service"): dict(settings_of(path.read_text()))
+             for path in (out / "systemd").glob("*.service")}
+    recorder, encoder, tool = units["data_subscriber"], units["encoder_publisher"], units["tool"]
+    assert (recorder["Type"], recorder["NotifyAccess"], recorder["WatchdogSec"]) == ("notify", "main", "20s")
+    assert recorder["TimeoutStartSec"] == "90s"
+    for unit in (encoder, tool):  # a C++ binary or a CUSTOM program need not speak sd_notify
+        assert unit["Type"] == "exec" and "NotifyAccess" not in unit and "WatchdogSec" not in unit
+    assert verify(out).returncode == 0, verify(out).stderr

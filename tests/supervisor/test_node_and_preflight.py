@@ -86,3 +86,56 @@ def test_preflight_refuses_output_directories_the_node_cannot_write(tmp_path):
     assert len(problems) == 2
     assert not (tmp_path / "new").exists()
     assert not [path for path in tmp_path.iterdir() if path.name.startswith(PROBE_PREFIX)]
+
+
+def python_node(tmp_path) -> Node:
+    entrypoint = tmp_path / "n.py"
+    entrypoint.write_text("")
+    return Node(spec(kind="python", entrypoint=str(entrypoint)), sys.executable)
+
+
+def test_preflight_accepts_an_interpreter_with_the_runtime_of_this_settings_format(tmp_path):
+    assert preflight([python_node(tmp_path)], sys.executable) == []
+
+
+def test_preflight_names_the_install_command_when_the_interpreter_lacks_the_runtime(tmp_path):
+    base = sys._base_executable  # the interpreter this environment was made from: no joshua_runtime
+    assert base != sys.executable
+    [problem] = preflight([python_node(tmp_path)], base)
+    assert problem.startswith(f"{base} cannot import the runtime (ModuleNotFoundError: No module named ")
+    assert "joshuac build CONFIG -o OUT --bundle" in problem and "install.sh" in problem
+
+
+def test_preflight_refuses_a_runtime_of_another_settings_format(tmp_path):
+    old_runtime = tmp_path / "python"
+    old_runtime.write_text("#!/bin/sh\necho 1\n")
+    old_runtime.chmod(0o755)
+    [problem] = preflight([python_node(tmp_path)], str(old_runtime))
+    assert problem.startswith(f"the runtime installed for {old_runtime} reads node settings format 1, "
+                              f"this build writes format {ROBOT['settings_format_version']}; ")
+
+
+def test_readiness_counts_only_the_main_process_and_warns_about_a_node_that_never_gets_ready(capsys, tmp_path):
+    import socket
+
+    from joshua_codegen.supervisor.notify import Readiness
+
+    node = python_node(tmp_path)
+    readiness = Readiness([node], "unit")
+    try:
+        assert node.environment["NOTIFY_SOCKET"] == readiness.address and readiness.address.startswith("@")
+        node.state, node.started_at = "running", 0.0
+        readiness.on_launch(node, 0.0)
+        with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as sender:
+            sender.sendto(b"READY=1\nSTATUS=serving", "\0" + readiness.address[1:])
+            readiness.receive(lambda pid: None, 1.0)  # this process is no node's main process
+            assert not node.ready
+            readiness.on_timer(readiness.next_deadline(), stopping=False)
+            assert "warning: not ready 60 s after its start" in capsys.readouterr().err
+            sender.sendto(b"READY=1\nSTATUS=serving", "\0" + readiness.address[1:])
+            readiness.receive(lambda pid: node if pid == os.getpid() else None, 2.0)
+        assert node.ready and node.status_text == "serving"
+        readiness.on_timer(2.0, stopping=False)
+        assert "supervisor: ready: 1 of 1 nodes ready" in capsys.readouterr().err
+    finally:
+        readiness.socket.close()

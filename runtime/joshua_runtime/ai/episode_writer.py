@@ -32,7 +32,10 @@ _DEFAULT_FEATURES = ("timestamp", "frame_index", "episode_index", "index", "task
 class EpisodeWriter:
     """Owns the dataset on disk; commands are queued and applied in order by one thread."""
 
-    def __init__(self, output_directory: str, fps: int, robot_type: str, use_videos: bool, log):
+    def __init__(self, output_directory: str, fps: int, robot_type: str, use_videos: bool, log, on_event=None):
+        """`on_event(event, **details)` is called from the writing thread: "opened" once the dataset
+        directory is recovered and ready, then "saved", "empty", "discarded" or "failed" per episode."""
+        self.on_event = on_event or (lambda event, **details: None)
         self.target = Path(output_directory).expanduser().absolute()
         self.fps = fps
         self.robot_type = robot_type
@@ -86,6 +89,7 @@ class EpisodeWriter:
     def _run(self) -> None:
         try:
             staged_directory.recover(self.target)
+            self.on_event("opened")
             while True:
                 command, argument = self._commands.get()
                 if command == "close":
@@ -98,6 +102,7 @@ class EpisodeWriter:
             elif not isinstance(exc, JoshuaError):
                 exc = JoshuaError(f"recording failed: {type(exc).__name__}: {exc}")
             self.error = exc
+            self.on_event("failed", message=str(exc))
         finally:
             if self.error is not None:
                 self._drop_dataset()
@@ -120,6 +125,7 @@ class EpisodeWriter:
         if self._dataset is None or self._frames == 0:
             self.log.info("episode ended without frames; nothing saved")
             self._drop_dataset()
+            self.on_event("empty", frames=0, message="episode ended without frames; nothing saved")
             return
         dataset, frames = self._dataset, self._frames
         episode = dataset.meta.total_episodes
@@ -131,10 +137,14 @@ class EpisodeWriter:
         self._clear_cache()
         self.saved_episodes += 1
         self.log.info(f"episode {episode} saved: {frames} frames, {episode + 1} episodes in {self.target}")
+        self.on_event("saved", episode=episode, frames=frames, episodes=episode + 1,
+                      message=f"saved episode {episode} ({frames} frames) in {self.target}")
 
     def _discard(self, _argument) -> None:
-        self.log.info(f"episode discarded ({self._frames} frames)")
+        frames = self._frames
+        self.log.info(f"episode discarded ({frames} frames)")
         self._drop_dataset()
+        self.on_event("discarded", frames=frames, message=f"discarded the episode ({frames} frames)")
 
     def _drop_dataset(self) -> None:
         if self._dataset is not None:

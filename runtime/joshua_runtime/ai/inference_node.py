@@ -7,7 +7,8 @@ Settings used: `model_path` (a policy directory saved by LeRobot, or `registry:N
 empty, the policy's action feature names without `.pos`), `rate_hz` (inference and publish rate).
 
 The policy is loaded and warmed up (one inference on a blank observation, then reset) in a
-background thread while the node keeps answering signals; "ready" is logged after the warm-up.
+background thread while the node keeps answering signals; the node announces itself ready (its
+"ready:" line and READY=1 to the process manager) after the warm-up.
 At each tick, when an input has not published yet or its last message is older than
 `INPUT_STALE_AFTER_S`, nothing is published and the reason is logged (throttled); when inputs come
 back, the policy is reset first so that actions queued before the gap are never executed.
@@ -55,6 +56,8 @@ def action_joint_names(joint_names: list[str], size: int, feature_names: list[st
 
 class InferenceNode(JoshuaNode):
     """Subscribes to sensor inputs, runs `select_action` at rate_hz, publishes JointState actions."""
+
+    ready_later = True  # ready once the policy is loaded and warmed up
 
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
@@ -108,10 +111,10 @@ class InferenceNode(JoshuaNode):
             warm_up_s = runner.warm_up()
             self.runner = runner
             self.ready.set()
-            self.log.info(
-                f"ready: {runner.config.type} policy from {self.policy_dir} on {runner.device} "
-                f"(load+warm-up {time.monotonic() - self.started_s:.2f} s, first inference {warm_up_s:.3f} s); "
-                f"publishing {len(self.joint_names)} joints on {self.settings.topic.name} at {self.rate_hz:g} Hz"
+            self.announce_ready(
+                f"{runner.config.type} policy from {self.policy_dir} on {runner.device} "
+                f"(load+warm-up {time.monotonic() - self.started_s:.2f} s, first inference {warm_up_s:.3f} s), "
+                f"{len(self.joint_names)} joints"
             )
         except JoshuaError as exc:
             self.load_error = exc

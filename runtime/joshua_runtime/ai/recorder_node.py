@@ -12,16 +12,21 @@ its last message is older than `SAMPLE_STALE_AFTER_S`, the frame is skipped and 
 
 Episodes: one starts when the node starts. Commands on the std_msgs/String topic `~/episode`
 (i.e. `/<node name>/episode`) control them: `start` or `start <task>` begins an episode (task text
-defaults to the robot name), `stop` saves the current one, `discard` drops it. SIGINT/SIGTERM save
-the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
+defaults to the robot name), `stop` saves the current one, `discard` drops it; the node answers each
+on `~/episode_state` (episode_protocol.py; `joshua-episode` is the command-line client). SIGINT/SIGTERM
+save the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
+
+The node is ready (its "ready:" line, READY=1) once the writing thread has opened the dataset directory.
 """
 
 import json
+import threading
 import time
 from pathlib import Path
 
 from joshua_core.models import OUTPUT_FORMATS
 
+from joshua_runtime.ai import episode_protocol as protocol
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
@@ -33,8 +38,6 @@ from joshua_runtime.nodes import settings_checks
 
 SAMPLE_STALE_AFTER_S = 0.5
 PROBLEM_LOG_PERIOD_S = 2.0
-COMMAND_TOPIC = "~/episode"
-COMMAND_QOS_DEPTH = 10
 
 
 def check_output_directory(directory: Path, fps: int) -> None:
@@ -56,6 +59,8 @@ def check_output_directory(directory: Path, fps: int) -> None:
 class RecorderNode(JoshuaNode):
     """Samples its topics at rate_hz into episodes written by an EpisodeWriter thread."""
 
+    ready_later = True  # ready once the writing thread has opened the dataset directory
+
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
         if topic.message_type != keys.JOINT_STATE:
@@ -70,23 +75,42 @@ class RecorderNode(JoshuaNode):
         self.fps = max(1, round(1.0 / settings_checks.period_s(self.settings)))
         check_output_directory(Path(self.settings.output_directory).expanduser(), self.fps)
         use_videos = output_format == "lerobot"
-        self.writer = EpisodeWriter(self.settings.output_directory, self.fps, self.settings.robot, use_videos, self.log)
+        from std_msgs.msg import String
+
+        self.state_message = String
+        self.state_publisher = self.ros.create_publisher(String, protocol.STATE_TOPIC, protocol.state_qos())
+        self.state_lock = threading.Lock()  # the ROS thread and the writing thread both publish states
+        self.state_seq = 0
+        self.recording = False
+        self.writer_opened = threading.Event()
+        self.writer = EpisodeWriter(self.settings.output_directory, self.fps, self.settings.robot, use_videos,
+                                    self.log, self._writer_event)
         self.sampler = FrameSampler(topic.name, inputs, use_videos)
         self.samples = LatestSamples(self.sampler.topic_names)
         self.subscriptions = [self.subscription(t, self.samples.callback(t.name)) for t in [topic, *inputs]]
-        from std_msgs.msg import String
-
-        self.commands = self.ros.create_subscription(String, COMMAND_TOPIC, self._command, COMMAND_QOS_DEPTH)
-        self.recording = False
+        self.commands = self.ros.create_subscription(String, protocol.COMMAND_TOPIC, self._command,
+                                                     protocol.COMMAND_QOS_DEPTH)
         self.frames = 0
         self.skipped = 0
         self._begin(self._default_task())
         self.timer = self.ros.create_timer(1.0 / self.fps, self._tick)
-        self.log.info(
-            f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
-            f"{self.settings.output_directory} ({output_format}); episode commands on "
-            f"{self.ros.resolve_topic_name(COMMAND_TOPIC)}"
-        )
+        self.summary = (f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
+                        f"{self.settings.output_directory} ({output_format}); episode commands on "
+                        f"{self.ros.resolve_topic_name(protocol.COMMAND_TOPIC)}")
+
+    def _writer_event(self, event: str, **details) -> None:
+        """Called from the writing thread: note that the dataset is open (the next tick announces it),
+        answer episode commands."""
+        if event == "opened":
+            self.writer_opened.set()
+        else:
+            self._publish_state(event, **details)
+
+    def _publish_state(self, event: str, **details) -> None:
+        with self.state_lock:
+            self.state_seq += 1
+            state = {"seq": self.state_seq, "event": event, "recording": self.recording, **details}
+            self.state_publisher.publish(self.state_message(data=protocol.encode(state)))
 
     def _default_task(self) -> str:
         return self.settings.robot or self.name
@@ -114,22 +138,31 @@ class RecorderNode(JoshuaNode):
         word, _, argument = msg.data.strip().partition(" ")
         if word == "start":
             if self.recording:
-                self.log.warning("episode command 'start' ignored: an episode is already recording")
+                self._ignore("episode command 'start' ignored: an episode is already recording")
                 return
-            self._begin(argument.strip() or self._default_task())
+            task = argument.strip() or self._default_task()
+            self._begin(task)
             self.log.info("episode started")
+            self._publish_state("started", message=f"episode started (task: {task})")
         elif word in ("stop", "discard"):
             if not self.recording:
-                self.log.warning(f"episode command {word!r} ignored: no episode is recording")
+                self._ignore(f"episode command {word!r} ignored: no episode is recording")
                 return
-            self._end(save=word == "stop")
+            self._end(save=word == "stop")  # the writing thread answers once the episode is saved or dropped
         else:
-            self.log.warning(f"unknown episode command {msg.data!r} (use start [task], stop, discard)")
+            self._ignore(f"unknown episode command {msg.data!r} (use start [task], stop, discard)")
+
+    def _ignore(self, reason: str) -> None:
+        self.log.warning(reason)
+        self._publish_state("ignored", message=reason)
 
     def _tick(self) -> None:
         if self.writer.error is not None:
             self.error_reported = True
             raise self.writer.error
+        if not self.is_ready and self.writer_opened.is_set():
+            self.announce_ready(self.summary)
+            self._publish_state("ready", message=f"ready, recording into {self.settings.output_directory}")
         if not self.recording:
             return
         problems = self.samples.problems(SAMPLE_STALE_AFTER_S)

@@ -1,0 +1,94 @@
+"""`build --bundle`: the runtime's wheels, its pinned requirements and an install script, as output files.
+
+A robot needs joshua-core and joshua-runtime (with the extras its node types name) for the interpreter
+that runs its Python nodes. The bundle holds, next to the build:
+
+    OUT/install.sh               creates a virtual environment and installs the two below into it
+    OUT/wheels/*.whl             joshua-core and joshua-runtime, built from this source tree
+    OUT/wheels/requirements.txt  their third-party dependencies pinned with hashes from uv.lock
+
+Third-party wheels (rclpy and the ROS message packages from PyPI, numpy, OpenCV, LeRobot, MuJoCo) are
+not copied: install.sh takes them from PyPI, checked against the hashes; options given to install.sh
+after the environment directory reach the installer (`--find-links DIR`, `--index-url URL`).
+
+Building needs this source tree (uv.lock and the workspace members) and uv, a dependency of joshuac.
+"""
+
+import os
+import subprocess
+import tempfile
+from pathlib import Path
+
+from joshua_core.node_types import spec
+from joshua_core.settings import FORMAT_VERSION
+
+from joshua_codegen.escape import shell_word
+from joshua_codegen.model import Robot
+from joshua_codegen.render import template
+
+SOURCE_ROOT = Path(__file__).resolve().parent.parent
+PACKAGES = ("joshua-core", "joshua-runtime")
+RUNTIME_PACKAGE = "joshua-runtime"
+INSTALL_SCRIPT = "install.sh"
+WHEEL_DIR = "wheels"
+REQUIREMENTS = f"{WHEEL_DIR}/requirements.txt"
+DEFAULT_VENV = "/opt/joshua/venv"
+PYTHON = "python3.11"  # the interpreter the locked dependencies are resolved for
+UV_TIMEOUT_S = 600.0
+
+
+class BundleError(Exception):
+    """The bundle cannot be made here (no source tree, uv failed)."""
+
+
+def extras(robot: Robot) -> list[str]:
+    """The joshua-runtime extras the robot's processes need, sorted."""
+    return sorted({spec(p.node_type).runtime_extra for p in robot.processes if spec(p.node_type)} - {""})
+
+
+def uv(*arguments: str) -> str:
+    """Run uv in the source tree; its standard output."""
+    from uv import find_uv_bin
+
+    env = {**os.environ, "UV_PYTHON_DOWNLOADS": "never"}
+    try:
+        done = subprocess.run([find_uv_bin(), *arguments], cwd=SOURCE_ROOT, env=env, capture_output=True, text=True,
+                              timeout=UV_TIMEOUT_S, stdin=subprocess.DEVNULL)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        raise BundleError(f"uv {arguments[0]} failed: {exc}") from exc
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or [f"exit code {done.returncode}"])[-1]
+        raise BundleError(f"uv {arguments[0]} failed: {last}")
+    return done.stdout
+
+
+def wheels() -> dict[str, bytes]:
+    """{wheel file name: content} of the workspace packages the runtime is made of."""
+    with tempfile.TemporaryDirectory(prefix="joshuac-wheels-") as directory:
+        for package in PACKAGES:
+            uv("build", "--quiet", "--wheel", "--package", package, "--out-dir", directory)
+        return {path.name: path.read_bytes() for path in sorted(Path(directory).glob("*.whl"))}
+
+
+def requirements(robot: Robot) -> str:
+    """The runtime's third-party dependencies (with the robot's extras), pinned with hashes from uv.lock."""
+    extra_options = [word for extra in extras(robot) for word in ("--extra", extra)]
+    return uv("export", "--frozen", "--no-dev", "--no-emit-workspace", "--no-header", "--format", "requirements.txt",
+              "--package", RUNTIME_PACKAGE, *extra_options)
+
+
+def bundle_files(robot: Robot) -> dict[str, str | bytes]:
+    """The bundle's files by path relative to the output directory."""
+    if not (SOURCE_ROOT / "uv.lock").is_file() or not all((SOURCE_ROOT / d / "pyproject.toml").is_file()
+                                                           for d in ("core", "runtime")):
+        raise BundleError(f"--bundle builds the runtime from joshuac's source tree, which {SOURCE_ROOT} is not; "
+                          "run the joshuac of a checkout of the repository")
+    built = wheels()
+    script = template("install.sh.j2", robot=robot, venv=DEFAULT_VENV, python=PYTHON,
+                      wheels=sorted(built), wheel_arguments=" ".join(f'"$here"/{WHEEL_DIR}/{shell_word(name)}' for name in sorted(built)),
+                      requirements=REQUIREMENTS, extras=extras(robot),
+                      format_version=FORMAT_VERSION)
+    files: dict[str, str | bytes] = {f"{WHEEL_DIR}/{name}": data for name, data in built.items()}
+    files[REQUIREMENTS] = requirements(robot)
+    files[INSTALL_SCRIPT] = script
+    return files

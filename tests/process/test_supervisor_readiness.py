@@ -1,0 +1,35 @@
+"""Readiness through supervisor.py: a runtime node counts as ready when it sends READY=1, not when it starts."""
+
+import os
+import re
+import signal
+import socket
+
+from supervisor_harness import Supervisor, build, custom_node, robot
+
+
+def test_the_robot_is_ready_when_every_node_said_so(tmp_path, ros_env):
+    leader = 'node { name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 40 }'
+    out = build(tmp_path, robot([leader, custom_node("tool", tmp_path / "events.log")]))
+    upstream = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)  # as systemd would give a Type=notify service
+    upstream.bind(f"\0joshua-test-upstream-{os.getpid()}")
+    env = dict(ros_env, NOTIFY_SOCKET=f"@joshua-test-upstream-{os.getpid()}")
+    supervisor = Supervisor(out, "--status-interval", "0.2", env=env)
+    try:
+        supervisor.wait_log(r"started: 2 of 2 nodes running \([\d.]+ ms after start\); waiting for them to be ready")
+        supervisor.wait_log(r"tool: ready after [\d.]+ s: a CUSTOM program: ready when started")
+        supervisor.wait_log(r"leader: running pid \d+ for [\d.]+ s, Python, not ready yet, 0 restarts")
+        ready = supervisor.wait_log(r"leader: ready after ([\d.]+) s: publishing /leader/joint_states at 40 Hz")
+        summary = supervisor.wait_log(r"supervisor: ready: 2 of 2 nodes ready \(([\d.]+) s after start\)")
+        assert float(summary.group(1)) >= float(ready.group(1))
+        supervisor.wait_log(r"leader: running pid \d+ for [\d.]+ s, Python, ready, 0 restarts")
+        upstream.settimeout(5)
+        assert upstream.recv(4096) == b"READY=1\nSTATUS=2 of 2 nodes ready"  # passed on once, by the supervisor
+        supervisor.signal(signal.SIGINT)
+        assert supervisor.wait() == 0
+    finally:
+        supervisor.close()
+        upstream.close()
+    log = supervisor.log()
+    assert log.index("leader: ready after") < log.index("supervisor: ready: 2 of 2")
+    assert len(re.findall(r"supervisor: ready: ", log)) == 1
