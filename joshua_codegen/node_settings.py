@@ -53,6 +53,8 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
         "hub": defaults.hub(node),
         "command_timeout_s": defaults.command_timeout_s(node),
         "ble_transport": node.ble_transport,
+        "bag_max_size_mb": node.bag_max_size_mb,
+        "bag_max_duration_s": node.bag_max_duration_s,
     }
     for key, value in applicable.items():
         if key in defaults.FIELD_APPLIES_TO and node.type not in defaults.FIELD_APPLIES_TO[key]:

@@ -12,8 +12,10 @@ BUILTIN_MODEL_JOINTS = {"so100": SO100_JOINTS, "lego_bot": BASE_WHEEL_JOINTS}
 GL_BACKENDS = ("egl", "osmesa")
 # `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.
 REGISTRY_PREFIX = "registry:"
-# What DATA_SUBSCRIBER writes (`output_format`); the first is the default.
-OUTPUT_FORMATS = ("lerobot", "parquet")
+# What DATA_SUBSCRIBER writes (`output_format`); the first is the default. BAG_FORMAT records ROS
+# messages as they are (a rosbag2 MCAP bag), so it takes inputs of any type.
+BAG_FORMAT = "mcap"
+OUTPUT_FORMATS = ("lerobot", "parquet", BAG_FORMAT)
 # LeRobot policy types an INFERENCE node can run (`policy_type`, compared without case; a saved policy's
 # config.json names its type, and the node refuses any other).
 POLICY_TYPES = ("act", "diffusion")

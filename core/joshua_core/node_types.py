@@ -8,6 +8,8 @@ it touches hardware, and its tests (tests/test_node_type_registry.py checks that
 
 from dataclasses import dataclass, field
 
+from joshua_core.models import BAG_FORMAT
+
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
 _SERVO_BUS_FIELDS = frozenset({"serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file",
                                "rate_hz", "frame_id"})
@@ -150,7 +152,9 @@ INFERENCE = NodeTypeSpec(
 DATA_SUBSCRIBER = NodeTypeSpec(
     name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
-    python_only=True, fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz"}),
+    python_only=True,
+    fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz", "bag_max_size_mb",
+                      "bag_max_duration_s"}),
     required=("output_directory", "input_topics"), rate_hz=30.0,
     runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
     runtime_extra="ai",
@@ -184,6 +188,17 @@ SIMULATION_ENGINE = NodeTypeSpec(
 )
 # Every type a runtime process can be started as, by the name written in its settings.
 PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE}
+
+
+def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, ...] | None:
+    """The message types a node's input_topics may carry; None when any type is fine.
+
+    A recorder writing a ROS bag stores messages as they are, whatever their type; every other
+    reader (a policy, a dataset recorder) reads only its registry entry's input_types.
+    """
+    if entry.family == "recorder" and output_format == BAG_FORMAT:
+        return None
+    return entry.input_types
 
 
 def spec(name: str) -> NodeTypeSpec | None:
