@@ -3,6 +3,7 @@ built from a checked description with every default resolved (pure; no I/O)."""
 
 from joshua_codegen import defaults
 from joshua_codegen.model import Endpoint
+from joshua_core.models import DEFAULT_ROBOT_DESCRIPTION
 from joshua_core.node_types import SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.settings import FORMAT_VERSION, NodeSettings, QosSettings, SimulationSettings, TopicSettings
@@ -55,6 +56,7 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
         "ble_transport": node.ble_transport,
         "bag_max_size_mb": node.bag_max_size_mb,
         "bag_max_duration_s": node.bag_max_duration_s,
+        "robot_description": node.robot_description or DEFAULT_ROBOT_DESCRIPTION,
     }
     for key, value in applicable.items():
         if key in defaults.FIELD_APPLIES_TO and node.type not in defaults.FIELD_APPLIES_TO[key]:

@@ -19,6 +19,8 @@ OUTPUT_FORMATS = ("lerobot", "parquet", BAG_FORMAT)
 # LeRobot policy types an INFERENCE node can run (`policy_type`, compared without case; a saved policy's
 # config.json names its type, and the node refuses any other).
 POLICY_TYPES = ("act", "diffusion")
+# The URDF a ROBOT_STATE_PUBLISHER publishes when `robot_description` is unset (shipped with joshua_runtime).
+DEFAULT_ROBOT_DESCRIPTION = "builtin:so100"
 # Torch devices an INFERENCE node runs a policy on (`device`); the first is the default.
 DEVICES = ("cpu", "cuda")
 # Where the registry lives: $JOSHUA_MODEL_REGISTRY, else REGISTRY_DEFAULT_ROOT (with ~ expanded); an entry

@@ -34,7 +34,8 @@ OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 class NodeTypeSpec:
     """What one node type is, declared once.
 
-    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, base, custom
+    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, base,
+                state_publisher, custom
     topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
     message_types  allowed on topic_name; the first is the default
     input_types    the message types its input_topics may carry (empty: it reads none)
@@ -164,6 +165,11 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
     odom_topic=True, hardware=True, python_only=True, fields=_BASE_FIELDS, rate_hz=50.0, frame_id="odom",
     runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase", sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
 )
+ROBOT_STATE_PUBLISHER = NodeTypeSpec(
+    name="ROBOT_STATE_PUBLISHER", family="state_publisher", topic="subscribes", message_types=(JOINT_STATE,),
+    python_only=True, fields=frozenset({"robot_description"}),
+    runtime_class=f"{_NODES}.robot_state_publisher:RobotStatePublisher",
+)
 CUSTOM = NodeTypeSpec(
     name="CUSTOM", family="custom", topic="", python_only=True,
     fields=frozenset({"executable", "args", "publishes", "subscribes"}),
@@ -172,7 +178,7 @@ CUSTOM = NodeTypeSpec(
 
 NODE_TYPES: dict[str, NodeTypeSpec] = {spec.name: spec for spec in (
     CAMERA_PUBLISHER, ENCODER_PUBLISHER, LIDAR_PUBLISHER, ACTUATOR_SUBSCRIBER, INFERENCE, DATA_SUBSCRIBER,
-    OPERATIONAL_LIMIT_CALIBRATION,
+    OPERATIONAL_LIMIT_CALIBRATION, ROBOT_STATE_PUBLISHER,
     _mock(CAMERA_PUBLISHER, f"{_NODES}.mock_camera_publisher:MockCameraPublisher"),
     _mock(ENCODER_PUBLISHER, f"{_NODES}.mock_encoder_publisher:MockEncoderPublisher"),
     _mock(LIDAR_PUBLISHER, f"{_NODES}.mock_lidar_publisher:MockLidarPublisher"),
