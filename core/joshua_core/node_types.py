@@ -122,7 +122,8 @@ ENCODER_PUBLISHER = NodeTypeSpec(
     runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher", sim_bridge=f"{_BRIDGES}:EncoderBridge",
 )
 LIDAR_PUBLISHER = NodeTypeSpec(
-    name="LIDAR_PUBLISHER", family="lidar", topic="publishes", message_types=("sensor_msgs/msg/LaserScan",),
+    name="LIDAR_PUBLISHER", family="lidar", topic="publishes",
+    message_types=("sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2"),
     hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
     fields=_LIDAR_FIELDS, required=("serial_port",), claims=("serial_port",), rate_hz=5.0, frame_id="laser",
     sensor_qos=True, runtime_class=f"{_NODES}.lidar_publisher:LidarPublisher", sim_bridge=f"{_BRIDGES}:LidarBridge",
