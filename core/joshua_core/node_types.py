@@ -8,8 +8,6 @@ it touches hardware, and its tests (tests/test_node_type_registry.py checks that
 
 from dataclasses import dataclass, field
 
-from joshua_core.models import BAG_FORMAT
-
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
 _SERVO_BUS_FIELDS = frozenset({"serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file",
                                "rate_hz", "frame_id"})
@@ -193,8 +191,14 @@ SIMULATION_ENGINE = NodeTypeSpec(
     name="SIMULATION", family="simulation", topic="", python_only=True,
     runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode", runtime_extra="sim",
 )
+# The process `foxglove { }` adds: the robot's topics over the Foxglove WebSocket protocol.
+FOXGLOVE_BRIDGE = NodeTypeSpec(
+    name="FOXGLOVE_BRIDGE", family="bridge", topic="", python_only=True,
+    runtime_class="joshua_runtime.foxglove.bridge_node:FoxgloveBridgeNode",
+)
 # Every type a runtime process can be started as, by the name written in its settings.
-PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE}
+PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE,
+                                          FOXGLOVE_BRIDGE.name: FOXGLOVE_BRIDGE}
 
 
 def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, ...] | None:
@@ -203,6 +207,8 @@ def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, 
     A recorder writing a ROS bag stores messages as they are, whatever their type; every other
     reader (a policy, a dataset recorder) reads only its registry entry's input_types.
     """
+    from joshua_core.models import BAG_FORMAT  # models imports this module
+
     if entry.family == "recorder" and output_format == BAG_FORMAT:
         return None
     return entry.input_types
