@@ -104,7 +104,7 @@ class BagWriter:
 
     def _open_next_file(self) -> None:
         name = f"{self.directory.name}_{len(self.stats.files)}.mcap"
-        self._file = open(self.directory / name, "wb")
+        self._file = open(self.directory / name, "wb")  # noqa: SIM115 - open until the file is finished
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE_BYTES, compression=CompressionType.ZSTD)
         self._writer.start(profile=Profile.ROS2, library=LIBRARY)
         self.stats.files.append(_FileStats(name))

@@ -12,7 +12,6 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 
 import numpy as np
-
 from joshua_runtime.errors import SettingsError
 
 BUILTIN_PREFIX = "builtin:"

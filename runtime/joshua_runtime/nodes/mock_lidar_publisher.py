@@ -15,7 +15,6 @@ from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 
 
-
 class MockLidarPublisher(JoshuaNode):
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)

@@ -13,6 +13,7 @@ Exit codes: 0 success (also when stopped with Ctrl-C), 1 topic not found or fail
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
 import os
@@ -134,7 +135,11 @@ def _list(node, executor, args) -> None:
 
 
 def _info(node, executor, args) -> int:
-    from joshua_runtime.tools.topic_graph import describe_endpoint, discover, wait_for_topic
+    from joshua_runtime.tools.topic_graph import (
+        describe_endpoint,
+        discover,
+        wait_for_topic,
+    )
 
     wait_for_topic(node, executor, args.topic, args.timeout)
     discover(executor, INFO_SETTLE_S)
@@ -191,7 +196,7 @@ def _hz(node, executor, args) -> None:
 
 
 def _rate_report(arrivals: list[float]) -> str:
-    gaps = [later - earlier for earlier, later in zip(arrivals, arrivals[1:])]
+    gaps = [later - earlier for earlier, later in itertools.pairwise(arrivals)]
     mean = sum(gaps) / len(gaps)
     deviation = math.sqrt(sum((gap - mean) ** 2 for gap in gaps) / len(gaps))
     return (f"average rate: {1.0 / mean:.3f}\n"

@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 
 from testsupport.compiled_settings import compiled_settings
-from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 
 WAIT_S = 20.0
 ARM = "/arm/joint_states"

@@ -3,7 +3,6 @@
 import mujoco
 import numpy as np
 import pytest
-
 from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.description.urdf_model import load, quaternion_xyzw
 from joshua_runtime.sim.model import BUILTIN_MODEL_FILES

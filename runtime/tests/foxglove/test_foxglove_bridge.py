@@ -5,7 +5,6 @@ import json
 import socket
 import struct
 
-import pytest
 import websockets
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState

@@ -6,11 +6,11 @@ import textwrap
 
 import pytest
 from geometry_msgs.msg import TransformStamped
+from joshua_runtime.messages import message_class
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message, serialize_message
 
 from joshua_codegen.msg_catalog import MESSAGE_TYPES
-from joshua_runtime.messages import message_class
 
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 RECEIVE_TIMEOUT_S = 15.0

@@ -4,12 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from sensor_msgs.msg import PointCloud2
-
-from testsupport.compiled_settings import compiled_node
-from sensor_support import SENSOR_QOS, collect, publishers
 from joshua_runtime.drivers.lds01 import Lds01Driver
 from joshua_runtime.emulators.lds01 import Lds01Emulator
+from sensor_msgs.msg import PointCloud2
+from sensor_support import SENSOR_QOS, collect, publishers
+
+from testsupport.compiled_settings import compiled_node
 
 # Readings of the emulator's room at whole degrees (as test_lds01_driver.py knows them), in metres.
 KNOWN = {0: 0.8, 90: 1.5, 270: 1.0}

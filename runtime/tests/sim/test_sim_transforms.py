@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from sensor_msgs.msg import JointState
+from sim_settings import ENCODER
 
 from testsupport.compiled_settings import compiled_settings
-from sim_settings import ENCODER
-from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 
 WAIT_S = 30.0
 RELIABLE = {"history": "KEEP_LAST", "depth": 100, "reliability": "RELIABLE", "durability": "VOLATILE"}
@@ -40,4 +40,4 @@ def test_the_simulated_arm_publishes_transforms_of_its_joint_states(start_node, 
             assert [r.x, r.y, r.z, r.w] == pytest.approx(quaternion_xyzw(expected[:3, :3]), abs=1e-9)
             assert transform.transform.translation.x == pytest.approx(expected[0, 3])
         matched += 1
-    assert matched >= 10 and np.isfinite(list(joints.values())[0]["gripper"])
+    assert matched >= 10 and np.isfinite(next(iter(joints.values()))["gripper"])
