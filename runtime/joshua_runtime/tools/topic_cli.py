@@ -28,7 +28,7 @@ INFO_SETTLE_S = 1.0  # how long `info` keeps discovering once the topic has appe
 TOPIC_TIMEOUT_S = 10.0  # how long echo and hz wait for the topic to appear
 HZ_REPORT_EVERY_S = 1.0
 HZ_WINDOW = 10000
-PUB_MATCH_WAIT_S = 2.0  # how long a one-shot pub waits for subscriptions to match before sending
+PUB_MATCH_WAIT_S = 5.0  # how long a counted pub (--once, --times) waits for a subscription to match
 FASTDDS_PROFILE = "fastdds_profile.xml"  # written by joshuac build beside the manifest
 FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
 PUB_LINGER_S = 0.3  # time for a one-shot message to leave before the process ends
@@ -63,6 +63,8 @@ def _parser() -> argparse.ArgumentParser:
     pub.add_argument("-1", "--once", action="store_true", help="publish one message, then exit")
     pub.add_argument("-t", "--times", type=int, help="publish this many messages, then exit")
     pub.add_argument("--transient-local", action="store_true", help="keep the last message for late subscribers")
+    pub.add_argument("--wait-matching", type=float, default=PUB_MATCH_WAIT_S, metavar="S",
+                     help="with --once/--times, seconds to wait for a subscriber first (default %(default)s)")
     return parser
 
 
@@ -215,7 +217,7 @@ def _pub(node, executor, args) -> None:
                                       QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=durability))
     times = 1 if args.once else args.times
     if times is not None:
-        deadline = time.monotonic() + PUB_MATCH_WAIT_S
+        deadline = time.monotonic() + args.wait_matching
         while publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.05)
     print(f"publisher: beginning loop\npublishing #1: {to_yaml(message)}", end="", flush=True)

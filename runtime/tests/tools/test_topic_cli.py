@@ -74,7 +74,8 @@ def test_the_robot_option_takes_the_domain_from_the_build(ros_env, ros_client, t
     ros_client.listen("/joints_in", JointState, RELIABLE)
     elsewhere = dict(ros_env, ROS_DOMAIN_ID=str(int(ros_env["ROS_DOMAIN_ID"]) + 1))
     sent = topic_cli(elsewhere, "--robot", tmp_path / "out", "pub", "/joints_in", "sensor_msgs/msg/JointState",
-                     "{name: [shoulder_pan], position: [1.5]}", "--times", 3, "--rate", 5)
+                     "{name: [shoulder_pan], position: [1.5]}", "--times", 10, "--rate", 10,
+                     "--wait-matching", 20)
     assert sent.returncode == 0, sent.stderr
     assert ros_client.spin_until(lambda: ros_client.last("/joints_in") is not None, RECEIVE_TIMEOUT_S)
     assert list(ros_client.last("/joints_in").position) == [1.5]
