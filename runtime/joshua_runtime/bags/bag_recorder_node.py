@@ -21,6 +21,16 @@ BYTES_PER_MB = 1_000_000
 NS_PER_S = 1_000_000_000
 
 
+def new_bag_directory(root: Path, prefix: str) -> Path:
+    """`root/<prefix>_<UTC time>`, suffixed _2, _3 ... when a bag of that second exists (a quick restart)."""
+    base = f"{prefix}_{time.strftime('%Y_%m_%d-%H_%M_%S', time.gmtime())}"
+    candidate, number = root / base, 1
+    while candidate.exists():
+        number += 1
+        candidate = root / f"{base}_{number}"
+    return candidate
+
+
 class BagRecorderNode(JoshuaNode):
     """Subscribes to every recorded topic in raw (serialized) form and writes each message to a BagWriter."""
 
@@ -34,9 +44,8 @@ class BagRecorderNode(JoshuaNode):
         root = Path(self.settings.output_directory).expanduser()
         if root.exists() and not root.is_dir():
             raise SettingsError(f"output_directory {root} is not a directory")
-        stamp = time.strftime("%Y_%m_%d-%H_%M_%S", time.gmtime())
         try:
-            self.writer = BagWriter(root / f"{self.settings.robot or self.name}_{stamp}",
+            self.writer = BagWriter(new_bag_directory(root, self.settings.robot or self.name),
                                     self.settings.bag_max_size_mb * BYTES_PER_MB,
                                     round(self.settings.bag_max_duration_s * NS_PER_S))
         except OSError as exc:

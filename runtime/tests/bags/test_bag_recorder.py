@@ -120,3 +120,12 @@ def test_a_killed_recorder_leaves_a_bag_readable_up_to_its_last_chunk(start_node
             pass
     assert len(recovered) >= len(sent) - 40  # at most about one chunk period (1 s at 20 Hz) lost
     assert recovered == sorted(recovered)
+
+
+def test_a_restart_within_the_same_second_gets_a_bag_of_its_own(tmp_path):
+    from joshua_runtime.bags.bag_recorder_node import new_bag_directory
+
+    first = new_bag_directory(tmp_path, "bagbot")
+    first.mkdir()
+    second = new_bag_directory(tmp_path, "bagbot")
+    assert second != first and second.name.startswith(first.name[:len("bagbot_")])
