@@ -12,14 +12,13 @@ engine publishes for the simulated arm, so a simulated robot has the same /tf as
 
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from joshua_runtime.convert.transforms import TF_QOS, TF_TOPIC
 from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 
-TF_TOPIC = "/tf"
 TF_STATIC_TOPIC = "/tf_static"
 DESCRIPTION_TOPIC = "/robot_description"
-TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
 LATCHED_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
