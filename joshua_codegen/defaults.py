@@ -2,7 +2,8 @@
 
 from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
 from joshua_core.models import DEVICES, GL_BACKENDS, OUTPUT_FORMATS
-from joshua_core.node_types import BASE_WHEEL_JOINTS, JOINT_STATE, NODE_TYPES, ODOMETRY, SIMULATION_ENGINE, NodeTypeSpec
+from joshua_core.node_types import (BASE_WHEEL_JOINTS, FOXGLOVE_BRIDGE, JOINT_STATE, NODE_TYPES, ODOMETRY,
+                                    SIMULATION_ENGINE, NodeTypeSpec)
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
 
@@ -12,6 +13,8 @@ MAX_RESTARTS = 5
 CPP_BIN_DIR = "/opt/joshua/bin"
 PYTHON_EXECUTABLE = "python3"
 SIMULATION_NAME = SIMULATION_ENGINE.name.lower()
+FOXGLOVE_NAME = FOXGLOVE_BRIDGE.name.lower()  # the process name `foxglove { }` reserves (E130)
+FOXGLOVE_PORT, FOXGLOVE_HOST = 8765, "0.0.0.0"
 
 NodeType = pb.NodeType
 # Node-type numbers of the schema -> registry entries. Every set below is derived from the registry.

@@ -46,7 +46,7 @@ def _blocks() -> dict[str, str]:
     """Message full name -> the block name it is written as (`joshua.v1.Node` -> `node`)."""
     robot = RobotConfig.DESCRIPTOR
     blocks = {robot.full_name: "robot_config"}
-    for name in ("node", "shutdown", "simulation"):
+    for name in ("node", "shutdown", "simulation", "foxglove"):
         blocks[robot.fields_by_name[name].message_type.full_name] = name
     return blocks
 

@@ -6,7 +6,7 @@
 from dataclasses import dataclass, field
 from functools import cached_property
 
-from joshua_core.node_types import SIMULATION_ENGINE
+from joshua_core.node_types import FOXGLOVE_BRIDGE, SIMULATION_ENGINE
 from joshua_core.settings import NodeSettings
 
 
@@ -106,6 +106,7 @@ class Robot:
     python_executable: str
     env: tuple[tuple[str, str], ...]
     simulation: NodeSettings | None = field(hash=False, compare=False)  # the engine's settings in MODE_SIMULATION
+    foxglove: NodeSettings | None = field(default=None, hash=False, compare=False)  # the Foxglove bridge's
 
     def node(self, name: str) -> NodeModel:
         return self._nodes_by_name[name]
@@ -130,4 +131,6 @@ class Robot:
         """The settings of a python process (a node's, or the simulation engine's)."""
         if process.node_type == SIMULATION_ENGINE.name:
             return self.simulation
+        if process.node_type == FOXGLOVE_BRIDGE.name:
+            return self.foxglove
         return self.node(process.name).settings

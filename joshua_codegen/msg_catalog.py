@@ -1,7 +1,7 @@
 """Every message type of std_msgs, sensor_msgs, geometry_msgs, nav_msgs and tf2_msgs in ROS 2 Jazzy.
 
 Taken from the `.msg` files of the Jazzy packages (std_msgs, sensor_msgs, geometry_msgs and
-nav_msgs 5.3.6; tf2_msgs 0.36 defines one message, TFMessage). Names use the ROS 2 form
+nav_msgs 5.3.6; tf2_msgs 0.36 defines TF2Error and TFMessage, built by set-up from interfaces/). Names use the ROS 2 form
 `pkg/msg/Type`.
 """
 
@@ -38,7 +38,7 @@ PACKAGES: dict[str, tuple[str, ...]] = {
         "Goals", "GridCells", "MapMetaData", "OccupancyGrid", "Odometry", "Path",
     ),
     "tf2_msgs": (
-        "TFMessage",
+        "TF2Error", "TFMessage",
     ),
 }
 MESSAGE_TYPES: frozenset[str] = frozenset(f"{pkg}/msg/{name}" for pkg, names in PACKAGES.items() for name in names)

@@ -3,7 +3,8 @@ built from a checked description with every default resolved (pure; no I/O)."""
 
 from joshua_codegen import defaults
 from joshua_codegen.model import Endpoint
-from joshua_core.node_types import SIMULATION_ENGINE
+from joshua_core.models import DEFAULT_ROBOT_DESCRIPTION
+from joshua_core.node_types import FOXGLOVE_BRIDGE, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.settings import FORMAT_VERSION, NodeSettings, QosSettings, SimulationSettings, TopicSettings
 
@@ -53,6 +54,9 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
         "hub": defaults.hub(node),
         "command_timeout_s": defaults.command_timeout_s(node),
         "ble_transport": node.ble_transport,
+        "bag_max_size_mb": node.bag_max_size_mb,
+        "bag_max_duration_s": node.bag_max_duration_s,
+        "robot_description": node.robot_description or DEFAULT_ROBOT_DESCRIPTION,
     }
     for key, value in applicable.items():
         if key in defaults.FIELD_APPLIES_TO and node.type not in defaults.FIELD_APPLIES_TO[key]:
@@ -73,6 +77,16 @@ def for_simulation(config: pb.RobotConfig, simulates: list[NodeSettings]) -> Sim
         section.timestep_s = sim.timestep_s
     section.simulates.extend(simulates)
     return section
+
+
+def for_foxglove(config: pb.RobotConfig, name: str, topics: list[Endpoint]) -> NodeSettings:
+    """The settings of the Foxglove bridge process: where it listens and the topics it serves."""
+    settings = _common(config, name, FOXGLOVE_BRIDGE.name)
+    foxglove = config.foxglove
+    settings.foxglove.port = foxglove.port if foxglove.HasField("port") else defaults.FOXGLOVE_PORT
+    settings.foxglove.host = foxglove.host or defaults.FOXGLOVE_HOST
+    settings.inputs.extend(_topic(endpoint) for endpoint in topics)
+    return settings
 
 
 def for_engine(config: pb.RobotConfig, name: str, simulation: SimulationSettings) -> NodeSettings:

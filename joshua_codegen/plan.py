@@ -6,7 +6,7 @@ from joshua_codegen import defaults, escape, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
 from joshua_codegen.positions import node_path
 from joshua_core.models import REGISTRY_PREFIX
-from joshua_core.node_types import IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
+from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
 
 
@@ -32,12 +32,16 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         section = node_settings.for_simulation(config, [model.settings for model in simulated])
         simulation = node_settings.for_engine(config, engine, section)
         processes += (_engine_process(engine, any(_carries_images(model) for model in simulated)),)
+    topics = _topics(nodes)
+    foxglove = _foxglove_settings(config, topics) if config.HasField("foxglove") else None
+    if foxglove is not None:
+        processes += (_foxglove_process(foxglove.name, any(t.message_type in IMAGE_TYPES for t in topics)),)
     return Robot(
         name=config.name,
         mode=mode,
         source=os.path.basename(source),
         nodes=nodes,
-        topics=_topics(nodes),
+        topics=topics,
         processes=processes,
         sigint_grace_s=_grace(config.shutdown, "sigint_grace_s", defaults.SIGINT_GRACE_S),
         sigterm_grace_s=_grace(config.shutdown, "sigterm_grace_s", defaults.SIGTERM_GRACE_S),
@@ -46,6 +50,7 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         python_executable=config.python_executable or defaults.PYTHON_EXECUTABLE,
         env=tuple(sorted(config.env.items())),
         simulation=simulation,
+        foxglove=foxglove,
     )
 
 
@@ -176,6 +181,22 @@ def _engine_process(name: str, carries_images: bool) -> Process:
         name=name, node_type=SIMULATION_ENGINE.name, kind="python", entrypoint=f"nodes/{name}.py", executable="",
         args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
         critical=True, env=(), devices=(), carries_images=carries_images,
+    )
+
+
+def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):
+    """The Foxglove bridge serves every typed topic, subscribed with a QoS all its publishers serve."""
+    served = [Endpoint(defaults.FOXGLOVE_NAME, t.name, t.message_type, _matching_qos(list(t.publishers)), "subscriber")
+              for t in topics if t.message_type]
+    return node_settings.for_foxglove(config, defaults.FOXGLOVE_NAME, served)
+
+
+def _foxglove_process(name: str, carries_images: bool) -> Process:
+    """The bridge process: restarted on failure, and not critical (a viewer must not stop the robot)."""
+    return Process(
+        name=name, node_type=FOXGLOVE_BRIDGE.name, kind="python", entrypoint=f"nodes/{name}.py", executable="",
+        args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
+        critical=False, env=(), devices=(), carries_images=carries_images,
     )
 
 

@@ -5,7 +5,8 @@ cd "$(dirname "$0")/.."
 export UV_PYTHON_DOWNLOADS=never
 
 # System packages: systemd-analyze (unit checks), Mesa EGL (MuJoCo offscreen rendering), the libraries
-# Qt needs offscreen, and the compiler and JSON header of the C++ nodes.
+# Qt needs offscreen, and the compiler and JSON header of the C++ nodes (g++ also builds the ROS
+# interface packages no wheel ships, from interfaces/).
 APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core g++ make nlohmann-json3-dev)
 missing=()
 for package in "${APT_PACKAGES[@]}"; do
@@ -30,6 +31,7 @@ fi
 # Bytecode is compiled up front: with PYTHONDONTWRITEBYTECODE set, every node process would
 # otherwise compile rclpy, torch and the project from source at each start.
 uv sync --locked --inexact --quiet --compile-bytecode
+.venv/bin/python scripts/build_ros_interfaces.py  # tf2_msgs; a no-op when its stamp is current
 .venv/bin/python -m compileall -q joshua_codegen core/joshua_core runtime/joshua_runtime bench testsupport >/dev/null
 .venv/bin/joshuac build config/robots/so100_leader_follower.pbtxt -o "$(mktemp -d)/warm" >/dev/null 2>&1 || true  # fills the compiled-template cache
 

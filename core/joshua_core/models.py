@@ -12,11 +12,15 @@ BUILTIN_MODEL_JOINTS = {"so100": SO100_JOINTS, "lego_bot": BASE_WHEEL_JOINTS}
 GL_BACKENDS = ("egl", "osmesa")
 # `model_path: "registry:NAME[@REVISION]"` names a policy in the local model registry.
 REGISTRY_PREFIX = "registry:"
-# What DATA_SUBSCRIBER writes (`output_format`); the first is the default.
-OUTPUT_FORMATS = ("lerobot", "parquet")
+# What DATA_SUBSCRIBER writes (`output_format`); the first is the default. BAG_FORMAT records ROS
+# messages as they are (a rosbag2 MCAP bag), so it takes inputs of any type.
+BAG_FORMAT = "mcap"
+OUTPUT_FORMATS = ("lerobot", "parquet", BAG_FORMAT)
 # LeRobot policy types an INFERENCE node can run (`policy_type`, compared without case; a saved policy's
 # config.json names its type, and the node refuses any other).
 POLICY_TYPES = ("act", "diffusion")
+# The URDF a ROBOT_STATE_PUBLISHER publishes when `robot_description` is unset (shipped with joshua_runtime).
+DEFAULT_ROBOT_DESCRIPTION = "builtin:so100"
 # Torch devices an INFERENCE node runs a policy on (`device`); the first is the default.
 DEVICES = ("cpu", "cuda")
 # Where the registry lives: $JOSHUA_MODEL_REGISTRY, else REGISTRY_DEFAULT_ROOT (with ~ expanded); an entry

@@ -32,7 +32,8 @@ OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 class NodeTypeSpec:
     """What one node type is, declared once.
 
-    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, base, custom
+    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, base,
+                state_publisher, custom
     topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
     message_types  allowed on topic_name; the first is the default
     input_types    the message types its input_topics may carry (empty: it reads none)
@@ -119,7 +120,8 @@ ENCODER_PUBLISHER = NodeTypeSpec(
     runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher", sim_bridge=f"{_BRIDGES}:EncoderBridge",
 )
 LIDAR_PUBLISHER = NodeTypeSpec(
-    name="LIDAR_PUBLISHER", family="lidar", topic="publishes", message_types=("sensor_msgs/msg/LaserScan",),
+    name="LIDAR_PUBLISHER", family="lidar", topic="publishes",
+    message_types=("sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2"),
     hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
     fields=_LIDAR_FIELDS, required=("serial_port",), claims=("serial_port",), rate_hz=5.0, frame_id="laser",
     sensor_qos=True, runtime_class=f"{_NODES}.lidar_publisher:LidarPublisher", sim_bridge=f"{_BRIDGES}:LidarBridge",
@@ -150,7 +152,9 @@ INFERENCE = NodeTypeSpec(
 DATA_SUBSCRIBER = NodeTypeSpec(
     name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
-    python_only=True, fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz"}),
+    python_only=True,
+    fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz", "bag_max_size_mb",
+                      "bag_max_duration_s"}),
     required=("output_directory", "input_topics"), rate_hz=30.0,
     runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
     runtime_extra="ai",
@@ -160,6 +164,11 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
     odom_topic=True, hardware=True, python_only=True, fields=_BASE_FIELDS, rate_hz=50.0, frame_id="odom",
     runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase", sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
 )
+ROBOT_STATE_PUBLISHER = NodeTypeSpec(
+    name="ROBOT_STATE_PUBLISHER", family="state_publisher", topic="subscribes", message_types=(JOINT_STATE,),
+    python_only=True, fields=frozenset({"robot_description"}),
+    runtime_class=f"{_NODES}.robot_state_publisher:RobotStatePublisher",
+)
 CUSTOM = NodeTypeSpec(
     name="CUSTOM", family="custom", topic="", python_only=True,
     fields=frozenset({"executable", "args", "publishes", "subscribes"}),
@@ -168,7 +177,7 @@ CUSTOM = NodeTypeSpec(
 
 NODE_TYPES: dict[str, NodeTypeSpec] = {spec.name: spec for spec in (
     CAMERA_PUBLISHER, ENCODER_PUBLISHER, LIDAR_PUBLISHER, ACTUATOR_SUBSCRIBER, INFERENCE, DATA_SUBSCRIBER,
-    OPERATIONAL_LIMIT_CALIBRATION,
+    OPERATIONAL_LIMIT_CALIBRATION, ROBOT_STATE_PUBLISHER,
     _mock(CAMERA_PUBLISHER, f"{_NODES}.mock_camera_publisher:MockCameraPublisher"),
     _mock(ENCODER_PUBLISHER, f"{_NODES}.mock_encoder_publisher:MockEncoderPublisher"),
     _mock(LIDAR_PUBLISHER, f"{_NODES}.mock_lidar_publisher:MockLidarPublisher"),
@@ -182,8 +191,27 @@ SIMULATION_ENGINE = NodeTypeSpec(
     name="SIMULATION", family="simulation", topic="", python_only=True,
     runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode", runtime_extra="sim",
 )
+# The process `foxglove { }` adds: the robot's topics over the Foxglove WebSocket protocol.
+FOXGLOVE_BRIDGE = NodeTypeSpec(
+    name="FOXGLOVE_BRIDGE", family="bridge", topic="", python_only=True,
+    runtime_class="joshua_runtime.foxglove.bridge_node:FoxgloveBridgeNode",
+)
 # Every type a runtime process can be started as, by the name written in its settings.
-PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE}
+PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE,
+                                          FOXGLOVE_BRIDGE.name: FOXGLOVE_BRIDGE}
+
+
+def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, ...] | None:
+    """The message types a node's input_topics may carry; None when any type is fine.
+
+    A recorder writing a ROS bag stores messages as they are, whatever their type; every other
+    reader (a policy, a dataset recorder) reads only its registry entry's input_types.
+    """
+    from joshua_core.models import BAG_FORMAT  # models imports this module
+
+    if entry.family == "recorder" and output_format == BAG_FORMAT:
+        return None
+    return entry.input_types
 
 
 def spec(name: str) -> NodeTypeSpec | None:

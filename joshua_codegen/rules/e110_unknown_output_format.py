@@ -1,11 +1,11 @@
-"""E110 unknown-output-format: a DATA_SUBSCRIBER's output_format is not lerobot or parquet.
+"""E110 unknown-output-format: a DATA_SUBSCRIBER's output_format is not lerobot, parquet or mcap.
 
 What it checks:
     `output_format` of a DATA_SUBSCRIBER is empty (default `lerobot`), `lerobot` (LeRobotDataset
-    v3.0 with video) or `parquet` (tables only, no video).
+    v3.0 with video), `parquet` (tables only, no video) or `mcap` (a rosbag2 MCAP bag).
 
 Why it matters:
-    The recorder writes only these two formats; anything else would fail when recording starts.
+    The recorder writes only these formats; anything else would fail when recording starts.
 
 Example:
     node {

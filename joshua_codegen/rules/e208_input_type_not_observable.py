@@ -4,7 +4,8 @@ What it checks:
     Every `input_topics` entry of an INFERENCE or DATA_SUBSCRIBER node whose publisher is in the
     description is published as one of the types the node reads: sensor_msgs/msg/Image,
     sensor_msgs/msg/CompressedImage or sensor_msgs/msg/JointState (the node-type registry's
-    input_types).
+    input_types, as `readable_input_types` gives them). A DATA_SUBSCRIBER with output_format "mcap"
+    writes a ROS bag and records any type.
 
 Why it matters:
     Policies observe images and joint states, and datasets record them as LeRobot features; a
@@ -18,6 +19,7 @@ Example:
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.node_types import readable_input_types
 
 CODE = "E208"
 NAME = "input-type-not-observable"
@@ -32,8 +34,9 @@ def check(ctx):
             continue
         published = publishers[0]
         for reader in readers:
-            readable = defaults.entry(reader.view.node).input_types
-            if published.message_type not in readable:
+            node = reader.view.node
+            readable = readable_input_types(defaults.entry(node), defaults.output_format(node))
+            if readable is not None and published.message_type not in readable:
                 yield Finding(reader.at, f'{reader.view.label} cannot read "{topic}": it is published as '
                                          f"{published.message_type}; inputs must be {', '.join(readable)}",
                               ((published.at, f'publisher "{published.view.name}" declared here'),))

@@ -4,7 +4,7 @@ import importlib
 
 from joshua_codegen import msg_catalog
 
-INSTALLED = ("std_msgs", "sensor_msgs", "geometry_msgs", "nav_msgs")
+INSTALLED = ("std_msgs", "sensor_msgs", "geometry_msgs", "nav_msgs", "tf2_msgs")  # tf2_msgs: built by set-up
 
 
 def test_catalogue_matches_the_installed_message_packages():
@@ -12,7 +12,6 @@ def test_catalogue_matches_the_installed_message_packages():
         module = importlib.import_module(f"{package}.msg")
         installed = {name for name in dir(module) if name[:1].isupper()}
         assert set(msg_catalog.PACKAGES[package]) == installed, package
-    assert msg_catalog.PACKAGES["tf2_msgs"] == ("TFMessage",)
     assert len(msg_catalog.MESSAGE_TYPES) == sum(len(names) for names in msg_catalog.PACKAGES.values())
 
 

@@ -85,3 +85,12 @@ def test_best_effort_subscription_of_a_reliable_publisher_is_fine():
 
 def test_nodes_without_a_type_are_left_to_e103():
     assert codes(robot('name: "x"')) == [("E103", 4, 3)]
+
+
+def test_a_bag_recorder_records_inputs_of_any_type():
+    lidar = 'type: MOCK_LIDAR_PUBLISHER topic_name: "/scan"'
+    arm = 'type: MOCK_ENCODER_PUBLISHER topic_name: "/j"'
+    recorder = 'type: DATA_SUBSCRIBER topic_name: "/j" output_directory: "/d" input_topics: ["/scan"]'
+    assert codes(robot(lidar, arm, recorder, mode="MODE_DATA_COLLECTION")) == [("E208", 6, 87)]
+    bag = recorder + ' output_format: "mcap" bag_max_size_mb: 100 bag_max_duration_s: 60'
+    assert codes(robot(lidar, arm, bag, mode="MODE_DATA_COLLECTION")) == []

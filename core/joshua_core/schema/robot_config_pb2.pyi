@@ -33,6 +33,7 @@ class NodeType(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
     CUSTOM: _ClassVar[NodeType]
     DIFF_DRIVE_BASE: _ClassVar[NodeType]
     MOCK_DIFF_DRIVE_BASE: _ClassVar[NodeType]
+    ROBOT_STATE_PUBLISHER: _ClassVar[NodeType]
 
 class Reliability(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
     __slots__ = ()
@@ -85,6 +86,7 @@ MOCK_ACTUATOR_SUBSCRIBER: NodeType
 CUSTOM: NodeType
 DIFF_DRIVE_BASE: NodeType
 MOCK_DIFF_DRIVE_BASE: NodeType
+ROBOT_STATE_PUBLISHER: NodeType
 RELIABILITY_UNSPECIFIED: Reliability
 BEST_EFFORT: Reliability
 RELIABLE: Reliability
@@ -130,8 +132,16 @@ class Simulation(_message.Message):
     gl_backend: str
     def __init__(self, model: _Optional[str] = ..., timestep_s: _Optional[float] = ..., realtime_factor: _Optional[float] = ..., camera: _Optional[str] = ..., gl_backend: _Optional[str] = ...) -> None: ...
 
+class Foxglove(_message.Message):
+    __slots__ = ("port", "host")
+    PORT_FIELD_NUMBER: _ClassVar[int]
+    HOST_FIELD_NUMBER: _ClassVar[int]
+    port: int
+    host: str
+    def __init__(self, port: _Optional[int] = ..., host: _Optional[str] = ...) -> None: ...
+
 class RobotConfig(_message.Message):
-    __slots__ = ("name", "mode", "node", "shutdown", "simulation", "ros_domain_id", "cpp_bin_dir", "python_executable", "env")
+    __slots__ = ("name", "mode", "node", "shutdown", "simulation", "ros_domain_id", "cpp_bin_dir", "python_executable", "env", "foxglove")
     class EnvEntry(_message.Message):
         __slots__ = ("key", "value")
         KEY_FIELD_NUMBER: _ClassVar[int]
@@ -148,6 +158,7 @@ class RobotConfig(_message.Message):
     CPP_BIN_DIR_FIELD_NUMBER: _ClassVar[int]
     PYTHON_EXECUTABLE_FIELD_NUMBER: _ClassVar[int]
     ENV_FIELD_NUMBER: _ClassVar[int]
+    FOXGLOVE_FIELD_NUMBER: _ClassVar[int]
     name: str
     mode: Mode
     node: _containers.RepeatedCompositeFieldContainer[Node]
@@ -157,10 +168,11 @@ class RobotConfig(_message.Message):
     cpp_bin_dir: str
     python_executable: str
     env: _containers.ScalarMap[str, str]
-    def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ...) -> None: ...
+    foxglove: Foxglove
+    def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ..., foxglove: _Optional[_Union[Foxglove, _Mapping]] = ...) -> None: ...
 
 class Node(_message.Message):
-    __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes")
+    __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes", "bag_max_size_mb", "bag_max_duration_s", "robot_description")
     class EnvEntry(_message.Message):
         __slots__ = ("key", "value")
         KEY_FIELD_NUMBER: _ClassVar[int]
@@ -210,6 +222,9 @@ class Node(_message.Message):
     BLE_TRANSPORT_FIELD_NUMBER: _ClassVar[int]
     PUBLISHES_FIELD_NUMBER: _ClassVar[int]
     SUBSCRIBES_FIELD_NUMBER: _ClassVar[int]
+    BAG_MAX_SIZE_MB_FIELD_NUMBER: _ClassVar[int]
+    BAG_MAX_DURATION_S_FIELD_NUMBER: _ClassVar[int]
+    ROBOT_DESCRIPTION_FIELD_NUMBER: _ClassVar[int]
     name: str
     type: NodeType
     topic_name: str
@@ -252,7 +267,10 @@ class Node(_message.Message):
     ble_transport: str
     publishes: _containers.RepeatedCompositeFieldContainer[TopicDeclaration]
     subscribes: _containers.RepeatedCompositeFieldContainer[TopicDeclaration]
-    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[NodeType, str]] = ..., topic_name: _Optional[str] = ..., message_type: _Optional[str] = ..., qos_depth: _Optional[int] = ..., qos_reliability: _Optional[_Union[Reliability, str]] = ..., qos_durability: _Optional[_Union[Durability, str]] = ..., qos_history: _Optional[_Union[History, str]] = ..., preferred_backend: _Optional[_Union[Backend, str]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., state_topic: _Optional[str] = ..., input_topics: _Optional[_Iterable[str]] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., restart: _Optional[_Union[Restart, str]] = ..., max_restarts: _Optional[int] = ..., executable: _Optional[str] = ..., args: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., critical: _Optional[bool] = ..., joint_names: _Optional[_Iterable[str]] = ..., env: _Optional[_Mapping[str, str]] = ..., keep_torque_on_exit: _Optional[bool] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[str] = ..., ble_transport: _Optional[str] = ..., publishes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., subscribes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ...) -> None: ...
+    bag_max_size_mb: int
+    bag_max_duration_s: float
+    robot_description: str
+    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[NodeType, str]] = ..., topic_name: _Optional[str] = ..., message_type: _Optional[str] = ..., qos_depth: _Optional[int] = ..., qos_reliability: _Optional[_Union[Reliability, str]] = ..., qos_durability: _Optional[_Union[Durability, str]] = ..., qos_history: _Optional[_Union[History, str]] = ..., preferred_backend: _Optional[_Union[Backend, str]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., state_topic: _Optional[str] = ..., input_topics: _Optional[_Iterable[str]] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., restart: _Optional[_Union[Restart, str]] = ..., max_restarts: _Optional[int] = ..., executable: _Optional[str] = ..., args: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., critical: _Optional[bool] = ..., joint_names: _Optional[_Iterable[str]] = ..., env: _Optional[_Mapping[str, str]] = ..., keep_torque_on_exit: _Optional[bool] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[str] = ..., ble_transport: _Optional[str] = ..., publishes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., subscribes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., robot_description: _Optional[str] = ...) -> None: ...
 
 class TopicDeclaration(_message.Message):
     __slots__ = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")

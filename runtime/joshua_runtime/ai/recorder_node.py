@@ -17,6 +17,9 @@ on `~/episode_state` (episode_protocol.py; `joshua-episode` is the command-line 
 save the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
 
 The node is ready (its "ready:" line, READY=1) once the writing thread has opened the dataset directory.
+
+output_format `mcap` records a ROS bag instead: constructing a RecorderNode with it gives a
+BagRecorderNode (joshua_runtime.bags), the registry's one class per type dispatching by format.
 """
 
 import json
@@ -24,7 +27,7 @@ import threading
 import time
 from pathlib import Path
 
-from joshua_core.models import OUTPUT_FORMATS
+from joshua_core.models import BAG_FORMAT, OUTPUT_FORMATS
 
 from joshua_runtime.ai import episode_protocol as protocol
 from joshua_runtime.ai import features as keys
@@ -60,6 +63,13 @@ class RecorderNode(JoshuaNode):
     """Samples its topics at rate_hz into episodes written by an EpisodeWriter thread."""
 
     ready_later = True  # ready once the writing thread has opened the dataset directory
+
+    def __new__(cls, settings, ros_node):
+        if cls is RecorderNode and settings.output_format == BAG_FORMAT:
+            from joshua_runtime.bags.bag_recorder_node import BagRecorderNode
+
+            return BagRecorderNode(settings, ros_node)  # not a RecorderNode, so __init__ is not run again
+        return super().__new__(cls)
 
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)

@@ -20,6 +20,7 @@ import serial
 from joshua_core.schema import PerceptionPacket
 from joshua_runtime.drivers import lds01_protocol as proto
 from joshua_runtime.drivers.driver import Driver
+from joshua_runtime.drivers.scan_geometry import fill_point_cloud
 from joshua_runtime.errors import DeviceError
 
 READ_POLL_S = 0.05  # longest single blocking read, so callers can stop promptly
@@ -149,7 +150,7 @@ def scan_packet(ranges: list[float], intensities: list[float], rpm: float, frame
                 stamp_ns: int) -> PerceptionPacket:
     """A "laser_scan" PerceptionPacket of one LDS-01 turn (ranges in m, index = angle in degrees).
 
-    `values` holds one number: the motor speed in rpm.
+    `values` holds one number: the motor speed in rpm; point_cloud holds the valid readings as points.
     """
     time_increment = proto.time_increment_s(rpm)
     packet = PerceptionPacket(frame_id=frame_id)
@@ -166,6 +167,7 @@ def scan_packet(ranges: list[float], intensities: list[float], rpm: float, frame
     sensor.range_max = proto.RANGE_MAX_M
     sensor.time_increment = time_increment
     sensor.scan_time = time_increment * proto.READINGS_PER_TURN
+    fill_point_cloud(packet)
     return packet
 
 

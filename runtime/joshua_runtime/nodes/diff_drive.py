@@ -3,7 +3,8 @@
 A base supplies its wheels (`WheelDrive`); `BaseTopics` turns each Twist into wheel speeds (limited
 together to the motors' top speed, so the path keeps its curvature), stops the wheels when no Twist
 came for command_timeout_s, and at rate_hz integrates the newest wheel angles into nav_msgs/msg/Odometry on
-odom_topic (frame_id -> child frame base_link) and a JointState of the wheels on state_topic.
+odom_topic (frame_id -> child frame base_link), the same pose as a transform on /tf, and a JointState
+of the wheels on state_topic.
 """
 
 import time
@@ -12,6 +13,7 @@ from nav_msgs.msg import Odometry as OdometryMessage
 from sensor_msgs.msg import JointState
 
 from joshua_core.settings import NodeSettings
+from joshua_runtime.convert.transforms import TF_QOS, TF_TOPIC, odometry_transform
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.odometry import Geometry, Odometry, limit_speeds, yaw_quaternion
@@ -63,6 +65,10 @@ class BaseTopics:
         self.previous: tuple[float, float, float] | None = None
         self.velocities = (0.0, 0.0)
         self.odom_publisher = node.publisher(settings_checks.topic(settings, "odom_topic"))
+        from tf2_msgs.msg import TFMessage
+
+        self.tf_message = TFMessage
+        self.tf_publisher = node.ros.create_publisher(TFMessage, TF_TOPIC, TF_QOS)
         self.state_publisher = node.publisher(settings.state_topic) if settings.HasField("state_topic") else None
         self.subscription = node.subscription(settings_checks.topic(settings), self.on_twist)
         self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.tick)
@@ -87,7 +93,9 @@ class BaseTopics:
             self.previous = reading
             self.odometry.update(*reading)
         stamp = self.node.stamp()
-        self.odom_publisher.publish(self.odometry_message(self.odometry.pose, stamp))
+        odometry = self.odometry_message(self.odometry.pose, stamp)
+        self.odom_publisher.publish(odometry)
+        self.tf_publisher.publish(self.tf_message(transforms=[odometry_transform(odometry)]))
         if self.state_publisher is not None:
             state = JointState(name=self.names, position=[reading[0], reading[1]], velocity=list(self.velocities))
             state.header.stamp, state.header.frame_id = stamp, CHILD_FRAME_ID

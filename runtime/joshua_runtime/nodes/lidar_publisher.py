@@ -1,4 +1,5 @@
-"""LIDAR_PUBLISHER: LDS-01 turns read from serial_port, published as LaserScan (one per turn, 5 Hz).
+"""LIDAR_PUBLISHER: LDS-01 turns read from serial_port, published as LaserScan or PointCloud2 (the topic's
+message_type), one per turn, 5 Hz.
 
 A reader thread assembles turns (the driver blocks up to a turn, 0.2 s) and publishes each one, so
 the executor stays free to notice a stop signal. A driver failure (missing port, silent device)
@@ -7,7 +8,7 @@ is handed to the executor by a watchdog timer and ends the node with exit code 3
 
 import threading
 
-from joshua_runtime.convert.laser_scan import packet_to_laser_scan
+from joshua_runtime.convert.point_cloud import scan_message
 from joshua_runtime.drivers.lds01 import Lds01Driver
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.node import JoshuaNode
@@ -33,6 +34,7 @@ class LidarPublisher(JoshuaNode):
         )
         self.lidar.open()
         self.scans = self.publisher(topic)
+        self.message_type = topic.message_type
         self.stopping = threading.Event()
         self.failure: JoshuaError | None = None
         self.reader = threading.Thread(target=self._read_turns, name="lds01-reader", daemon=True)
@@ -44,7 +46,7 @@ class LidarPublisher(JoshuaNode):
             while not self.stopping.is_set():
                 scan = self.lidar.read_scan(should_stop=self.stopping.is_set)
                 if scan is not None:
-                    self.scans.publish(packet_to_laser_scan(scan))
+                    self.scans.publish(scan_message(scan, self.message_type))
         except JoshuaError as exc:
             self.failure = exc
 

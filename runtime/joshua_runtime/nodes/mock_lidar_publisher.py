@@ -1,4 +1,5 @@
-"""MOCK_LIDAR_PUBLISHER: LaserScans of the synthetic room (no serial port), at rate_hz.
+"""MOCK_LIDAR_PUBLISHER: scans of the synthetic room (no serial port), at rate_hz, as LaserScan or
+PointCloud2 (the topic's message_type).
 
 The scans are what an LDS-01 at 300 rpm would report from the middle of the emulators' synthetic
 room: whole-degree rays, 0 where the wall is beyond 3.5 m.
@@ -6,13 +7,12 @@ room: whole-degree rays, 0 where the wall is beyond 3.5 m.
 
 import time
 
-from joshua_runtime.convert.laser_scan import packet_to_laser_scan
+from joshua_runtime.convert.point_cloud import scan_message
 from joshua_runtime.drivers import lds01_protocol
 from joshua_runtime.drivers.lds01 import scan_packet
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
-
 
 
 class MockLidarPublisher(JoshuaNode):
@@ -24,8 +24,9 @@ class MockLidarPublisher(JoshuaNode):
         self.intensities = [float(synthetic_room.intensity(mm)) for mm in ranges_mm]
         self.frame_id = self.settings.frame_id
         self.scans = self.publisher(topic)
+        self.message_type = topic.message_type
         self.ros.create_timer(period, self._publish)
 
     def _publish(self) -> None:
         packet = scan_packet(self.ranges, self.intensities, lds01_protocol.NOMINAL_RPM, self.frame_id, time.time_ns())
-        self.scans.publish(packet_to_laser_scan(packet))
+        self.scans.publish(scan_message(packet, self.message_type))

@@ -24,6 +24,7 @@ from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
 
 from joshua_core.node_types import spec
 from joshua_core.settings import NodeSettings
+from joshua_runtime.convert.point_cloud import POINT_CLOUD2, laser_scan_to_point_cloud2
 from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, RADIANS_PER_TICK
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.nodes import settings_checks
@@ -169,13 +170,14 @@ class CameraBridge:
 
 
 class LidarBridge:
-    """Publishes ray-cast scans like LIDAR_PUBLISHER."""
+    """Publishes ray-cast scans like LIDAR_PUBLISHER (as PointCloud2 when the topic's type says so)."""
 
     def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
         self.node, self.engine = node, engine
         self.frame_id = settings.frame_id
         self.sensor = lidar.PlanarLidar(engine.model, lidar.lidar_site(engine.model, self.frame_id))
         self.publisher = node.publisher(settings_checks.topic(settings))
+        self.as_cloud = settings_checks.topic(settings).message_type == POINT_CLOUD2
         self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.publish)
 
     def message(self) -> LaserScan:
@@ -192,7 +194,8 @@ class LidarBridge:
         return msg
 
     def publish(self) -> None:
-        self.publisher.publish(self.message())
+        scan = self.message()
+        self.publisher.publish(laser_scan_to_point_cloud2(scan) if self.as_cloud else scan)
 
 
 def _camera_for(engine: SimulationEngine, frame_id: str, default_camera: str) -> int:

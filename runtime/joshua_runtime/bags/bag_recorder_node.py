@@ -1,0 +1,79 @@
+"""DATA_SUBSCRIBER with output_format "mcap": record topic_name and input_topics, any type, into a ROS bag.
+
+Settings used: `topic` and `inputs` (types learnt from the graph when the description has no
+publisher), `output_directory` (each start writes a new bag directory `<robot>_<UTC time>` inside it),
+`bag_max_size_mb` and `bag_max_duration_s` (split the bag into files; 0: no split). Messages are
+taken serialized, as DDS delivers them, and stored as they are. SIGINT/SIGTERM close the bag (summary
+and metadata.yaml); after SIGKILL the files stay readable up to their last finished chunk.
+"""
+
+import time
+from pathlib import Path
+
+from joshua_runtime.bags.bag_writer import CHUNK_FLUSH_PERIOD_S, BagWriter
+from joshua_runtime.errors import DataLostError, SettingsError
+from joshua_runtime.graph import with_discovered_types
+from joshua_runtime.messages import message_class
+from joshua_runtime.node import JoshuaNode
+from joshua_runtime.qos import qos_profile
+
+BYTES_PER_MB = 1_000_000
+NS_PER_S = 1_000_000_000
+
+
+def new_bag_directory(root: Path, prefix: str) -> Path:
+    """`root/<prefix>_<UTC time>`, suffixed _2, _3 ... when a bag of that second exists (a quick restart)."""
+    base = f"{prefix}_{time.strftime('%Y_%m_%d-%H_%M_%S', time.gmtime())}"
+    candidate, number = root / base, 1
+    while candidate.exists():
+        number += 1
+        candidate = root / f"{base}_{number}"
+    return candidate
+
+
+class BagRecorderNode(JoshuaNode):
+    """Subscribes to every recorded topic in raw (serialized) form and writes each message to a BagWriter."""
+
+    def start(self) -> None:
+        if not self.settings.output_directory:
+            raise SettingsError(f"{self.name}: output_directory is empty")
+        topics = [self.settings.topic] if self.settings.HasField("topic") else []
+        topics = with_discovered_types(self.ros, [*topics, *self.settings.inputs])
+        if not topics:
+            raise SettingsError(f"{self.name}: no topic to record (set topic_name or input_topics)")
+        root = Path(self.settings.output_directory).expanduser()
+        if root.exists() and not root.is_dir():
+            raise SettingsError(f"output_directory {root} is not a directory")
+        try:
+            self.writer = BagWriter(new_bag_directory(root, self.settings.robot or self.name),
+                                    self.settings.bag_max_size_mb * BYTES_PER_MB,
+                                    round(self.settings.bag_max_duration_s * NS_PER_S))
+        except OSError as exc:
+            raise DataLostError(f"cannot create a bag in {root}: {exc}") from exc
+        self.subscriptions = []
+        for topic in topics:
+            self.writer.add_topic(topic.name, topic.message_type)
+            self.subscriptions.append(self.ros.create_subscription(
+                message_class(topic.message_type), topic.name, self._writer_of(topic.name),
+                qos_profile(topic.qos), raw=True))
+        self.flush_timer = self.ros.create_timer(CHUNK_FLUSH_PERIOD_S, self.writer.flush_if_due)
+        self.log.info(f"recording {len(topics)} topics into the bag {self.writer.directory}")
+
+    def _writer_of(self, topic: str):
+        def write(data: bytes) -> None:
+            try:
+                self.writer.write(topic, data, time.time_ns())
+            except OSError as exc:
+                raise DataLostError(f"cannot write to the bag {self.writer.directory}: {exc}") from exc
+        return write
+
+    def close(self) -> None:
+        writer = getattr(self, "writer", None)
+        if writer is None:
+            return
+        try:
+            writer.close()
+        except OSError as exc:
+            raise DataLostError(f"cannot finish the bag {writer.directory}: {exc}") from exc
+        counts = ", ".join(f"{topic}: {stats.count}" for topic, stats in writer.stats.topics.items())
+        self.log.info(f"bag {writer.directory} closed ({len(writer.stats.files)} files; {counts})")

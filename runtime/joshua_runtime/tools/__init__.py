@@ -1,0 +1,1 @@
+"""Command-line tools for a running robot: ROS topics (joshua-topic)."""
