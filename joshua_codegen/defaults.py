@@ -5,6 +5,7 @@ from joshua_core.models import DEVICES, GL_BACKENDS, OUTPUT_FORMATS
 from joshua_core.node_types import (BASE_WHEEL_JOINTS, FOXGLOVE_BRIDGE, JOINT_STATE, NODE_TYPES, ODOMETRY,
                                     SIMULATION_ENGINE, NodeTypeSpec)
 from joshua_core.schema import robot_config_pb2 as pb
+from joshua_core import servo_topics
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
 
 SIGINT_GRACE_S = 5.0
@@ -59,6 +60,7 @@ WHEEL_RADIUS_M, TRACK_WIDTH_M, COMMAND_TIMEOUT_S = 0.028, 0.12, 0.5
 HUB_NAME = "Pybricks Hub"
 ODOM_TOPIC = "/odom"
 REALTIME_FACTOR = 1.0
+DIAGNOSTICS_RATE_HZ = servo_topics.DIAGNOSTICS_RATE_HZ
 
 
 def type_name(node_type: int) -> str:
@@ -120,6 +122,15 @@ def resolved_qos(holder: pb.Node | pb.TopicDeclaration, sensor: bool = False) ->
     return {"history": history, "depth": depth, "reliability": reliability, "durability": durability}
 
 
+def on_command_timeout(node: pb.Node) -> str:
+    """What an actuator's command watchdog does: HOLD_POSITION unless the node says RELEASE_TORQUE."""
+    return pb.CommandTimeoutAction.Name(node.on_command_timeout or pb.HOLD_POSITION)
+
+
+def diagnostics_rate_hz(node: pb.Node) -> float:
+    return node.diagnostics_rate_hz if node.HasField("diagnostics_rate_hz") else DIAGNOSTICS_RATE_HZ
+
+
 def baud_rate(node: pb.Node) -> int:
     if node.HasField("baud_rate"):
         return node.baud_rate
@@ -154,7 +165,10 @@ def track_width_m(node: pb.Node) -> float:
 
 
 def command_timeout_s(node: pb.Node) -> float:
-    return node.command_timeout_s if node.HasField("command_timeout_s") else COMMAND_TIMEOUT_S
+    """A base stops after COMMAND_TIMEOUT_S without a Twist; an arm's watchdog is off (0) unless set."""
+    if node.HasField("command_timeout_s"):
+        return node.command_timeout_s
+    return 0.0 if node.type in ACTUATORS else COMMAND_TIMEOUT_S
 
 
 def hub(node: pb.Node) -> str:

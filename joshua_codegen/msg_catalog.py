@@ -1,7 +1,8 @@
-"""Every message type of std_msgs, sensor_msgs, geometry_msgs, nav_msgs and tf2_msgs in ROS 2 Jazzy.
+"""Every message type of std_msgs, sensor_msgs, geometry_msgs, nav_msgs, diagnostic_msgs and tf2_msgs in ROS 2 Jazzy.
 
-Taken from the `.msg` files of the Jazzy packages (std_msgs, sensor_msgs, geometry_msgs and
-nav_msgs 5.3.6; tf2_msgs 0.36 defines TF2Error and TFMessage, built by set-up from interfaces/). Names use the ROS 2 form
+Taken from the `.msg` files of the Jazzy packages (std_msgs, sensor_msgs, geometry_msgs, nav_msgs and
+diagnostic_msgs 5.3.6; tf2_msgs 0.36 defines TF2Error and TFMessage, built by set-up from interfaces/). Names
+use the ROS 2 form
 `pkg/msg/Type`.
 """
 
@@ -36,6 +37,9 @@ PACKAGES: dict[str, tuple[str, ...]] = {
     ),
     "nav_msgs": (
         "Goals", "GridCells", "MapMetaData", "OccupancyGrid", "Odometry", "Path",
+    ),
+    "diagnostic_msgs": (
+        "DiagnosticArray", "DiagnosticStatus", "KeyValue",
     ),
     "tf2_msgs": (
         "TF2Error", "TFMessage",

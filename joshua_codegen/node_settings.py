@@ -6,7 +6,15 @@ from joshua_codegen.model import Endpoint
 from joshua_core.models import DEFAULT_ROBOT_DESCRIPTION
 from joshua_core.node_types import FOXGLOVE_BRIDGE, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
-from joshua_core.settings import FORMAT_VERSION, NodeSettings, QosSettings, SimulationSettings, TopicSettings
+from joshua_core.settings import (
+    FORMAT_VERSION,
+    NodeSettings,
+    PresetSettings,
+    QosSettings,
+    SimulationSettings,
+    TopicSettings,
+)
+
 
 def _topic(endpoint: Endpoint) -> TopicSettings:
     return TopicSettings(name=endpoint.topic, message_type=endpoint.message_type,
@@ -38,6 +46,9 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
         "joint_names": defaults.joint_names(node) if ids or node.joint_names or node.type in defaults.BASES else [],
         "calibration_file": node.calibration_file,
         "keep_torque_on_exit": node.keep_torque_on_exit,
+        "on_command_timeout": defaults.on_command_timeout(node),
+        "preset": [PresetSettings(name=p.name, positions={j.name: j.position for j in p.joint}) for p in node.preset],
+        "diagnostics_rate_hz": defaults.diagnostics_rate_hz(node),
         "camera_index": defaults.camera_index(node),
         "video_source": node.video_source,
         "width": defaults.width(node),

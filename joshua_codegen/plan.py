@@ -96,7 +96,8 @@ def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int, declared
             continue
         endpoint = _endpoint(item, item.message_type, QoS(**item.qos))
         (published if item.role == topology.PUBLISHER else main).append(endpoint)
-        if len(item.at) == len(node_path(index)) + 1:  # the node's own topic_name, state_topic or odom_topic
+        # the node's own topic_name, state_topic or odom_topic; the runtime derives /diagnostics and the preset channel
+        if not item.implied and len(item.at) == len(node_path(index)) + 1:
             fields[item.at[-1]] = endpoint
     topic, state, odom = fields.get("topic_name"), fields.get("state_topic"), fields.get("odom_topic")
     devices = tuple(_devices(node, name))

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from joshua_codegen import defaults
 from joshua_codegen.positions import Path, node_path
 from joshua_codegen.ros_names import resolve_topic, topic_problem
+from joshua_core import servo_topics
 from joshua_core.schema import robot_config_pb2 as pb
 
 PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"
@@ -28,6 +29,7 @@ class Declaration:
     message_type: str
     qos: dict | None
     at: Path  # the field that declares the topic (its qos_* fields are its siblings)
+    implied: bool = False  # declared by the node type itself (/diagnostics, a preset channel), not by a field
 
 
 def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
@@ -38,10 +40,11 @@ def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
         entry = defaults.entry(node)
         qos = defaults.qos(node)
 
-        def declare(value: str, role: str, message_type: str, node_qos: dict | None, *field: str | int) -> None:
+        def declare(value: str, role: str, message_type: str, node_qos: dict | None, *field: str | int,
+                    implied: bool = False) -> None:
             if topic_problem(value, name) is None:
                 found.append(Declaration(index, name, resolve_topic(value, name), role, message_type, node_qos,
-                                         node_path(index) + field))
+                                         node_path(index) + field, implied))
 
         if entry.topic == "publishes":
             declare(node.topic_name, PUBLISHER, defaults.message_type(node), qos, "topic_name")
@@ -59,4 +62,11 @@ def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
                 for k, topic in enumerate(getattr(node, field)):
                     declare(topic.topic_name, role, topic.message_type, defaults.resolved_qos(topic),
                             field, k, "topic_name")
+        if config.mode != pb.MODE_SIMULATION:  # the simulation engine stands in without either
+            if entry.diagnostics:
+                declare(servo_topics.DIAGNOSTICS_TOPIC, PUBLISHER, servo_topics.DIAGNOSTICS_TYPE,
+                        servo_topics.FIXED_QOS, "type", implied=True)
+            if entry.presets and node.topic_name:
+                declare(servo_topics.preset_topic(node.topic_name), SUBSCRIBER, servo_topics.PRESET_TYPE,
+                        servo_topics.FIXED_QOS, "topic_name", implied=True)
     return found

@@ -10,7 +10,14 @@ from dataclasses import dataclass, field
 
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
 _SERVO_BUS_FIELDS = frozenset({"serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file",
-                               "rate_hz", "frame_id"})
+                               "rate_hz", "frame_id", "diagnostics_rate_hz"})
+_ACTUATOR_FIELDS = frozenset({"state_topic", "keep_torque_on_exit", "command_timeout_s", "on_command_timeout",
+                              "preset"})
+# What only real hardware reads: a mock has no torque, no hub, no presets and no diagnostics...
+_HARDWARE_ONLY_FIELDS = frozenset({"keep_torque_on_exit", "hub", "ble_transport", "on_command_timeout", "preset",
+                                   "diagnostics_rate_hz"})
+# ... and a mock arm no command watchdog (a mock base has one).
+_ARM_WATCHDOG = frozenset({"command_timeout_s"})
 _CAMERA_FIELDS = frozenset({"camera_index", "video_source", "width", "height", "rate_hz", "frame_id"})
 _LIDAR_FIELDS = frozenset({"serial_port", "baud_rate", "rate_hz", "frame_id"})
 _BASE_FIELDS = frozenset({"wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport",
@@ -48,6 +55,8 @@ class NodeTypeSpec:
     claims         devices it needs present before start: serial_port, camera, video_file, model_path
     rate_hz, frame_id  defaults of those fields
     sensor_qos     BEST_EFFORT with depth 5 by default (else RELIABLE, depth 10)
+    diagnostics    it publishes one DiagnosticStatus per servo on /diagnostics (joshua_core.servo_topics)
+    presets        it subscribes preset commands (std_msgs/String) on `<topic_name>/preset`
     runtime_class  `module:Class` of its joshua_runtime implementation
     sim_bridge     `module:Class` standing in for it in the simulation (hardware types)
     runtime_extra  the extra of joshua-runtime its implementation needs installed ("" for none)
@@ -70,6 +79,8 @@ class NodeTypeSpec:
     rate_hz: float = 100.0
     frame_id: str = "base_link"
     sensor_qos: bool = False
+    diagnostics: bool = False
+    presets: bool = False
     runtime_class: str = ""
     sim_bridge: str = ""
     runtime_extra: str = ""
@@ -100,7 +111,8 @@ def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
     return NodeTypeSpec(
         name=f"MOCK_{real.name}", family=real.family, topic=real.topic, message_types=real.message_types,
         state_topic=real.state_topic, odom_topic=real.odom_topic, mock_of=real.name, python_only=True,
-        fields=real.fields - {"keep_torque_on_exit", "hub", "ble_transport"}, rate_hz=real.rate_hz, frame_id=real.frame_id,
+        fields=real.fields - _HARDWARE_ONLY_FIELDS - (_ARM_WATCHDOG if real.family == "actuator" else frozenset()),
+        rate_hz=real.rate_hz, frame_id=real.frame_id,
         sensor_qos=real.sensor_qos, runtime_class=runtime_class,
     )
 
@@ -116,7 +128,7 @@ CAMERA_PUBLISHER = NodeTypeSpec(
 ENCODER_PUBLISHER = NodeTypeSpec(
     name="ENCODER_PUBLISHER", family="encoder", topic="publishes", message_types=(JOINT_STATE,), hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id",),
-    fields=_SERVO_BUS_FIELDS, required=("serial_port",), claims=("serial_port",),
+    fields=_SERVO_BUS_FIELDS, required=("serial_port",), claims=("serial_port",), diagnostics=True,
     runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher", sim_bridge=f"{_BRIDGES}:EncoderBridge",
 )
 LIDAR_PUBLISHER = NodeTypeSpec(
@@ -130,14 +142,14 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     name="ACTUATOR_SUBSCRIBER", family="actuator", topic="subscribes", message_types=(JOINT_STATE,),
     state_topic=True, hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic", "frame_id", "keep_torque_on_exit"),
-    fields=_SERVO_BUS_FIELDS | {"state_topic", "keep_torque_on_exit"}, required=("serial_port",),
-    claims=("serial_port",), runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
+    fields=_SERVO_BUS_FIELDS | _ACTUATOR_FIELDS, required=("serial_port",),
+    claims=("serial_port",), diagnostics=True, presets=True, runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
     sim_bridge=f"{_BRIDGES}:ActuatorBridge",
 )
 OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
     name="OPERATIONAL_LIMIT_CALIBRATION", family="calibration", topic="publishes", message_types=(JOINT_STATE,),
     hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS,
-    fields=_SERVO_BUS_FIELDS, required=("serial_port", "calibration_file"), claims=("serial_port",),
+    fields=_SERVO_BUS_FIELDS, required=("serial_port", "calibration_file"), claims=("serial_port",), diagnostics=True,
     runtime_class=f"{_NODES}.operational_limit_calibration:OperationalLimitCalibration",
     sim_bridge=f"{_BRIDGES}:CalibrationBridge",
 )

@@ -7,12 +7,18 @@ agree on every field's name and type, and a build and a runtime of different con
 refuse each other in one line instead of misreading a field.
 """
 
-from joshua_core.schema.node_settings_pb2 import NodeSettings, QosSettings, SimulationSettings, TopicSettings
+from joshua_core.schema.node_settings_pb2 import (
+    NodeSettings,
+    PresetSettings,
+    QosSettings,
+    SimulationSettings,
+    TopicSettings,
+)
 
 # Raise on every change of node_settings.proto that an older runtime or an older build could misread.
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
-__all__ = ["FORMAT_VERSION", "NodeSettings", "QosSettings", "SettingsFormatError", "SimulationSettings",
+__all__ = ["FORMAT_VERSION", "NodeSettings", "PresetSettings", "QosSettings", "SettingsFormatError", "SimulationSettings",
            "TopicSettings", "parse", "to_literal"]
 
 

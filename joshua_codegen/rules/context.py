@@ -62,6 +62,7 @@ class Endpoint:
     message_type: str  # "" when not known (input_topics take their publishers' type)
     qos: dict | None  # None for input_topics, whose QoS follows their publishers
     at: Path  # the field that declares the topic
+    implied: bool = False  # declared by the node type itself, not by a field (topology.Declaration)
 
 
 class RuleContext:
@@ -109,7 +110,7 @@ class RuleContext:
                 continue
             message_type = declared.message_type if msg_catalog.is_known(declared.message_type) else ""
             by_role[declared.role][declared.topic].append(
-                Endpoint(view, declared.topic, message_type, declared.qos, declared.at))
+                Endpoint(view, declared.topic, message_type, declared.qos, declared.at, declared.implied))
         return dict(publishers), dict(subscribers), dict(readers)
 
     @property

@@ -1,7 +1,8 @@
 """E413 invalid-command-timeout: a base's command_timeout_s would never, or always, stop the wheels.
 
 What it checks:
-    When written, `command_timeout_s` is a finite number above 0 and at most 60 (seconds).
+    When written on a base, `command_timeout_s` is a finite number above 0 and at most 60 (seconds)
+    (an arm's watchdog may be 0: E420).
 
 Why it matters:
     The timeout stops the wheels when the Twist source dies. Zero stops them between any two
@@ -14,6 +15,7 @@ Example:
     }
 """
 
+from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_codegen.rules.length_range import out_of_range
@@ -27,6 +29,8 @@ MAX_COMMAND_TIMEOUT_S = 60.0
 
 def check(ctx):
     for view in ctx.nodes:
+        if view.node.type in defaults.ACTUATORS:
+            continue  # an arm's watchdog may be 0 (off): E420
         problem = out_of_range(view.node, "command_timeout_s", MAX_COMMAND_TIMEOUT_S, "s")
         if problem:
             yield Finding(view.at("command_timeout_s"), problem)

@@ -4,7 +4,8 @@ What it checks:
     Each subscription (topic_name of ACTUATOR_SUBSCRIBER and DATA_SUBSCRIBER, and every
     input_topics entry of INFERENCE and DATA_SUBSCRIBER, and every topic a CUSTOM node declares in
     `subscribes`) has a publisher in the description; processes outside it are not known. When a
-    published topic is spelt alike, the message suggests it.
+    published topic is spelt alike, the message suggests it. An actuator's preset channel
+    (`<topic_name>/preset`) is left out: it is published by hand or by joshua-desktop when needed.
 
 Why it matters:
     Unless something outside the description publishes it, the node waits forever for data. An
@@ -42,4 +43,6 @@ def check(ctx):
             message = f'nothing in this description publishes "{topic}"'
             message += f'; did you mean "{hint}"?' if hint else ""
             for endpoint in endpoints:
+                if endpoint.implied:
+                    continue
                 yield Finding(endpoint.at, message)
