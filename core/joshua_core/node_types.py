@@ -143,7 +143,8 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     state_topic=True, hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic", "frame_id", "keep_torque_on_exit"),
     fields=_SERVO_BUS_FIELDS | _ACTUATOR_FIELDS, required=("serial_port",),
-    claims=("serial_port",), diagnostics=True, presets=True, runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
+    claims=("serial_port",), diagnostics=True, presets=True,
+    runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
     sim_bridge=f"{_BRIDGES}:ActuatorBridge",
 )
 OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(

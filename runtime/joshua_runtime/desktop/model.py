@@ -6,21 +6,15 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from joshua_core.servo_topics import TORQUE_OFF, TORQUE_ON
 from joshua_core.so100 import SO100_JOINTS, SO100_RANGES
 
 from joshua_runtime.errors import SettingsError
+from joshua_runtime.presets import BUILTIN_PRESETS
 
-PRESET_TORQUE_ON = "torque_on"
-PRESET_TORQUE_OFF = "torque_off"
+PRESET_TORQUE_ON = TORQUE_ON
+PRESET_TORQUE_OFF = TORQUE_OFF
 NAN = math.nan
-
-# Joint poses in rad by preset name; a joint left out keeps its goal.
-BUILTIN_PRESETS = {
-    "home": dict.fromkeys(SO100_JOINTS, 0.0),
-    "rest": {"shoulder_pan": 0.0, "shoulder_lift": -1.65, "elbow_flex": 1.55, "wrist_flex": 0.7,
-             "wrist_roll": 0.0, "gripper": 0.0},
-    "grip_open": {"gripper": 1.5},
-}
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 
+from joshua_core.servo_topics import preset_topic
 from joshua_runtime.desktop.model import (
     PRESET_TORQUE_OFF,
     PRESET_TORQUE_ON,
@@ -27,12 +28,7 @@ from joshua_runtime.desktop.worker import LinkWorker
 
 ROS_SPIN_HZ = 100.0
 QUEUE_DEPTH = 10
-PRESET_SUFFIX = "/preset"
 EFFORT_TO_PERCENT = 100.0  # JointState effort from the servo nodes is a signed fraction of max torque
-
-
-def preset_topic(command_topic: str) -> str:
-    return command_topic.rstrip("/") + PRESET_SUFFIX
 
 
 class RosWorker(LinkWorker):

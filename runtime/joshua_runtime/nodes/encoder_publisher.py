@@ -2,13 +2,15 @@
 
 The arm is moved by hand, so torque is switched off when the bus opens (and again after a
 reconnect). Every 1/rate_hz one SYNC_READ gives position (rad), velocity (rad/s) and effort
-(signed fraction of max torque) for `joint_names`, calibrated by `calibration_file` when set.
+(signed fraction of max torque) for `joint_names`, calibrated by `calibration_file` when set. Servo health goes to /diagnostics
+(servo_diagnostics).
 """
 
 from joshua_runtime.convert.joint_state import perception_to_joint_state
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
+from joshua_runtime.nodes.servo_diagnostics import ServoDiagnostics
 
 
 class EncoderPublisher(JoshuaNode):
@@ -23,6 +25,7 @@ class EncoderPublisher(JoshuaNode):
         self.frame_id = self.settings.frame_id
         self.joint_states = self.publisher(settings_checks.topic(self.settings))
         self.ros.create_timer(period, self._publish)
+        self.diagnostics = ServoDiagnostics(self, self.guard)
 
     def _publish(self) -> None:
         packet = self.guard.call(self.bus.read_state)

@@ -6,7 +6,7 @@ each servo's Homing_Offset and position limits, then homes the present pose at t
 [range_min, range_max]; the limits are published on `topic` as a JointState whose names are
 `<joint>.range_min` and `<joint>.range_max` and whose positions are those limits in raw ticks (the
 units of the file). `calibration_file` (LeRobot JSON) is rewritten at most every SAVE_INTERVAL_S
-while the ranges grow, and once more when the node stops.
+while the ranges grow, and once more when the node stops. Servo health goes to /diagnostics.
 """
 
 import time
@@ -19,6 +19,7 @@ from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
+from joshua_runtime.nodes.servo_diagnostics import ServoDiagnostics
 
 SAVE_INTERVAL_S = 1.0
 RANGE_MIN_SUFFIX = ".range_min"
@@ -44,6 +45,7 @@ class OperationalLimitCalibration(JoshuaNode):
         self.guard = BusGuard(self.bus, self.log)
         self.limits = self.publisher(settings_checks.topic(self.settings))
         self.ros.create_timer(period, self._sample)
+        self.diagnostics = ServoDiagnostics(self, self.guard)
         self.log.info(f"recording joint ranges into {self.path}: move every joint through its range")
 
     def _home(self) -> dict[int, int]:

@@ -40,6 +40,11 @@ class BusGuard:
         self._next_attempt = 0.0
         self._next_log = 0.0
 
+    @property
+    def last_error(self) -> str:
+        """Why the last failing operation failed ("" when none has failed)."""
+        return str(self._last_error or "")
+
     def call(self, operation, *args):
         """The operation's result, or None while the bus is failing."""
         now = time.monotonic()
