@@ -1,4 +1,7 @@
-"""The panel on a running robot over ROS: an ACTUATOR_SUBSCRIBER node process on an emulated bus."""
+"""The panel on a running robot over ROS: an ACTUATOR_SUBSCRIBER node process on an emulated bus.
+
+The e-stop goes as a torque_off preset on `<command topic>/preset`; the actuator switches every servo off.
+"""
 
 import math
 
@@ -47,5 +50,7 @@ def test_ros_panel_drives_a_running_actuator(qtbot, emulators, start_node, ros_c
         qtbot.mouseClick(window.estop, Qt.MouseButton.LeftButton)
         assert ros_client.spin_until(lambda: ros_client.last(preset_topic("/follower/command")), 5.0)
         assert ros_client.last(preset_topic("/follower/command")).data == "torque_off"
+        qtbot.waitUntil(lambda: [follower.read_register(i, "Torque_Enable") for i in IDS] == [0] * len(IDS),
+                        timeout=WAIT_MS)  # the actuator took the e-stop: every servo is limp
     finally:
         close_panel(window)
