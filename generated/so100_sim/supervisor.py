@@ -71,7 +71,7 @@ ROBOT = {
         'settings': 2,
         'data_lost': 6,
     },
-    'settings_format_version': 3,
+    'settings_format_version': 4,
     'processes': [
         {
             'name': 'leader',

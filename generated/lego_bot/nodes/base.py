@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 3,
+    'format_version': 4,
     'robot': 'lego_bot',
     'mode': 'MODE_TELEOPERATION',
     'name': 'base',

@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 3,
+    'format_version': 4,
     'robot': 'so100_arm',
     'mode': 'MODE_TELEOPERATION',
     'name': 'actuator_subscriber',
@@ -33,6 +33,8 @@ SETTINGS = {
     'joint_names': ['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper'],
     'rate_hz': 100.0,
     'frame_id': 'base_link',
+    'on_command_timeout': 'HOLD_POSITION',
+    'diagnostics_rate_hz': 1.0,
 }
 
 if __name__ == "__main__":

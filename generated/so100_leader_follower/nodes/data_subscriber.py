@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 3,
+    'format_version': 4,
     'robot': 'so100_leader_follower',
     'mode': 'MODE_TELEOPERATION',
     'name': 'data_subscriber',

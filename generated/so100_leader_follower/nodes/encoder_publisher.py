@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 3,
+    'format_version': 4,
     'robot': 'so100_leader_follower',
     'mode': 'MODE_TELEOPERATION',
     'name': 'encoder_publisher',
@@ -33,6 +33,7 @@ SETTINGS = {
     'joint_names': ['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper'],
     'rate_hz': 100.0,
     'frame_id': 'base_link',
+    'diagnostics_rate_hz': 1.0,
 }
 
 if __name__ == "__main__":

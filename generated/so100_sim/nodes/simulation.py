@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 3,
+    'format_version': 4,
     'robot': 'so100_sim',
     'mode': 'MODE_SIMULATION',
     'name': 'simulation',
@@ -17,7 +17,7 @@ SETTINGS = {
         'gl_backend': 'egl',
         'simulates': [
             {
-                'format_version': 3,
+                'format_version': 4,
                 'robot': 'so100_sim',
                 'mode': 'MODE_SIMULATION',
                 'name': 'follower',
@@ -54,9 +54,11 @@ SETTINGS = {
                 'joint_names': ['shoulder_pan', 'shoulder_lift', 'elbow_flex', 'wrist_flex', 'wrist_roll', 'gripper'],
                 'rate_hz': 100.0,
                 'frame_id': 'base_link',
+                'on_command_timeout': 'HOLD_POSITION',
+                'diagnostics_rate_hz': 1.0,
             },
             {
-                'format_version': 3,
+                'format_version': 4,
                 'robot': 'so100_sim',
                 'mode': 'MODE_SIMULATION',
                 'name': 'camera',
