@@ -62,11 +62,10 @@ def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
                 for k, topic in enumerate(getattr(node, field)):
                     declare(topic.topic_name, role, topic.message_type, defaults.resolved_qos(topic),
                             field, k, "topic_name")
-        if config.mode != pb.MODE_SIMULATION:  # the simulation engine stands in without either
-            if entry.diagnostics:
-                declare(servo_topics.DIAGNOSTICS_TOPIC, PUBLISHER, servo_topics.DIAGNOSTICS_TYPE,
-                        servo_topics.FIXED_QOS, "type", implied=True)
-            if entry.presets and node.topic_name:
-                declare(servo_topics.preset_topic(node.topic_name), SUBSCRIBER, servo_topics.PRESET_TYPE,
-                        servo_topics.FIXED_QOS, "topic_name", implied=True)
+        if entry.diagnostics:
+            declare(servo_topics.DIAGNOSTICS_TOPIC, PUBLISHER, servo_topics.DIAGNOSTICS_TYPE,
+                    servo_topics.FIXED_QOS, "type", implied=True)
+        if entry.presets and node.topic_name:
+            declare(servo_topics.preset_topic(node.topic_name), SUBSCRIBER, servo_topics.PRESET_TYPE,
+                    servo_topics.FIXED_QOS, "topic_name", implied=True)
     return found

@@ -99,9 +99,8 @@ def test_simulation_replaces_hardware_nodes_by_one_engine_on_the_same_topics_typ
     context = Context(prefix="/opt/joshua/x")
     real = manifest(plan(real_description, "a.pbtxt"), context)
     simulated = manifest(plan(simulated_description, "a.pbtxt"), context)
-    bus_only = {DIAGNOSTICS_TOPIC, preset_topic("/leader/joint_states")}  # a simulated arm has no servo bus
-    assert _endpoints(simulated) == [e for e in _endpoints(real) if e[0] not in bus_only]
-    assert bus_only <= {e[0] for e in _endpoints(real)}
+    assert _endpoints(simulated) == _endpoints(real)
+    assert {DIAGNOSTICS_TOPIC, preset_topic("/leader/joint_states")} <= {e[0] for e in _endpoints(real)}
     assert [p["name"] for p in simulated["processes"]] == ["data_subscriber", "simulation"]
     engine = simulated["processes"][1]
     assert engine["simulates"] == ["encoder_publisher", "actuator_subscriber", "camera_publisher"]

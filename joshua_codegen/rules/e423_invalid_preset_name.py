@@ -17,9 +17,10 @@ Example:
 
 import re
 
+from joshua_core.servo_topics import TORQUE_OFF, TORQUE_ON
+
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.servo_topics import TORQUE_OFF, TORQUE_ON
 
 CODE = "E423"
 NAME = "invalid-preset-name"

@@ -17,12 +17,15 @@ next goal or pose resumes it.
 import math
 import time
 
-from std_msgs.msg import String
-
 from joshua_core.servo_topics import FIXED_QOS, TORQUE_ON, preset_topic
 from joshua_core.settings import QosSettings
+from std_msgs.msg import String
+
 from joshua_runtime import presets
-from joshua_runtime.convert.joint_state import joint_state_to_action, perception_to_joint_state
+from joshua_runtime.convert.joint_state import (
+    joint_state_to_action,
+    perception_to_joint_state,
+)
 from joshua_runtime.errors import DeviceError, SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks

@@ -9,9 +9,9 @@ as a read failure. The node adds its own findings: `note` for one publication (a
 """
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-
 from joshua_core.servo_topics import DIAGNOSTICS_RATE_HZ, DIAGNOSTICS_TOPIC, FIXED_QOS
 from joshua_core.settings import QosSettings
+
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.qos import qos_profile
 from joshua_runtime.servo_tools.diagnostics import Finding, assess, level, read_failure

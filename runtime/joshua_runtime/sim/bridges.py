@@ -6,7 +6,9 @@ One bridge per replaced node, built from that node's own settings dict:
   real node publishes them (`<joint>.range_min` / `.range_max`, raw ticks with the middle of each
   range at 2047) at `rate_hz`. No calibration file is written: the model knows its limits.
 - ACTUATOR_SUBSCRIBER: JointState commands from `topic` become position-actuator goals; present
-  states go to `state_topic` at `rate_hz` when one is set.
+  states go to `state_topic` at `rate_hz` when one is set. Preset commands on `<topic>/preset` move
+  to poses as the real node does; `torque_off` (the e-stop) holds the present pose and ignores goals
+  until `torque_on`, as a simulated position actuator cannot go limp.
 - CAMERA_PUBLISHER: rendered frames at `width` x `height`, `rate_hz`; Image with encoding rgb8
   (MuJoCo renders RGB), or CompressedImage (JPEG) when the topic's type says so.
 - LIDAR_PUBLISHER: LaserScan of 360 rays at `rate_hz` (LDS-01 geometry, see sim/lidar.py).
@@ -21,14 +23,18 @@ import math
 import cv2
 import numpy as np
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
+from std_msgs.msg import String
 
 from joshua_core.node_types import spec
-from joshua_core.settings import NodeSettings
+from joshua_core.servo_topics import FIXED_QOS, TORQUE_OFF, TORQUE_ON, preset_topic
+from joshua_core.settings import NodeSettings, QosSettings
+from joshua_runtime import presets
 from joshua_runtime.convert.point_cloud import POINT_CLOUD2, laser_scan_to_point_cloud2
 from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, RADIANS_PER_TICK
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.operational_limit_calibration import RANGE_MAX_SUFFIX, RANGE_MIN_SUFFIX
+from joshua_runtime.qos import qos_profile
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.cameras import CameraStream
 from joshua_runtime.sim.engine import JointGroup, SimulationEngine
@@ -107,7 +113,12 @@ class ActuatorBridge:
         self.engine = engine
         self.group = engine.joints(settings_checks.joints(settings)[1], actuated=True)
         self._index = {name: i for i, name in enumerate(self.group.names)}
-        self.subscription = node.subscription(settings_checks.topic(settings), self.on_command)
+        topic = settings_checks.topic(settings)
+        self.subscription = node.subscription(topic, self.on_command)
+        self.poses = presets.poses({p.name: dict(p.positions) for p in settings.preset})
+        self.frozen = False  # after torque_off, until torque_on
+        self.presets = node.ros.create_subscription(String, preset_topic(topic.name), self.on_preset,
+                                                    qos_profile(QosSettings(**FIXED_QOS)))
         self.state_publisher = None
         if settings.HasField("state_topic"):
             self.source = JointStateSource(node, engine, self.group, settings.frame_id)
@@ -128,7 +139,20 @@ class ActuatorBridge:
         return goals
 
     def on_command(self, msg: JointState) -> None:
-        self.engine.command(self.group, self.goals(msg))
+        if not self.frozen:
+            self.engine.command(self.group, self.goals(msg))
+
+    def on_preset(self, msg: String) -> None:
+        action = presets.expand(msg.data.strip(), self.poses, list(self.group.names))
+        if action is None:
+            return
+        if TORQUE_OFF in action.preset_commands:
+            self.frozen = True
+            self.engine.command(self.group, self.engine.read(self.group).positions)
+        elif TORQUE_ON in action.preset_commands:
+            self.frozen = False
+        elif not self.frozen:
+            self.engine.command(self.group, np.array(action.position, dtype=float))
 
     def publish_state(self) -> None:
         self.state_publisher.publish(self.source.message())

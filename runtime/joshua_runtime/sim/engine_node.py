@@ -2,7 +2,8 @@
 
 Its settings carry `simulation = {"model", "timestep_s", "realtime_factor", "camera", "gl_backend",
 "simulates": [settings of each replaced node]}`. It loads the model, starts physics, and builds one
-bridge per replaced node (sim/bridges.py) on that node's own topics, types and QoS. Cameras render in
+bridge per replaced node (sim/bridges.py) on that node's own topics, types and QoS, and publishes
+/diagnostics for the servo nodes among them (sim/diagnostics.py). Cameras render in
 their own thread; encoders, actuator states and lidars run on the node's ROS timers.
 """
 
@@ -30,6 +31,7 @@ class SimulationEngineNode(JoshuaNode):
         # mujoco is imported only now, after the GL backend is chosen.
         from joshua_runtime.sim.bridges import make_bridge
         from joshua_runtime.sim.cameras import CameraThread
+        from joshua_runtime.sim.diagnostics import SimulatedDiagnostics
         from joshua_runtime.sim.engine import SimulationEngine
         from joshua_runtime.sim.model import load_model
 
@@ -37,6 +39,7 @@ class SimulationEngineNode(JoshuaNode):
         self.engine = SimulationEngine(model, sim.realtime_factor)
         self.default_camera = sim.camera  # the MJCF camera of camera nodes whose frame_id names none
         self.bridges = [make_bridge(self, self.engine, s) for s in simulated]
+        self.diagnostics = SimulatedDiagnostics(self, self.engine, simulated)
         streams = [b.stream for b in self.bridges if hasattr(b, "stream")]
         self.cameras = CameraThread(self.engine, streams, gl_backend)
         # Cameras first: creating GL contexts holds the interpreter for a while, which would show

@@ -4,12 +4,12 @@ import json
 import signal
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from joshua_core.servo_topics import preset_topic
+from joshua_runtime.drivers.calibration import uncalibrated
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 
-from joshua_core.servo_topics import preset_topic
-from joshua_runtime.drivers.calibration import uncalibrated
 from testsupport.compiled_settings import compiled_node
 
 STARTUP_TIMEOUT_S = 30.0

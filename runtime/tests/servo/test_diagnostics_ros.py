@@ -3,10 +3,10 @@
 import signal
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from joshua_runtime.drivers import sts3215_protocol as proto
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from servo_helpers import SO100_JOINTS
 
-from joshua_runtime.drivers import sts3215_protocol as proto
 from testsupport.compiled_settings import compiled_node
 
 STARTUP_TIMEOUT_S = 30.0

@@ -1,0 +1,42 @@
+"""/diagnostics for the servo nodes the simulation stands in for: one OK status per simulated servo.
+
+The real nodes report each servo's temperature, voltage and load (nodes/servo_diagnostics.py); a
+simulated arm has none of these, so each status says it is simulated and carries the joint's
+position. Published at the fastest diagnostics_rate_hz of the simulated nodes, on the same topic,
+type and QoS as the real nodes.
+"""
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from joshua_core.node_types import spec
+from joshua_core.servo_topics import DIAGNOSTICS_RATE_HZ, DIAGNOSTICS_TOPIC, FIXED_QOS
+from joshua_core.settings import NodeSettings, QosSettings
+
+from joshua_runtime.nodes import settings_checks
+from joshua_runtime.qos import qos_profile
+from joshua_runtime.sim.engine import SimulationEngine
+
+HARDWARE_ID = "simulation"
+
+
+class SimulatedDiagnostics:
+    def __init__(self, node, engine: SimulationEngine, simulated: list[NodeSettings]):
+        self.node, self.engine = node, engine
+        servo_nodes = [s for s in simulated if spec(s.type).diagnostics]
+        self.joints = [(s.name, engine.joints(settings_checks.joints(s)[1])) for s in servo_nodes]
+        self.publisher = None
+        if servo_nodes:
+            rate = max(s.diagnostics_rate_hz or DIAGNOSTICS_RATE_HZ for s in servo_nodes)
+            self.publisher = node.ros.create_publisher(DiagnosticArray, DIAGNOSTICS_TOPIC,
+                                                       qos_profile(QosSettings(**FIXED_QOS)))
+            self.timer = node.ros.create_timer(1.0 / rate, self.publish)
+
+    def publish(self) -> None:
+        message = DiagnosticArray()
+        message.header.stamp = self.node.stamp()
+        for name, group in self.joints:
+            positions = self.engine.read(group).positions
+            for joint, position in zip(group.names, positions):
+                message.status.append(DiagnosticStatus(
+                    level=DiagnosticStatus.OK, name=f"{name}: {joint}", hardware_id=HARDWARE_ID,
+                    message="simulated", values=[KeyValue(key="position_rad", value=f"{position:.4f}")]))
+        self.publisher.publish(message)
