@@ -64,8 +64,12 @@ def demonstration_goal_kwargs() -> dict:
 
 
 def zeros_actor() -> Actor:
-    """Sends goal angle 0 to every joint: the arm holds its home pose (the baseline of imitation)."""
-    return goal_actor(lambda state, image: np.zeros_like(state), demonstration_goal_kwargs())
+    """Sends goal angle 0 to every joint: the arm goes back to its home pose (the baseline of imitation)."""
+    def act(observation):
+        angles = observation[: len(arm.ARM_JOINTS)]
+        return np.clip(-angles / arm.MAX_DELTA_RAD, -1.0, 1.0)
+
+    return Actor(make_act=lambda env: act, env_kwargs=demonstration_goal_kwargs())
 
 
 def lerobot_actor(directory: Path) -> Actor:

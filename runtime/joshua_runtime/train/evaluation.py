@@ -10,10 +10,10 @@ from joshua_runtime.train import envs
 EVALUATION_SEED = 10_000
 
 
-def evaluate(act: Callable[[np.ndarray], np.ndarray] | None, env_id: str, episodes: int,
-             env_kwargs: dict | None = None, seed: int = EVALUATION_SEED,
-             reset: Callable[[], None] | None = None) -> dict:
-    """Run `episodes` episodes with `act(observation) -> action` (None: uniform random actions).
+def evaluate(make_act: Callable, env_id: str, episodes: int, env_kwargs: dict | None = None,
+             seed: int = EVALUATION_SEED, reset: Callable[[], None] | None = None) -> dict:
+    """Run `episodes` episodes with `make_act(unwrapped env)`, a function `observation -> action`
+    (or None: uniform random actions).
 
     `reset` (when given) is called before each episode, for policies that keep a history.
     Returns {"success_rate", "mean_return", "episodes", "env", "mean_final_distance"}.
@@ -22,6 +22,7 @@ def evaluate(act: Callable[[np.ndarray], np.ndarray] | None, env_id: str, episod
         raise ValueError("episodes must be at least 1")
     env = envs.make(env_id, **(env_kwargs or {}))
     env.action_space.seed(seed)
+    act = make_act(env.unwrapped)
     returns, successes, distances = [], [], []
     try:
         for episode in range(episodes):

@@ -13,6 +13,8 @@ from joshua_runtime.errors import SettingsError
 from joshua_runtime.train import saved_policy
 
 POLICIES = ("act", "diffusion")
+# One thread per process: on a shared CPU more threads make each small update slower, not faster.
+TORCH_THREADS = 1
 PRETRAINED_SUBDIRECTORY = Path("checkpoints/last/pretrained_model")
 # Sizes that train in minutes on a CPU and still fit small demonstration datasets.
 ACT_SIZES = {
@@ -64,6 +66,9 @@ def train(dataset: Path, policy: str, steps: int, output: Path, seed: int = 0, b
         policy=config, output_dir=output, seed=seed, num_workers=0, batch_size=batch_size, steps=steps,
         eval_freq=0, log_freq=max(steps // 10, 1), save_freq=steps, wandb=WandBConfig(enable=False),
     )
+    import torch
+
+    torch.set_num_threads(TORCH_THREADS)
     arguments = sys.argv
     sys.argv = arguments[:1]  # LeRobot's config validation reads sys.argv for `--policy.path`
     try:

@@ -113,7 +113,7 @@ def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every
         model.save(output / saved_policy.PPO_FILE)
     finally:
         environments.close()
-    result = evaluate(lambda obs: model.predict(obs, deterministic=True)[0], env_id, eval_episodes) \
+    result = evaluate(lambda env: lambda obs: model.predict(obs, deterministic=True)[0], env_id, eval_episodes) \
         if eval_episodes > 0 else None
     metadata = _metadata(env_id, int(model.num_timesteps), seed, result)
     saved_policy.write(output, metadata)
