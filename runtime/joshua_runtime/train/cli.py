@@ -1,6 +1,7 @@
 """`joshua-train`: train behaviours in simulation or from recorded demonstrations, and evaluate them.
 
     joshua-train rl --env ENV --steps N --output DIR [--seed S]        PPO (resumes a run in DIR)
+                    [--backend mujoco|mjx] [--n-envs K]
     joshua-train imitation --dataset DIR --policy act|diffusion --steps N --output DIR
     joshua-train evaluate DIR --env ENV --episodes K [--json]          roll a saved policy out
     joshua-train evaluate --random --env ENV --episodes K [--json]     the random baseline
@@ -15,7 +16,7 @@ import json
 import sys
 from pathlib import Path
 
-from joshua_runtime.errors import JoshuaError
+from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.sim.gl_backend import configure_gl
 
 DEFAULT_CHECKPOINT_EVERY = 10_000
@@ -37,6 +38,9 @@ def _parser() -> argparse.ArgumentParser:
     rl.add_argument("--eval-episodes", type=int, default=DEFAULT_EVAL_EPISODES, help="episodes of the final evaluation")
     rl.add_argument("--vec-env", choices=("dummy", "subproc"), default="dummy",
                     help="environments in this process (dummy) or one process each (subproc)")
+    rl.add_argument("--backend", choices=("mujoco", "mjx"), default="mujoco",
+                    help="C MuJoCo, or MuJoCo-XLA worlds (so100_reach; for GPUs; extra `mjx`)")
+    rl.add_argument("--n-envs", type=int, default=4, help="environments (MJX: worlds) stepped together")
     rl.add_argument("--no-progress", action="store_true", help="no progress bar")
     imitation = sub.add_parser("imitation", help="train a LeRobot policy on a recorded dataset")
     imitation.add_argument("--dataset", required=True, help="LeRobotDataset directory (written by DATA_SUBSCRIBER)")
@@ -80,8 +84,12 @@ def _rl(args) -> None:
     from joshua_runtime.train import ppo
     from joshua_runtime.train.evaluation import summary
 
+    if args.n_envs < 1:
+        raise SettingsError(f"--n-envs must be positive, got {args.n_envs}")
+    settings = ppo.PpoSettings(n_envs=args.n_envs)
     metadata = ppo.train(args.env, args.steps, Path(args.output), args.seed, args.checkpoint_every,
-                         args.eval_episodes, args.vec_env, progress=not args.no_progress)
+                         args.eval_episodes, args.vec_env, settings, progress=not args.no_progress,
+                         backend=args.backend)
     print(f"saved PPO policy for {args.env} after {metadata['steps']} steps in {args.output}")
     if metadata["evaluation"]:
         print(summary(metadata["evaluation"]))

@@ -70,7 +70,7 @@ def _check_output(output: Path, env_id: str) -> dict | None:
 
 def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every: int = 10_000,
           eval_episodes: int = 20, vec_env: str = "dummy", settings: PpoSettings = PpoSettings(),
-          progress: bool = True, log=print) -> dict:
+          progress: bool = True, log=print, backend: str = "mujoco") -> dict:
     """Train (or continue training) PPO up to `steps` environment steps; return the saved metadata."""
     envs.check_env_id(env_id)
     if steps < 1:
@@ -80,14 +80,11 @@ def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import CheckpointCallback
-    from stable_baselines3.common.env_util import make_vec_env
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
     torch.set_num_threads(TORCH_THREADS)
     if previous is not None:
         seed = int(previous.get("seed", seed))
-    vec_class = SubprocVecEnv if vec_env == "subproc" else DummyVecEnv
-    environments = make_vec_env(lambda: envs.make(env_id), n_envs=settings.n_envs, seed=seed, vec_env_cls=vec_class)
+    environments = _environments(env_id, backend, settings.n_envs, seed, vec_env)
     try:
         resume = latest_checkpoint(output) if previous is not None else None
         if resume is not None:
@@ -118,6 +115,27 @@ def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every
     metadata = _metadata(env_id, int(model.num_timesteps), seed, result)
     saved_policy.write(output, metadata)
     return metadata
+
+
+def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: str):
+    """The vectorised training environments on C MuJoCo (dummy or subproc) or on MJX."""
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+
+    if backend == "mjx":
+        if env_id != envs.REACH:
+            raise SettingsError(f"--backend mjx runs {envs.REACH} only")
+        try:
+            from joshua_runtime.train.mjx_reach import MjxReachVecEnv
+            import jax  # noqa: F401
+            from mujoco import mjx  # noqa: F401
+        except ImportError as exc:
+            raise SettingsError(f"--backend mjx needs the `mjx` extra (mujoco-mjx, jax): {exc}") from exc
+        return VecMonitor(MjxReachVecEnv(n_envs, seed))
+    if backend != "mujoco":
+        raise SettingsError(f"unknown backend {backend!r} (known: mujoco, mjx)")
+    vec_class = SubprocVecEnv if vec_env == "subproc" else DummyVecEnv
+    return make_vec_env(lambda: envs.make(env_id), n_envs=n_envs, seed=seed, vec_env_cls=vec_class)
 
 
 def _metadata(env_id: str, steps: int, seed: int, evaluation: dict | None) -> dict:
