@@ -6,14 +6,15 @@ turned back into the task's normalised action (the change from the present angle
 MAX_DELTA_RAD). It is evaluated with the goal its demonstrations reached (a fixed goal).
 """
 
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from joshua_runtime.ai import model_files
 from joshua_runtime.errors import SettingsError
+from joshua_runtime.so100 import SO100_JOINTS
 from joshua_runtime.train import arm, envs, saved_policy
 
 
@@ -78,7 +79,7 @@ def lerobot_actor(directory: Path) -> Actor:
 
     runner = PolicyRunner(directory, "cpu")
     image_keys = list(runner.shapes.images)
-    if len(image_keys) > 1 or runner.shapes.state_size not in (None, len(arm_joint_names())):
+    if len(image_keys) > 1 or runner.shapes.state_size not in (None, len(SO100_JOINTS)):
         raise SettingsError(f"the policy in {directory} does not read one camera and the six SO-100 joint angles")
 
     def goal_angles(state, image):
@@ -90,12 +91,6 @@ def lerobot_actor(directory: Path) -> Actor:
     actor = goal_actor(goal_angles, demonstration_goal_kwargs())
     actor.reset = runner.reset
     return actor
-
-
-def arm_joint_names():
-    from joshua_runtime.so100 import SO100_JOINTS
-
-    return SO100_JOINTS
 
 
 def load_actor(directory: str | Path, env_id: str) -> Actor:

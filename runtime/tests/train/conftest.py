@@ -10,9 +10,7 @@ from joshua_runtime.sim.gl_backend import configure_gl
 
 configure_gl("egl")
 
-LEARNING_STEPS = 30_000
-LEARNING_SEED = 7
-EVALUATION_EPISODES = 40
+from train_support import EVALUATION_EPISODES, LEARNING_SEED, LEARNING_STEPS  # noqa: E402
 
 
 @pytest.fixture(scope="session")

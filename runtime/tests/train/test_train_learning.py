@@ -8,9 +8,7 @@ demonstrated goal (~0.01 m) where goal angles of 0 stay ~0.16 m away.
 
 import json
 
-import pytest
-
-from conftest import EVALUATION_EPISODES
+from train_support import EVALUATION_EPISODES
 from joshua_runtime.train import cli, evaluation
 
 MIN_PPO_SUCCESS_RATE = 0.2
