@@ -14,7 +14,7 @@ import numpy as np
 
 from joshua_runtime.ai import model_files
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.so100 import SO100_JOINTS
+from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.train import arm, envs, saved_policy
 
 

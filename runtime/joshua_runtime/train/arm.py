@@ -12,7 +12,7 @@ import mujoco
 import numpy as np
 
 from joshua_runtime.sim.model import load_model, site_id
-from joshua_runtime.so100 import SO100_RANGES
+from joshua_core.so100 import SO100_RANGES
 
 MODEL = "builtin:so100"
 GRASP_SITE = "grasp"

@@ -9,7 +9,7 @@ sim/gl_backend.py before MuJoCo is imported.
 import mujoco
 import numpy as np
 
-from joshua_runtime.so100 import SO100_JOINTS
+from joshua_core.so100 import SO100_JOINTS
 
 STATE_TOPIC = "/so100/joint_states"
 ACTION_TOPIC = "/so100/command"

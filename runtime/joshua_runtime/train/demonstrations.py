@@ -18,7 +18,7 @@ from joshua_runtime.ai.frame_sampler import FrameSampler
 from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.sim.scripted_motion import KEYFRAMES
-from joshua_runtime.so100 import SO100_JOINTS
+from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.train import arm, reach_env
 from joshua_runtime.train.arm_view import ACTION_TOPIC, CAMERA_TOPIC, STATE_TOPIC, ArmView
 
