@@ -12,6 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from joshua_core.node_types import IMAGE_TYPES
+from joshua_core.settings import TopicSettings
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler
@@ -24,6 +26,7 @@ from joshua_runtime.train.arm_view import ACTION_TOPIC, CAMERA_TOPIC, STATE_TOPI
 
 DEMONSTRATION_POSE = np.array(KEYFRAMES[0][1][: len(arm.ARM_JOINTS)])
 DEMONSTRATION_GOAL = arm.ArmKinematics().grasp_point(DEMONSTRATION_POSE)
+IMAGE = IMAGE_TYPES[0]
 FPS = round(1.0 / arm.CONTROL_PERIOD_S)
 ACTION_NOISE = 0.2
 TASK = "reach over the cube"
@@ -53,7 +56,8 @@ def record(output: Path, episodes: int, seed: int = 0, echo=print) -> Path:
     output = Path(output).expanduser()
     if output.exists() and not (output / "meta" / "info.json").is_file():
         raise SettingsError(f"output {output} exists and is not a LeRobot dataset; choose another directory")
-    inputs = [{"name": STATE_TOPIC, "message_type": keys.JOINT_STATE}, {"name": CAMERA_TOPIC, "message_type": keys.IMAGE}]
+    inputs = [TopicSettings(name=STATE_TOPIC, message_type=keys.JOINT_STATE),
+              TopicSettings(name=CAMERA_TOPIC, message_type=IMAGE)]
     sampler = FrameSampler(ACTION_TOPIC, inputs, use_videos=False)
     writer = EpisodeWriter(str(output), FPS, ROBOT_TYPE, use_videos=False, log=_Log(echo))
     env = reach_env.So100ReachEnv(goal=DEMONSTRATION_GOAL)
