@@ -9,7 +9,7 @@
    next to the random baseline (success rate, mean return, mean final distance).
 3. Imitation round trip: scripted demonstrations -> ACT (joshua-train imitation) -> evaluation,
    next to the zeros baseline; skipped with --quick.
---quick: fewer steps everywhere (batch 1024 and imitation skipped, 10k PPO steps).
+--quick: fewer steps everywhere (batch 1024, MJX and imitation skipped, 5k PPO steps).
 """
 
 import argparse
@@ -43,13 +43,15 @@ def env_steps_per_s(env_id: str, batch: int, steps: int) -> float:
 
 
 def mjx_rows(quick: bool) -> list[str]:
+    if quick:
+        return ["mjx: skipped by --quick (each batch size compiles for about a minute on a CPU)"]
     if importlib.util.find_spec("mujoco.mjx") is None or importlib.util.find_spec("jax") is None:
-        return ["mjx: not installed (uv sync --extra mjx)"]
+        return ["mjx: not installed (the `mjx` extra)"]
     from joshua_runtime.train import mjx_reach
 
     rows = []
-    for batch in (1, 64) if quick else (1, 64, 1024):
-        compile_s, rate = mjx_reach.benchmark(batch, steps=5 if quick else 20)
+    for batch in (1, 64, 1024):
+        compile_s, rate = mjx_reach.benchmark(batch)
         rows.append(f"mjx so100_reach batch {batch:>4}: {rate:10.0f} env steps/s (compile {compile_s:.1f} s)")
     return rows
 
@@ -66,8 +68,8 @@ def main() -> None:
     for row in mjx_rows(args.quick):
         print(row)
 
-    ppo_steps = 10_000 if args.quick else 30_000
-    episodes = 20 if args.quick else 50
+    ppo_steps = 5_000 if args.quick else 30_000
+    episodes = 10 if args.quick else 50
     print(f"== PPO on so100_reach, {ppo_steps} steps, seed 0")
     with tempfile.TemporaryDirectory() as scratch:
         start = time.perf_counter()
