@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `make install`: puts joshuac, joshua-emulate, joshua-registry and joshua-episode on PATH for new shells.
+# `make install`: puts joshuac, joshua-emulate, joshua-registry, joshua-episode and joshua-train on PATH for new shells.
 #
 # Each command gets a small wrapper in BINDIR (default ~/.local/bin) that runs this checkout's
 # .venv/bin/<command> by its absolute path, so a rebuilt environment (`make setup`) is picked up as
@@ -10,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 REPO="$PWD"
 BINDIR="${BINDIR:-$HOME/.local/bin}"
-COMMANDS=(joshuac joshua-emulate joshua-registry joshua-episode)
+COMMANDS=(joshuac joshua-emulate joshua-registry joshua-episode joshua-train)
 MARK="# joshuac make install"
 
 login_file() {

@@ -1,9 +1,10 @@
-"""INFERENCE node: serve a LeRobot policy (ACT, Diffusion) as a ROS 2 node.
+"""INFERENCE node: serve a LeRobot policy (ACT, Diffusion) or a `joshua-train rl` PPO policy as a ROS 2 node.
 
 Settings used: `model_path` (a policy directory saved by LeRobot, or `registry:NAME[@REV]`),
 `policy_type` (optional check against the saved config), `device` (`cpu` / `cuda`), `inputs`
 (Image and JointState topics, mapped to policy features as described in `observation_mapper.py`),
-`topic` (sensor_msgs/msg/JointState actions), `joint_names` (names of the published joints; when
+`topic` (sensor_msgs/msg/JointState actions; a PPO reach policy publishes goal angles of
+the four arm joints and aims at the `goal` of its joshua_policy.json, see train/ppo_runner.py), `joint_names` (names of the published joints; when
 empty, the policy's action feature names without `.pos`), `rate_hz` (inference and publish rate).
 
 The policy is loaded and warmed up (one inference on a blank observation, then reset) in a
@@ -26,6 +27,7 @@ from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
+from joshua_runtime.train import saved_policy
 
 INPUT_STALE_AFTER_S = 0.5
 PROBLEM_LOG_PERIOD_S = 2.0
@@ -35,12 +37,11 @@ def resolve_model_path(model_path: str):
     """The policy directory named by a settings `model_path` (a directory or `registry:NAME[@REV]`)."""
     if not model_path:
         raise SettingsError("model_path is empty")
-    if registry.is_reference(model_path):
-        try:
-            return model_files.policy_directory(registry.resolve(model_path).path)
-        except registry.RegistryError as exc:
-            raise SettingsError(str(exc)) from exc
-    return model_files.policy_directory(model_path)
+    try:
+        path = registry.resolve(model_path).path if registry.is_reference(model_path) else model_path
+        return registry.policy_files(path)[0]
+    except registry.RegistryError as exc:
+        raise SettingsError(str(exc)) from exc
 
 
 def action_joint_names(joint_names: list[str], size: int, feature_names: list[str] | None) -> list[str]:
@@ -68,12 +69,11 @@ class InferenceNode(JoshuaNode):
             raise SettingsError(f"{self.name}: no input topics")
         keys.check_inputs(self.name, inputs)
         self.policy_dir = resolve_model_path(self.settings.model_path)
-        saved_type = model_files.policy_type(self.policy_dir)
-        if saved_type not in model_files.SUPPORTED_POLICY_TYPES:
-            raise SettingsError(
-                f"policy type {saved_type!r} is not supported "
-                f"(supported: {', '.join(model_files.SUPPORTED_POLICY_TYPES)})"
-            )
+        saved_type = registry.policy_files(self.policy_dir)[1]
+        supported = (*model_files.SUPPORTED_POLICY_TYPES, saved_policy.KIND_PPO)
+        if saved_type not in supported:
+            raise SettingsError(f"policy type {saved_type!r} is not supported (supported: {', '.join(supported)})")
+        self.policy_type = saved_type
         wanted = self.settings.policy_type
         if wanted and wanted.lower() != saved_type:
             raise SettingsError(f"policy_type is {wanted!r} but the policy in {self.policy_dir} is {saved_type!r}")
@@ -96,10 +96,17 @@ class InferenceNode(JoshuaNode):
     def _load(self) -> None:
         try:
             from joshua_runtime.ai.observation_mapper import ObservationMapper
-            from joshua_runtime.ai.policy_runner import PolicyRunner
 
-            runner = PolicyRunner(self.policy_dir, self.settings.device)
-            names = model_files.feature_names(self.policy_dir)
+            if self.policy_type == saved_policy.KIND_PPO:
+                from joshua_runtime.train.ppo_runner import PpoRunner
+
+                runner = PpoRunner(self.policy_dir, self.rate_hz)
+                names = runner.feature_names
+            else:
+                from joshua_runtime.ai.policy_runner import PolicyRunner
+
+                runner = PolicyRunner(self.policy_dir, self.settings.device)
+                names = model_files.feature_names(self.policy_dir)
             self.joint_names = action_joint_names(
                 list(self.settings.joint_names), runner.shapes.action_size, names.get(keys.ACTION))
             self.mapper = ObservationMapper(
@@ -112,7 +119,7 @@ class InferenceNode(JoshuaNode):
             self.runner = runner
             self.ready.set()
             self.announce_ready(
-                f"{runner.config.type} policy from {self.policy_dir} on {runner.device} "
+                f"{self.policy_type} policy from {self.policy_dir} on {runner.device} "
                 f"(load+warm-up {time.monotonic() - self.started_s:.2f} s, first inference {warm_up_s:.3f} s), "
                 f"{len(self.joint_names)} joints"
             )

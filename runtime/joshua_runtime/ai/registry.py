@@ -3,7 +3,11 @@
 Layout (root: $JOSHUA_MODEL_REGISTRY, default ~/.cache/joshua/models):
 
     <root>/<name>/<revision>/            the policy files, as saved by LeRobot
-    <root>/<name>/<revision>/joshua_model.json   name, revision, type, import order, source, digest
+    <root>/<name>/<revision>/joshua_model.json   name, revision, type, import order, source, digest, lineage
+
+A policy is a LeRobot policy directory, or a `joshua-train rl` output (policy.zip with
+joshua_policy.json, type `sb3-ppo`). The lineage (what it was trained on, steps, seed, evaluation)
+is copied from the joshua_policy.json that `joshua-train` writes next to every policy.
 
 `registry:NAME` resolves to the revision imported last, `registry:NAME@REVISION` to that one.
 A revision defaults to the first 12 hex digits of the SHA-256 of the policy files, so importing the
@@ -24,11 +28,14 @@ from pathlib import Path
 from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
 from joshua_runtime.ai import model_files
 from joshua_runtime.errors import JoshuaError
+from joshua_runtime.train import saved_policy
 
 DEFAULT_ROOT = REGISTRY_DEFAULT_ROOT
 REF_PREFIX = REGISTRY_PREFIX
 ENTRY_FILE = REGISTRY_ENTRY_FILE
 DIGEST_LENGTH = 12
+# Intermediate checkpoints of a training run are not part of the policy.
+TRAINING_CHECKPOINTS = "checkpoints"
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,127}$")
 
 
@@ -46,6 +53,22 @@ class Entry:
     imported_at: str
     source: str
     digest: str
+    lineage: dict | None = None
+
+    def lineage_text(self) -> str:
+        """`so100_reach, 30000 steps, seed 0, success 0.43` (or `-` when unknown)."""
+        if not self.lineage:
+            return "-"
+        parts = [str(self.lineage.get("env") or self.lineage.get("dataset") or "?")]
+        if self.lineage.get("steps") is not None:
+            parts.append(f"{self.lineage['steps']} steps")
+        if self.lineage.get("seed") is not None:
+            parts.append(f"seed {self.lineage['seed']}")
+        evaluation = self.lineage.get("evaluation")
+        if isinstance(evaluation, dict):
+            parts.append(f"success {evaluation.get('success_rate')} over {evaluation.get('episodes')} episodes "
+                         f"(return {evaluation.get('mean_return')})")
+        return ", ".join(parts)
 
 
 def root() -> Path:
@@ -111,8 +134,8 @@ def import_policy(path: str | Path, name: str, revision: str | None = None, sour
     check_name(name, "model name")
     if revision is not None:
         check_name(revision, "revision")
-    policy_dir = model_files.policy_directory(path)
-    policy_type = model_files.policy_type(policy_dir)
+    policy_dir, policy_type = policy_files(path)
+    metadata = saved_policy.read(policy_dir)
     digest = _digest(policy_dir)
     revision = revision or digest[:DIGEST_LENGTH]
     target = root() / name / revision
@@ -125,7 +148,7 @@ def import_policy(path: str | Path, name: str, revision: str | None = None, sour
     staging = Path(tempfile.mkdtemp(prefix=f".import-{revision}-", dir=target.parent))
     try:
         copy = staging / "policy"
-        shutil.copytree(policy_dir, copy, ignore=shutil.ignore_patterns(ENTRY_FILE))
+        shutil.copytree(policy_dir, copy, ignore=shutil.ignore_patterns(ENTRY_FILE, TRAINING_CHECKPOINTS))
         names = model_files.feature_names(policy_dir)
         if names:
             model_files.write_feature_names(copy, names)
@@ -137,6 +160,7 @@ def import_policy(path: str | Path, name: str, revision: str | None = None, sour
             "imported_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
             "source": source or str(Path(path).resolve()),
             "digest": digest,
+            "lineage": {k: v for k, v in metadata.items() if k != "kind"} if metadata else None,
         }
         (copy / ENTRY_FILE).write_text(json.dumps(record, indent=2) + "\n")
         try:
@@ -148,6 +172,17 @@ def import_policy(path: str | Path, name: str, revision: str | None = None, sour
     entry = _read_entry(target)
     assert entry is not None
     return entry
+
+
+def policy_files(path: str | Path) -> tuple[Path, str]:
+    """(directory, type) of the policy at `path`: a `joshua-train rl` output or a LeRobot policy."""
+    base = Path(path).expanduser()
+    if base.is_dir() and saved_policy.is_ppo(base):
+        if not (base / saved_policy.PPO_FILE).is_file():
+            raise RegistryError(f"{base} holds no {saved_policy.PPO_FILE} yet (training has not finished)")
+        return base, saved_policy.KIND_PPO
+    policy_dir = model_files.policy_directory(path)
+    return policy_dir, model_files.policy_type(policy_dir)
 
 
 def pull(repo_id: str, name: str | None = None, hub_revision: str | None = None) -> Entry:
@@ -184,7 +219,7 @@ def _digest(directory: Path) -> str:
     sha = hashlib.sha256()
     for file in sorted(p for p in directory.rglob("*") if p.is_file()):
         relative = file.relative_to(directory).as_posix()
-        if relative in (ENTRY_FILE, model_files.FEATURE_NAMES_FILE):
+        if relative in (ENTRY_FILE, model_files.FEATURE_NAMES_FILE) or relative.startswith(TRAINING_CHECKPOINTS + "/"):
             continue
         sha.update(relative.encode() + b"\0")
         with open(file, "rb") as stream:
@@ -205,6 +240,7 @@ def _read_entry(directory: Path) -> Entry | None:
             imported_at=record["imported_at"],
             source=record.get("source", ""),
             digest=record["digest"],
+            lineage=record.get("lineage"),
         )
     except (OSError, ValueError, KeyError, TypeError):
         return None

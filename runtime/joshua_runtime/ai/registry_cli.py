@@ -1,7 +1,7 @@
-"""`joshua-registry`: manage the local registry of LeRobot policies.
+"""`joshua-registry`: manage the local registry of policies (LeRobot, and PPO from joshua-train).
 
     joshua-registry import PATH --name NAME [--revision REV]   add a saved policy
-    joshua-registry list [NAME]                                 show entries, latest marked with *
+    joshua-registry list [NAME]                                 show entries (latest marked with *) and lineage
     joshua-registry resolve registry:NAME[@REV]                 print the directory of an entry
     joshua-registry remove NAME@REV                             delete one revision
     joshua-registry pull REPO_ID [--name NAME] [--hub-revision REV]   download from the Hub, then import
@@ -20,7 +20,7 @@ from joshua_runtime.errors import JoshuaError
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="joshua-registry", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
-    add = sub.add_parser("import", help="add a policy saved by LeRobot")
+    add = sub.add_parser("import", help="add a policy saved by LeRobot or by joshua-train rl")
     add.add_argument("path", help="policy directory (or a training output / checkpoint directory)")
     add.add_argument("--name", required=True, help="registry name")
     add.add_argument("--revision", help="revision label (default: digest of the files)")
@@ -49,6 +49,7 @@ def _list(name: str | None) -> None:
     for entry in found:
         mark = "*" if latest[entry.name] == entry.revision else " "
         print(f"{entry.name:<24} {entry.revision + mark:<16} {entry.policy_type:<10} {entry.imported_at:<20} {entry.source}")
+        print(f"{'':<24}   trained on {entry.lineage_text()}")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,0 +1,156 @@
+"""`joshua-train`: train behaviours in simulation or from recorded demonstrations, and evaluate them.
+
+    joshua-train rl --env ENV --steps N --output DIR [--seed S]        PPO (resumes a run in DIR)
+                    [--backend mujoco|mjx] [--n-envs K]
+    joshua-train imitation --dataset DIR --policy act|diffusion --steps N --output DIR
+    joshua-train evaluate DIR --env ENV --episodes K [--json]          roll a saved policy out
+    joshua-train evaluate --random --env ENV --episodes K [--json]     the random baseline
+    joshua-train evaluate --zeros --env so100_reach --episodes K       goal angles 0 (the imitation baseline)
+    joshua-train demonstrate --output DIR --episodes K                 scripted so100_reach demonstrations
+
+Environments: so100_reach, so100_push. Exit codes: 0 success, 1 failure, 2 bad arguments or settings, 130 interrupted.
+"""
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.sim.gl_backend import configure_gl
+
+DEFAULT_CHECKPOINT_EVERY = 10_000
+DEFAULT_EVAL_EPISODES = 20
+
+
+def _parser() -> argparse.ArgumentParser:
+    from joshua_runtime.train.envs import ENVIRONMENTS
+
+    env_help = f"environment ({', '.join(ENVIRONMENTS)})"
+    parser = argparse.ArgumentParser(prog="joshua-train", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    rl = sub.add_parser("rl", help="train PPO on a simulated task")
+    rl.add_argument("--env", required=True, help=env_help)
+    rl.add_argument("--steps", type=int, required=True, help="environment steps in total (a resumed run continues to N)")
+    rl.add_argument("--output", required=True, help="run directory: checkpoints, policy.zip, joshua_policy.json")
+    rl.add_argument("--seed", type=int, default=0)
+    rl.add_argument("--checkpoint-every", type=int, default=DEFAULT_CHECKPOINT_EVERY, help="steps between checkpoints")
+    rl.add_argument("--eval-episodes", type=int, default=DEFAULT_EVAL_EPISODES, help="episodes of the final evaluation")
+    rl.add_argument("--vec-env", choices=("dummy", "subproc"), default="dummy",
+                    help="environments in this process (dummy) or one process each (subproc)")
+    rl.add_argument("--backend", choices=("mujoco", "mjx"), default="mujoco",
+                    help="C MuJoCo, or MuJoCo-XLA worlds (so100_reach; for GPUs; extra `mjx`)")
+    rl.add_argument("--n-envs", type=int, default=4, help="environments (MJX: worlds) stepped together")
+    rl.add_argument("--no-progress", action="store_true", help="no progress bar")
+    imitation = sub.add_parser("imitation", help="train a LeRobot policy on a recorded dataset")
+    imitation.add_argument("--dataset", required=True, help="LeRobotDataset directory (written by DATA_SUBSCRIBER)")
+    imitation.add_argument("--policy", required=True, choices=("act", "diffusion"))
+    imitation.add_argument("--steps", type=int, required=True, help="training steps")
+    imitation.add_argument("--output", required=True, help="new directory for LeRobot's output")
+    imitation.add_argument("--seed", type=int, default=0)
+    imitation.add_argument("--batch-size", type=int, default=8)
+    imitation.add_argument("--eval-episodes", type=int, default=0,
+                           help="evaluate on so100_reach afterwards (for demonstrations made by `demonstrate`)")
+    evaluate = sub.add_parser("evaluate", help="roll a policy out in simulation")
+    evaluate.add_argument("directory", nargs="?", help="policy directory (joshua-train rl output or a LeRobot policy)")
+    evaluate.add_argument("--env", required=True, help=env_help)
+    evaluate.add_argument("--episodes", type=int, required=True)
+    evaluate.add_argument("--random", action="store_true", help="uniform random actions (the baseline)")
+    evaluate.add_argument("--zeros", action="store_true",
+                          help="goal angle 0 for every joint, on the demonstrations' goal (the imitation baseline)")
+    evaluate.add_argument("--json", action="store_true", help="print the result as JSON")
+    demonstrate = sub.add_parser("demonstrate", help="record scripted so100_reach demonstrations as a LeRobot dataset")
+    demonstrate.add_argument("--output", required=True, help="dataset directory (appended to when it exists)")
+    demonstrate.add_argument("--episodes", type=int, required=True)
+    demonstrate.add_argument("--seed", type=int, default=0)
+    return parser
+
+
+def run_evaluation(directory, env_id: str, episodes: int, baseline: str = "") -> dict:
+    """Roll out the policy in `directory`, or a baseline ("random" or "zeros")."""
+    from joshua_runtime.train import actors, evaluation
+
+    if baseline:
+        actor = actors.random_actor() if baseline == "random" else actors.zeros_actor()
+    else:
+        actor = actors.load_actor(directory, env_id)
+    try:
+        return evaluation.evaluate(actor.make_act, env_id, episodes, actor.env_kwargs, reset=actor.reset)
+    finally:
+        actor.close()
+
+
+def _rl(args) -> None:
+    from joshua_runtime.train import ppo
+    from joshua_runtime.train.evaluation import summary
+
+    if args.n_envs < 1:
+        raise SettingsError(f"--n-envs must be positive, got {args.n_envs}")
+    settings = ppo.PpoSettings(n_envs=args.n_envs)
+    metadata = ppo.train(args.env, args.steps, Path(args.output), args.seed, args.checkpoint_every,
+                         args.eval_episodes, args.vec_env, settings, progress=not args.no_progress,
+                         backend=args.backend)
+    print(f"saved PPO policy for {args.env} after {metadata['steps']} steps in {args.output}")
+    if metadata["evaluation"]:
+        print(summary(metadata["evaluation"]))
+
+
+def _imitation(args) -> None:
+    from joshua_runtime.train import imitation, saved_policy
+    from joshua_runtime.train.envs import REACH
+    from joshua_runtime.train.evaluation import summary
+
+    pretrained = imitation.train(Path(args.dataset), args.policy, args.steps, Path(args.output), args.seed,
+                                 args.batch_size)
+    print(f"saved {args.policy} policy in {pretrained}")
+    if args.eval_episodes > 0:
+        result = run_evaluation(pretrained, REACH, args.eval_episodes)
+        saved_policy.update(pretrained, evaluation=result)
+        print(summary(result))
+
+
+def _evaluate(args, parser) -> None:
+    from joshua_runtime.train.envs import REACH
+    from joshua_runtime.train.evaluation import summary
+
+    if (args.random + args.zeros + bool(args.directory)) != 1:
+        parser.error("give one of: a policy DIRECTORY, --random, --zeros")
+    if args.zeros and args.env != REACH:
+        parser.error(f"--zeros is the baseline of {REACH} demonstrations")
+    if args.episodes < 1:
+        parser.error(f"--episodes must be positive, got {args.episodes}")
+    baseline = "random" if args.random else "zeros" if args.zeros else ""
+    result = run_evaluation(args.directory, args.env, args.episodes, baseline)
+    if args.json:
+        print(json.dumps({key: result[key] for key in ("success_rate", "mean_return", "episodes")}))
+    else:
+        print(summary(result))
+
+
+def main(argv: list[str] | None = None) -> int:
+    configure_gl()  # before MuJoCo is imported: demonstrations and LeRobot evaluations render a camera
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "rl":
+            _rl(args)
+        elif args.command == "imitation":
+            _imitation(args)
+        elif args.command == "evaluate":
+            _evaluate(args, parser)
+        elif args.command == "demonstrate":
+            from joshua_runtime.train import demonstrations
+
+            demonstrations.record(Path(args.output), args.episodes, args.seed)
+            print(f"recorded {args.episodes} demonstrations in {args.output}")
+    except JoshuaError as exc:
+        print(f"joshua-train: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("joshua-train: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

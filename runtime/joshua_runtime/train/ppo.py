@@ -1,0 +1,157 @@
+"""`joshua-train rl`: PPO (stable-baselines3) on a training environment, with checkpoints and resumption.
+
+OUTPUT holds `checkpoints/ppo_<steps>_steps.zip` (every `checkpoint_every` steps), and at the end
+`policy.zip` and `joshua_policy.json` (see saved_policy.py). When OUTPUT already holds a run of the
+same environment, training continues from its latest checkpoint (or final policy) up to `steps`
+in total; a directory holding anything else is refused rather than overwritten.
+"""
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from joshua_runtime.errors import SettingsError
+from joshua_runtime.train import envs, saved_policy
+from joshua_runtime.train.evaluation import evaluate
+
+CHECKPOINT_DIR = "checkpoints"
+CHECKPOINT_PREFIX = "ppo"
+_CHECKPOINT = re.compile(rf"^{CHECKPOINT_PREFIX}_(\d+)_steps\.zip$")
+# Small MLP policies run fastest on one thread, and leave the other core to the simulation.
+TORCH_THREADS = 1
+
+
+@dataclass(frozen=True)
+class PpoSettings:
+    """PPO hyperparameters that learn so100_reach in tens of thousands of steps."""
+
+    n_envs: int = 4
+    n_steps: int = 256           # per environment and update
+    batch_size: int = 256
+    n_epochs: int = 10
+    learning_rate: float = 1e-3
+    gamma: float = 0.95
+    gae_lambda: float = 0.95
+    net_arch: tuple[int, ...] = (64, 64)
+
+
+def latest_checkpoint(output: Path) -> tuple[int, Path] | None:
+    """(steps, path) of the most advanced saved model in OUTPUT (a checkpoint or the final policy)."""
+    found = []
+    directory = output / CHECKPOINT_DIR
+    if directory.is_dir():
+        for path in directory.iterdir():
+            match = _CHECKPOINT.match(path.name)
+            if match:
+                found.append((int(match.group(1)), path))
+    metadata = saved_policy.read(output) if (output / saved_policy.METADATA_FILE).is_file() else None
+    if metadata and (output / saved_policy.PPO_FILE).is_file():
+        found.append((int(metadata.get("steps") or 0), output / saved_policy.PPO_FILE))
+    return max(found, default=None)
+
+
+def _check_output(output: Path, env_id: str) -> dict | None:
+    """The metadata of a run to continue in OUTPUT, None for a fresh run; refuse foreign content."""
+    if not output.exists():
+        return None
+    if not output.is_dir():
+        raise SettingsError(f"output {output} exists and is not a directory")
+    metadata = saved_policy.read(output)
+    if metadata is None:
+        if any(output.iterdir()):
+            raise SettingsError(f"output {output} is not empty and holds no joshua-train run; choose another directory")
+        return None
+    if metadata["kind"] != saved_policy.KIND_PPO or metadata.get("env") != env_id:
+        raise SettingsError(
+            f"output {output} holds a {metadata['kind']} run of {metadata.get('env') or metadata.get('dataset')}, "
+            f"not PPO on {env_id}; choose another directory")
+    return metadata
+
+
+def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every: int = 10_000,
+          eval_episodes: int = 20, vec_env: str = "dummy", settings: PpoSettings = PpoSettings(),
+          progress: bool = True, log=print, backend: str = "mujoco") -> dict:
+    """Train (or continue training) PPO up to `steps` environment steps; return the saved metadata."""
+    envs.check_env_id(env_id)
+    if steps < 1:
+        raise SettingsError(f"--steps must be positive, got {steps}")
+    output = Path(output).expanduser()
+    previous = _check_output(output, env_id)
+    import torch
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import CheckpointCallback
+
+    torch.set_num_threads(TORCH_THREADS)
+    if previous is not None:
+        seed = int(previous.get("seed", seed))
+    environments = _environments(env_id, backend, settings.n_envs, seed, vec_env)
+    try:
+        resume = latest_checkpoint(output) if previous is not None else None
+        if resume is not None:
+            done, path = resume
+            model = PPO.load(path, env=environments, device="cpu")
+            log(f"continuing {env_id} from {path} ({model.num_timesteps} steps)")
+        else:
+            output.mkdir(parents=True, exist_ok=True)
+            saved_policy.write(output, _metadata(env_id, 0, seed, None))
+            model = PPO(
+                "MlpPolicy", environments, n_steps=settings.n_steps, batch_size=settings.batch_size,
+                n_epochs=settings.n_epochs, learning_rate=settings.learning_rate, gamma=settings.gamma,
+                gae_lambda=settings.gae_lambda, policy_kwargs={"net_arch": list(settings.net_arch)},
+                seed=seed, device="cpu", verbose=0,
+            )
+        remaining = steps - model.num_timesteps
+        if remaining > 0:
+            checkpoints = CheckpointCallback(
+                save_freq=max(checkpoint_every // settings.n_envs, 1),
+                save_path=str(output / CHECKPOINT_DIR), name_prefix=CHECKPOINT_PREFIX)
+            model.learn(total_timesteps=remaining, callback=checkpoints, reset_num_timesteps=False,
+                        progress_bar=progress)
+        model.save(output / saved_policy.PPO_FILE)
+    finally:
+        environments.close()
+    result = evaluate(lambda env: lambda obs: model.predict(obs, deterministic=True)[0], env_id, eval_episodes) \
+        if eval_episodes > 0 else None
+    metadata = _metadata(env_id, int(model.num_timesteps), seed, result)
+    saved_policy.write(output, metadata)
+    return metadata
+
+
+def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: str):
+    """The vectorised training environments on C MuJoCo (dummy or subproc) or on MJX."""
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+
+    if backend == "mjx":
+        if env_id != envs.REACH:
+            raise SettingsError(f"--backend mjx runs {envs.REACH} only")
+        try:
+            from joshua_runtime.train.mjx_reach import MjxReachVecEnv
+            import jax  # noqa: F401
+            from mujoco import mjx  # noqa: F401
+        except ImportError as exc:
+            raise SettingsError(f"--backend mjx needs the `mjx` extra (mujoco-mjx, jax): {exc}") from exc
+        return VecMonitor(MjxReachVecEnv(n_envs, seed))
+    if backend != "mujoco":
+        raise SettingsError(f"unknown backend {backend!r} (known: mujoco, mjx)")
+    vec_class = SubprocVecEnv if vec_env == "subproc" else DummyVecEnv
+    return make_vec_env(lambda: envs.make(env_id), n_envs=n_envs, seed=seed, vec_env_cls=vec_class)
+
+
+def _metadata(env_id: str, steps: int, seed: int, evaluation: dict | None) -> dict:
+    from joshua_runtime.train import arm, reach_env
+
+    metadata = {
+        "kind": saved_policy.KIND_PPO, "env": env_id, "steps": steps, "seed": seed, "evaluation": evaluation,
+        "joint_names": list(arm.ARM_JOINTS), "observation": env_id,
+    }
+    if env_id == envs.REACH:
+        metadata["goal"] = [round(float(v), 4) for v in reach_env.SERVING_GOAL]
+    return metadata
+
+
+def load(directory: Path):
+    """The PPO model saved in a `joshua-train rl` output directory."""
+    from stable_baselines3 import PPO
+
+    return PPO.load(Path(directory) / saved_policy.PPO_FILE, device="cpu")

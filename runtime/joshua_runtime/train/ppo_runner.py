@@ -1,0 +1,61 @@
+"""Serve a `joshua-train rl` PPO policy of `so100_reach` with the interface of ai/policy_runner.py.
+
+The INFERENCE node gives the joint angles it maps from its JointState inputs (`observation.state`,
+picked by name: the four ARM_JOINTS). The rest of the task's observation is built here, as the
+environment builds it (arm.py): velocities by finite differences between ticks, the grasp point by
+forward kinematics, and the goal from the policy's `joshua_policy.json` (`goal`, m, in the frame
+of the arm's base; set when training, edit it to aim elsewhere). The action is turned into goal
+angles for the ARM_JOINTS, published like any policy's action.
+"""
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from joshua_runtime.ai import features as keys
+from joshua_runtime.ai.policy_runner import PolicyShapes
+from joshua_runtime.errors import SettingsError
+from joshua_runtime.train import arm, envs, saved_policy
+
+
+class PpoRunner:
+    """A saved PPO reach policy, ready for `act({"observation.state": angles})`."""
+
+    kind = saved_policy.KIND_PPO
+
+    def __init__(self, policy_dir: Path, rate_hz: float):
+        from joshua_runtime.train import ppo
+
+        metadata = saved_policy.read(policy_dir) or {}
+        if metadata.get("env") != envs.REACH:
+            raise SettingsError(f"only {envs.REACH} PPO policies can be served, {policy_dir} is for {metadata.get('env')}")
+        goal = metadata.get("goal")
+        if not (isinstance(goal, list) and len(goal) == 3):
+            raise SettingsError(f"{policy_dir / saved_policy.METADATA_FILE} has no goal [x, y, z]")
+        self.goal = np.array(goal, dtype=float)
+        self.model = ppo.load(policy_dir)
+        self.kinematics = arm.ArmKinematics()
+        self.period_s = 1.0 / rate_hz
+        self.device = "cpu"
+        self.shapes = PolicyShapes(images={}, state_size=len(arm.ARM_JOINTS), action_size=len(arm.ARM_JOINTS))
+        self.feature_names = {keys.STATE: keys.position_names(list(arm.ARM_JOINTS)),
+                              keys.ACTION: keys.position_names(list(arm.ARM_JOINTS))}
+        self._previous: np.ndarray | None = None
+
+    def reset(self) -> None:
+        self._previous = None
+
+    def act(self, observation: dict[str, np.ndarray]) -> np.ndarray:
+        positions = np.asarray(observation[keys.STATE], dtype=float)
+        velocities = np.zeros_like(positions) if self._previous is None else (positions - self._previous) / self.period_s
+        self._previous = positions
+        vector = arm.observation(positions, velocities, self.kinematics.grasp_point(positions), self.goal)
+        action, _ = self.model.predict(vector, deterministic=True)
+        return arm.goals_from_action(positions, action, self.kinematics.addresses).astype(np.float32)
+
+    def warm_up(self) -> float:
+        start = time.perf_counter()
+        self.act({keys.STATE: np.zeros(len(arm.ARM_JOINTS), np.float32)})
+        self.reset()
+        return time.perf_counter() - start

@@ -1,0 +1,5 @@
+"""Settings of the PPO run the training tests share (trained once per session, see conftest.py)."""
+
+LEARNING_STEPS = 30_000
+LEARNING_SEED = 7
+EVALUATION_EPISODES = 40
