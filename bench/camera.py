@@ -100,8 +100,13 @@ def run_case(publisher: dict, profile: Path | None, seconds: float) -> dict:
         env["FASTRTPS_DEFAULT_PROFILES_FILE"] = str(profile)
     process = subprocess.Popen(node_command(publisher), env=env, stderr=subprocess.DEVNULL)
     try:
-        result = subprocess.run([PYTHON, __file__, "--subscribe", "--seconds", str(seconds)], env=env,
-                                capture_output=True, text=True, timeout=SUBSCRIBER_GRACE_S + seconds + WARMUP_S + 10)
+        result = subprocess.run(
+            [PYTHON, __file__, "--subscribe", "--seconds", str(seconds)],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=SUBSCRIBER_GRACE_S + seconds + WARMUP_S + 10,
+        )
     finally:
         process.send_signal(signal.SIGINT)
         process.wait(STOP_TIMEOUT_S)
@@ -132,15 +137,20 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         profile = write_fastdds_profiles(DESCRIPTION, Path(tmp), path="bench_camera.pbtxt")["bench_camera"]
         cases = [("with", profile), ("without", None)]
-        print(f"640x480 bgr8 Image ({WIDTH * HEIGHT * 3} bytes) at {RATE_HZ:g} fps, best effort depth 5, "
-              f"{args.seconds:g} s per case, ROS_DOMAIN_ID {bench_environment('camera')['ROS_DOMAIN_ID']}")
+        print(
+            f"640x480 bgr8 Image ({WIDTH * HEIGHT * 3} bytes) at {RATE_HZ:g} fps, best effort depth 5, "
+            f"{args.seconds:g} s per case, ROS_DOMAIN_ID {bench_environment('camera')['ROS_DOMAIN_ID']}"
+        )
         print(f"{'profile':<8} {'received':>8} {'missing':>8} {'drop %':>7} {'p50 ms':>8} {'p99 ms':>8}")
         for name, path in cases:
             if args.only and name != args.only:
                 continue
             r = run_case(publisher, path, args.seconds)
-            print(f"{name:<8} {r['received']:>8} {r['missing']:>8} {100 * r['drop_rate']:>7.1f} "
-                  f"{r['p50_ms']:>8.2f} {r['p99_ms']:>8.2f}", flush=True)
+            print(
+                f"{name:<8} {r['received']:>8} {r['missing']:>8} {100 * r['drop_rate']:>7.1f} "
+                f"{r['p50_ms']:>8.2f} {r['p99_ms']:>8.2f}",
+                flush=True,
+            )
     return 0
 
 

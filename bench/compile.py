@@ -41,19 +41,23 @@ def synthetic_nodes(nodes: int) -> list[tuple[str, str, str, list[str]]]:
 
 def description(nodes: int) -> str:
     """A valid joshuac description of the synthetic nodes."""
-    lines = ['robot_config {', '  name: "synthetic"', "  mode: MODE_DATA_COLLECTION"]
+    lines = ["robot_config {", '  name: "synthetic"', "  mode: MODE_DATA_COLLECTION"]
     for name, kind, published, read in synthetic_nodes(nodes):
         if kind == "encoder":
             lines.append(f'  node {{ name: "{name}" type: MOCK_ENCODER_PUBLISHER topic_name: "{published}" }}')
         elif kind == "actuator":
-            lines.append(f'  node {{ name: "{name}" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "{read[0]}" '
-                         f'state_topic: "{published}" }}')
+            lines.append(
+                f'  node {{ name: "{name}" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "{read[0]}" '
+                f'state_topic: "{published}" }}'
+            )
         elif kind == "camera":
             lines.append(f'  node {{ name: "{name}" type: MOCK_CAMERA_PUBLISHER topic_name: "{published}" }}')
         else:
             inputs = ", ".join(f'"{topic}"' for topic in read)
-            lines.append(f'  node {{ name: "{name}" type: DATA_SUBSCRIBER topic_name: "{read[0]}" '
-                         f'input_topics: [{inputs}] output_directory: "/data/run" }}')
+            lines.append(
+                f'  node {{ name: "{name}" type: DATA_SUBSCRIBER topic_name: "{read[0]}" '
+                f'input_topics: [{inputs}] output_directory: "/data/run" }}'
+            )
     return "\n".join(lines + ["}"]) + "\n"
 
 
@@ -67,8 +71,10 @@ def dataflow(nodes: int, program: Path) -> str:
             lines += ["    outputs:", f"      - {published.strip('/').replace('/', '_')}"]
         if read:
             lines.append("    inputs:")
-            lines += [f"      {topic.strip('/').replace('/', '_')}: {owner[topic]}/{topic.strip('/').replace('/', '_')}"
-                      for topic in read]
+            lines += [
+                f"      {topic.strip('/').replace('/', '_')}: {owner[topic]}/{topic.strip('/').replace('/', '_')}"
+                for topic in read
+            ]
     return "\n".join(lines) + "\n"
 
 
@@ -102,8 +108,10 @@ def main() -> None:
         for config in sorted((ROOT / "config" / "robots").glob("*.pbtxt"))[: 1 if args.quick else None]:
             cpu, wall = timed([JOSHUAC, "build", str(config), "-o", str(tmp / "out" / config.stem)], runs)
             print(f"{'joshuac build ' + config.name:32} {cpu:>8.3f} {wall:>8.3f} {cpu / bare[0]:>8.1f}")
-        print(f"\nper node, min of {runs} runs   joshuac build cpu s   joshuac check cpu s   dora validate cpu s"
-              "   check x dora")
+        print(
+            f"\nper node, min of {runs} runs   joshuac build cpu s   joshuac check cpu s   dora validate cpu s"
+            "   check x dora"
+        )
         for size in sizes:
             config, flow = tmp / f"synthetic_{size}.pbtxt", tmp / f"synthetic_{size}.yml"
             config.write_text(description(size))

@@ -25,10 +25,6 @@ import threading
 import time
 from pathlib import Path
 
-from joshua_runtime.drivers.sts3215_protocol import INST_SYNC_READ
-from joshua_runtime.drivers.sts3215_table import register
-from joshua_runtime.emulators.lds01 import Lds01Emulator
-from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 from support.described_nodes import (
     CPP_BIN_DIR,
     ROOT,
@@ -49,6 +45,11 @@ from teleop import (
     ReadLog,
     percentile,
 )
+
+from joshua_runtime.drivers.sts3215_protocol import INST_SYNC_READ
+from joshua_runtime.drivers.sts3215_table import register
+from joshua_runtime.emulators.lds01 import Lds01Emulator
+from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
 DESCRIPTION = """
 robot_config {
@@ -74,8 +75,10 @@ def commands(links: dict[str, Path], rate_hz: float) -> dict[str, dict[str, list
     overrides = [f"{name}.serial_port={link}" for name, link in links.items()]
     overrides += [f"leader.rate_hz={rate_hz}", f"follower.rate_hz={rate_hz}"]
     settings = compiled_settings(DESCRIPTION, overrides, "bench_cpp.pbtxt")
-    return {"Python": {name: node_command(settings[name]) for name in links},
-            "C++": compiled_cpp_commands(DESCRIPTION, overrides, "bench_cpp.pbtxt")}
+    return {
+        "Python": {name: node_command(settings[name]) for name in links},
+        "C++": compiled_cpp_commands(DESCRIPTION, overrides, "bench_cpp.pbtxt"),
+    }
 
 
 def cpu_seconds(pid: int) -> float:
@@ -143,8 +146,9 @@ def first_time(arrived: dict, key: str, process: subprocess.Popen) -> float | No
     return arrived.get(key)
 
 
-def measure_node(name: str, argv: list[str], env: dict, client: FirstMessages, device_ready: dict,
-                 steady_s: float = STEADY_S) -> dict:
+def measure_node(
+    name: str, argv: list[str], env: dict, client: FirstMessages, device_ready: dict, steady_s: float = STEADY_S
+) -> dict:
     """Start-up, CPU, PSS and stop figures of one node run alone."""
     client.arrived.clear()
     device_ready.clear()
@@ -159,20 +163,30 @@ def measure_node(name: str, argv: list[str], env: dict, client: FirstMessages, d
     steady_cpu = (cpu_seconds(process.pid) - start_cpu) / steady_s if steady_s else 0.0
     pss = pss_mb(process.pid)
     code, stop_s, _ = stop(process)
-    return {"device_s": device and device - started, "message_s": message and message - started,
-            "start_cpu_s": start_cpu, "steady_cpu": steady_cpu, "pss_mb": pss, "exit": code, "stop_s": stop_s}
+    return {
+        "device_s": device and device - started,
+        "message_s": message and message - started,
+        "start_cpu_s": start_cpu,
+        "steady_cpu": steady_cpu,
+        "pss_mb": pss,
+        "exit": code,
+        "stop_s": stop_s,
+    }
 
 
-def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int,
-           window_s: float) -> dict:
+def teleop(
+    argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int, window_s: float
+) -> dict:
     """Leader -> follower latency and loop rates of one backend's leader and follower (as bench/teleop.py)."""
     watch, reads = GoalWatch(), ReadLog()
     follower_bus.write_listeners.append(watch)
     leader_bus.packet_listeners.append(reads)
     for servo_id in leader_bus.ids:
         leader_bus.move_by_hand(servo_id, 2048)
-    nodes = [subprocess.Popen(argv[name], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-             for name in ("leader", "follower")]
+    nodes = [
+        subprocess.Popen(argv[name], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        for name in ("leader", "follower")
+    ]
     jitter, period = random.Random(0), 1.0 / rate_hz
     latencies, waits, missed = [], [], 0
     try:
@@ -198,9 +212,17 @@ def teleop(argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate
         follower_bus.write_listeners.remove(watch)
         leader_bus.packet_listeners.remove(reads)
     pipeline = [total - wait for total, wait in zip(latencies, waits)]
-    return {"p50": percentile(latencies, 0.5), "p99": percentile(latencies, 0.99), "mean": statistics.fmean(latencies),
-            "pipeline_p50": percentile(pipeline, 0.5), "pipeline_p99": percentile(pipeline, 0.99),
-            "read_rate": read_rate, "write_rate": write_rate, "missed": missed, "codes": codes}
+    return {
+        "p50": percentile(latencies, 0.5),
+        "p99": percentile(latencies, 0.99),
+        "mean": statistics.fmean(latencies),
+        "pipeline_p50": percentile(pipeline, 0.5),
+        "pipeline_p99": percentile(pipeline, 0.99),
+        "read_rate": read_rate,
+        "write_rate": write_rate,
+        "missed": missed,
+        "codes": codes,
+    }
 
 
 def main() -> int:
@@ -227,18 +249,23 @@ def main() -> int:
         lidar = Lds01Emulator(links["lidar"]).start()
         device_ready: dict[str, float] = {}
         leader_bus.packet_listeners.append(
-            lambda packet, now: packet.code == INST_SYNC_READ and device_ready.setdefault("leader", now))
+            lambda packet, now: packet.code == INST_SYNC_READ and device_ready.setdefault("leader", now)
+        )
         follower_bus.write_listeners.append(
-            lambda _id, address, data, now: address == TORQUE_ENABLE_ADDRESS and data[:1] == b"\x01"
-            and device_ready.setdefault("follower", now))
+            lambda _id, address, data, now: (
+                address == TORQUE_ENABLE_ADDRESS and data[:1] == b"\x01" and device_ready.setdefault("follower", now)
+            )
+        )
         client = FirstMessages()
         try:
             node_argv = commands(links, 100.0)
             for backend in BACKENDS:  # warm the page cache: a cold first start is a disk figure, not a node's
                 measure_node("leader", node_argv[backend]["leader"], env, client, device_ready, steady_s=0)
-            nodes = {(name, backend): measure_node(name, node_argv[backend][name], env, client, device_ready,
-                                                   steady_s)
-                     for name in ("leader", "follower", "lidar") for backend in BACKENDS}
+            nodes = {
+                (name, backend): measure_node(name, node_argv[backend][name], env, client, device_ready, steady_s)
+                for name in ("leader", "follower", "lidar")
+                for backend in BACKENDS
+            }
         finally:
             client.close()  # its callbacks would compete with the emulators for the GIL during teleop
         latency = {}
@@ -246,28 +273,37 @@ def main() -> int:
             for rate in rates:
                 teleop_argv = commands(links, rate)
                 for backend in BACKENDS:
-                    latency[rate, backend] = teleop(teleop_argv[backend], env, leader_bus, follower_bus, rate,
-                                                    samples, window_s)
+                    latency[rate, backend] = teleop(
+                        teleop_argv[backend], env, leader_bus, follower_bus, rate, samples, window_s
+                    )
         finally:
             leader_bus.stop()
             follower_bus.stop()
             lidar.stop()
     print(f"load average while measuring: {load_before:.1f} -> {os.getloadavg()[0]:.1f} (2 cores)")
-    print("hardware nodes, one at a time on emulated devices (servo nodes at 100 Hz, lidar 5 turns/s); device "
-          "ready: first SYNC_READ (leader), torque on (follower); first message: received by a subscriber "
-          "that was waiting, so it includes DDS discovery, which a Python node's own start-up hides")
-    print(f"  {'node':<9} {'backend':<7} {'device ready':>12} {'first msg':>9} {'CPU-s then':>10} {'CPU running':>11} "
-          f"{'PSS':>8} {'SIGINT->exit':>12}")
+    print(
+        "hardware nodes, one at a time on emulated devices (servo nodes at 100 Hz, lidar 5 turns/s); device "
+        "ready: first SYNC_READ (leader), torque on (follower); first message: received by a subscriber "
+        "that was waiting, so it includes DDS discovery, which a Python node's own start-up hides"
+    )
+    print(
+        f"  {'node':<9} {'backend':<7} {'device ready':>12} {'first msg':>9} {'CPU-s then':>10} {'CPU running':>11} "
+        f"{'PSS':>8} {'SIGINT->exit':>12}"
+    )
     for (name, backend), r in nodes.items():
-        print(f"  {name:<9} {backend:<7} {seconds(r['device_s']):>12} {seconds(r['message_s']):>9} "
-              f"{r['start_cpu_s']:>9.2f}s {100 * r['steady_cpu']:>10.1f}% {r['pss_mb']:>6.1f}MB "
-              f"{1000 * r['stop_s']:>9.0f} ms (exit {r['exit']})")
+        print(
+            f"  {name:<9} {backend:<7} {seconds(r['device_s']):>12} {seconds(r['message_s']):>9} "
+            f"{r['start_cpu_s']:>9.2f}s {100 * r['steady_cpu']:>10.1f}% {r['pss_mb']:>6.1f}MB "
+            f"{1000 * r['stop_s']:>9.0f} ms (exit {r['exit']})"
+        )
     print(f"teleop leader -> follower over emulated 1 Mbaud buses, 6 servos, {samples} samples each")
     for (rate, backend), r in latency.items():
-        print(f"  {rate:>6g} Hz {backend:<7} p50 {r['p50']:.2f} ms, p99 {r['p99']:.2f} ms, mean {r['mean']:.2f} ms "
-              f"(read -> goal p50 {r['pipeline_p50']:.2f} ms, p99 {r['pipeline_p99']:.2f} ms); "
-              f"{r['read_rate']:.0f} leader transactions/s, {r['write_rate']:.0f} goal writes/s; "
-              f"{r['missed']} missed; exit codes {r['codes']}")
+        print(
+            f"  {rate:>6g} Hz {backend:<7} p50 {r['p50']:.2f} ms, p99 {r['p99']:.2f} ms, mean {r['mean']:.2f} ms "
+            f"(read -> goal p50 {r['pipeline_p50']:.2f} ms, p99 {r['pipeline_p99']:.2f} ms); "
+            f"{r['read_rate']:.0f} leader transactions/s, {r['write_rate']:.0f} goal writes/s; "
+            f"{r['missed']} missed; exit codes {r['codes']}"
+        )
     return 0
 
 

@@ -26,9 +26,10 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
 from support.described_nodes import PYTHON, compiled_settings, write_fastdds_profiles
 from support.ros_env import bench_environment
+
+from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
 
 NAME = "disc"
 OBSERVER_POLL_S = 0.005
@@ -47,8 +48,11 @@ sys.exit(run_node({settings!r}))
 
 
 def description(count: int) -> str:
-    nodes = "\n".join(f'  node {{ name: "{NAME}{i:02d}" type: MOCK_ENCODER_PUBLISHER topic_name: "/{NAME}{i:02d}/joints" '
-                      f"rate_hz: 5 }}" for i in range(count))
+    nodes = "\n".join(
+        f'  node {{ name: "{NAME}{i:02d}" type: MOCK_ENCODER_PUBLISHER topic_name: "/{NAME}{i:02d}/joints" '
+        f"rate_hz: 5 }}"
+        for i in range(count)
+    )
     return f'robot_config {{\n  name: "bench_discovery"\n  mode: MODE_TELEOPERATION\n{nodes}\n}}\n'
 
 
@@ -78,8 +82,9 @@ class Lines:
     def __init__(self, command: list[str], env: dict):
         self.popen = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self.lines: list[str] = []
-        self.reader = threading.Thread(target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout),
-                                       daemon=True)
+        self.reader = threading.Thread(
+            target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout), daemon=True
+        )
         self.reader.start()
 
     def collect(self, prefix: str, count: int = 1, timeout_s: float = OBSERVE_TIMEOUT_S) -> list[str]:
@@ -111,13 +116,13 @@ class Lines:
 
 def start_observer(expected: int, env: dict) -> tuple[Lines, float]:
     observer = Lines([PYTHON, __file__, "--observe", str(expected)], env)
-    return observer, float(observer.wait_for(READY)[len(READY):])
+    return observer, float(observer.wait_for(READY)[len(READY) :])
 
 
 def seen_times(observer: Lines, expected: int) -> dict[str, float]:
     """When the observer saw each node; a node it did not see within OBSERVE_TIMEOUT_S is left out."""
     lines = observer.collect(SEEN, expected)
-    return {name: float(moment) for name, moment in (line[len(SEEN):].split() for line in lines)}
+    return {name: float(moment) for name, moment in (line[len(SEEN) :].split() for line in lines)}
 
 
 def start_nodes(settings: dict[str, dict], env: dict) -> dict[str, tuple[Lines, float]]:
@@ -136,7 +141,7 @@ def run_case(count: int, env: dict) -> dict[str, list[float]]:
     nodes = start_nodes(settings, env)
     try:
         seen = seen_times(before, count)
-        imported = {name: float(process.wait_for(IMPORTED)[len(IMPORTED):]) for name, (process, _) in nodes.items()}
+        imported = {name: float(process.wait_for(IMPORTED)[len(IMPORTED) :]) for name, (process, _) in nodes.items()}
         after, after_ready = start_observer(count, env)
         seen_after = seen_times(after, count)
         after.stop()
@@ -144,16 +149,20 @@ def run_case(count: int, env: dict) -> dict[str, list[float]]:
         before.stop()
         for process, _ in nodes.values():
             process.stop()
-    return {"spawn": [seen[name] - spawned for name, (_, spawned) in nodes.items() if name in seen],
-            "discovery": [seen[name] - imported[name] for name in nodes if name in seen],
-            "after": [max(seen_after.values()) - after_ready] if len(seen_after) == count else [],
-            "missed": [count - len(seen) + count - len(seen_after)]}
+    return {
+        "spawn": [seen[name] - spawned for name, (_, spawned) in nodes.items() if name in seen],
+        "discovery": [seen[name] - imported[name] for name in nodes if name in seen],
+        "after": [max(seen_after.values()) - after_ready] if len(seen_after) == count else [],
+        "missed": [count - len(seen) + count - len(seen_after)],
+    }
 
 
 @contextmanager
 def cpu_load(busy: bool):
     """One busy-looping process per core while the block runs (none when not `busy`)."""
-    burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(os.cpu_count() if busy else 0)]
+    burners = [
+        subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(os.cpu_count() if busy else 0)
+    ]
     try:
         yield
     finally:
@@ -202,10 +211,14 @@ def main() -> int:
         plain = profiles[f"{NAME}00"]
         images = Path(tmp) / IMAGES_PROFILE_PATH
         env = bench_environment("discovery", FASTRTPS_DEFAULT_PROFILES_FILE=str(plain))
-        print(f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, ROS_DOMAIN_ID {env['ROS_DOMAIN_ID']}, "
-              f"{runs} run(s) per case, profile {plain.name}; seconds, median / max over nodes and runs")
-        print(f"{'load':<6} {'nodes':>5} {'spawn -> visible':>17} {'imports done -> visible':>24} "
-              f"{'observer after: init -> all visible':>36} {'unseen':>6}")
+        print(
+            f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, ROS_DOMAIN_ID {env['ROS_DOMAIN_ID']}, "
+            f"{runs} run(s) per case, profile {plain.name}; seconds, median / max over nodes and runs"
+        )
+        print(
+            f"{'load':<6} {'nodes':>5} {'spawn -> visible':>17} {'imports done -> visible':>24} "
+            f"{'observer after: init -> all visible':>36} {'unseen':>6}"
+        )
         for busy in (False, True):
             for count in sizes:
                 results = {"spawn": [], "discovery": [], "after": [], "missed": []}
@@ -213,9 +226,12 @@ def main() -> int:
                     for _ in range(runs):
                         for key, values in run_case(count, env).items():
                             results[key] += values
-                print(f"{'busy' if busy else 'quiet':<6} {count:>5} {summary(results['spawn']):>17} "
-                      f"{summary(results['discovery']):>24} {summary(results['after']):>36} "
-                      f"{sum(results['missed']):>6}", flush=True)
+                print(
+                    f"{'busy' if busy else 'quiet':<6} {count:>5} {summary(results['spawn']):>17} "
+                    f"{summary(results['discovery']):>24} {summary(results['after']):>36} "
+                    f"{sum(results['missed']):>6}",
+                    flush=True,
+                )
         count = max(sizes)
         print(f"PSS per node, {count} nodes running:")
         for label, profile in (("with the image segment", images), ("without", plain)):

@@ -29,10 +29,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-from joshua_core import so100
 from support.described_nodes import compiled_settings, node_command, topic_qos, write_fastdds_profiles
 from support.ros_env import bench_environment
+
+from joshua_core import so100
 
 JOINTS = list(so100.SO100_JOINTS)
 # Only the policy node runs: this process publishes in place of the camera and the follower arm,
@@ -63,8 +63,14 @@ POLICY = "policy"
 WARMUP_CALLS = 3
 CHUNKED_CALLS = 200
 CHUNK_SIZE = 100  # ACT's default
-QUICK_ACT = {"dim_model": 64, "dim_feedforward": 128, "n_encoder_layers": 1, "n_decoder_layers": 1,
-             "latent_dim": 8, "chunk_size": 10}
+QUICK_ACT = {
+    "dim_model": 64,
+    "dim_feedforward": 128,
+    "n_encoder_layers": 1,
+    "n_decoder_layers": 1,
+    "latent_dim": 8,
+    "chunk_size": 10,
+}
 QUICK_CALLS, QUICK_HEIGHT, QUICK_WIDTH = 3, 48, 64
 PUBLISH_HZ = 30.0
 FIRST_ACTION_TIMEOUT_S = 300.0
@@ -79,10 +85,15 @@ def save_act(directory: Path, height: int, width: int, n_action_steps: int, arch
     from lerobot.policies.factory import make_pre_post_processors
 
     config = ACTConfig(
-        device="cpu", push_to_hub=False, pretrained_backbone_weights=None, n_action_steps=n_action_steps,
+        device="cpu",
+        push_to_hub=False,
+        pretrained_backbone_weights=None,
+        n_action_steps=n_action_steps,
         **architecture,
-        input_features={"observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, height, width)),
-                        "observation.state": PolicyFeature(FeatureType.STATE, (len(JOINTS),))},
+        input_features={
+            "observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, height, width)),
+            "observation.state": PolicyFeature(FeatureType.STATE, (len(JOINTS),)),
+        },
         output_features={"action": PolicyFeature(FeatureType.ACTION, (len(JOINTS),))},
     )
     ones = torch.ones(len(JOINTS))
@@ -103,8 +114,10 @@ def save_act(directory: Path, height: int, width: int, n_action_steps: int, arch
 
 def observation(height: int, width: int) -> dict:
     rng = np.random.default_rng(0)
-    return {"observation.images.camera": rng.integers(0, 256, (height, width, 3), dtype=np.uint8),
-            "observation.state": rng.normal(size=len(JOINTS)).astype(np.float32)}
+    return {
+        "observation.images.camera": rng.integers(0, 256, (height, width, 3), dtype=np.uint8),
+        "observation.state": rng.normal(size=len(JOINTS)).astype(np.float32),
+    }
 
 
 def latency_ms(policy_dir: Path, obs: dict, calls: int) -> list[float]:
@@ -153,8 +166,9 @@ def start_to_first_action(settings: dict[str, dict], obs: dict, env: dict) -> tu
     first = threading.Event()
     node.create_subscription(JointState, actions["name"], lambda _msg: first.set(), topic_qos(actions))
     started = time.monotonic()
-    process = subprocess.Popen(node_command(settings[POLICY]), env=env, stdout=subprocess.PIPE,
-                               stderr=subprocess.STDOUT, text=True)
+    process = subprocess.Popen(
+        node_command(settings[POLICY]), env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+    )
     lines: list[str] = []
     ready_at: list[float] = []
 
@@ -205,15 +219,21 @@ def main() -> int:
         described = overrides(every_call_dir, args.height, args.width)
         settings = compiled_settings(DESCRIPTION, described, "bench_inference.pbtxt")
         obs = observation(args.height, args.width)
-        print(f"ACT ({'quick' if args.quick else 'default'} architecture), 1 camera {args.width}x{args.height}, "
-              f"{len(JOINTS)}-joint state, CPU, torch threads {__import__('torch').get_num_threads()}")
+        print(
+            f"ACT ({'quick' if args.quick else 'default'} architecture), 1 camera {args.width}x{args.height}, "
+            f"{len(JOINTS)}-joint state, CPU, torch threads {__import__('torch').get_num_threads()}"
+        )
         every_call = save_act(every_call_dir, args.height, args.width, 1, architecture)
         chunked = save_act(workdir / "act_chunked", args.height, args.width, chunk, architecture)
-        for label, policy_dir, calls in (("model at every call", every_call, args.calls),
-                                         (f"chunk of {chunk} actions", chunked, chunked_calls)):
+        for label, policy_dir, calls in (
+            ("model at every call", every_call, args.calls),
+            (f"chunk of {chunk} actions", chunked, chunked_calls),
+        ):
             samples = latency_ms(policy_dir, obs, calls)
-            print(f"select_action ({label:<20}) calls {calls:>4}  p50 {percentile(samples, 0.5):8.2f} ms  "
-                  f"p99 {percentile(samples, 0.99):8.2f} ms  max {max(samples):8.2f} ms")
+            print(
+                f"select_action ({label:<20}) calls {calls:>4}  p50 {percentile(samples, 0.5):8.2f} ms  "
+                f"p99 {percentile(samples, 0.99):8.2f} ms  max {max(samples):8.2f} ms"
+            )
         profiles = write_fastdds_profiles(DESCRIPTION, workdir, described, "bench_inference.pbtxt")
         # This process publishes the camera's images, so it loads the policy node's profile too.
         env = bench_environment("inference", FASTRTPS_DEFAULT_PROFILES_FILE=str(profiles[POLICY]))

@@ -44,8 +44,7 @@ def round_trips(driver: PybricksHub, samples: int) -> list[float]:
 def describe(label: str, times: list[float], samples: int) -> None:
     ordered = sorted(times)
     p99 = ordered[min(len(ordered) - 1, int(0.99 * len(ordered)))]
-    print(f"{label}: p50 {statistics.median(ordered):.2f} ms, p99 {p99:.2f} ms "
-          f"({len(times)}/{samples} acknowledged)")
+    print(f"{label}: p50 {statistics.median(ordered):.2f} ms, p99 {p99:.2f} ms ({len(times)}/{samples} acknowledged)")
 
 
 def bench_in_process(samples: int, blob: bytes) -> None:
@@ -69,8 +68,12 @@ def free_port() -> int:
 
 def bench_across_processes(samples: int, window_s: float, blob: bytes) -> None:
     port = free_port()
-    emulator = subprocess.Popen([sys.executable, "-m", "joshua_runtime.emulators.cli", "pybricks", "--port", str(port)],
-                                stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    emulator = subprocess.Popen(
+        [sys.executable, "-m", "joshua_runtime.emulators.cli", "pybricks", "--port", str(port)],
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
     try:
         emulator.stdout.readline()
         driver = PybricksHub(HUB, BumbleTransport(hci=f"tcp-client:127.0.0.1:{port}"), blob)
@@ -119,8 +122,10 @@ def odometry_rate(port: int, window_s: float) -> None:
                 next_command = time.monotonic() + 0.1
             rclpy.spin_once(node, timeout_sec=0.01)
         gaps = [1000 * (b - a) for a, b in zip(stamps, stamps[1:])]
-        print(f"odometry of the base node over BLE: {len(stamps) / window_s:.1f} Hz (rate_hz {settings['rate_hz']:g}), "
-              f"largest gap {max(gaps):.0f} ms")
+        print(
+            f"odometry of the base node over BLE: {len(stamps) / window_s:.1f} Hz (rate_hz {settings['rate_hz']:g}), "
+            f"largest gap {max(gaps):.0f} ms"
+        )
     finally:
         node.destroy_node()
         rclpy.shutdown()

@@ -54,9 +54,13 @@ def case_settings(case: str, output_format: str, workdir: Path) -> dict[str, dic
     """Settings of the publishers and the recorder of one case (`WIDTHxHEIGHT@FPS`), by node name."""
     width, height, rate = parse_case(case)
     output = workdir / f"{width}x{height}_{rate:g}_{output_format}"
-    overrides = [f"camera.width={width}", f"camera.height={height}",
-                 *(f"{name}.rate_hz={rate}" for name in ("camera", "leader", "follower", RECORDER)),
-                 f"{RECORDER}.output_format={output_format}", f"{RECORDER}.output_directory={output}"]
+    overrides = [
+        f"camera.width={width}",
+        f"camera.height={height}",
+        *(f"{name}.rate_hz={rate}" for name in ("camera", "leader", "follower", RECORDER)),
+        f"{RECORDER}.output_format={output_format}",
+        f"{RECORDER}.output_directory={output}",
+    ]
     return compiled_settings(DESCRIPTION, overrides, "bench_record.pbtxt")
 
 
@@ -65,11 +69,13 @@ class Process:
 
     def __init__(self, settings: dict, env: dict, profiles: dict[str, Path]):
         env = dict(env, FASTRTPS_DEFAULT_PROFILES_FILE=str(profiles[settings["name"]]))
-        self.popen = subprocess.Popen(node_command(settings), env=env, stdout=subprocess.PIPE,
-                                      stderr=subprocess.STDOUT, text=True)
+        self.popen = subprocess.Popen(
+            node_command(settings), env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+        )
         self.lines: list[str] = []
-        self.reader = threading.Thread(target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout),
-                                       daemon=True)
+        self.reader = threading.Thread(
+            target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout), daemon=True
+        )
         self.reader.start()
 
     def wait_for(self, pattern, timeout):
@@ -83,7 +89,9 @@ class Process:
             if self.popen.poll() is not None and not self.reader.is_alive():
                 break
             time.sleep(0.02)
-        raise RuntimeError(f"no {regex.pattern!r}:\n" + "\n".join(l for l in self.lines if not l.startswith("Svt[")))
+        raise RuntimeError(
+            f"no {regex.pattern!r}:\n" + "\n".join(line for line in self.lines if not line.startswith("Svt["))
+        )
 
     def stop(self):
         if self.popen.poll() is None:
@@ -114,15 +122,21 @@ def run_case(settings: dict[str, dict], seconds, env, profiles: dict[str, Path])
     frames, skipped, span = int(stopped.group(1)), int(stopped.group(2)), float(stopped.group(3))
     return {
         "case": f"{camera['width']}x{camera['height']}@{rate:g} {recording['output_format']}",
-        "frames": frames, "expected": round(span * rate) + 1,
-        "skipped": skipped, "rate": (frames - 1) / span if span > 0 else 0.0, "saved": int(saved.group(2)),
-        "loaded": loaded_frames(Path(recording["output_directory"]), env), "exit_s": exit_s,
+        "frames": frames,
+        "expected": round(span * rate) + 1,
+        "skipped": skipped,
+        "rate": (frames - 1) / span if span > 0 else 0.0,
+        "saved": int(saved.group(2)),
+        "loaded": loaded_frames(Path(recording["output_directory"]), env),
+        "exit_s": exit_s,
     }
 
 
 def loaded_frames(root: Path, env: dict) -> int:
-    code = ("import sys; from lerobot.datasets.lerobot_dataset import LeRobotDataset; "
-            f"print(len(LeRobotDataset('local/bench', root={str(root)!r}, video_backend='pyav')))")
+    code = (
+        "import sys; from lerobot.datasets.lerobot_dataset import LeRobotDataset; "
+        f"print(len(LeRobotDataset('local/bench', root={str(root)!r}, video_backend='pyav')))"
+    )
     result = subprocess.run([PYTHON, "-c", code], env=env, capture_output=True, text=True)
     return int(result.stdout.strip().splitlines()[-1]) if result.returncode == 0 else -1
 
@@ -144,18 +158,27 @@ def main() -> int:
         args.seconds, args.cases, args.formats = 1.0, "160x120@10", "lerobot"
     with tempfile.TemporaryDirectory(prefix="joshua-bench-record-") as tmp:
         workdir = Path(tmp)
-        profiles = write_fastdds_profiles(DESCRIPTION, workdir, [f"{RECORDER}.output_directory={workdir}"],
-                                          "bench_record.pbtxt")
+        profiles = write_fastdds_profiles(
+            DESCRIPTION, workdir, [f"{RECORDER}.output_directory={workdir}"], "bench_record.pbtxt"
+        )
         env = bench_environment("record", HF_HUB_OFFLINE="1", HF_DATASETS_CACHE=str(workdir / "hf-cache"))
-        cases = [case_settings(case, output_format, workdir)
-                 for case in args.cases.split(",") for output_format in args.formats.split(",")]
+        cases = [
+            case_settings(case, output_format, workdir)
+            for case in args.cases.split(",")
+            for output_format in args.formats.split(",")
+        ]
         print(f"episode of {args.seconds:g} s per case; rate = (frames - 1) / span of the episode")
-        print(f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} "
-              f"{'loaded':>6} {'SIGINT->exit s':>14}")
+        print(
+            f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} "
+            f"{'loaded':>6} {'SIGINT->exit s':>14}"
+        )
         for settings in cases:
             r = run_case(settings, args.seconds, env, profiles)
-            print(f"{r['case']:<26} {r['frames']:>6} {r['expected']:>8} {r['skipped']:>7} {r['rate']:>8.2f} "
-                  f"{r['saved']:>6} {r['loaded']:>6} {r['exit_s']:>14.2f}", flush=True)
+            print(
+                f"{r['case']:<26} {r['frames']:>6} {r['expected']:>8} {r['skipped']:>7} {r['rate']:>8.2f} "
+                f"{r['saved']:>6} {r['loaded']:>6} {r['exit_s']:>14.2f}",
+                flush=True,
+            )
     return 0
 
 

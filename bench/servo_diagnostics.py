@@ -52,11 +52,15 @@ def main() -> None:
     print(f"state SYNC_READ (6 servos x 6 bytes):      {state * 1e3:.3f} ms")
     print(f"telemetry SYNC_READ (6 servos x 15 bytes): {telemetry * 1e3:.3f} ms")
     print(f"one servo's telemetry READ:                {one_servo * 1e3:.3f} ms")
-    print(f"diagnostics at {DIAGNOSTICS_HZ:g} Hz, one SYNC_READ per period: "
-          f"{telemetry * DIAGNOSTICS_HZ * 100:.3f} % of bus time, one {CONTROL_HZ:g} Hz tick delayed by "
-          f"{telemetry / tick_s * 100:.1f} % of its period once a second")
-    print(f"interleaved, one servo per {CONTROL_HZ:g} Hz tick: {one_servo * CONTROL_HZ * 100:.3f} % of bus time, "
-          f"every tick {one_servo / tick_s * 100:.1f} % longer")
+    print(
+        f"diagnostics at {DIAGNOSTICS_HZ:g} Hz, one SYNC_READ per period: "
+        f"{telemetry * DIAGNOSTICS_HZ * 100:.3f} % of bus time, one {CONTROL_HZ:g} Hz tick delayed by "
+        f"{telemetry / tick_s * 100:.1f} % of its period once a second"
+    )
+    print(
+        f"interleaved, one servo per {CONTROL_HZ:g} Hz tick: {one_servo * CONTROL_HZ * 100:.3f} % of bus time, "
+        f"every tick {one_servo / tick_s * 100:.1f} % longer"
+    )
 
 
 if __name__ == "__main__":

@@ -63,6 +63,9 @@ def bench_status(link: Path, seconds: float) -> tuple[float, int]:
 
 
 def bench_gui(seconds: float, history_s: float = HISTORY_S) -> tuple[float, float]:
+    from PySide6.QtCore import QTimer, Slot
+    from PySide6.QtWidgets import QApplication
+
     from joshua_runtime.desktop.main_window import MainWindow
     from joshua_runtime.desktop.model import (
         JointSample,
@@ -72,8 +75,6 @@ def bench_gui(seconds: float, history_s: float = HISTORY_S) -> tuple[float, floa
     )
     from joshua_runtime.desktop.worker import LinkWorker
     from joshua_runtime.servo_tools.calibration_flow import ARMS
-    from PySide6.QtCore import QTimer, Slot
-    from PySide6.QtWidgets import QApplication
 
     arm = ARMS["so100"]
 
@@ -89,11 +90,21 @@ def bench_gui(seconds: float, history_s: float = HISTORY_S) -> tuple[float, floa
 
         def poll(self) -> None:
             now = time.monotonic()
-            self.telemetry.emit(Telemetry(now, {
-                name: JointSample(math.sin(now + i), 40 * math.sin(3 * now + i), 35 + i + math.sin(now / 3),
-                                  12.0 + 0.1 * math.sin(now + i), True)
-                for i, name in enumerate(arm.joints)
-            }))
+            self.telemetry.emit(
+                Telemetry(
+                    now,
+                    {
+                        name: JointSample(
+                            math.sin(now + i),
+                            40 * math.sin(3 * now + i),
+                            35 + i + math.sin(now / 3),
+                            12.0 + 0.1 * math.sin(now + i),
+                            True,
+                        )
+                        for i, name in enumerate(arm.joints)
+                    },
+                )
+            )
 
         @Slot(object)
         def send_goals(self, goals) -> None:
@@ -116,8 +127,14 @@ def bench_gui(seconds: float, history_s: float = HISTORY_S) -> tuple[float, floa
             pass
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
-    window = MainWindow(SyntheticFeed(FEED_HZ), list(arm.joints), so100_limits(), Presets(), arm,
-                        Path(tempfile.gettempdir()) / "unused.json")
+    window = MainWindow(
+        SyntheticFeed(FEED_HZ),
+        list(arm.joints),
+        so100_limits(),
+        Presets(),
+        arm,
+        Path(tempfile.gettempdir()) / "unused.json",
+    )
     window.show()
     window.start()
     marks = {}
@@ -159,11 +176,15 @@ def main() -> int:
         scan_s = bench_scan(emulator.link, args.repeats)
         print(f"scan of a 6-servo bus, 8 baud rates: median {scan_s * 1000:.0f} ms over {args.repeats} scans")
         rate, failures = bench_status(emulator.link, args.read_s)
-        print(f"status of 6 servos (one SYNC_READ each): {rate:.0f} reads/s ({rate * len(IDS):.0f} servo readings/s), "
-              f"{failures} failed")
+        print(
+            f"status of 6 servos (one SYNC_READ each): {rate:.0f} reads/s ({rate * len(IDS):.0f} servo readings/s), "
+            f"{failures} failed"
+        )
     fps, frame_s = bench_gui(args.gui_s, history_s)
-    print(f"desktop panel, 100 Hz telemetry, 4 live plots: {fps:.1f} fps drawn (30 fps timer), "
-          f"one frame {frame_s * 1000:.1f} ms of CPU (up to {1 / frame_s:.0f} fps on one free core)")
+    print(
+        f"desktop panel, 100 Hz telemetry, 4 live plots: {fps:.1f} fps drawn (30 fps timer), "
+        f"one frame {frame_s * 1000:.1f} ms of CPU (up to {1 / frame_s:.0f} fps on one free core)"
+    )
     return 0
 
 

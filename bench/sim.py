@@ -57,8 +57,10 @@ STARTUP_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 10.0
 SPIN_SLICE_S = 0.05
 REALTIME_FACTORS = (1.0, 0.0)  # real time, then as fast as possible
-SUMMARY = re.compile(r"simulated ([\d.]+) s in ([\d.]+) s \(real-time factor ([\d.]+)\), ([\d.]+) s dropped; "
-                     r"camera (\d+) frames \((\d+) skipped\)")
+SUMMARY = re.compile(
+    r"simulated ([\d.]+) s in ([\d.]+) s \(real-time factor ([\d.]+)\), ([\d.]+) s dropped; "
+    r"camera (\d+) frames \((\d+) skipped\)"
+)
 
 
 def physics_alone(seconds: float) -> float:
@@ -75,8 +77,14 @@ def physics_alone(seconds: float) -> float:
     start = time.perf_counter()
     while time.perf_counter() - start < seconds:
         phase = data.time
-        data.ctrl[:] = [0.8 * math.sin(phase), 0.3 + 0.3 * math.sin(0.7 * phase), 0.3 * math.cos(phase),
-                        0.5 * math.sin(1.3 * phase), math.sin(phase), 0.6 + 0.5 * math.sin(2 * phase)]
+        data.ctrl[:] = [
+            0.8 * math.sin(phase),
+            0.3 + 0.3 * math.sin(0.7 * phase),
+            0.3 * math.cos(phase),
+            0.5 * math.sin(1.3 * phase),
+            math.sin(phase),
+            0.6 + 0.5 * math.sin(2 * phase),
+        ]
         mujoco.mj_step(model, data, nstep=PHYSICS_BATCH_STEPS)
     return data.time / (time.perf_counter() - start)
 
@@ -99,10 +107,15 @@ def loaded_run(engine: dict, seconds: float, env: dict) -> dict:
     rclpy.init(context=context)
     node = rclpy.create_node("sim_bench", context=context)
     counts = {"state": 0, "image": 0}
-    node.create_subscription(JointState, STATE_TOPIC, lambda _m: counts.__setitem__("state", counts["state"] + 1),
-                             QoSProfile(depth=10))
-    node.create_subscription(Image, IMAGE_TOPIC, lambda _m: counts.__setitem__("image", counts["image"] + 1),
-                             QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT))
+    node.create_subscription(
+        JointState, STATE_TOPIC, lambda _m: counts.__setitem__("state", counts["state"] + 1), QoSProfile(depth=10)
+    )
+    node.create_subscription(
+        Image,
+        IMAGE_TOPIC,
+        lambda _m: counts.__setitem__("image", counts["image"] + 1),
+        QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT),
+    )
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
     deadline = time.monotonic() + STARTUP_TIMEOUT_S
@@ -126,8 +139,15 @@ def loaded_run(engine: dict, seconds: float, env: dict) -> dict:
     if match is None:
         raise SystemExit(f"the simulation node did not report its run (exit {process.returncode}):\n{stderr}")
     sim_s, wall_s, factor, dropped, frames, skipped = match.groups()
-    return {"factor": float(factor), "dropped": float(dropped), "frames": int(frames), "skipped": int(skipped),
-            "wall": float(wall_s), "state_hz": counts["state"] / elapsed, "image_hz": counts["image"] / elapsed}
+    return {
+        "factor": float(factor),
+        "dropped": float(dropped),
+        "frames": int(frames),
+        "skipped": int(skipped),
+        "wall": float(wall_s),
+        "state_hz": counts["state"] / elapsed,
+        "image_hz": counts["image"] / elapsed,
+    }
 
 
 def main() -> None:
@@ -137,7 +157,7 @@ def main() -> None:
     args = parser.parse_args()
     physics_s = 0.5 if args.quick else args.seconds
     args.seconds = 1.0 if args.quick else args.seconds
-    engines = {factor: engine_settings(factor) for factor in REALTIME_FACTORS[:1 if args.quick else None]}
+    engines = {factor: engine_settings(factor) for factor in REALTIME_FACTORS[: 1 if args.quick else None]}
 
     print(f"cores: {os.cpu_count()}  load average: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     print(f"physics alone (mj_step, builtin:so100, 2 ms step): real-time factor {physics_alone(physics_s):.1f}")
@@ -145,16 +165,23 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         profile = write_fastdds_profiles(DESCRIPTION, Path(tmp), path="bench_sim.pbtxt")["simulation"]
         env = bench_environment("sim", FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
-        os.environ.update({k: env[k] for k in ("FASTRTPS_DEFAULT_PROFILES_FILE", "ROS_DOMAIN_ID",
-                                               "ROS_AUTOMATIC_DISCOVERY_RANGE")})
-        print(f"loaded: JointState at {ENCODER_RATE_HZ:.0f} Hz + {WIDTH}x{HEIGHT} rgb8 at {CAMERA_RATE_HZ:.0f} fps, "
-              f"{args.seconds:.0f} s per run, counted by a subscriber in this process")
-        print(f"{'realtime_factor':>15} {'reached':>8} {'dropped s':>9} {'frames':>7} {'skipped':>7} "
-              f"{'states/s rx':>11} {'images/s rx':>11}")
+        os.environ.update(
+            {k: env[k] for k in ("FASTRTPS_DEFAULT_PROFILES_FILE", "ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")}
+        )
+        print(
+            f"loaded: JointState at {ENCODER_RATE_HZ:.0f} Hz + {WIDTH}x{HEIGHT} rgb8 at {CAMERA_RATE_HZ:.0f} fps, "
+            f"{args.seconds:.0f} s per run, counted by a subscriber in this process"
+        )
+        print(
+            f"{'realtime_factor':>15} {'reached':>8} {'dropped s':>9} {'frames':>7} {'skipped':>7} "
+            f"{'states/s rx':>11} {'images/s rx':>11}"
+        )
         for factor, engine in engines.items():
             r = loaded_run(engine, args.seconds, env)
-            print(f"{factor:>15.1f} {r['factor']:>8.2f} {r['dropped']:>9.3f} {r['frames']:>7} {r['skipped']:>7} "
-                  f"{r['state_hz']:>11.1f} {r['image_hz']:>11.1f}")
+            print(
+                f"{factor:>15.1f} {r['factor']:>8.2f} {r['dropped']:>9.3f} {r['frames']:>7} {r['skipped']:>7} "
+                f"{r['state_hz']:>11.1f} {r['image_hz']:>11.1f}"
+            )
 
 
 if __name__ == "__main__":

@@ -27,8 +27,8 @@ from google.protobuf import text_format  # noqa: E402
 
 from joshua_codegen.plan import plan  # noqa: E402
 from joshua_codegen.render import render  # noqa: E402
-from joshua_core.schema import RobotDescription  # noqa: E402
 from joshua_codegen.write import write_tree  # noqa: E402
+from joshua_core.schema import RobotDescription  # noqa: E402
 
 BIN = Path(sys.executable).parent
 NODE_SCRIPT = 'echo $$ > "$1"; exec sleep 3600'
@@ -112,8 +112,10 @@ def bench(sizes: list[int], runs: int) -> None:
                 for name, command in managers.items():  # interleaved, so both see the same machine load
                     samples[name].append(measure(command(out), fifo, size))
             for name in managers:
-                results[name, size] = (statistics.median(s[0] for s in samples[name]),
-                                       statistics.median(s[1] for s in samples[name]))
+                results[name, size] = (
+                    statistics.median(s[0] for s in samples[name]),
+                    statistics.median(s[1] for s in samples[name]),
+                )
     print(f"{'nodes':>5}  {'manager':<14} {'start -> all running':>21} {'SIGINT -> all exited':>21}")
     for size in sizes:
         for name in managers:

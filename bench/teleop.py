@@ -24,11 +24,12 @@ import threading
 import time
 from pathlib import Path
 
+from support.described_nodes import compiled_settings, node_command
+from support.ros_env import bench_environment
+
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
-from support.described_nodes import compiled_settings, node_command
-from support.ros_env import bench_environment
 
 # The follower mirrors the leader. Each run sets the serial ports (the emulators' links) and the
 # rates (--rate-hz) with `--set`; servo ids 1-6, SO-100 joint names and 1 Mbaud are the bus defaults.
@@ -60,10 +61,16 @@ LOW_TICKS, HIGH_TICKS = 1500, 2600
 
 def node_settings(leader_port: Path, follower_port: Path, rate_hz: float) -> list[dict]:
     """Settings of the leader and follower nodes on the given buses."""
-    settings = compiled_settings(DESCRIPTION, [
-        f"bench_leader.serial_port={leader_port}", f"bench_follower.serial_port={follower_port}",
-        f"bench_leader.rate_hz={rate_hz}", f"bench_follower.rate_hz={rate_hz}",
-    ], "bench_teleop.pbtxt")
+    settings = compiled_settings(
+        DESCRIPTION,
+        [
+            f"bench_leader.serial_port={leader_port}",
+            f"bench_follower.serial_port={follower_port}",
+            f"bench_leader.rate_hz={rate_hz}",
+            f"bench_follower.rate_hz={rate_hz}",
+        ],
+        "bench_teleop.pbtxt",
+    )
     return [settings["bench_leader"], settings["bench_follower"]]
 
 
@@ -133,7 +140,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rate-hz", type=float, default=200.0)
     parser.add_argument("--samples", type=int, default=600)
-    parser.add_argument("--quick", action="store_true", help=f"{QUICK_SAMPLES} samples, a 1 s rate window (for the tests)")
+    parser.add_argument(
+        "--quick", action="store_true", help=f"{QUICK_SAMPLES} samples, a 1 s rate window (for the tests)"
+    )
     args = parser.parse_args()
     window_s = QUICK_RATE_WINDOW_S if args.quick else RATE_WINDOW_S
     args.samples = QUICK_SAMPLES if args.quick else args.samples
@@ -182,13 +191,19 @@ def main() -> int:
     wait_ms = [1000 * value for value in waits]
     pipeline_ms = [total - wait for total, wait in zip(ms, wait_ms)]
     print(f"teleop over emulated 1 Mbaud STS3215 buses, 6 servos, nodes at {args.rate_hz:g} Hz")
-    print(f"  leader-to-follower latency over {len(ms)} samples ({missed} missed): "
-          f"p50 {percentile(ms, 0.5):.2f} ms, p99 {percentile(ms, 0.99):.2f} ms, "
-          f"mean {statistics.fmean(ms):.2f} ms, max {max(ms):.2f} ms")
-    print(f"    of which waiting for the leader's next read: p50 {percentile(wait_ms, 0.5):.2f} ms; read to "
-          f"follower goal: p50 {percentile(pipeline_ms, 0.5):.2f} ms, p99 {percentile(pipeline_ms, 0.99):.2f} ms")
-    print(f"  sustained loop rate: {write_rate:.1f} goal writes/s on the follower, "
-          f"{read_rate:.1f} bus transactions/s on the leader")
+    print(
+        f"  leader-to-follower latency over {len(ms)} samples ({missed} missed): "
+        f"p50 {percentile(ms, 0.5):.2f} ms, p99 {percentile(ms, 0.99):.2f} ms, "
+        f"mean {statistics.fmean(ms):.2f} ms, max {max(ms):.2f} ms"
+    )
+    print(
+        f"    of which waiting for the leader's next read: p50 {percentile(wait_ms, 0.5):.2f} ms; read to "
+        f"follower goal: p50 {percentile(pipeline_ms, 0.5):.2f} ms, p99 {percentile(pipeline_ms, 0.99):.2f} ms"
+    )
+    print(
+        f"  sustained loop rate: {write_rate:.1f} goal writes/s on the follower, "
+        f"{read_rate:.1f} bus transactions/s on the leader"
+    )
     print(f"  node exit codes on SIGINT: {codes}")
     return 0
 

@@ -73,8 +73,16 @@ def main() -> None:
     print(f"== PPO on so100_reach, {ppo_steps} steps, seed 0")
     with tempfile.TemporaryDirectory() as scratch:
         start = time.perf_counter()
-        metadata = ppo.train(envs.REACH, ppo_steps, Path(scratch) / "ppo", seed=0, checkpoint_every=ppo_steps,
-                             eval_episodes=episodes, progress=False, log=lambda text: None)
+        metadata = ppo.train(
+            envs.REACH,
+            ppo_steps,
+            Path(scratch) / "ppo",
+            seed=0,
+            checkpoint_every=ppo_steps,
+            eval_episodes=episodes,
+            progress=False,
+            log=lambda text: None,
+        )
         wall = time.perf_counter() - start
         print(f"wall time {wall:.1f} s ({metadata['steps'] / wall:.0f} steps/s incl. {episodes} evaluation episodes)")
         print("ppo:    " + evaluation.summary(metadata["evaluation"]))

@@ -19,12 +19,11 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from joshua_core.node_types import spec
-from joshua_core.settings import FORMAT_VERSION
-
 from joshua_codegen.escape import shell_word
 from joshua_codegen.model import Robot
 from joshua_codegen.render import template
+from joshua_core.node_types import spec
+from joshua_core.settings import FORMAT_VERSION
 
 SOURCE_ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("joshua-core", "joshua-runtime")
@@ -52,8 +51,15 @@ def uv(*arguments: str) -> str:
 
     env = {**os.environ, "UV_PYTHON_DOWNLOADS": "never"}
     try:
-        done = subprocess.run([find_uv_bin(), *arguments], cwd=SOURCE_ROOT, env=env, capture_output=True, text=True,
-                              timeout=UV_TIMEOUT_S, stdin=subprocess.DEVNULL)
+        done = subprocess.run(
+            [find_uv_bin(), *arguments],
+            cwd=SOURCE_ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=UV_TIMEOUT_S,
+            stdin=subprocess.DEVNULL,
+        )
     except (OSError, subprocess.TimeoutExpired) as exc:
         raise BundleError(f"uv {arguments[0]} failed: {exc}") from exc
     if done.returncode != 0:
@@ -73,21 +79,41 @@ def wheels() -> dict[str, bytes]:
 def requirements(robot: Robot) -> str:
     """The runtime's third-party dependencies (with the robot's extras), pinned with hashes from uv.lock."""
     extra_options = [word for extra in extras(robot) for word in ("--extra", extra)]
-    return uv("export", "--frozen", "--no-dev", "--no-emit-workspace", "--no-header", "--format", "requirements.txt",
-              "--package", RUNTIME_PACKAGE, *extra_options)
+    return uv(
+        "export",
+        "--frozen",
+        "--no-dev",
+        "--no-emit-workspace",
+        "--no-header",
+        "--format",
+        "requirements.txt",
+        "--package",
+        RUNTIME_PACKAGE,
+        *extra_options,
+    )
 
 
 def bundle_files(robot: Robot) -> dict[str, str | bytes]:
     """The bundle's files by path relative to the output directory."""
-    if not (SOURCE_ROOT / "uv.lock").is_file() or not all((SOURCE_ROOT / d / "pyproject.toml").is_file()
-                                                           for d in ("core", "runtime")):
-        raise BundleError(f"--bundle builds the runtime from joshuac's source tree, which {SOURCE_ROOT} is not; "
-                          "run the joshuac of a checkout of the repository")
+    if not (SOURCE_ROOT / "uv.lock").is_file() or not all(
+        (SOURCE_ROOT / d / "pyproject.toml").is_file() for d in ("core", "runtime")
+    ):
+        raise BundleError(
+            f"--bundle builds the runtime from joshuac's source tree, which {SOURCE_ROOT} is not; "
+            "run the joshuac of a checkout of the repository"
+        )
     built = wheels()
-    script = template("install.sh.j2", robot=robot, venv=DEFAULT_VENV, python=PYTHON,
-                      wheels=sorted(built), wheel_arguments=" ".join(f'"$here"/{WHEEL_DIR}/{shell_word(name)}' for name in sorted(built)),
-                      requirements=REQUIREMENTS, extras=extras(robot),
-                      format_version=FORMAT_VERSION)
+    script = template(
+        "install.sh.j2",
+        robot=robot,
+        venv=DEFAULT_VENV,
+        python=PYTHON,
+        wheels=sorted(built),
+        wheel_arguments=" ".join(f'"$here"/{WHEEL_DIR}/{shell_word(name)}' for name in sorted(built)),
+        requirements=REQUIREMENTS,
+        extras=extras(robot),
+        format_version=FORMAT_VERSION,
+    )
     files: dict[str, str | bytes] = {f"{WHEEL_DIR}/{name}": data for name, data in built.items()}
     files[REQUIREMENTS] = requirements(robot)
     files[INSTALL_SCRIPT] = script

@@ -17,8 +17,8 @@ from joshua_codegen.model import Robot
 from joshua_codegen.overrides import OVERRIDE_PATH, UNKNOWN_OVERRIDE_TARGET, apply_overrides
 from joshua_codegen.rules import run_rules
 from joshua_codegen.rules.context import RuleContext
-from joshua_core.schema import RobotDescription
 from joshua_codegen.source_file import SourceProblem, read_description
+from joshua_core.schema import RobotDescription
 
 BYTE_ORDER_MARK = "\ufeff"
 
@@ -57,12 +57,13 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
     (command line lengths) are checked for it, else for the default."""
     overrides = tuple(overrides)
     if text.startswith(BYTE_ORDER_MARK):
-        text = text[len(BYTE_ORDER_MARK):]
+        text = text[len(BYTE_ORDER_MARK) :]
     nul = text.find("\0")
     if nul >= 0:
         line, column = _position(text, nul)
-        problem = Diagnostic(path, line, column, NOT_TEXT, ERROR,
-                             "the file contains a NUL character: is it a binary file?")
+        problem = Diagnostic(
+            path, line, column, NOT_TEXT, ERROR, "the file contains a NUL character: is it a binary file?"
+        )
         return CheckResult(path, text, None, [problem], overrides)
     loaded = load_text(path, text)
     if loaded.description is None and loaded.partial is None:
@@ -79,8 +80,9 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
     return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context.robot)
 
 
-def _check_partial(path: str, text: str, loaded: LoadResult, overrides: tuple[str, ...],
-                   prefix: str | None) -> CheckResult:
+def _check_partial(
+    path: str, text: str, loaded: LoadResult, overrides: tuple[str, ...], prefix: str | None
+) -> CheckResult:
     """The load errors plus what the rules find in the nodes that were read whole; no description
     comes out (later stages need a valid one). An override naming an unknown node is not reported."""
     partial, source, diagnostics = apply_overrides(loaded.partial, loaded.source_map, overrides)
@@ -97,10 +99,18 @@ def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
     try:
         return data.decode("utf-8"), []
     except UnicodeDecodeError as exc:
-        good = data[:exc.start].decode("utf-8")
+        good = data[: exc.start].decode("utf-8")
         line, column = _position(good, len(good))
-        return None, [Diagnostic(path, line, column, NOT_TEXT, ERROR,
-                                 f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})")]
+        return None, [
+            Diagnostic(
+                path,
+                line,
+                column,
+                NOT_TEXT,
+                ERROR,
+                f"the file is not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start})",
+            )
+        ]
 
 
 def check_file(path: str, overrides: Sequence[str] = (), prefix: str | None = None) -> CheckResult:

@@ -15,12 +15,19 @@ EXIT_OK, EXIT_ERRORS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 70
 PREFIX_ROOM = "x" * 255
 
 set_option = click.option(
-    "--set", "overrides", multiple=True, metavar="KEY=VALUE",
+    "--set",
+    "overrides",
+    multiple=True,
+    metavar="KEY=VALUE",
     help="Override a field before validation, e.g. mode=MODE_SIMULATION or NODE.qos_depth=10 (repeatable). "
-         "Lists replace the whole list: NODE.device_ids=1,2,3 or NODE.device_ids=[1,2,3].",
+    "Lists replace the whole list: NODE.device_ids=1,2,3 or NODE.device_ids=[1,2,3].",
 )
 format_option = click.option(
-    "--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
+    "--format",
+    "output_format",
+    type=click.Choice(FORMATS),
+    default="text",
+    show_default=True,
     help="How diagnostics are printed.",
 )
 config_argument = click.argument("config", type=click.Path(exists=True, dir_okay=False))
@@ -38,8 +45,9 @@ def _absolute_prefix(_ctx, _param, value):
         raise click.BadParameter(f"{value!r} contains control characters")
     normal = posixpath.normpath(value).replace("//", "/", 1)
     if value != normal:
-        raise click.BadParameter(f"{value!r} is not a normalized path (no '.', '..', '//' or trailing '/'); "
-                                 f"write {normal!r}")
+        raise click.BadParameter(
+            f"{value!r} is not a normalized path (no '.', '..', '//' or trailing '/'); write {normal!r}"
+        )
     if "=" in value:
         raise click.BadParameter(f"{value!r} contains '=', which env(1) would read as a variable assignment")
     problem = path_problem(posixpath.join(value, PREFIX_ROOM))
@@ -100,11 +108,18 @@ def check(configs, overrides, output_format) -> None:
 @cli.command()
 @config_argument
 @click.option("-o", "--out", "out", required=True, type=click.Path(file_okay=False), help="Output directory.")
-@click.option("--prefix", default=None, callback=_absolute_prefix,
-              help="Absolute path where OUT lives on the robot. Default /opt/joshua/<robot>.")
+@click.option(
+    "--prefix",
+    default=None,
+    callback=_absolute_prefix,
+    help="Absolute path where OUT lives on the robot. Default /opt/joshua/<robot>.",
+)
 @click.option("--check", "check_only", is_flag=True, help="Write nothing; exit 1 with a diff when OUT differs.")
-@click.option("--bundle", is_flag=True,
-              help="Also write what a robot needs to run OUT without this repository: OUT/wheels/ and OUT/install.sh.")
+@click.option(
+    "--bundle",
+    is_flag=True,
+    help="Also write what a robot needs to run OUT without this repository: OUT/wheels/ and OUT/install.sh.",
+)
 @set_option
 @format_option
 def build(config, out, prefix, check_only, bundle, overrides, output_format) -> None:
@@ -124,7 +139,9 @@ def build(config, out, prefix, check_only, bundle, overrides, output_format) -> 
         difference = diff_tree(compilation.files, Path(out))
         if difference:
             click.echo(difference, nl=False)
-            click.echo(f"joshuac: {out} is not up to date with {config}; run: joshuac build {config} -o {out}", err=True)
+            click.echo(
+                f"joshuac: {out} is not up to date with {config}; run: joshuac build {config} -o {out}", err=True
+            )
             sys.exit(EXIT_ERRORS)
         return
     try:
@@ -149,7 +166,8 @@ def graph(config, graph_format, overrides) -> None:
 @click.argument("code", required=False)
 def explain(code) -> None:
     """Explain a diagnostic code, e.g. joshuac explain E301; without one, list every code."""
-    from joshua_codegen.rules import all_rules, explain as explain_code, summaries
+    from joshua_codegen.rules import all_rules, summaries
+    from joshua_codegen.rules import explain as explain_code
 
     if code is None:
         click.echo("".join(line + "\n" for line in summaries()), nl=False)

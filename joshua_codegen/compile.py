@@ -3,13 +3,12 @@
 import os
 from dataclasses import dataclass
 
-from joshua_core.settings import to_literal
-
 from joshua_codegen.check import CheckResult, check_file, check_text
 from joshua_codegen.diagnostics import format_text
 from joshua_codegen.model import Robot
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
+from joshua_core.settings import to_literal
 
 
 @dataclass

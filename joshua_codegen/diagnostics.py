@@ -71,7 +71,9 @@ def summary(diags: Iterable[Diagnostic]) -> str:
     return f"{_plural(errors, 'error')}, {_plural(len(diags) - errors, 'warning')}"
 
 
-def _snippet(lines: list[str] | None, line: int, column: int, end_line: int | None, end_column: int | None) -> list[str]:
+def _snippet(
+    lines: list[str] | None, line: int, column: int, end_line: int | None, end_column: int | None
+) -> list[str]:
     """The source line and a caret under the column (tildes over the rest of a one-line range)."""
     if lines is None:
         return []
@@ -87,7 +89,7 @@ def _snippet(lines: list[str] | None, line: int, column: int, end_line: int | No
     offset = 0
     if len(text) > MAX_ECHOED_LINE:
         offset = max(0, min(start - MAX_ECHOED_LINE // 2, len(text) - MAX_ECHOED_LINE))
-        text = text[offset:offset + MAX_ECHOED_LINE]
+        text = text[offset : offset + MAX_ECHOED_LINE]
         start -= offset
     start = min(start, len(text))
     width = max(1, min(width, len(text) - start))
@@ -136,9 +138,7 @@ def _as_dict(d: Diagnostic) -> dict:
         "code": d.code,
         "severity": d.severity,
         "message": d.message,
-        "related": [
-            {"path": r.path, "line": r.line, "column": r.column, "message": r.message} for r in d.related
-        ],
+        "related": [{"path": r.path, "line": r.line, "column": r.column, "message": r.message} for r in d.related],
     }
 
 

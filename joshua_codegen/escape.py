@@ -140,8 +140,12 @@ def supervisor_value(text: str) -> str:
     `;` or `#` after whitespace, so values holding line breaks, both quote characters, a quote at
     either end, or such a comment marker raise ValueError (pass those through `command=` instead)."""
     quote = '"' if '"' not in text else "'"
-    if (any(ch in text for ch in _INI_BREAKS) or quote in text or re.search(r"\s[;#]", text)
-            or (text and (text[0] in "'\"" or text[-1] in "'\""))):
+    if (
+        any(ch in text for ch in _INI_BREAKS)
+        or quote in text
+        or re.search(r"\s[;#]", text)
+        or (text and (text[0] in "'\"" or text[-1] in "'\""))
+    ):
         raise ValueError(f"supervisord's environment= cannot hold {text!r}")
     return quote + text.replace("%", "%%") + quote
 

@@ -16,8 +16,8 @@ from joshua_codegen.check import decode
 from joshua_codegen.diagnostics import ERROR, Diagnostic
 from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, SYNTAX_ERROR, load_text
 from joshua_codegen.source_file import SourceProblem, read_description
-from joshua_codegen.values import ValueProblem, unquote
 from joshua_codegen.syntax import Block, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, parse_syntax
+from joshua_codegen.values import ValueProblem, unquote
 
 INDENT = "  "
 TRAILING_COMMENT_GAP = "  "
@@ -154,8 +154,18 @@ def _check_strings(fields: list[Field], path: str, problems: list[Diagnostic]) -
                 try:
                     unquote(value)
                 except ValueProblem as problem:
-                    problems.append(Diagnostic(path, value.first.line, value.first.column, INVALID_VALUE, ERROR,
-                                               str(problem), value.last.line, value.last.end_column))
+                    problems.append(
+                        Diagnostic(
+                            path,
+                            value.first.line,
+                            value.first.column,
+                            INVALID_VALUE,
+                            ERROR,
+                            str(problem),
+                            value.last.line,
+                            value.last.end_column,
+                        )
+                    )
 
 
 def format_description(text: str, path: str) -> tuple[str | None, list[Diagnostic]]:
@@ -163,15 +173,25 @@ def format_description(text: str, path: str) -> tuple[str | None, list[Diagnosti
     if text.startswith("\ufeff"):
         text = text[1:]
     if "\0" in text:
-        before = text[:text.index("\0")]
+        before = text[: text.index("\0")]
         line = before.count("\n") + 1
         column = len(before) - (before.rfind("\n") + 1) + 1
         return None, [Diagnostic(path, line, column, NOT_TEXT, ERROR, "the file contains a NUL character")]
     try:
         document = parse_syntax(text)
     except SyntaxProblem as problem:
-        return None, [Diagnostic(path, problem.line, problem.column, SYNTAX_ERROR, ERROR, problem.message,
-                                 problem.line, problem.end_column)]
+        return None, [
+            Diagnostic(
+                path,
+                problem.line,
+                problem.column,
+                SYNTAX_ERROR,
+                ERROR,
+                problem.message,
+                problem.line,
+                problem.end_column,
+            )
+        ]
     problems: list[Diagnostic] = []
     _check_strings(document.fields, path, problems)
     if problems:

@@ -16,10 +16,10 @@ from google.protobuf.descriptor import Descriptor, FieldDescriptor
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, Related
 from joshua_codegen.positions import Location, Path, SourceMap
-from joshua_core.schema import RobotConfig, RobotDescription
 from joshua_codegen.syntax import Block, Broken, Field, ListValue, Scalar, SyntaxProblem, Token
 from joshua_codegen.syntax_recovery import parse_recovering
 from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, shown, suggest
+from joshua_core.schema import RobotConfig, RobotDescription
 
 SYNTAX_ERROR = "E001"
 UNKNOWN_FIELD = "E002"
@@ -30,6 +30,7 @@ MISSING_ROBOT_CONFIG = "E006"
 UNREADABLE_FILE = "E007"
 NOT_TEXT = "E008"
 NOT_REGULAR_FILE = "E009"
+
 
 @dataclass
 class LoadResult:
@@ -83,8 +84,11 @@ class _Binder:
         else:
             self.unknown_nodes.add(self.node_index)
         where = self.location(first, last)
-        self.diagnostics.append(Diagnostic(self.path, where.line, where.column, code, ERROR, message,
-                                           where.end_line, where.end_column, related))
+        self.diagnostics.append(
+            Diagnostic(
+                self.path, where.line, where.column, code, ERROR, message, where.end_line, where.end_column, related
+            )
+        )
 
     def related(self, token: Token, message: str) -> tuple[Related, ...]:
         return (Related(self.path, token.line, token.column, message),)
@@ -115,9 +119,13 @@ class _Binder:
         if not fd.is_repeated:
             first = seen.get(name)
             if first is not None:
-                self.report(DUPLICATE_FIELD, field.name, field.name,
-                            f'field "{name}" is given twice in {descriptor.name}; it takes one value',
-                            self.related(first.name, "first given here"))
+                self.report(
+                    DUPLICATE_FIELD,
+                    field.name,
+                    field.name,
+                    f'field "{name}" is given twice in {descriptor.name}; it takes one value',
+                    self.related(first.name, "first given here"),
+                )
                 return
             seen[name] = field
         self.source.add(key, self.location(field.name, field.value.last))
@@ -131,20 +139,24 @@ class _Binder:
         if isinstance(value, (Block, Broken)):
             return [value]
         if isinstance(value, Scalar):
-            self.report(INVALID_VALUE, value.first, value.last,
-                        f'"{fd.name}" is a message: write {fd.name} {{ ... }}')
+            self.report(INVALID_VALUE, value.first, value.last, f'"{fd.name}" is a message: write {fd.name} {{ ... }}')
             return []
         if not fd.is_repeated:
-            self.report(INVALID_VALUE, value.open, value.open,
-                        f'"{fd.name}" is not repeated: write {fd.name} {{ ... }}')
+            self.report(
+                INVALID_VALUE, value.open, value.open, f'"{fd.name}" is not repeated: write {fd.name} {{ ... }}'
+            )
             return []
         blocks = []
         for item in value.items:
             if isinstance(item, Block):
                 blocks.append(item)
             else:
-                self.report(INVALID_VALUE, item.first, item.last,
-                            f'"{fd.name}" holds messages: write {{ ... }}, not {shown(item)}')
+                self.report(
+                    INVALID_VALUE,
+                    item.first,
+                    item.last,
+                    f'"{fd.name}" holds messages: write {{ ... }}, not {shown(item)}',
+                )
         return blocks
 
     def bind_message_field(self, field: Field, fd: FieldDescriptor, message, key: Path) -> None:
@@ -192,8 +204,13 @@ class _Binder:
         entry_key = key + (entry.key,)
         previous = self.source.get(entry_key)
         if previous is not None:
-            self.report(DUPLICATE_FIELD, anchor, anchor, f'{fd.name} key "{entry.key}" is given twice',
-                        (Related(self.path, previous.line, previous.column, "first given here"),))
+            self.report(
+                DUPLICATE_FIELD,
+                anchor,
+                anchor,
+                f'{fd.name} key "{entry.key}" is given twice',
+                (Related(self.path, previous.line, previous.column, "first given here"),),
+            )
             return
         self.source.add(entry_key, self.location(anchor, anchor))
         container[entry.key] = entry.value
@@ -204,8 +221,9 @@ class _Binder:
             self.report_known_problem()
             return
         if isinstance(value, Block):
-            self.report(INVALID_VALUE, value.open, value.open,
-                        f'"{fd.name}" takes a value, not a message: write {fd.name}: ...')
+            self.report(
+                INVALID_VALUE, value.open, value.open, f'"{fd.name}" takes a value, not a message: write {fd.name}: ...'
+            )
             return
         if isinstance(value, ListValue):
             if not fd.is_repeated:
@@ -220,8 +238,7 @@ class _Binder:
         container = getattr(message, fd.name) if fd.is_repeated else None
         for item in items:
             if isinstance(item, Block):
-                self.report(INVALID_VALUE, item.open, item.open,
-                            f'"{fd.name}" takes values, not messages')
+                self.report(INVALID_VALUE, item.open, item.open, f'"{fd.name}" takes values, not messages')
                 continue
             parsed = self.scalar_value(fd, item)
             if parsed is None:
@@ -261,9 +278,12 @@ def _wrong_root(binder: _Binder, fields: list[Field]) -> list[Field]:
         name = field.name.text
         if name not in RobotDescription.DESCRIPTOR.fields_by_name and name in robot_fields:
             if not reported:
-                binder.report(MISSING_ROBOT_CONFIG, field.name, field.name,
-                              f'"{name}" belongs inside robot_config {{ ... }}: '
-                              "the file root holds one robot_config block")
+                binder.report(
+                    MISSING_ROBOT_CONFIG,
+                    field.name,
+                    field.name,
+                    f'"{name}" belongs inside robot_config {{ ... }}: the file root holds one robot_config block',
+                )
                 reported = True
             continue
         kept.append(field)
@@ -272,8 +292,17 @@ def _wrong_root(binder: _Binder, fields: list[Field]) -> list[Field]:
 
 def _syntax_diagnostic(path: str, problem: SyntaxProblem) -> Diagnostic:
     related = tuple(Related(path, line, column, message) for line, column, message in problem.notes)
-    return Diagnostic(path, problem.line, problem.column, SYNTAX_ERROR, ERROR, problem.message,
-                      problem.line, problem.end_column, related)
+    return Diagnostic(
+        path,
+        problem.line,
+        problem.column,
+        SYNTAX_ERROR,
+        ERROR,
+        problem.message,
+        problem.line,
+        problem.end_column,
+        related,
+    )
 
 
 def load_text(path: str, text: str) -> LoadResult:
@@ -286,13 +315,20 @@ def load_text(path: str, text: str) -> LoadResult:
     description = RobotDescription()
     binder.bind_fields(_wrong_root(binder, document.fields), description, ())
     if not document.fields:
-        binder.diagnostics.append(Diagnostic(path, 1, 1, MISSING_ROBOT_CONFIG, ERROR,
-                                             "the description is empty: expected robot_config { ... }"))
+        binder.diagnostics.append(
+            Diagnostic(
+                path, 1, 1, MISSING_ROBOT_CONFIG, ERROR, "the description is empty: expected robot_config { ... }"
+            )
+        )
     elif not binder.diagnostics and not description.HasField("robot_config"):
-        binder.diagnostics.append(Diagnostic(path, 1, 1, MISSING_ROBOT_CONFIG, ERROR,
-                                             "missing robot_config { ... }"))
+        binder.diagnostics.append(Diagnostic(path, 1, 1, MISSING_ROBOT_CONFIG, ERROR, "missing robot_config { ... }"))
     if binder.diagnostics:
         understood = not binder.outside_nodes and description.HasField("robot_config")
-        return LoadResult(None, binder.source, binder.diagnostics, description if understood else None,
-                          frozenset(binder.unknown_nodes))
+        return LoadResult(
+            None,
+            binder.source,
+            binder.diagnostics,
+            description if understood else None,
+            frozenset(binder.unknown_nodes),
+        )
     return LoadResult(description, binder.source, [])

@@ -18,8 +18,12 @@ class QoS:
     durability: str
 
     def as_dict(self) -> dict:
-        return {"history": self.history, "depth": self.depth, "reliability": self.reliability,
-                "durability": self.durability}
+        return {
+            "history": self.history,
+            "depth": self.depth,
+            "reliability": self.reliability,
+            "durability": self.durability,
+        }
 
 
 @dataclass(frozen=True)

@@ -17,17 +17,26 @@ from joshua_core.settings import (
 
 
 def _topic(endpoint: Endpoint) -> TopicSettings:
-    return TopicSettings(name=endpoint.topic, message_type=endpoint.message_type,
-                         qos=QosSettings(**endpoint.qos.as_dict()))
+    return TopicSettings(
+        name=endpoint.topic, message_type=endpoint.message_type, qos=QosSettings(**endpoint.qos.as_dict())
+    )
 
 
 def _common(config: pb.RobotConfig, name: str, type_name: str) -> NodeSettings:
-    return NodeSettings(format_version=FORMAT_VERSION, robot=config.name, mode=pb.Mode.Name(config.mode),
-                        name=name, type=type_name)
+    return NodeSettings(
+        format_version=FORMAT_VERSION, robot=config.name, mode=pb.Mode.Name(config.mode), name=name, type=type_name
+    )
 
 
-def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint | None, state: Endpoint | None,
-             inputs: list[Endpoint], odom: Endpoint | None = None) -> NodeSettings:
+def for_node(
+    config: pb.RobotConfig,
+    node: pb.Node,
+    name: str,
+    topic: Endpoint | None,
+    state: Endpoint | None,
+    inputs: list[Endpoint],
+    odom: Endpoint | None = None,
+) -> NodeSettings:
     """The settings of one described node; fields its type does not read are left at their zero value."""
     settings = _common(config, name, defaults.type_name(node.type))
     if topic is not None:
@@ -82,8 +91,12 @@ def for_node(config: pb.RobotConfig, node: pb.Node, name: str, topic: Endpoint |
 def for_simulation(config: pb.RobotConfig, simulates: list[NodeSettings]) -> SimulationSettings:
     """The simulation engine's section: the world, and the settings of every node it stands in for."""
     sim = config.simulation
-    section = SimulationSettings(model=sim.model, realtime_factor=defaults.realtime_factor(sim),
-                                 camera=sim.camera, gl_backend=defaults.gl_backend(sim))
+    section = SimulationSettings(
+        model=sim.model,
+        realtime_factor=defaults.realtime_factor(sim),
+        camera=sim.camera,
+        gl_backend=defaults.gl_backend(sim),
+    )
     if sim.HasField("timestep_s"):
         section.timestep_s = sim.timestep_s
     section.simulates.extend(simulates)

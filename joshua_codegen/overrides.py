@@ -16,10 +16,10 @@ from google.protobuf.descriptor import FieldDescriptor
 
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR, Diagnostic
-from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, suggest
 from joshua_codegen.positions import Location, Path, SourceMap
-from joshua_core.schema import RobotConfig, RobotDescription
 from joshua_codegen.syntax import ListValue, Scalar, SyntaxProblem, Token, parse_syntax
+from joshua_codegen.values import ValueProblem, parse_enum, parse_scalar, suggest
+from joshua_core.schema import RobotConfig, RobotDescription
 
 OVERRIDE_PATH = "--set"
 MALFORMED_OVERRIDE = "E010"
@@ -111,8 +111,9 @@ def _set_in(message, segments: list[str], text: str, path: Path, owner: str) -> 
             raise OverrideProblem(UNKNOWN_OVERRIDE_TARGET, "address a node by its name: NODE_NAME.FIELD=VALUE")
         if len(segments) < 2:
             example = next(iter(fd.message_type.fields_by_name))
-            raise OverrideProblem(UNKNOWN_OVERRIDE_TARGET,
-                                  f"{fd.name} is a block: set one of its fields, e.g. {fd.name}.{example}=...")
+            raise OverrideProblem(
+                UNKNOWN_OVERRIDE_TARGET, f"{fd.name} is a block: set one of its fields, e.g. {fd.name}.{example}=..."
+            )
         return _set_in(getattr(message, fd.name), segments[1:], text, path, fd.name)
     if len(segments) > 1:
         raise OverrideProblem(UNKNOWN_OVERRIDE_TARGET, f'{fd.name} is a value and has no field "{segments[1]}"')
@@ -150,8 +151,9 @@ def _apply(config: RobotConfig, key: str, text: str) -> Path:
     return _set_in(config.node[index], segments[1:], text, ("robot_config", "node", index), f'node "{segments[0]}"')
 
 
-def apply_overrides(description: RobotDescription, source: SourceMap, overrides: Sequence[str]
-                    ) -> tuple[RobotDescription, SourceMap, list[Diagnostic]]:
+def apply_overrides(
+    description: RobotDescription, source: SourceMap, overrides: Sequence[str]
+) -> tuple[RobotDescription, SourceMap, list[Diagnostic]]:
     """A new description with the overrides applied (the input is left untouched)."""
     result = RobotDescription()
     result.CopyFrom(description)
@@ -161,7 +163,9 @@ def apply_overrides(description: RobotDescription, source: SourceMap, overrides:
         key, equals, text = override.partition("=")
         try:
             if not equals or not key.strip():
-                raise OverrideProblem(MALFORMED_OVERRIDE, f'expected KEY=VALUE (e.g. mode=MODE_SIMULATION), got "{override}"')
+                raise OverrideProblem(
+                    MALFORMED_OVERRIDE, f'expected KEY=VALUE (e.g. mode=MODE_SIMULATION), got "{override}"'
+                )
             trial = RobotConfig()
             trial.CopyFrom(result.robot_config)
             path = _apply(trial, key.strip(), text)

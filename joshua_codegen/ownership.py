@@ -120,16 +120,21 @@ def _refusal(out: Path) -> str | None:
     except OSError as exc:
         return f"cannot read {out}: {exc.strerror or exc}"
     if read_stamp(out) is None:
-        return (f"{out} is not empty and holds no {STAMP}: refusing to replace a directory joshuac did not write "
-                f"(it holds {_shown(foreign)}); remove it or choose another output directory")
+        return (
+            f"{out} is not empty and holds no {STAMP}: refusing to replace a directory joshuac did not write "
+            f"(it holds {_shown(foreign)}); remove it or choose another output directory"
+        )
     reasons = []
     if foreign:
         reasons.append(f"files joshuac did not write: {_shown(foreign)}")
     if changed:
         reasons.append(f"generated files edited since the last build: {_shown(changed)}")
     if reasons:
-        return (f"refusing to replace {out}, which holds " + "; and ".join(reasons)
-                + ". Move them out of the output directory (or delete them) and build again")
+        return (
+            f"refusing to replace {out}, which holds "
+            + "; and ".join(reasons)
+            + ". Move them out of the output directory (or delete them) and build again"
+        )
     return None
 
 

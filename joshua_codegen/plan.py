@@ -21,11 +21,20 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     declared = topology.declarations(config, names)
     publishers = _publishers(declared)
     nodes = tuple(
-        _node(config, node, name, index, [d for d in declared if d.index == index], publishers,
-              engine if node.type in defaults.HARDWARE else "")
+        _node(
+            config,
+            node,
+            name,
+            index,
+            [d for d in declared if d.index == index],
+            publishers,
+            engine if node.type in defaults.HARDWARE else "",
+        )
         for index, (node, name) in enumerate(zip(config.node, names))
     )
-    processes = tuple(_process(config, node, model) for node, model in zip(config.node, nodes) if not model.simulated_by)
+    processes = tuple(
+        _process(config, node, model) for node, model in zip(config.node, nodes) if not model.simulated_by
+    )
     simulation = None
     if engine:
         simulated = [model for model in nodes if model.simulated_by]
@@ -79,12 +88,20 @@ def _matching_qos(publishers: list[Endpoint]) -> QoS:
     reliable = all(p.qos.reliability == "RELIABLE" for p in publishers)
     durable = all(p.qos.durability == "TRANSIENT_LOCAL" for p in publishers)
     depth = max(p.qos.depth for p in publishers) or 10
-    return QoS("KEEP_LAST", depth, "RELIABLE" if reliable else "BEST_EFFORT",
-               "TRANSIENT_LOCAL" if durable else "VOLATILE")
+    return QoS(
+        "KEEP_LAST", depth, "RELIABLE" if reliable else "BEST_EFFORT", "TRANSIENT_LOCAL" if durable else "VOLATILE"
+    )
 
 
-def _node(config: pb.RobotConfig, node: pb.Node, name: str, index: int, declared: list[topology.Declaration],
-          publishers: dict[str, list[Endpoint]], simulated_by: str) -> NodeModel:
+def _node(
+    config: pb.RobotConfig,
+    node: pb.Node,
+    name: str,
+    index: int,
+    declared: list[topology.Declaration],
+    publishers: dict[str, list[Endpoint]],
+    simulated_by: str,
+) -> NodeModel:
     published, main, inputs, fields = [], [], [], {}
     for item in declared:
         if item.role == topology.READER:
@@ -179,25 +196,50 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
 
 def _engine_process(name: str, carries_images: bool) -> Process:
     return Process(
-        name=name, node_type=SIMULATION_ENGINE.name, kind="python", entrypoint=f"nodes/{name}.py", executable="",
-        args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
-        critical=True, env=(), devices=(), carries_images=carries_images,
+        name=name,
+        node_type=SIMULATION_ENGINE.name,
+        kind="python",
+        entrypoint=f"nodes/{name}.py",
+        executable="",
+        args=(),
+        cpp_binary="",
+        cpp_args=(),
+        restart="RESTART_ON_FAILURE",
+        max_restarts=defaults.MAX_RESTARTS,
+        critical=True,
+        env=(),
+        devices=(),
+        carries_images=carries_images,
     )
 
 
 def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):
     """The Foxglove bridge serves every typed topic, subscribed with a QoS all its publishers serve."""
-    served = [Endpoint(defaults.FOXGLOVE_NAME, t.name, t.message_type, _matching_qos(list(t.publishers)), "subscriber")
-              for t in topics if t.message_type]
+    served = [
+        Endpoint(defaults.FOXGLOVE_NAME, t.name, t.message_type, _matching_qos(list(t.publishers)), "subscriber")
+        for t in topics
+        if t.message_type
+    ]
     return node_settings.for_foxglove(config, defaults.FOXGLOVE_NAME, served)
 
 
 def _foxglove_process(name: str, carries_images: bool) -> Process:
     """The bridge process: restarted on failure, and not critical (a viewer must not stop the robot)."""
     return Process(
-        name=name, node_type=FOXGLOVE_BRIDGE.name, kind="python", entrypoint=f"nodes/{name}.py", executable="",
-        args=(), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE", max_restarts=defaults.MAX_RESTARTS,
-        critical=False, env=(), devices=(), carries_images=carries_images,
+        name=name,
+        node_type=FOXGLOVE_BRIDGE.name,
+        kind="python",
+        entrypoint=f"nodes/{name}.py",
+        executable="",
+        args=(),
+        cpp_binary="",
+        cpp_args=(),
+        restart="RESTART_ON_FAILURE",
+        max_restarts=defaults.MAX_RESTARTS,
+        critical=False,
+        env=(),
+        devices=(),
+        carries_images=carries_images,
     )
 
 

@@ -18,9 +18,7 @@ LEVELS = {
 def incompatible_policies(offered: dict, requested: dict) -> list[str]:
     """The policies (`reliability`, `durability`) for which `offered` falls short of `requested`."""
     return [
-        policy
-        for policy, levels in LEVELS.items()
-        if levels.index(offered[policy]) < levels.index(requested[policy])
+        policy for policy, levels in LEVELS.items() if levels.index(offered[policy]) < levels.index(requested[policy])
     ]
 
 

@@ -52,8 +52,11 @@ def _refuse_kind(path: str, status: os.stat_result) -> None:
 
 
 def _too_large(path: str, size: str) -> SourceProblem:
-    return _problem(path, NOT_REGULAR_FILE,
-                    f"the file is too large ({size}); descriptions are limited to {MAX_DESCRIPTION_BYTES} bytes (1 MiB)")
+    return _problem(
+        path,
+        NOT_REGULAR_FILE,
+        f"the file is too large ({size}); descriptions are limited to {MAX_DESCRIPTION_BYTES} bytes (1 MiB)",
+    )
 
 
 def read_description(path: str) -> bytes:
@@ -62,7 +65,9 @@ def read_description(path: str) -> bytes:
         _refuse_kind(path, os.stat(path))
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_NOCTTY | os.O_CLOEXEC)
     except (OSError, ValueError) as exc:
-        raise _problem(path, UNREADABLE_FILE, f"cannot read the file: {getattr(exc, 'strerror', None) or exc}") from None
+        raise _problem(
+            path, UNREADABLE_FILE, f"cannot read the file: {getattr(exc, 'strerror', None) or exc}"
+        ) from None
     try:
         status = os.fstat(fd)
         _refuse_kind(path, status)
@@ -80,7 +85,10 @@ def read_description(path: str) -> bytes:
     if total > MAX_DESCRIPTION_BYTES:
         raise _too_large(path, f"more than {MAX_DESCRIPTION_BYTES} bytes")
     if total != status.st_size:
-        raise _problem(path, NOT_REGULAR_FILE,
-                       f"the file gave {total} bytes but its size is {status.st_size}: it changed while being read, "
-                       "or it is a pseudo file (/proc, /sys); copy it to a regular file")
+        raise _problem(
+            path,
+            NOT_REGULAR_FILE,
+            f"the file gave {total} bytes but its size is {status.st_size}: it changed while being read, "
+            "or it is a pseudo file (/proc, /sys); copy it to a regular file",
+        )
     return b"".join(chunks)

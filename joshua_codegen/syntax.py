@@ -19,7 +19,17 @@ import re
 from dataclasses import dataclass
 
 from joshua_codegen.syntax_tree import (  # re-exported: the tree is part of this module's interface
-    QUOTES, Block, Broken, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, Token, Value,
+    QUOTES,
+    Block,
+    Broken,
+    Comment,
+    Document,
+    Field,
+    ListValue,
+    Scalar,
+    SyntaxProblem,
+    Token,
+    Value,
 )
 
 # Deeper nesting than this is refused (the schema nests four levels), so parsing never recurses far.
@@ -32,11 +42,13 @@ _CLOSERS = frozenset(_OPENERS.values())
 # ends at its closing quote or at the end of the line), then a comment, then any other single character;
 # each after whitespace, taken whole (the possessive `*+`: never given back to the single-character case). One pass of this pattern over a line yields what the Tokenizer yields
 # token by token, about thirty times faster.
-_TOKEN = re.compile(r"""\s*+(?P<token>[a-zA-Z_][0-9a-zA-Z_+-]*"""
-                    r"""|([0-9+-]|(\.[0-9]))[0-9a-zA-Z_.+-]*"""
-                    r"""|'[^'\n\\]*((\\.)+[^'\n\\]*)*('|\\?$)"""
-                    r"""|"[^"\n\\]*((\\.)+[^"\n\\]*)*("|\\?$)"""
-                    r"""|\#.*|.)""")
+_TOKEN = re.compile(
+    r"""\s*+(?P<token>[a-zA-Z_][0-9a-zA-Z_+-]*"""
+    r"""|([0-9+-]|(\.[0-9]))[0-9a-zA-Z_.+-]*"""
+    r"""|'[^'\n\\]*((\\.)+[^'\n\\]*)*('|\\?$)"""
+    r"""|"[^"\n\\]*((\\.)+[^"\n\\]*)*("|\\?$)"""
+    r"""|\#.*|.)"""
+)
 
 
 def tokens(text: str):
@@ -184,8 +196,11 @@ class Parser:
                 if closer is not None:
                     raise stream.problem(f'expected "{closer}" before the end of the file')
                 return fields
-            if limit is not None and stream.starts_line() and (
-                    token.column < limit or (token.column == limit and token.text != closer)):
+            if (
+                limit is not None
+                and stream.starts_line()
+                and (token.column < limit or (token.column == limit and token.text != closer))
+            ):
                 self.closed_by_indent = True  # a closer further left belongs to an outer block
                 return fields
             if closer is not None and token.text == closer:
@@ -246,7 +261,9 @@ class Parser:
         elif opener == "[":
             value = self.list_value(depth + 1)
         elif not colon:
-            raise stream.problem(f'expected ":" or "{{" after field name "{name.text}", found {_describe(stream.current)}')
+            raise stream.problem(
+                f'expected ":" or "{{" after field name "{name.text}", found {_describe(stream.current)}'
+            )
         else:
             value = self.scalar()
         blank_before = previous_line > 0 and first_line - previous_line > 1

@@ -82,7 +82,9 @@ def _closed_by_indentation(parser: Parser, end: SyntaxProblem | None) -> list[Sy
     for trace in parser.traces:
         if trace.close is not None and not trace.close.text and trace.ended_before is not None:
             token = trace.ended_before
-            notes = ((token.line, token.column, "its contents seem to end before this line, indented like its opening"),)
+            notes = (
+                (token.line, token.column, "its contents seem to end before this line, indented like its opening"),
+            )
             reports.append(_report(trace, end, notes))
     return reports
 
@@ -93,5 +95,10 @@ def _report(trace: BlockTrace, end: SyntaxProblem | None, notes: tuple) -> Synta
     closer = "}" if open_token.text == "{" else ">"
     if end is not None:
         notes = notes + ((end.line, end.column, f'the end of the file is reached without its "{closer}"'),)
-    return SyntaxProblem(f'"{shown}" opened here is never closed', name.line, name.column,
-                         open_token.end_column if open_token.line == name.line else name.end_column, notes=notes)
+    return SyntaxProblem(
+        f'"{shown}" opened here is never closed',
+        name.line,
+        name.column,
+        open_token.end_column if open_token.line == name.line else name.end_column,
+        notes=notes,
+    )

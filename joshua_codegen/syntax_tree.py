@@ -115,8 +115,15 @@ class SyntaxProblem(Exception):
     `at_end` is True when the end of the file was reached; `notes` are (line, column, message) pointing
     at other places that explain it."""
 
-    def __init__(self, message: str, line: int, column: int, end_column: int | None = None, at_end: bool = False,
-                 notes: tuple[tuple[int, int, str], ...] = ()):
+    def __init__(
+        self,
+        message: str,
+        line: int,
+        column: int,
+        end_column: int | None = None,
+        at_end: bool = False,
+        notes: tuple[tuple[int, int, str], ...] = (),
+    ):
         super().__init__(message)
         self.message = message
         self.line = line

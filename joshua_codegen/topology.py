@@ -37,35 +37,64 @@ def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
     out (E203 reports them)."""
     found = []
     for index, (node, name) in enumerate(zip(config.node, names)):
-        entry = defaults.entry(node)
-        qos = defaults.qos(node)
-
-        def declare(value: str, role: str, message_type: str, node_qos: dict | None, *field: str | int,
-                    implied: bool = False) -> None:
+        for value, role, message_type, qos, field, implied in _declared(node):
             if topic_problem(value, name) is None:
-                found.append(Declaration(index, name, resolve_topic(value, name), role, message_type, node_qos,
-                                         node_path(index) + field, implied))
-
-        if entry.topic == "publishes":
-            declare(node.topic_name, PUBLISHER, defaults.message_type(node), qos, "topic_name")
-        elif entry.topic == "subscribes":
-            declare(node.topic_name, SUBSCRIBER, defaults.message_type(node), qos, "topic_name")
-        if entry.state_topic and node.state_topic:
-            declare(node.state_topic, PUBLISHER, defaults.STATE_MESSAGE_TYPE, qos, "state_topic")
-        if entry.odom_topic:
-            declare(defaults.odom_topic(node), PUBLISHER, defaults.ODOM_MESSAGE_TYPE, qos, "odom_topic")
-        if entry.reads_inputs:
-            for k, value in enumerate(node.input_topics):
-                declare(value, READER, "", None, "input_topics", k)
-        if entry.declares_topics:
-            for field, role in (("publishes", PUBLISHER), ("subscribes", SUBSCRIBER)):
-                for k, topic in enumerate(getattr(node, field)):
-                    declare(topic.topic_name, role, topic.message_type, defaults.resolved_qos(topic),
-                            field, k, "topic_name")
-        if entry.diagnostics:
-            declare(servo_topics.DIAGNOSTICS_TOPIC, PUBLISHER, servo_topics.DIAGNOSTICS_TYPE,
-                    servo_topics.FIXED_QOS, "type", implied=True)
-        if entry.presets and node.topic_name:
-            declare(servo_topics.preset_topic(node.topic_name), SUBSCRIBER, servo_topics.PRESET_TYPE,
-                    servo_topics.FIXED_QOS, "topic_name", implied=True)
+                found.append(
+                    Declaration(
+                        index,
+                        name,
+                        resolve_topic(value, name),
+                        role,
+                        message_type,
+                        qos,
+                        node_path(index) + field,
+                        implied,
+                    )
+                )
     return found
+
+
+def _declared(node: pb.Node):
+    """(topic as written, role, message type, QoS, field path within the node, implied) of each topic."""
+    entry = defaults.entry(node)
+    qos = defaults.qos(node)
+    if entry.topic == "publishes":
+        yield node.topic_name, PUBLISHER, defaults.message_type(node), qos, ("topic_name",), False
+    elif entry.topic == "subscribes":
+        yield node.topic_name, SUBSCRIBER, defaults.message_type(node), qos, ("topic_name",), False
+    if entry.state_topic and node.state_topic:
+        yield node.state_topic, PUBLISHER, defaults.STATE_MESSAGE_TYPE, qos, ("state_topic",), False
+    if entry.odom_topic:
+        yield defaults.odom_topic(node), PUBLISHER, defaults.ODOM_MESSAGE_TYPE, qos, ("odom_topic",), False
+    if entry.reads_inputs:
+        for k, value in enumerate(node.input_topics):
+            yield value, READER, "", None, ("input_topics", k), False
+    if entry.declares_topics:
+        for field, role in (("publishes", PUBLISHER), ("subscribes", SUBSCRIBER)):
+            for k, topic in enumerate(getattr(node, field)):
+                yield (
+                    topic.topic_name,
+                    role,
+                    topic.message_type,
+                    defaults.resolved_qos(topic),
+                    (field, k, "topic_name"),
+                    False,
+                )
+    if entry.diagnostics:
+        yield (
+            servo_topics.DIAGNOSTICS_TOPIC,
+            PUBLISHER,
+            servo_topics.DIAGNOSTICS_TYPE,
+            servo_topics.FIXED_QOS,
+            ("type",),
+            True,
+        )
+    if entry.presets and node.topic_name:
+        yield (
+            servo_topics.preset_topic(node.topic_name),
+            SUBSCRIBER,
+            servo_topics.PRESET_TYPE,
+            servo_topics.FIXED_QOS,
+            ("topic_name",),
+            True,
+        )

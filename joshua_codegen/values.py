@@ -61,7 +61,7 @@ def _check_escapes(body: str) -> None:
     while index >= 0:
         match = _ESCAPE.match(body, index)
         if match is None:
-            escape = body[index:index + 2]
+            escape = body[index : index + 2]
             raise ValueProblem(f'invalid escape "{escape}" in a string (write "\\\\" for a backslash)')
         index = body.find("\\", match.end())
 
@@ -158,7 +158,7 @@ def parse_enum(field: FieldDescriptor, text: str) -> tuple[int | None, str]:
         return None, f"{field.name} has no value numbered {number}; expected one of {', '.join(enum_names(field))}"
     bare = text.strip("'\"")
     if bare != text and bare in enum.values_by_name:
-        return None, f'enum values are written without quotes: {field.name}: {bare}'
+        return None, f"enum values are written without quotes: {field.name}: {bare}"
     hint = suggest(text, enum.values_by_name, upper=True)
     reason = f'unknown value "{text}" for {field.name} (enum {enum.name})'
     if hint:

@@ -11,9 +11,9 @@ import stat
 import tempfile
 from pathlib import Path
 
-from joshua_core.atomic import exchange_directories
 from joshua_codegen.ownership import STAMP, content_bytes, refusal, remove_stale_staging, stamp_text
 from joshua_codegen.render import is_executable
+from joshua_core.atomic import exchange_directories
 
 
 class OutputError(Exception):
@@ -154,9 +154,12 @@ def diff_tree(files: dict[str, str | bytes], out: Path) -> str:
         if relative in current and have is None:
             chunks.append(f"Binary or unreadable file {out / relative} differs\n")
             continue
-        chunks.extend(difflib.unified_diff(
-            old_lines, new_lines,
-            fromfile=f"a/{relative}" if relative in current else "/dev/null",
-            tofile=f"b/{relative}" if want is not None else "/dev/null",
-        ))
+        chunks.extend(
+            difflib.unified_diff(
+                old_lines,
+                new_lines,
+                fromfile=f"a/{relative}" if relative in current else "/dev/null",
+                tofile=f"b/{relative}" if want is not None else "/dev/null",
+            )
+        )
     return "".join(line if line.endswith("\n") else line + "\n\\ No newline at end of file\n" for line in chunks)

@@ -30,8 +30,14 @@ SITE_PACKAGES = pathlib.Path(sysconfig.get_paths()["purelib"])
 KINDS = ("msg", "srv", "action")
 # Interface packages each package's definitions refer to (services and actions pull in the last three).
 DEPENDENCIES: dict[str, tuple[str, ...]] = {
-    "tf2_msgs": ("builtin_interfaces", "std_msgs", "geometry_msgs", "service_msgs", "action_msgs",
-                 "unique_identifier_msgs"),
+    "tf2_msgs": (
+        "builtin_interfaces",
+        "std_msgs",
+        "geometry_msgs",
+        "service_msgs",
+        "action_msgs",
+        "unique_identifier_msgs",
+    ),
 }
 STAMP_NAME = "joshua-build.stamp"
 COMPILE_JOBS = 2
@@ -117,8 +123,17 @@ def _generators():
         ("typesupport_c", GenerateCTypesupport("c")),
         ("fastrtps_c", GenerateFastRTPSCTypesupport("fastrtps_c")),
         ("introspection_c", GenerateIntrospectionCTypesupport("introspection_c")),
-        ("py", GeneratePython("py", typesupport_implementations=[
-            "rosidl_typesupport_c", "rosidl_typesupport_fastrtps_c", "rosidl_typesupport_introspection_c"])),
+        (
+            "py",
+            GeneratePython(
+                "py",
+                typesupport_implementations=[
+                    "rosidl_typesupport_c",
+                    "rosidl_typesupport_fastrtps_c",
+                    "rosidl_typesupport_introspection_c",
+                ],
+            ),
+        ),
     )
 
 
@@ -158,23 +173,46 @@ def _compile(package: str, gen: pathlib.Path, libs: pathlib.Path) -> None:
         "rosidl_generator_c": (sources("c", "*.c"), [*link("rosidl_generator_c"), "-lrosidl_runtime_c", "-lrcutils"]),
         "rosidl_typesupport_introspection_c": (
             sources("introspection_c", "*.c"),
-            [own, *link("rosidl_typesupport_introspection_c", "rosidl_generator_c"),
-             "-lrosidl_typesupport_introspection_c", "-lrosidl_runtime_c", "-lrcutils"]),
+            [
+                own,
+                *link("rosidl_typesupport_introspection_c", "rosidl_generator_c"),
+                "-lrosidl_typesupport_introspection_c",
+                "-lrosidl_runtime_c",
+                "-lrcutils",
+            ],
+        ),
         "rosidl_typesupport_fastrtps_c": (
             sources("fastrtps_c", "*.cpp"),
-            [own, *link("rosidl_typesupport_fastrtps_c", "rosidl_generator_c"), "-lrosidl_typesupport_fastrtps_c",
-             "-lrosidl_typesupport_fastrtps_cpp", "-lfastcdr", "-lrmw", "-lrosidl_runtime_c", "-lrcutils"]),
+            [
+                own,
+                *link("rosidl_typesupport_fastrtps_c", "rosidl_generator_c"),
+                "-lrosidl_typesupport_fastrtps_c",
+                "-lrosidl_typesupport_fastrtps_cpp",
+                "-lfastcdr",
+                "-lrmw",
+                "-lrosidl_runtime_c",
+                "-lrcutils",
+            ],
+        ),
         "rosidl_typesupport_c": (
             sources("typesupport_c", "*.cpp"),
-            [own, *link("rosidl_typesupport_c", "rosidl_generator_c"), "-lrosidl_typesupport_c",
-             "-lrosidl_runtime_c", "-lrcutils"]),
+            [
+                own,
+                *link("rosidl_typesupport_c", "rosidl_generator_c"),
+                "-lrosidl_typesupport_c",
+                "-lrosidl_runtime_c",
+                "-lrcutils",
+            ],
+        ),
     }
     # The generator_c library comes first: every other library links against it.
     first, *rest = libraries.items()
     _shared_library(libs / f"lib{package}__{first[0]}.so", first[1][0], include_flags, lib_flags + first[1][1])
     with concurrent.futures.ThreadPoolExecutor(COMPILE_JOBS) as pool:
-        jobs = [pool.submit(_shared_library, libs / f"lib{package}__{name}.so", srcs, include_flags, lib_flags + flags)
-                for name, (srcs, flags) in rest]
+        jobs = [
+            pool.submit(_shared_library, libs / f"lib{package}__{name}.so", srcs, include_flags, lib_flags + flags)
+            for name, (srcs, flags) in rest
+        ]
         for job in jobs:
             job.result()
 
@@ -184,19 +222,41 @@ def _compile(package: str, gen: pathlib.Path, libs: pathlib.Path) -> None:
     py_dir = gen / "py" / package
     message_sources = sorted(str(p) for p in py_dir.rglob("_*_s.c") if ".ep." not in p.name)
     _shared_library(
-        libs / f"lib{package}__rosidl_generator_py.so", message_sources, include_flags + python_flags,
-        lib_flags + [own, f"-l{package}__rosidl_typesupport_c", *link("rosidl_generator_py", "rosidl_generator_c"),
-                     "-lrosidl_runtime_c", "-lrcutils"])
+        libs / f"lib{package}__rosidl_generator_py.so",
+        message_sources,
+        include_flags + python_flags,
+        lib_flags
+        + [
+            own,
+            f"-l{package}__rosidl_typesupport_c",
+            *link("rosidl_generator_py", "rosidl_generator_c"),
+            "-lrosidl_runtime_c",
+            "-lrcutils",
+        ],
+    )
     extension_flags = [f"-L{PREFIX / 'lib'}", f"-L{libs}", "-Wl,-rpath,$ORIGIN/../../.."]
     with concurrent.futures.ThreadPoolExecutor(COMPILE_JOBS) as pool:
         jobs = []
         for entry in sorted(py_dir.glob(f"_{package}_s.ep.*.c")):
             typesupport = entry.name.split(".ep.")[1].removesuffix(".c")
-            jobs.append(pool.submit(
-                _shared_library, py_dir / f"{package}_s__{typesupport}.so", [str(entry)],
-                include_flags + python_flags,
-                extension_flags + [f"-l{package}__rosidl_generator_py", f"-l{package}__{typesupport}", own,
-                                   f"-l{package}__rosidl_typesupport_c", "-lrosidl_runtime_c", "-lrmw", "-lrcutils"]))
+            jobs.append(
+                pool.submit(
+                    _shared_library,
+                    py_dir / f"{package}_s__{typesupport}.so",
+                    [str(entry)],
+                    include_flags + python_flags,
+                    extension_flags
+                    + [
+                        f"-l{package}__rosidl_generator_py",
+                        f"-l{package}__{typesupport}",
+                        own,
+                        f"-l{package}__rosidl_typesupport_c",
+                        "-lrosidl_runtime_c",
+                        "-lrmw",
+                        "-lrcutils",
+                    ],
+                )
+            )
         for job in jobs:
             job.result()
 
@@ -204,8 +264,19 @@ def _compile(package: str, gen: pathlib.Path, libs: pathlib.Path) -> None:
 def _shared_library(output: pathlib.Path, sources: list[str], include_flags: list[str], link_flags: list[str]) -> None:
     compiler = "g++" if any(source.endswith(".cpp") for source in sources) else "gcc"
     standard = ["-std=c++17"] if compiler == "g++" else ["-std=c11"]
-    command = [compiler, *standard, "-O2", "-fPIC", "-shared", "-w", *include_flags, *sources, "-o", str(output),
-               *link_flags]
+    command = [
+        compiler,
+        *standard,
+        "-O2",
+        "-fPIC",
+        "-shared",
+        "-w",
+        *include_flags,
+        *sources,
+        "-o",
+        str(output),
+        *link_flags,
+    ]
     subprocess.run(command, check=True)
 
 
@@ -218,8 +289,12 @@ def _install(package: str, work: pathlib.Path, gen: pathlib.Path, libs: pathlib.
     if include.exists():
         shutil.rmtree(include)
     for name in ("c", "typesupport_c", "fastrtps_c", "introspection_c"):
-        shutil.copytree(gen / name / package, include, dirs_exist_ok=True,
-                        ignore=shutil.ignore_patterns("*.c", "*.cpp", "*.json", "tmp"))
+        shutil.copytree(
+            gen / name / package,
+            include,
+            dirs_exist_ok=True,
+            ignore=shutil.ignore_patterns("*.c", "*.cpp", "*.json", "tmp"),
+        )
     share = PREFIX / "share" / package
     share.mkdir(parents=True, exist_ok=True)
     for relative in _definitions(package):
@@ -233,8 +308,9 @@ def _install(package: str, work: pathlib.Path, gen: pathlib.Path, libs: pathlib.
     (index / "packages").mkdir(parents=True, exist_ok=True)
     (index / "packages" / package).write_text("")
     (index / "rosidl_interfaces").mkdir(parents=True, exist_ok=True)
-    (index / "rosidl_interfaces" / package).write_text("\n".join(
-        f"{relative.parent.as_posix()}/{relative.name}" for relative in _definitions(package)) + "\n")
+    (index / "rosidl_interfaces" / package).write_text(
+        "\n".join(f"{relative.parent.as_posix()}/{relative.name}" for relative in _definitions(package)) + "\n"
+    )
 
 
 def _replace_tree(source: pathlib.Path, target: pathlib.Path, ignore) -> None:

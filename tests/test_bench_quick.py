@@ -17,7 +17,13 @@ FIGURE = re.compile(r"\d+\.\d+")
 
 @pytest.mark.parametrize("script", sorted(path.name for path in BENCH.glob("*.py")))
 def test_bench_quick_mode_runs_and_prints_figures(script, ros_env):
-    result = subprocess.run([sys.executable, str(BENCH / script), "--quick"], cwd=BENCH, env=ros_env,
-                            capture_output=True, text=True, timeout=BENCH_TIMEOUT_S)
+    result = subprocess.run(
+        [sys.executable, str(BENCH / script), "--quick"],
+        cwd=BENCH,
+        env=ros_env,
+        capture_output=True,
+        text=True,
+        timeout=BENCH_TIMEOUT_S,
+    )
     assert result.returncode == 0, f"{script} --quick exited {result.returncode}:\n{result.stdout}\n{result.stderr}"
     assert FIGURE.search(result.stdout), f"{script} --quick printed no figure:\n{result.stdout}\n{result.stderr}"

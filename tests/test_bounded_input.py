@@ -1,13 +1,13 @@
 """check, build and fmt read only regular files up to 1 MiB, and fmt never rewrites what it cannot read faithfully."""
 
 import os
+import subprocess
 
 import pytest
 
 from joshua_codegen.diagnostics import Diagnostic, format_text
 from joshua_codegen.source_file import MAX_DESCRIPTION_BYTES
 from testsupport.joshuac_cli import CONFIGS, JOSHUAC, ROOT
-import subprocess
 
 COMMANDS = [("check",), ("build", "-o", "out"), ("fmt",), ("fmt", "--write"), ("fmt", "--check")]
 # Generous: a hang fails the test instead of blocking the suite; the refusal itself takes well under 1 s.
@@ -15,8 +15,7 @@ HANG_TIMEOUT_S = 20
 
 
 def run(*args, cwd):
-    return subprocess.run([*JOSHUAC, *map(str, args)], cwd=cwd, capture_output=True, text=True,
-                          timeout=HANG_TIMEOUT_S)
+    return subprocess.run([*JOSHUAC, *map(str, args)], cwd=cwd, capture_output=True, text=True, timeout=HANG_TIMEOUT_S)
 
 
 @pytest.mark.parametrize("command", COMMANDS, ids=" ".join)
@@ -24,7 +23,10 @@ def test_a_fifo_is_refused_without_blocking(command, tmp_path):
     os.mkfifo(tmp_path / "robot.pbtxt")
     result = run(*command[:1], "robot.pbtxt", *command[1:], cwd=tmp_path)
     assert result.returncode == 1
-    assert "robot.pbtxt:1:1: error[E009]: the path is a FIFO (named pipe), not a regular file" in result.stderr + result.stdout
+    assert (
+        "robot.pbtxt:1:1: error[E009]: the path is a FIFO (named pipe), not a regular file"
+        in result.stderr + result.stdout
+    )
     assert not (tmp_path / "out").exists()
 
 
@@ -46,11 +48,15 @@ def test_a_file_over_the_size_limit_is_refused_before_reading(command, tmp_path)
     assert os.path.getsize(big) == MAX_DESCRIPTION_BYTES + 1
 
 
-@pytest.mark.parametrize("content", [
-    b'robot_config {\n  name: "bras"\n  # articul\xe9\n}\n',  # Latin-1
-    b'robot_config {\n  name: "a\0b"\n}\n',  # NUL
-    b'robot_config {\n  name: "x"  \xff\xfe\n}\n',
-], ids=["latin1", "nul", "invalid-utf8"])
+@pytest.mark.parametrize(
+    "content",
+    [
+        b'robot_config {\n  name: "bras"\n  # articul\xe9\n}\n',  # Latin-1
+        b'robot_config {\n  name: "a\0b"\n}\n',  # NUL
+        b'robot_config {\n  name: "x"  \xff\xfe\n}\n',
+    ],
+    ids=["latin1", "nul", "invalid-utf8"],
+)
 def test_fmt_write_refuses_text_it_cannot_read_faithfully_and_leaves_it_byte_for_byte(content, tmp_path):
     path = tmp_path / "robot.pbtxt"
     path.write_bytes(content)

@@ -10,8 +10,11 @@ from testsupport.joshuac_cli import CONFIGS, ROOT, joshuac
 
 
 def tree(directory):
-    return {p.relative_to(directory).as_posix(): (p.read_bytes(), p.stat().st_mode & 0o777)
-            for p in sorted(directory.rglob("*")) if p.is_file()}
+    return {
+        p.relative_to(directory).as_posix(): (p.read_bytes(), p.stat().st_mode & 0o777)
+        for p in sorted(directory.rglob("*"))
+        if p.is_file()
+    }
 
 
 @pytest.mark.parametrize("config", CONFIGS, ids=lambda p: p.stem)
@@ -110,8 +113,20 @@ def test_set_overrides_a_field_before_validation(tmp_path):
     assert "'depth': 2," in text
 
 
-@pytest.mark.parametrize("prefix", ["relative/dir", "/opt/robot\nExecStart=/bin/evil", "/a/../b", "//a", "/a/./b",
-                                    "/opt/robot/", "/opt/a=b", "/opt/" + "x" * 256, "/x" * 2000])
+@pytest.mark.parametrize(
+    "prefix",
+    [
+        "relative/dir",
+        "/opt/robot\nExecStart=/bin/evil",
+        "/a/../b",
+        "//a",
+        "/a/./b",
+        "/opt/robot/",
+        "/opt/a=b",
+        "/opt/" + "x" * 256,
+        "/x" * 2000,
+    ],
+)
 def test_prefix_must_be_an_absolute_printable_normalized_path_that_fits(prefix, tmp_path):
     result = joshuac("build", ROOT / "config/robots/mock_arm.pbtxt", "-o", tmp_path / "out", "--prefix", prefix)
     assert result.returncode == 2

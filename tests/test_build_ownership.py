@@ -140,8 +140,9 @@ def test_builds_killed_at_any_moment_leave_nothing_behind_after_the_next_build(t
     out = tmp_path / "out"
     assert joshuac("build", CONFIG, "-o", out).returncode == 0
     for delay in (0.15, 0.25, 0.35, 0.45):
-        process = subprocess.Popen([*JOSHUAC, "build", str(CONFIG), "-o", str(out)],
-                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        process = subprocess.Popen(
+            [*JOSHUAC, "build", str(CONFIG), "-o", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+        )
         time.sleep(delay)
         process.send_signal(signal.SIGKILL)
         process.wait()
@@ -160,8 +161,10 @@ def test_an_empty_output_directory_is_used(tmp_path):
 
 def test_concurrent_builds_of_one_output_all_succeed_and_leave_one_tree(tmp_path):
     out = tmp_path / "out"
-    builds = [subprocess.Popen([*JOSHUAC, "build", str(CONFIG), "-o", str(out)], stderr=subprocess.PIPE, text=True)
-              for _ in range(6)]
+    builds = [
+        subprocess.Popen([*JOSHUAC, "build", str(CONFIG), "-o", str(out)], stderr=subprocess.PIPE, text=True)
+        for _ in range(6)
+    ]
     failures = [process.stderr.read() for process in builds if process.wait() != 0]
     assert failures == []
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]

@@ -2,15 +2,18 @@
 
 import ast
 
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
+from joshua_core.schema import RobotDescription
+from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.settings import parse, to_literal
-from joshua_core.schema import RobotDescription, robot_config_pb2 as pb
 
 NASTY = st.text(alphabet=st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=40) | st.sampled_from(
-    ['"""', "'''", "\n\nimport os; os.system('rm -rf /')", "${HOME}", "\\", "%(here)s", "\r\n#", "\x00", "}}{{"])
+    ['"""', "'''", "\n\nimport os; os.system('rm -rf /')", "${HOME}", "\\", "%(here)s", "\r\n#", "\x00", "}}{{"]
+)
 
 
 def settings_literal(source: str) -> dict:
@@ -30,8 +33,11 @@ def test_strings_reach_the_entrypoint_unchanged(output_directory, model_path, vi
     camera = config.node.add(name="cam", type=pb.MOCK_CAMERA_PUBLISHER, topic_name="/t", video_source=video_source)
     robot = plan(description, source + ".pbtxt")
     files = render(robot)
-    for node, field, value in [(recorder, "output_directory", output_directory),
-                               (policy, "model_path", model_path), (camera, "video_source", video_source)]:
+    for node, field, value in [
+        (recorder, "output_directory", output_directory),
+        (policy, "model_path", model_path),
+        (camera, "video_source", video_source),
+    ]:
         text = files[f"nodes/{node.name}.py"]
         compile(text, node.name, "exec")
         assert settings_literal(text).get(field, "") == value  # the contract leaves "" out
@@ -54,8 +60,13 @@ def test_source_names_cannot_break_the_xml_profile(source):
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.text(st.characters(blacklist_categories=("Cs",), blacklist_characters="\0"), max_size=12),
-                min_size=1, max_size=4))
+@given(
+    st.lists(
+        st.text(st.characters(blacklist_categories=("Cs",), blacklist_characters="\0"), max_size=12),
+        min_size=1,
+        max_size=4,
+    )
+)
 def test_shell_words_reach_the_program_unchanged(words):
     import subprocess
 

@@ -27,8 +27,13 @@ def test_every_generated_tree_has_a_description():
 
 
 def test_schema_modules_match_the_proto_files(tmp_path):
-    subprocess.run(["bash", "scripts/gen_proto.sh", str(tmp_path)], cwd=ROOT, check=True, capture_output=True,
-                   env={"PATH": f"{ROOT / '.venv' / 'bin'}:/usr/bin:/bin"})
+    subprocess.run(
+        ["bash", "scripts/gen_proto.sh", str(tmp_path)],
+        cwd=ROOT,
+        check=True,
+        capture_output=True,
+        env={"PATH": f"{ROOT / '.venv' / 'bin'}:/usr/bin:/bin"},
+    )
     fresh = sorted(p.name for p in tmp_path.iterdir())
     assert fresh
     committed = ROOT / "core" / "joshua_core" / "schema"

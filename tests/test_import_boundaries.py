@@ -46,15 +46,20 @@ def test_package_imports_only_what_it_may(package):
     assert not crossings, "\n".join(crossings)
 
 
-@pytest.mark.parametrize("project, forbidden", [
-    ("core/pyproject.toml", {"joshuac", "joshua-runtime", "jinja2", "click"}),
-    ("runtime/pyproject.toml", {"joshuac", "jinja2", "click"}),
-    ("pyproject.toml", {"joshua-runtime"}),
-])
+@pytest.mark.parametrize(
+    "project, forbidden",
+    [
+        ("core/pyproject.toml", {"joshuac", "joshua-runtime", "jinja2", "click"}),
+        ("runtime/pyproject.toml", {"joshuac", "jinja2", "click"}),
+        ("pyproject.toml", {"joshua-runtime"}),
+    ],
+)
 def test_distribution_does_not_depend_on_the_other_side(project, forbidden):
     metadata = tomllib.loads((ROOT / project).read_text())["project"]
-    names = {requirement.split("[")[0].split(">")[0].split("=")[0].split("<")[0].strip().lower()
-             for requirement in metadata["dependencies"]}
+    names = {
+        requirement.split("[")[0].split(">")[0].split("=")[0].split("<")[0].strip().lower()
+        for requirement in metadata["dependencies"]
+    }
     assert not names & forbidden
 
 

@@ -60,8 +60,10 @@ def test_entry_fields_are_schema_fields(name):
 @pytest.mark.parametrize("name", sorted(n for n, e in NODE_TYPES.items() if e.cpp_parameters is not None))
 def test_every_cpp_parameter_is_planned(name):
     """Planning a node with preferred_backend CPP passes every parameter its entry lists (no KeyError)."""
-    text = (f'robot_config {{ name: "r" mode: MODE_TELEOPERATION node {{ name: "n" type: {name} '
-            f'topic_name: "/t" serial_port: "/dev/ttyUSB0" calibration_file: "/c.json" preferred_backend: CPP }} }}')
+    text = (
+        f'robot_config {{ name: "r" mode: MODE_TELEOPERATION node {{ name: "n" type: {name} '
+        f'topic_name: "/t" serial_port: "/dev/ttyUSB0" calibration_file: "/c.json" preferred_backend: CPP }} }}'
+    )
     settings = node_settings(text)
     assert settings["n"]["type"] == name
 

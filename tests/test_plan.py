@@ -4,14 +4,15 @@ import json
 
 from google.protobuf import text_format
 
-from testsupport.joshuac_cli import ROOT
 from joshua_codegen.emitters.manifest import manifest
 from joshua_codegen.emitters.supervisor import supervisor_data
 from joshua_codegen.plan import plan
 from joshua_codegen.render import Context, render
+from joshua_core.schema import RobotDescription
+from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.servo_topics import DIAGNOSTICS_TOPIC, preset_topic
 from joshua_core.settings import to_literal
-from joshua_core.schema import RobotDescription, robot_config_pb2 as pb
+from testsupport.joshuac_cli import ROOT
 
 
 def describe(text: str) -> RobotDescription:
@@ -23,26 +24,41 @@ def seed(name: str) -> RobotDescription:
 
 
 def test_unnamed_nodes_get_type_names_numbered_only_when_a_type_repeats():
-    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
         node { type: MOCK_CAMERA_PUBLISHER topic_name: "/a" }
         node { type: MOCK_CAMERA_PUBLISHER topic_name: "/b" }
-        node { type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" } }"""), "r.pbtxt")
-    assert [n.name for n in robot.nodes] == ["mock_camera_publisher_1", "mock_camera_publisher_2",
-                                             "mock_lidar_publisher"]
+        node { type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" } }"""),
+        "r.pbtxt",
+    )
+    assert [n.name for n in robot.nodes] == [
+        "mock_camera_publisher_1",
+        "mock_camera_publisher_2",
+        "mock_lidar_publisher",
+    ]
 
 
 def test_recorder_inputs_get_a_qos_every_publisher_can_serve():
-    robot = plan(describe("""robot_config { name: "r" mode: MODE_DATA_COLLECTION
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_DATA_COLLECTION
         node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/cam" qos_depth: 3 }
         node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" qos_durability: TRANSIENT_LOCAL }
         node { name: "rec" type: DATA_SUBSCRIBER topic_name: "/joints" input_topics: ["/cam", "/joints"]
-               output_directory: "/data" } }"""), "r.pbtxt")
+               output_directory: "/data" } }"""),
+        "r.pbtxt",
+    )
     inputs = to_literal(robot.node("rec").settings)["inputs"]
     assert inputs == [
-        {"name": "/cam", "message_type": "sensor_msgs/msg/Image",
-         "qos": {"history": "KEEP_LAST", "depth": 3, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}},
-        {"name": "/joints", "message_type": "sensor_msgs/msg/JointState",
-         "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}},
+        {
+            "name": "/cam",
+            "message_type": "sensor_msgs/msg/Image",
+            "qos": {"history": "KEEP_LAST", "depth": 3, "reliability": "BEST_EFFORT", "durability": "VOLATILE"},
+        },
+        {
+            "name": "/joints",
+            "message_type": "sensor_msgs/msg/JointState",
+            "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"},
+        },
     ]
 
 
@@ -63,12 +79,15 @@ def test_actuator_state_topic_is_a_publisher_in_the_topology():
 
 
 def test_topics_a_custom_node_declares_reach_the_manifest_and_the_graph():
-    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
         node { name: "teleop" type: CUSTOM executable: "/bin/teleop"
                publishes { topic_name: "/arm/commands" message_type: "sensor_msgs/msg/JointState" qos_depth: 3 }
                subscribes { topic_name: "/camera" message_type: "sensor_msgs/msg/Image" qos_reliability: BEST_EFFORT } }
         node { name: "arm" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/arm/commands" }
-        node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/camera" } }"""), "r.pbtxt")
+        node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/camera" } }"""),
+        "r.pbtxt",
+    )
     document = manifest(robot, Context(prefix="/opt/joshua/r"))
     teleop = next(n for n in document["nodes"] if n["name"] == "teleop")
     assert (teleop["publishes"], teleop["subscribes"]) == (["/arm/commands"], ["/camera"])
@@ -84,10 +103,15 @@ def test_topics_a_custom_node_declares_reach_the_manifest_and_the_graph():
 
 
 def _endpoints(document: dict) -> list:
-    return [(t["name"], t["message_type"],
-             sorted((p["node"], json.dumps(p["qos"], sort_keys=True)) for p in t["publishers"]),
-             sorted((s["node"], json.dumps(s["qos"], sort_keys=True)) for s in t["subscribers"]))
-            for t in document["topics"]]
+    return [
+        (
+            t["name"],
+            t["message_type"],
+            sorted((p["node"], json.dumps(p["qos"], sort_keys=True)) for p in t["publishers"]),
+            sorted((s["node"], json.dumps(s["qos"], sort_keys=True)) for s in t["subscribers"]),
+        )
+        for t in document["topics"]
+    ]
 
 
 def test_simulation_replaces_hardware_nodes_by_one_engine_on_the_same_topics_types_and_qos():
@@ -105,8 +129,11 @@ def test_simulation_replaces_hardware_nodes_by_one_engine_on_the_same_topics_typ
     engine = simulated["processes"][1]
     assert engine["simulates"] == ["encoder_publisher", "actuator_subscriber", "camera_publisher"]
     assert {n["name"]: n["simulated_by"] for n in simulated["nodes"]} == {
-        "encoder_publisher": "simulation", "actuator_subscriber": "simulation",
-        "camera_publisher": "simulation", "data_subscriber": None}
+        "encoder_publisher": "simulation",
+        "actuator_subscriber": "simulation",
+        "camera_publisher": "simulation",
+        "data_subscriber": None,
+    }
     files = render(plan(simulated_description, "a.pbtxt"), "/opt/joshua/x")
     assert "nodes/simulation.py" in files and "nodes/camera_publisher.py" not in files
     assert "simulated by simulation" in files["topology.dot"]
@@ -114,12 +141,16 @@ def test_simulation_replaces_hardware_nodes_by_one_engine_on_the_same_topics_typ
 
 
 def test_relative_and_private_topic_names_resolve_to_one_topic():
-    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
         node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "joints" }
         node { name: "follow" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/joints" state_topic: "~/state" } }"""),
-        "r.pbtxt")
+        "r.pbtxt",
+    )
     assert [(t.name, [e.node for e in t.publishers], [e.node for e in t.subscribers]) for t in robot.topics] == [
-        ("/follow/state", ["follow"], []), ("/joints", ["arm"], ["follow"])]
+        ("/follow/state", ["follow"], []),
+        ("/joints", ["arm"], ["follow"]),
+    ]
     assert to_literal(robot.node("follow").settings)["state_topic"]["name"] == "/follow/state"
 
 
@@ -140,20 +171,30 @@ def test_only_processes_that_carry_images_get_the_image_transport_profile():
         node { name: "own" type: CUSTOM executable: "/bin/true" } }""")
     robot = plan(description, "r.pbtxt")
     assert {p.name: p.carries_images for p in robot.processes} == {
-        "cam": True, "arm": False, "rec": True, "follow": False, "own": True}  # a custom process may carry anything
+        "cam": True,
+        "arm": False,
+        "rec": True,
+        "follow": False,
+        "own": True,
+    }  # a custom process may carry anything
     files = render(robot, "/opt/r")
     images, plain = "/opt/r/fastdds_profile_images.xml", "/opt/r/fastdds_profile.xml"
     for name, profile in (("cam", images), ("arm", plain), ("rec", images), ("own", images)):
         assert f"FASTRTPS_DEFAULT_PROFILES_FILE={profile}\n" in files[f"systemd/joshua-r-{name}.service"]
         program = files["supervisord.conf"].split(f"[program:{name}]\n")[1].split("[program:")[0]
         assert f'FASTRTPS_DEFAULT_PROFILES_FILE="{profile.replace("/opt/r", "%(here)s")}",' in program
-    assert "<segment_size>" in files["fastdds_profile_images.xml"] and "<segment_size>" not in files["fastdds_profile.xml"]
+    assert (
+        "<segment_size>" in files["fastdds_profile_images.xml"] and "<segment_size>" not in files["fastdds_profile.xml"]
+    )
 
 
 def test_the_simulation_engine_carries_images_only_when_it_simulates_a_camera():
     def engine(nodes: str) -> bool:
-        robot = plan(describe(f"""robot_config {{ name: "r" mode: MODE_SIMULATION simulation {{ model: "builtin:so100" }}
-            {nodes} }}"""), "r.pbtxt")
+        robot = plan(
+            describe(f"""robot_config {{ name: "r" mode: MODE_SIMULATION simulation {{ model: "builtin:so100" }}
+            {nodes} }}"""),
+            "r.pbtxt",
+        )
         return next(p for p in robot.processes if p.node_type == "SIMULATION").carries_images
 
     arm = 'node { type: ENCODER_PUBLISHER topic_name: "/joints" serial_port: "/dev/ttyUSB0" }'
@@ -162,9 +203,12 @@ def test_the_simulation_engine_carries_images_only_when_it_simulates_a_camera():
 
 
 def test_supervisor_data_names_each_process_its_own_dds_profile():
-    robot = plan(describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
         node { name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/image" }
-        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" } }"""), "r.pbtxt")
+        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" } }"""),
+        "r.pbtxt",
+    )
     profiles = {p["name"]: p["fastdds_profile"] for p in supervisor_data(robot)["processes"]}
     assert profiles == {"cam": "fastdds_profile_images.xml", "arm": "fastdds_profile.xml"}
 
@@ -179,7 +223,9 @@ def test_the_simulated_lego_car_serves_the_real_base_topics_types_and_qos():
     simulated = manifest(plan(simulated_description, "lego_bot.pbtxt"), context)
     assert _endpoints(simulated) == _endpoints(real)
     assert [(t["name"], t["message_type"]) for t in real["topics"]] == [
-        ("/cmd_vel", "geometry_msgs/msg/Twist"), ("/odom", "nav_msgs/msg/Odometry"),
-        ("/wheel_states", "sensor_msgs/msg/JointState")]
+        ("/cmd_vel", "geometry_msgs/msg/Twist"),
+        ("/odom", "nav_msgs/msg/Odometry"),
+        ("/wheel_states", "sensor_msgs/msg/JointState"),
+    ]
     assert [p["name"] for p in simulated["processes"]] == ["simulation"]
     assert simulated["processes"][0]["simulates"] == ["base"]

@@ -40,11 +40,22 @@ def test_the_marker_finds_the_set_up_blocks():
 
 def test_every_runnable_readme_block_succeeds_in_a_new_login_shell(tmp_path):
     home = fresh_home(tmp_path)
-    env = {"HOME": str(home), "USER": os.environ.get("USER", "root"), "LANG": "C.UTF-8",
-           "UV_CACHE_DIR": os.environ.get("UV_CACHE_DIR", str(Path.home() / ".cache" / "uv"))}
+    env = {
+        "HOME": str(home),
+        "USER": os.environ.get("USER", "root"),
+        "LANG": "C.UTF-8",
+        "UV_CACHE_DIR": os.environ.get("UV_CACHE_DIR", str(Path.home() / ".cache" / "uv")),
+    }
     for block in runnable_blocks((ROOT / "README.md").read_text()):
-        result = subprocess.run(["bash", "-l", "-e", "-c", block], check=False, cwd=ROOT, env=env,
-                                capture_output=True, text=True, timeout=BLOCK_TIMEOUT_S)
+        result = subprocess.run(
+            ["bash", "-l", "-e", "-c", block],
+            check=False,
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=BLOCK_TIMEOUT_S,
+        )
         assert result.returncode == 0, f"README block failed:\n{block}\n{result.stdout}\n{result.stderr}"
     wrapper = home / ".local" / "bin" / "joshuac"
     assert str(ROOT / ".venv" / "bin" / "joshuac") in wrapper.read_text()

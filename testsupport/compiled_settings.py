@@ -17,8 +17,9 @@ DESCRIPTION_PATH = "test_description.pbtxt"
 TEST_ROBOT = "test_robot"
 
 
-def compiled_settings(description_text: str, overrides: Sequence[str] = (),
-                      path: str = DESCRIPTION_PATH) -> dict[str, dict]:
+def compiled_settings(
+    description_text: str, overrides: Sequence[str] = (), path: str = DESCRIPTION_PATH
+) -> dict[str, dict]:
     """Every node's settings by node name, and the simulation engine's under its process name.
 
     `overrides` are `--set` values (`NODE.serial_port=/dev/pts/3`). A description with errors fails

@@ -12,5 +12,6 @@ JOSHUAC = [sys.executable, "-m", "joshua_codegen"]
 
 def joshuac(*args, cwd=None, env=None, check=False) -> subprocess.CompletedProcess:
     """Run the joshuac command line in a subprocess, as a user would."""
-    return subprocess.run([*JOSHUAC, *map(str, args)], cwd=cwd, env=env or dict(os.environ),
-                          capture_output=True, text=True, check=check)
+    return subprocess.run(
+        [*JOSHUAC, *map(str, args)], cwd=cwd, env=env or dict(os.environ), capture_output=True, text=True, check=check
+    )

@@ -30,8 +30,9 @@ class NodeProcess:
 
     def __init__(self, settings: dict, env: dict):
         code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({settings!r}))\n"
-        self.process = subprocess.Popen([sys.executable, "-c", code], env=env, stdout=subprocess.PIPE,
-                                        stderr=subprocess.PIPE, text=True)
+        self.process = subprocess.Popen(
+            [sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        )
 
     def stop(self, signum=signal.SIGINT) -> tuple[int, float, str]:
         """Send `signum`; return (exit code, seconds until exit, stderr)."""

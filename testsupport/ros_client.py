@@ -63,8 +63,7 @@ class RosClient:
         if topic in self._subscriptions:
             self.node.destroy_subscription(self._subscriptions.pop(topic))
         inbox = self._inboxes[topic] = _Inbox(keep)
-        self._subscriptions[topic] = self.node.create_subscription(message_class, topic, inbox.receive,
-                                                                   _profile(qos))
+        self._subscriptions[topic] = self.node.create_subscription(message_class, topic, inbox.receive, _profile(qos))
 
     def last(self, topic: str):
         """The last message received on `topic`, or None."""

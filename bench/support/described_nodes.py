@@ -10,7 +10,9 @@ PYTHON = str(ROOT / ".venv" / "bin" / "python")
 CPP_BIN_DIR = ROOT / "build" / "bin"  # where `make cpp` puts the C++ node binaries
 
 
-def compiled_settings(description_text: str, overrides: Sequence[str] = (), path: str = "bench.pbtxt") -> dict[str, dict]:
+def compiled_settings(
+    description_text: str, overrides: Sequence[str] = (), path: str = "bench.pbtxt"
+) -> dict[str, dict]:
     """Every process's settings by name (the simulation engine's under "simulation"), as `joshuac build` writes them.
 
     `overrides` are `--set` values (`NODE.serial_port=/tmp/x/ttyLEADER`), which need no quoting, so
@@ -22,8 +24,9 @@ def compiled_settings(description_text: str, overrides: Sequence[str] = (), path
         raise SystemExit(f"the benchmark's description has errors:\n{exc}") from None
 
 
-def compiled_cpp_commands(description_text: str, overrides: Sequence[str] = (),
-                          path: str = "bench.pbtxt") -> dict[str, list[str]]:
+def compiled_cpp_commands(
+    description_text: str, overrides: Sequence[str] = (), path: str = "bench.pbtxt"
+) -> dict[str, list[str]]:
     """The argv the supervisor execs for each node with a C++ binary in build/bin, by name."""
     try:
         return cpp_commands(description_text, str(CPP_BIN_DIR), overrides, path)
@@ -37,8 +40,9 @@ def node_command(settings: dict) -> list[str]:
     return [PYTHON, "-c", code]
 
 
-def write_fastdds_profiles(description_text: str, directory: Path, overrides: Sequence[str] = (),
-                           path: str = "bench.pbtxt") -> dict[str, Path]:
+def write_fastdds_profiles(
+    description_text: str, directory: Path, overrides: Sequence[str] = (), path: str = "bench.pbtxt"
+) -> dict[str, Path]:
     """Write the Fast DDS profiles `joshuac build` writes for a description into `directory`;
     return the one each process loads (its FASTRTPS_DEFAULT_PROFILES_FILE), by process name."""
     from joshua_codegen.compile import plan_text

@@ -9,19 +9,43 @@ it touches hardware, and its tests (tests/test_node_type_registry.py checks that
 from dataclasses import dataclass, field
 
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
-_SERVO_BUS_FIELDS = frozenset({"serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file",
-                               "rate_hz", "frame_id", "diagnostics_rate_hz"})
-_ACTUATOR_FIELDS = frozenset({"state_topic", "keep_torque_on_exit", "command_timeout_s", "on_command_timeout",
-                              "preset"})
+_SERVO_BUS_FIELDS = frozenset(
+    {
+        "serial_port",
+        "baud_rate",
+        "device_ids",
+        "joint_names",
+        "calibration_file",
+        "rate_hz",
+        "frame_id",
+        "diagnostics_rate_hz",
+    }
+)
+_ACTUATOR_FIELDS = frozenset(
+    {"state_topic", "keep_torque_on_exit", "command_timeout_s", "on_command_timeout", "preset"}
+)
 # What only real hardware reads: a mock has no torque, no hub, no presets and no diagnostics...
-_HARDWARE_ONLY_FIELDS = frozenset({"keep_torque_on_exit", "hub", "ble_transport", "on_command_timeout", "preset",
-                                   "diagnostics_rate_hz"})
+_HARDWARE_ONLY_FIELDS = frozenset(
+    {"keep_torque_on_exit", "hub", "ble_transport", "on_command_timeout", "preset", "diagnostics_rate_hz"}
+)
 # ... and a mock arm no command watchdog (a mock base has one).
 _ARM_WATCHDOG = frozenset({"command_timeout_s"})
 _CAMERA_FIELDS = frozenset({"camera_index", "video_source", "width", "height", "rate_hz", "frame_id"})
 _LIDAR_FIELDS = frozenset({"serial_port", "baud_rate", "rate_hz", "frame_id"})
-_BASE_FIELDS = frozenset({"wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport",
-                          "state_topic", "joint_names", "rate_hz", "frame_id"})
+_BASE_FIELDS = frozenset(
+    {
+        "wheel_radius_m",
+        "track_width_m",
+        "hub",
+        "command_timeout_s",
+        "odom_topic",
+        "ble_transport",
+        "state_topic",
+        "joint_names",
+        "rate_hz",
+        "frame_id",
+    }
+)
 # Parameters every C++ node binary receives first, as `-p name:=value`.
 _CPP_TOPIC_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
 _CPP_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
@@ -109,109 +133,205 @@ class NodeTypeSpec:
 def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
     """The synthetic stand-in of a hardware type: same topics and fields, no device, always Python."""
     return NodeTypeSpec(
-        name=f"MOCK_{real.name}", family=real.family, topic=real.topic, message_types=real.message_types,
-        state_topic=real.state_topic, odom_topic=real.odom_topic, mock_of=real.name, python_only=True,
+        name=f"MOCK_{real.name}",
+        family=real.family,
+        topic=real.topic,
+        message_types=real.message_types,
+        state_topic=real.state_topic,
+        odom_topic=real.odom_topic,
+        mock_of=real.name,
+        python_only=True,
         fields=real.fields - _HARDWARE_ONLY_FIELDS - (_ARM_WATCHDOG if real.family == "actuator" else frozenset()),
-        rate_hz=real.rate_hz, frame_id=real.frame_id,
-        sensor_qos=real.sensor_qos, runtime_class=runtime_class,
+        rate_hz=real.rate_hz,
+        frame_id=real.frame_id,
+        sensor_qos=real.sensor_qos,
+        runtime_class=runtime_class,
     )
 
 
 _NODES = "joshua_runtime.nodes"
 _BRIDGES = "joshua_runtime.sim.bridges"
 CAMERA_PUBLISHER = NodeTypeSpec(
-    name="CAMERA_PUBLISHER", family="camera", topic="publishes", message_types=IMAGE_TYPES, hardware=True,
+    name="CAMERA_PUBLISHER",
+    family="camera",
+    topic="publishes",
+    message_types=IMAGE_TYPES,
+    hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + ("camera_index", "video_source", "width", "height", "rate_hz", "frame_id"),
-    fields=_CAMERA_FIELDS, claims=("camera", "video_file"), rate_hz=30.0, frame_id="camera", sensor_qos=True,
-    runtime_class=f"{_NODES}.camera_publisher:CameraPublisher", sim_bridge=f"{_BRIDGES}:CameraBridge",
+    fields=_CAMERA_FIELDS,
+    claims=("camera", "video_file"),
+    rate_hz=30.0,
+    frame_id="camera",
+    sensor_qos=True,
+    runtime_class=f"{_NODES}.camera_publisher:CameraPublisher",
+    sim_bridge=f"{_BRIDGES}:CameraBridge",
 )
 ENCODER_PUBLISHER = NodeTypeSpec(
-    name="ENCODER_PUBLISHER", family="encoder", topic="publishes", message_types=(JOINT_STATE,), hardware=True,
+    name="ENCODER_PUBLISHER",
+    family="encoder",
+    topic="publishes",
+    message_types=(JOINT_STATE,),
+    hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id",),
-    fields=_SERVO_BUS_FIELDS, required=("serial_port",), claims=("serial_port",), diagnostics=True,
-    runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher", sim_bridge=f"{_BRIDGES}:EncoderBridge",
+    fields=_SERVO_BUS_FIELDS,
+    required=("serial_port",),
+    claims=("serial_port",),
+    diagnostics=True,
+    runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher",
+    sim_bridge=f"{_BRIDGES}:EncoderBridge",
 )
 LIDAR_PUBLISHER = NodeTypeSpec(
-    name="LIDAR_PUBLISHER", family="lidar", topic="publishes",
+    name="LIDAR_PUBLISHER",
+    family="lidar",
+    topic="publishes",
     message_types=("sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2"),
-    hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
-    fields=_LIDAR_FIELDS, required=("serial_port",), claims=("serial_port",), rate_hz=5.0, frame_id="laser",
-    sensor_qos=True, runtime_class=f"{_NODES}.lidar_publisher:LidarPublisher", sim_bridge=f"{_BRIDGES}:LidarBridge",
+    hardware=True,
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
+    fields=_LIDAR_FIELDS,
+    required=("serial_port",),
+    claims=("serial_port",),
+    rate_hz=5.0,
+    frame_id="laser",
+    sensor_qos=True,
+    runtime_class=f"{_NODES}.lidar_publisher:LidarPublisher",
+    sim_bridge=f"{_BRIDGES}:LidarBridge",
 )
 ACTUATOR_SUBSCRIBER = NodeTypeSpec(
-    name="ACTUATOR_SUBSCRIBER", family="actuator", topic="subscribes", message_types=(JOINT_STATE,),
-    state_topic=True, hardware=True,
+    name="ACTUATOR_SUBSCRIBER",
+    family="actuator",
+    topic="subscribes",
+    message_types=(JOINT_STATE,),
+    state_topic=True,
+    hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic", "frame_id", "keep_torque_on_exit"),
-    fields=_SERVO_BUS_FIELDS | _ACTUATOR_FIELDS, required=("serial_port",),
-    claims=("serial_port",), diagnostics=True, presets=True,
+    fields=_SERVO_BUS_FIELDS | _ACTUATOR_FIELDS,
+    required=("serial_port",),
+    claims=("serial_port",),
+    diagnostics=True,
+    presets=True,
     runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
     sim_bridge=f"{_BRIDGES}:ActuatorBridge",
 )
 OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
-    name="OPERATIONAL_LIMIT_CALIBRATION", family="calibration", topic="publishes", message_types=(JOINT_STATE,),
-    hardware=True, cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS,
-    fields=_SERVO_BUS_FIELDS, required=("serial_port", "calibration_file"), claims=("serial_port",), diagnostics=True,
+    name="OPERATIONAL_LIMIT_CALIBRATION",
+    family="calibration",
+    topic="publishes",
+    message_types=(JOINT_STATE,),
+    hardware=True,
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS,
+    fields=_SERVO_BUS_FIELDS,
+    required=("serial_port", "calibration_file"),
+    claims=("serial_port",),
+    diagnostics=True,
     runtime_class=f"{_NODES}.operational_limit_calibration:OperationalLimitCalibration",
     sim_bridge=f"{_BRIDGES}:CalibrationBridge",
 )
 INFERENCE = NodeTypeSpec(
-    name="INFERENCE", family="inference", topic="publishes", message_types=(JOINT_STATE,),
+    name="INFERENCE",
+    family="inference",
+    topic="publishes",
+    message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
     python_only=True,
     fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),
-    required=("model_path", "input_topics"), claims=("model_path",), rate_hz=30.0,
-    runtime_class="joshua_runtime.ai.inference_node:InferenceNode", runtime_extra="ai",
+    required=("model_path", "input_topics"),
+    claims=("model_path",),
+    rate_hz=30.0,
+    runtime_class="joshua_runtime.ai.inference_node:InferenceNode",
+    runtime_extra="ai",
 )
 DATA_SUBSCRIBER = NodeTypeSpec(
-    name="DATA_SUBSCRIBER", family="recorder", topic="subscribes", message_types=(JOINT_STATE,),
+    name="DATA_SUBSCRIBER",
+    family="recorder",
+    topic="subscribes",
+    message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
     python_only=True,
-    fields=frozenset({"input_topics", "output_format", "output_directory", "rate_hz", "bag_max_size_mb",
-                      "bag_max_duration_s"}),
-    required=("output_directory", "input_topics"), rate_hz=30.0,
+    fields=frozenset(
+        {"input_topics", "output_format", "output_directory", "rate_hz", "bag_max_size_mb", "bag_max_duration_s"}
+    ),
+    required=("output_directory", "input_topics"),
+    rate_hz=30.0,
     runtime_class="joshua_runtime.ai.recorder_node:RecorderNode",
     runtime_extra="ai",
 )
 DIFF_DRIVE_BASE = NodeTypeSpec(
-    name="DIFF_DRIVE_BASE", family="base", topic="subscribes", message_types=(TWIST,), state_topic=True,
-    odom_topic=True, hardware=True, python_only=True, fields=_BASE_FIELDS, rate_hz=50.0, frame_id="odom",
-    runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase", sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
+    name="DIFF_DRIVE_BASE",
+    family="base",
+    topic="subscribes",
+    message_types=(TWIST,),
+    state_topic=True,
+    odom_topic=True,
+    hardware=True,
+    python_only=True,
+    fields=_BASE_FIELDS,
+    rate_hz=50.0,
+    frame_id="odom",
+    runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase",
+    sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
 )
 ROBOT_STATE_PUBLISHER = NodeTypeSpec(
-    name="ROBOT_STATE_PUBLISHER", family="state_publisher", topic="subscribes", message_types=(JOINT_STATE,),
-    python_only=True, fields=frozenset({"robot_description"}),
+    name="ROBOT_STATE_PUBLISHER",
+    family="state_publisher",
+    topic="subscribes",
+    message_types=(JOINT_STATE,),
+    python_only=True,
+    fields=frozenset({"robot_description"}),
     runtime_class=f"{_NODES}.robot_state_publisher:RobotStatePublisher",
 )
 CUSTOM = NodeTypeSpec(
-    name="CUSTOM", family="custom", topic="", python_only=True,
+    name="CUSTOM",
+    family="custom",
+    topic="",
+    python_only=True,
     fields=frozenset({"executable", "args", "publishes", "subscribes"}),
     required=("executable",),
 )
 
-NODE_TYPES: dict[str, NodeTypeSpec] = {spec.name: spec for spec in (
-    CAMERA_PUBLISHER, ENCODER_PUBLISHER, LIDAR_PUBLISHER, ACTUATOR_SUBSCRIBER, INFERENCE, DATA_SUBSCRIBER,
-    OPERATIONAL_LIMIT_CALIBRATION, ROBOT_STATE_PUBLISHER,
-    _mock(CAMERA_PUBLISHER, f"{_NODES}.mock_camera_publisher:MockCameraPublisher"),
-    _mock(ENCODER_PUBLISHER, f"{_NODES}.mock_encoder_publisher:MockEncoderPublisher"),
-    _mock(LIDAR_PUBLISHER, f"{_NODES}.mock_lidar_publisher:MockLidarPublisher"),
-    _mock(ACTUATOR_SUBSCRIBER, f"{_NODES}.mock_actuator_subscriber:MockActuatorSubscriber"),
-    CUSTOM, DIFF_DRIVE_BASE,
-    _mock(DIFF_DRIVE_BASE, f"{_NODES}.mock_diff_drive_base:MockDiffDriveBase"),
-)}
+NODE_TYPES: dict[str, NodeTypeSpec] = {
+    spec.name: spec
+    for spec in (
+        CAMERA_PUBLISHER,
+        ENCODER_PUBLISHER,
+        LIDAR_PUBLISHER,
+        ACTUATOR_SUBSCRIBER,
+        INFERENCE,
+        DATA_SUBSCRIBER,
+        OPERATIONAL_LIMIT_CALIBRATION,
+        ROBOT_STATE_PUBLISHER,
+        _mock(CAMERA_PUBLISHER, f"{_NODES}.mock_camera_publisher:MockCameraPublisher"),
+        _mock(ENCODER_PUBLISHER, f"{_NODES}.mock_encoder_publisher:MockEncoderPublisher"),
+        _mock(LIDAR_PUBLISHER, f"{_NODES}.mock_lidar_publisher:MockLidarPublisher"),
+        _mock(ACTUATOR_SUBSCRIBER, f"{_NODES}.mock_actuator_subscriber:MockActuatorSubscriber"),
+        CUSTOM,
+        DIFF_DRIVE_BASE,
+        _mock(DIFF_DRIVE_BASE, f"{_NODES}.mock_diff_drive_base:MockDiffDriveBase"),
+    )
+}
 
 # The process that stands in for every hardware node in MODE_SIMULATION: not a NodeType of the schema.
 SIMULATION_ENGINE = NodeTypeSpec(
-    name="SIMULATION", family="simulation", topic="", python_only=True,
-    runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode", runtime_extra="sim",
+    name="SIMULATION",
+    family="simulation",
+    topic="",
+    python_only=True,
+    runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode",
+    runtime_extra="sim",
 )
 # The process `foxglove { }` adds: the robot's topics over the Foxglove WebSocket protocol.
 FOXGLOVE_BRIDGE = NodeTypeSpec(
-    name="FOXGLOVE_BRIDGE", family="bridge", topic="", python_only=True,
+    name="FOXGLOVE_BRIDGE",
+    family="bridge",
+    topic="",
+    python_only=True,
     runtime_class="joshua_runtime.foxglove.bridge_node:FoxgloveBridgeNode",
 )
 # Every type a runtime process can be started as, by the name written in its settings.
-PROCESS_TYPES: dict[str, NodeTypeSpec] = {**NODE_TYPES, SIMULATION_ENGINE.name: SIMULATION_ENGINE,
-                                          FOXGLOVE_BRIDGE.name: FOXGLOVE_BRIDGE}
+PROCESS_TYPES: dict[str, NodeTypeSpec] = {
+    **NODE_TYPES,
+    SIMULATION_ENGINE.name: SIMULATION_ENGINE,
+    FOXGLOVE_BRIDGE.name: FOXGLOVE_BRIDGE,
+}
 
 
 def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, ...] | None:

@@ -18,8 +18,17 @@ from joshua_core.schema.node_settings_pb2 import (
 # Raise on every change of node_settings.proto that an older runtime or an older build could misread.
 FORMAT_VERSION = 4
 
-__all__ = ["FORMAT_VERSION", "NodeSettings", "PresetSettings", "QosSettings", "SettingsFormatError", "SimulationSettings",
-           "TopicSettings", "parse", "to_literal"]
+__all__ = [
+    "FORMAT_VERSION",
+    "NodeSettings",
+    "PresetSettings",
+    "QosSettings",
+    "SettingsFormatError",
+    "SimulationSettings",
+    "TopicSettings",
+    "parse",
+    "to_literal",
+]
 
 
 class SettingsFormatError(ValueError):
@@ -45,7 +54,8 @@ def parse(literal: dict) -> NodeSettings:
     if version != FORMAT_VERSION:
         raise SettingsFormatError(
             f"settings are of format version {version}, this joshua_runtime reads version {FORMAT_VERSION}; "
-            "rebuild with the joshuac that matches the installed runtime")
+            "rebuild with the joshuac that matches the installed runtime"
+        )
     from google.protobuf import json_format
 
     try:

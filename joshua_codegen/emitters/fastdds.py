@@ -27,6 +27,13 @@ def profile_path(process: Process) -> str:
 
 
 def emit(robot: Robot, context: Context) -> dict[str, str]:
-    return {path: template("fastdds_profile.xml.j2", robot=robot, images=path == IMAGES_PROFILE_PATH,
-                           segment_size=IMAGE_SEGMENT_BYTES, discovery=Discovery())
-            for path in PROFILE_PATHS}
+    return {
+        path: template(
+            "fastdds_profile.xml.j2",
+            robot=robot,
+            images=path == IMAGES_PROFILE_PATH,
+            segment_size=IMAGE_SEGMENT_BYTES,
+            discovery=Discovery(),
+        )
+        for path in PROFILE_PATHS
+    }

@@ -66,8 +66,9 @@ def manifest(robot: Robot, context: Context) -> dict:
             for topic in robot.topics
         ],
         # What the robot needs to run: the devices of simulated nodes are not opened.
-        "devices": [{"kind": d.kind, "path": d.path, "node": d.node}
-                    for process in robot.processes for d in process.devices],
+        "devices": [
+            {"kind": d.kind, "path": d.path, "node": d.node} for process in robot.processes for d in process.devices
+        ],
     }
 
 

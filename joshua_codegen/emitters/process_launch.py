@@ -12,7 +12,6 @@ from joshua_codegen.supervisor.policy import (  # the backoff the three process 
     RESTART_DELAY_CAP_S,
     RESTART_DELAY_FACTOR,
     RESTART_DELAY_INITIAL_S,
-    RESTART_RESET_AFTER_S,
 )
 
 FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"

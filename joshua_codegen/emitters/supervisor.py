@@ -10,12 +10,12 @@ from functools import cache
 from pathlib import Path
 
 from joshua_codegen import supervisor as package
-from joshua_core import exit_codes
-from joshua_core.settings import FORMAT_VERSION
-from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
 from joshua_codegen.emitters import fastdds, process_launch, supervisord
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.render import Context, template
+from joshua_core import exit_codes
+from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
+from joshua_core.settings import FORMAT_VERSION
 
 SUPERVISOR_PATH = "supervisor.py"
 PACKAGE_DIR = Path(package.__file__).parent
@@ -54,8 +54,12 @@ def supervisor_data(robot: Robot) -> dict:
         "cpp_bin_dir": robot.cpp_bin_dir,
         "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,
         "supervisord_group": supervisord.group_name(robot),
-        "model_registry": {"prefix": REGISTRY_PREFIX, "variable": REGISTRY_ENV, "default_root": REGISTRY_DEFAULT_ROOT,
-                           "entry_file": REGISTRY_ENTRY_FILE},
+        "model_registry": {
+            "prefix": REGISTRY_PREFIX,
+            "variable": REGISTRY_ENV,
+            "default_root": REGISTRY_DEFAULT_ROOT,
+            "entry_file": REGISTRY_ENTRY_FILE,
+        },
         "node_exit_codes": {"settings": exit_codes.NODE_EXIT_SETTINGS, "data_lost": exit_codes.NODE_EXIT_DATA_LOST},
         "settings_format_version": FORMAT_VERSION,
         "processes": [process_data(robot, process) for process in robot.processes],
@@ -82,7 +86,7 @@ def module_parts(name: str) -> tuple[tuple[str, ...], str]:
             removed.update(range(node.lineno - 1, node.end_lineno or node.lineno))
             if isinstance(node, (ast.Import, ast.ImportFrom)) and not is_package_import(node):
                 # Slicing the lines, not ast.get_source_segment, which splits the whole source per call.
-                imports.append("\n".join(lines[node.lineno - 1:node.end_lineno or node.lineno]))
+                imports.append("\n".join(lines[node.lineno - 1 : node.end_lineno or node.lineno]))
     kept = [line for number, line in enumerate(lines) if number not in removed]
     code = "\n".join(kept).strip("\n")
     return tuple(imports), f"# {docstring}\n\n\n{code}\n"

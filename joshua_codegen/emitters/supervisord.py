@@ -38,7 +38,9 @@ def program(robot: Robot, process: Process) -> dict:
         "name": process.name,
         "command": _here(escape.supervisor_command(words)),
         "environment": _here(",".join(environment)),
-        "autorestart": "false" if never else {"RESTART_ON_FAILURE": "unexpected", "RESTART_ALWAYS": "true"}[process.restart],
+        "autorestart": "false"
+        if never
+        else {"RESTART_ON_FAILURE": "unexpected", "RESTART_ALWAYS": "true"}[process.restart],
         "startsecs": 0 if never else STARTSECS,
         "startretries": 0 if never else process.max_restarts,
     }
@@ -46,8 +48,11 @@ def program(robot: Robot, process: Process) -> dict:
 
 def listener_command(robot: Robot) -> str:
     """supervisor.py in its supervisord event listener mode (stops supervisord when a critical node fails)."""
-    words = [*process_launch.program(robot.python_executable, HERE, []), f"{HERE}/{supervisor.SUPERVISOR_PATH}",
-             "--supervisord-listener"]
+    words = [
+        *process_launch.program(robot.python_executable, HERE, []),
+        f"{HERE}/{supervisor.SUPERVISOR_PATH}",
+        "--supervisord-listener",
+    ]
     return _here(escape.supervisor_command(words))
 
 
@@ -55,7 +60,14 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
     stop_wait = math.ceil(robot.sigint_grace_s + robot.sigterm_grace_s)
     programs = [program(robot, process) for process in robot.processes]
     listener = listener_command(robot) if any(process.critical for process in robot.processes) else ""
-    text = template("supervisord.conf.j2", robot=robot, group=group_name(robot), programs=programs,
-                    stop_wait=max(1, stop_wait), startsecs=STARTSECS, listener=listener,
-                    initial_delay=process_launch.RESTART_DELAY_INITIAL_S)
+    text = template(
+        "supervisord.conf.j2",
+        robot=robot,
+        group=group_name(robot),
+        programs=programs,
+        stop_wait=max(1, stop_wait),
+        startsecs=STARTSECS,
+        listener=listener,
+        initial_delay=process_launch.RESTART_DELAY_INITIAL_S,
+    )
     return {CONF_PATH: text}

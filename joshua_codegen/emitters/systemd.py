@@ -2,11 +2,11 @@
 
 import posixpath
 
-from joshua_core import exit_codes
 from joshua_codegen import escape
 from joshua_codegen.emitters import fastdds, process_launch
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.render import Context, template
+from joshua_core import exit_codes
 
 SYSTEMD_RESTART = {"RESTART_NEVER": "no", "RESTART_ON_FAILURE": "on-failure", "RESTART_ALWAYS": "always"}
 MIN_TIMESPAN_MS = 1  # systemd reads 0 as "no timeout at all"
@@ -47,15 +47,18 @@ def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], lis
     variables = process_launch.node_environment(robot, process, posixpath.join(prefix, fastdds.profile_path(process)))
     environment = [(key, value) for key, value in variables if process_launch.ENVIRONMENT_NAME.fullmatch(key)]
     words = process_launch.through_env(  # keys Environment= would refuse reach the node through env(1)
-        words, [f"{key}={value}" for key, value in variables if not process_launch.ENVIRONMENT_NAME.fullmatch(key)])
+        words, [f"{key}={value}" for key, value in variables if not process_launch.ENVIRONMENT_NAME.fullmatch(key)]
+    )
     return words, environment
 
 
 def command_lines(robot: Robot, process: Process, prefix: str) -> tuple[str, list[str]]:
     """(the ExecStart= value, the Environment= values) of one service, quoted."""
     words, environment = command(robot, process, prefix)
-    return (escape.systemd_command(words),
-            [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment])
+    return (
+        escape.systemd_command(words),
+        [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment],
+    )
 
 
 def service(robot: Robot, process: Process, prefix: str) -> dict:
@@ -90,11 +93,22 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
     for process in robot.processes:
         unit = service(robot, process, context.prefix)
         files[f"systemd/{unit['name']}"] = template(
-            "node.service.j2", robot=robot, process=process, unit=unit, shutdown=shutdown,
-            target=target_name(robot), policy=process_launch)
+            "node.service.j2",
+            robot=robot,
+            process=process,
+            unit=unit,
+            shutdown=shutdown,
+            target=target_name(robot),
+            policy=process_launch,
+        )
     critical = [service_name(robot, p) for p in robot.processes if p.critical]
     optional = [service_name(robot, p) for p in robot.processes if not p.critical]
     files[f"systemd/{target_name(robot)}"] = template(
-        "robot.target.j2", robot=robot, critical=critical, optional=optional, shutdown=shutdown,
-        description=escape.systemd_raw(f"joshua robot {robot.name}"))
+        "robot.target.j2",
+        robot=robot,
+        critical=critical,
+        optional=optional,
+        shutdown=shutdown,
+        description=escape.systemd_raw(f"joshua robot {robot.name}"),
+    )
     return files

@@ -98,5 +98,6 @@ def _diagnostic(module: ModuleType, finding: Finding, context: RuleContext) -> D
     line, column, end_line, end_column = where.line, where.column, where.end_line, where.end_column
     if finding.column is not None:
         column, end_line, end_column = finding.column, line, finding.end_column
-    return Diagnostic(where.path, line, column, module.CODE, module.SEVERITY, finding.message,
-                      end_line, end_column, tuple(related))
+    return Diagnostic(
+        where.path, line, column, module.CODE, module.SEVERITY, finding.message, end_line, end_column, tuple(related)
+    )

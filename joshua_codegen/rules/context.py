@@ -66,8 +66,14 @@ class Endpoint:
 
 
 class RuleContext:
-    def __init__(self, description: RobotDescription, source: SourceMap, sources: dict[str, str] | None = None,
-                 prefix: str | None = None, unknown_nodes: frozenset[int] = frozenset()):
+    def __init__(
+        self,
+        description: RobotDescription,
+        source: SourceMap,
+        sources: dict[str, str] | None = None,
+        prefix: str | None = None,
+        unknown_nodes: frozenset[int] = frozenset(),
+    ):
         self.description = description
         self.config = description.robot_config
         self.source = source
@@ -94,8 +100,11 @@ class RuleContext:
 
     def lacking(self, field: str) -> list[NodeView]:
         """Typed nodes whose type requires `field` (its registry entry says so) and that leave it empty."""
-        return [view for view in self.typed_nodes
-                if field in defaults.entry(view.node).required and not getattr(view.node, field)]
+        return [
+            view
+            for view in self.typed_nodes
+            if field in defaults.entry(view.node).required and not getattr(view.node, field)
+        ]
 
     @cached_property
     def _endpoints(self) -> tuple[dict, dict, dict]:
@@ -110,7 +119,8 @@ class RuleContext:
                 continue
             message_type = declared.message_type if msg_catalog.is_known(declared.message_type) else ""
             by_role[declared.role][declared.topic].append(
-                Endpoint(view, declared.topic, message_type, declared.qos, declared.at, declared.implied))
+                Endpoint(view, declared.topic, message_type, declared.qos, declared.at, declared.implied)
+            )
         return dict(publishers), dict(subscribers), dict(readers)
 
     @property

@@ -15,7 +15,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import SYNTAX_ERROR as CODE
 
 NAME = "syntax-error"
 SEVERITY = ERROR

@@ -15,7 +15,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import UNKNOWN_FIELD as CODE
 
 NAME = "unknown-field"
 SEVERITY = ERROR

@@ -16,7 +16,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import INVALID_VALUE as CODE
 
 NAME = "invalid-value"
 SEVERITY = ERROR

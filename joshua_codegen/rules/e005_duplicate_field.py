@@ -15,7 +15,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import DUPLICATE_FIELD as CODE
 
 NAME = "duplicate-field"
 SEVERITY = ERROR

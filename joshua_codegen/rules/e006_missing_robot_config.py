@@ -13,7 +13,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import MISSING_ROBOT_CONFIG as CODE
 
 NAME = "missing-robot-config"
 SEVERITY = ERROR

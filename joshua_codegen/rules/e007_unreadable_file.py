@@ -11,7 +11,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import UNREADABLE_FILE as CODE
 
 NAME = "unreadable-file"
 SEVERITY = ERROR

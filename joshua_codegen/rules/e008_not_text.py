@@ -11,7 +11,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import NOT_TEXT as CODE
 
 NAME = "not-text"
 SEVERITY = ERROR

@@ -13,7 +13,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.load import NOT_REGULAR_FILE as CODE
 
 NAME = "not-regular-or-too-large"
 SEVERITY = ERROR

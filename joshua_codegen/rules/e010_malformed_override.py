@@ -14,7 +14,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.overrides import MALFORMED_OVERRIDE as CODE
 
 NAME = "malformed-override"
 SEVERITY = ERROR

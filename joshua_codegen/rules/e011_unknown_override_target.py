@@ -14,7 +14,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.overrides import UNKNOWN_OVERRIDE_TARGET as CODE
 
 NAME = "unknown-override-target"
 SEVERITY = ERROR

@@ -14,7 +14,6 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.overrides import INVALID_OVERRIDE_VALUE as CODE
 
 NAME = "invalid-override-value"
 SEVERITY = ERROR

@@ -37,13 +37,17 @@ def _suggestion(name: str) -> str | None:
 def check(ctx):
     name = ctx.config.name
     if not name:
-        yield Finding(ROBOT + ("name",), 'robot name is missing: add name: "my_robot" '
-                                         "(lower-case letters, digits and underscores)")
+        yield Finding(
+            ROBOT + ("name",),
+            'robot name is missing: add name: "my_robot" (lower-case letters, digits and underscores)',
+        )
     elif len(name) > MAX_ROBOT_NAME_LENGTH:
-        yield Finding(ROBOT + ("name",), f"robot name is {len(name)} characters long; "
-                                         f"the limit is {MAX_ROBOT_NAME_LENGTH}")
+        yield Finding(
+            ROBOT + ("name",), f"robot name is {len(name)} characters long; the limit is {MAX_ROBOT_NAME_LENGTH}"
+        )
     elif not ROBOT_NAME.fullmatch(name):
         hint = _suggestion(name)
-        message = (f'robot name "{name}" is invalid: use lower-case letters, digits and underscores, '
-                   "starting with a letter")
+        message = (
+            f'robot name "{name}" is invalid: use lower-case letters, digits and underscores, starting with a letter'
+        )
         yield Finding(ROBOT + ("name",), message + (f'; e.g. "{hint}"' if hint else ""))

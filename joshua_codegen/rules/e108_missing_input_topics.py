@@ -21,10 +21,9 @@ Example:
     }
 """
 
-from joshua_core.schema import robot_config_pb2 as pb
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E108"
 NAME = "missing-input-topics"
@@ -36,7 +35,10 @@ EXAMPLE = 'input_topics: ["/camera/image_raw", "/arm/joint_states"]'
 def check(ctx):
     for view in ctx.lacking("input_topics"):
         if view.node.type == pb.DATA_SUBSCRIBER:
-            yield Finding(view.path, f"{view.label} records no observations, so its dataset has nothing to train "
-                                     f"on: list the images and joint states to record (e.g. {EXAMPLE})")
+            yield Finding(
+                view.path,
+                f"{view.label} records no observations, so its dataset has nothing to train "
+                f"on: list the images and joint states to record (e.g. {EXAMPLE})",
+            )
         else:
             yield Finding(view.path, f"{view.label} reads no input_topics (e.g. {EXAMPLE})")

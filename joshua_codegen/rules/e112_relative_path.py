@@ -35,12 +35,15 @@ def _relative_program(path: str) -> bool:
 def check(ctx):
     config = ctx.config
     if _relative_program(config.python_executable):
-        yield Finding(ROBOT + ("python_executable",),
-                      f'python_executable "{config.python_executable}" is a relative path; {ADVICE}')
+        yield Finding(
+            ROBOT + ("python_executable",),
+            f'python_executable "{config.python_executable}" is a relative path; {ADVICE}',
+        )
     if config.cpp_bin_dir and not config.cpp_bin_dir.startswith("/"):
-        yield Finding(ROBOT + ("cpp_bin_dir",),
-                      f'cpp_bin_dir "{config.cpp_bin_dir}" is a relative path; use an absolute directory')
+        yield Finding(
+            ROBOT + ("cpp_bin_dir",),
+            f'cpp_bin_dir "{config.cpp_bin_dir}" is a relative path; use an absolute directory',
+        )
     for view in ctx.typed_nodes:
         if view.node.type == pb.CUSTOM and _relative_program(view.node.executable):
-            yield Finding(view.at("executable"),
-                          f'executable "{view.node.executable}" is a relative path; {ADVICE}')
+            yield Finding(view.at("executable"), f'executable "{view.node.executable}" is a relative path; {ADVICE}')

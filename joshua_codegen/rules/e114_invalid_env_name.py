@@ -27,8 +27,10 @@ ENV_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 def _bad(env, base):
     for key in sorted(env):
         if not ENV_NAME.fullmatch(key):
-            yield Finding(base + ("env", key), f'env name "{key}" is invalid: use letters, digits and "_", '
-                                               "not starting with a digit")
+            yield Finding(
+                base + ("env", key),
+                f'env name "{key}" is invalid: use letters, digits and "_", not starting with a digit',
+            )
 
 
 def check(ctx):

@@ -43,5 +43,8 @@ def check(ctx):
         if char in NONCHARACTERS:
             yield Finding(path, f"{what} contains U+{ord(char):04X}, which is not a character; remove it")
         elif char is not None:
-            yield Finding(path, f"{what} contains a control character (U+{ord(char):04X}); "
-                                "remove line breaks, tabs and other control characters")
+            yield Finding(
+                path,
+                f"{what} contains a control character (U+{ord(char):04X}); "
+                "remove line breaks, tabs and other control characters",
+            )

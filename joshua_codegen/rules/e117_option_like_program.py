@@ -37,10 +37,15 @@ def _problem(program: str) -> str | None:
 
 def check(ctx):
     programs = [(ROBOT + ("python_executable",), "python_executable", ctx.config.python_executable)]
-    programs += [(view.at("executable"), "executable", view.node.executable)
-                 for view in ctx.typed_nodes if view.node.type == pb.CUSTOM]
+    programs += [
+        (view.at("executable"), "executable", view.node.executable)
+        for view in ctx.typed_nodes
+        if view.node.type == pb.CUSTOM
+    ]
     for at, field, program in programs:
         problem = _problem(program)
         if problem is not None:
-            yield Finding(at, f'{field} "{program}" {problem}; rename the program or give its absolute path '
-                              "without these characters")
+            yield Finding(
+                at,
+                f'{field} "{program}" {problem}; rename the program or give its absolute path without these characters',
+            )

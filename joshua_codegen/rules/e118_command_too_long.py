@@ -44,18 +44,24 @@ def _problem(robot, process, prefix: str) -> str | None:
     entries = [f"{key}={value}" for key, value in environment]
     longest = max(words + entries, key=_size)
     if _size(longest) >= MAX_ARG_STRLEN:
-        return (f"its command line would hold an argument of {_size(longest)} bytes; exec accepts at most "
-                f"{MAX_ARG_STRLEN - 1} in one argument or environment entry (E2BIG)")
+        return (
+            f"its command line would hold an argument of {_size(longest)} bytes; exec accepts at most "
+            f"{MAX_ARG_STRLEN - 1} in one argument or environment entry (E2BIG)"
+        )
     total = sum(_size(text) + 1 for text in words + entries)
     if total > MAX_COMMAND_BYTES:
-        return (f"its command line and environment would total {total} bytes; the limit is {MAX_COMMAND_BYTES} "
-                "(1 MiB) so that exec cannot fail with E2BIG")
+        return (
+            f"its command line and environment would total {total} bytes; the limit is {MAX_COMMAND_BYTES} "
+            "(1 MiB) so that exec cannot fail with E2BIG"
+        )
     exec_start, assignments = systemd.command_lines(robot, process, prefix)
     lines = [f"ExecStart={exec_start}"] + [f"Environment={assignment}" for assignment in assignments]
     line = max(lines, key=_size)
     if _size(line) >= LONG_LINE_MAX:
-        return (f"its systemd unit would have a line of {_size(line)} bytes ({line.split('=', 1)[0]}=); systemd "
-                f"refuses lines of {LONG_LINE_MAX} bytes (1 MiB) or more")
+        return (
+            f"its systemd unit would have a line of {_size(line)} bytes ({line.split('=', 1)[0]}=); systemd "
+            f"refuses lines of {LONG_LINE_MAX} bytes (1 MiB) or more"
+        )
     return None
 
 

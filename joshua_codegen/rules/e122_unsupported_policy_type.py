@@ -17,11 +17,10 @@ Example:
 
 import difflib
 
-from joshua_core.models import POLICY_TYPES
-from joshua_core.schema import robot_config_pb2 as pb
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.models import POLICY_TYPES
+from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E122"
 NAME = "unsupported-policy-type"

@@ -19,12 +19,11 @@ Example:
     }
 """
 
-from joshua_core.models import BUILTIN_MODEL_JOINTS, BUILTIN_PREFIX
-from joshua_core.schema import robot_config_pb2 as pb
-
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.models import BUILTIN_MODEL_JOINTS, BUILTIN_PREFIX
+from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E123"
 NAME = "joint-not-in-simulation-model"
@@ -46,10 +45,15 @@ def check(ctx):
             if name in joints:
                 continue
             if view.node.joint_names:
-                yield Finding(view.at("joint_names", k), f'joint "{name}" is not in the simulation model "{model}" '
-                                                          f"(its joints: {known})")
+                yield Finding(
+                    view.at("joint_names", k),
+                    f'joint "{name}" is not in the simulation model "{model}" (its joints: {known})',
+                )
             else:
-                yield Finding(view.at("device_ids"), f'{view.label} gets the joint names {", ".join(defaults.joint_names(view.node))} '
-                                                     f'from its device_ids, which "{model}" lacks; set joint_names '
-                                                     f"to joints of the model ({known})")
+                yield Finding(
+                    view.at("device_ids"),
+                    f"{view.label} gets the joint names {', '.join(defaults.joint_names(view.node))} "
+                    f'from its device_ids, which "{model}" lacks; set joint_names '
+                    f"to joints of the model ({known})",
+                )
                 break

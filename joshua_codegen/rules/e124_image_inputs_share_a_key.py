@@ -16,11 +16,10 @@ Example:
     }
 """
 
-from joshua_core.feature_keys import image_feature
-from joshua_core.node_types import IMAGE_TYPES
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.feature_keys import image_feature
+from joshua_core.node_types import IMAGE_TYPES
 
 CODE = "E124"
 NAME = "image-inputs-share-a-key"
@@ -38,6 +37,9 @@ def check(ctx):
             feature = image_feature(topic)
             first = first_by_node.setdefault((reader.view.index, feature), reader)
             if first is not reader and first.topic != topic:
-                yield Finding(reader.at, f'"{topic}" and "{first.topic}" both become the feature {feature} '
-                                         f"of {reader.view.label}; rename one of the camera topics",
-                              ((first.at, "other input listed here"),))
+                yield Finding(
+                    reader.at,
+                    f'"{topic}" and "{first.topic}" both become the feature {feature} '
+                    f"of {reader.view.label}; rename one of the camera topics",
+                    ((first.at, "other input listed here"),),
+                )

@@ -28,5 +28,8 @@ STAGE = "check"
 def check(ctx):
     for view, holder, path in ctx.topic_holders:
         if holder is not view.node and holder.topic_name and not holder.message_type:
-            yield Finding(path + ("topic_name",), f'topic "{holder.topic_name}" declared by {view.label} in '
-                                                  f"{path[-2]} has no message_type (e.g. geometry_msgs/msg/Twist)")
+            yield Finding(
+                path + ("topic_name",),
+                f'topic "{holder.topic_name}" declared by {view.label} in '
+                f"{path[-2]} has no message_type (e.g. geometry_msgs/msg/Twist)",
+            )

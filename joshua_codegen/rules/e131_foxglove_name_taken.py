@@ -29,5 +29,7 @@ def check(ctx):
         return
     for view in ctx.nodes:
         if view.name == defaults.FOXGLOVE_NAME:
-            yield Finding(view.at("name"), f'node name "{view.name}" is reserved for the Foxglove bridge process '
-                                           "that `foxglove { }` adds")
+            yield Finding(
+                view.at("name"),
+                f'node name "{view.name}" is reserved for the Foxglove bridge process that `foxglove {{ }}` adds',
+            )

@@ -34,6 +34,8 @@ def check(ctx):
         node = view.node
         laser_scan = defaults.entry(node).message_types[0] if node.type == pb.LIDAR_PUBLISHER else ""
         if laser_scan and defaults.backend(node) == "CPP" and node.message_type not in ("", laser_scan):
-            yield Finding(view.at("preferred_backend"),
-                          f"the C++ LIDAR_PUBLISHER publishes {laser_scan} only, not {node.message_type}; "
-                          "remove preferred_backend CPP to publish point clouds from the Python node")
+            yield Finding(
+                view.at("preferred_backend"),
+                f"the C++ LIDAR_PUBLISHER publishes {laser_scan} only, not {node.message_type}; "
+                "remove preferred_backend CPP to publish point clouds from the Python node",
+            )

@@ -33,5 +33,7 @@ def check(ctx):
         if allowed is None or not msg_catalog.is_known(node.message_type) or node.message_type in allowed:
             continue
         verb = "publishes" if node.type in defaults.PUBLISHES_TOPIC else "subscribes to"
-        yield Finding(view.at("message_type"),
-                      f"{defaults.type_name(node.type)} {verb} {' or '.join(allowed)}, not {node.message_type}")
+        yield Finding(
+            view.at("message_type"),
+            f"{defaults.type_name(node.type)} {verb} {' or '.join(allowed)}, not {node.message_type}",
+        )

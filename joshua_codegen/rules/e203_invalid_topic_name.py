@@ -19,8 +19,8 @@ Example:
 
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.rules.context import Finding
 from joshua_codegen.ros_names import topic_problem
+from joshua_codegen.rules.context import Finding
 
 CODE = "E203"
 NAME = "invalid-topic-name"
@@ -41,8 +41,11 @@ def check(ctx):
         named.extend((view.at("input_topics", k), name) for k, name in enumerate(node.input_topics))
         if defaults.entry(node).declares_topics:
             for field in ("publishes", "subscribes"):
-                named.extend((view.at(field, k, "topic_name"), topic.topic_name)
-                             for k, topic in enumerate(getattr(node, field)) if topic.topic_name)
+                named.extend(
+                    (view.at(field, k, "topic_name"), topic.topic_name)
+                    for k, topic in enumerate(getattr(node, field))
+                    if topic.topic_name
+                )
         for path, name in named:
             problem = topic_problem(name, view.name)
             if problem is not None:

@@ -14,8 +14,8 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
-from joshua_codegen.rules.context import Finding
 from joshua_codegen.ros_names import node_name_problem
+from joshua_codegen.rules.context import Finding
 
 CODE = "E204"
 NAME = "invalid-node-name"

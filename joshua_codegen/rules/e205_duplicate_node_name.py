@@ -32,8 +32,13 @@ def check(ctx):
         first = first_by_name.setdefault(view.name, view)
         derived = "" if view.node.name else " (derived from its type; set name: to tell the nodes apart)"
         if first is not view:
-            yield Finding(view.at("name"), f'node name "{view.name}" is already used{derived}',
-                          ((first.at("name"), f'node "{view.name}" first named here'),))
+            yield Finding(
+                view.at("name"),
+                f'node name "{view.name}" is already used{derived}',
+                ((first.at("name"), f'node "{view.name}" first named here'),),
+            )
         elif ctx.config.mode == pb.MODE_SIMULATION and view.name == defaults.SIMULATION_NAME:
-            yield Finding(view.at("name"), f'node name "{view.name}" is reserved for the simulation engine '
-                                           f"in MODE_SIMULATION{derived}")
+            yield Finding(
+                view.at("name"),
+                f'node name "{view.name}" is reserved for the simulation engine in MODE_SIMULATION{derived}',
+            )

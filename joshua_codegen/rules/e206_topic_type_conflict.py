@@ -36,7 +36,9 @@ def check(ctx):
         first = typed[0]
         for other in typed[1:]:
             if other.message_type != first.message_type:
-                yield Finding(_type_field(ctx, other),
-                              f'"{topic}" is published here as {other.message_type}, but node '
-                              f'"{first.view.name}" publishes it as {first.message_type}',
-                              ((_type_field(ctx, first), "other publisher declared here"),))
+                yield Finding(
+                    _type_field(ctx, other),
+                    f'"{topic}" is published here as {other.message_type}, but node '
+                    f'"{first.view.name}" publishes it as {first.message_type}',
+                    ((_type_field(ctx, first), "other publisher declared here"),),
+                )

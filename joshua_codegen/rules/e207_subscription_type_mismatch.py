@@ -32,6 +32,9 @@ def check(ctx):
             if sub.message_type and sub.message_type not in published:
                 path = sub.at[:-1] + ("message_type",)
                 where = path if ctx.written(path) else sub.at
-                yield Finding(where, f'node "{sub.view.name}" subscribes to "{topic}" as {sub.message_type}, '
-                                     f"but it is published as {publishers[0].message_type}",
-                              ((publishers[0].at, f'publisher "{publishers[0].view.name}" declared here'),))
+                yield Finding(
+                    where,
+                    f'node "{sub.view.name}" subscribes to "{topic}" as {sub.message_type}, '
+                    f"but it is published as {publishers[0].message_type}",
+                    ((publishers[0].at, f'publisher "{publishers[0].view.name}" declared here'),),
+                )

@@ -37,6 +37,9 @@ def check(ctx):
             node = reader.view.node
             readable = readable_input_types(defaults.entry(node), defaults.output_format(node))
             if readable is not None and published.message_type not in readable:
-                yield Finding(reader.at, f'{reader.view.label} cannot read "{topic}": it is published as '
-                                         f"{published.message_type}; inputs must be {', '.join(readable)}",
-                              ((published.at, f'publisher "{published.view.name}" declared here'),))
+                yield Finding(
+                    reader.at,
+                    f'{reader.view.label} cannot read "{topic}": it is published as '
+                    f"{published.message_type}; inputs must be {', '.join(readable)}",
+                    ((published.at, f'publisher "{published.view.name}" declared here'),),
+                )

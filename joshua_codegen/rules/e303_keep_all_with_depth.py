@@ -27,5 +27,7 @@ STAGE = "check"
 def check(ctx):
     for _view, holder, path in ctx.topic_holders:
         if holder.qos_history == pb.KEEP_ALL and holder.HasField("qos_depth"):
-            yield Finding(path + ("qos_depth",), "qos_depth is ignored with KEEP_ALL history; "
-                                                "remove it, or use qos_history: KEEP_LAST")
+            yield Finding(
+                path + ("qos_depth",),
+                "qos_depth is ignored with KEEP_ALL history; remove it, or use qos_history: KEEP_LAST",
+            )

@@ -25,5 +25,6 @@ STAGE = "check"
 def check(ctx):
     for _view, holder, path in ctx.topic_holders:
         if holder.qos_history != pb.KEEP_ALL and holder.HasField("qos_depth") and holder.qos_depth == 0:
-            yield Finding(path + ("qos_depth",), "qos_depth 0 with KEEP_LAST history keeps no message; "
-                                                "use a depth of 1 or more")
+            yield Finding(
+                path + ("qos_depth",), "qos_depth 0 with KEEP_LAST history keeps no message; use a depth of 1 or more"
+            )

@@ -32,5 +32,8 @@ def check(ctx):
             continue
         first = owners.setdefault(port, view)
         if first is not view:
-            yield Finding(view.at("serial_port"), f'serial port "{port}" is already claimed by node "{first.name}"',
-                          ((first.at("serial_port"), "claimed here"),))
+            yield Finding(
+                view.at("serial_port"),
+                f'serial port "{port}" is already claimed by node "{first.name}"',
+                ((first.at("serial_port"), "claimed here"),),
+            )

@@ -33,6 +33,8 @@ def check(ctx):
         first = owners.setdefault(index, view)
         if first is not view:
             defaulted = "" if node.HasField("camera_index") else " (camera_index defaults to 0)"
-            yield Finding(view.at("camera_index"), f'camera index {index} is already used by node "{first.name}"'
-                                                   f"{defaulted}",
-                          ((first.at("camera_index"), "first used here"),))
+            yield Finding(
+                view.at("camera_index"),
+                f'camera index {index} is already used by node "{first.name}"{defaulted}',
+                ((first.at("camera_index"), "first used here"),),
+            )

@@ -27,5 +27,8 @@ def check(ctx):
         for k, servo_id in enumerate(view.node.device_ids):
             first = first_at.setdefault(servo_id, k)
             if first != k:
-                yield Finding(view.at("device_ids", k), f"servo id {servo_id} is listed twice in device_ids",
-                              ((view.at("device_ids", first), "first listed here"),))
+                yield Finding(
+                    view.at("device_ids", k),
+                    f"servo id {servo_id} is listed twice in device_ids",
+                    ((view.at("device_ids", first), "first listed here"),),
+                )

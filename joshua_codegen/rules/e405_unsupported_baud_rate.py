@@ -34,8 +34,10 @@ def check(ctx):
         if not node.HasField("baud_rate"):
             continue
         if node.type in defaults.LIDARS and node.baud_rate != LDS01_BAUD_RATE:
-            yield Finding(view.at("baud_rate"), f"the LDS-01 lidar runs at {LDS01_BAUD_RATE} baud, "
-                                                f"not {node.baud_rate}")
+            yield Finding(
+                view.at("baud_rate"), f"the LDS-01 lidar runs at {LDS01_BAUD_RATE} baud, not {node.baud_rate}"
+            )
         elif node.type in SERVO_NODES and node.baud_rate not in STS3215_BAUD_RATES:
-            yield Finding(view.at("baud_rate"), f"the STS3215 does not support {node.baud_rate} baud; "
-                                                f"use one of {rates}")
+            yield Finding(
+                view.at("baud_rate"), f"the STS3215 does not support {node.baud_rate} baud; use one of {rates}"
+            )

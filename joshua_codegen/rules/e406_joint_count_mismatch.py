@@ -34,5 +34,6 @@ def check(ctx):
         ids = defaults.device_ids(node)
         if len(node.joint_names) != len(ids):
             defaulted = "" if node.device_ids else f" (device_ids defaults to {ids})"
-            yield Finding(view.at("joint_names"),
-                          f"{len(node.joint_names)} joint_names for {len(ids)} servo ids{defaulted}")
+            yield Finding(
+                view.at("joint_names"), f"{len(node.joint_names)} joint_names for {len(ids)} servo ids{defaulted}"
+            )

@@ -31,5 +31,8 @@ def check(ctx):
                 continue
             first = first_at.setdefault(name, k)
             if first != k:
-                yield Finding(view.at("joint_names", k), f'joint name "{name}" is listed twice',
-                              ((view.at("joint_names", first), "first listed here"),))
+                yield Finding(
+                    view.at("joint_names", k),
+                    f'joint name "{name}" is listed twice',
+                    ((view.at("joint_names", first), "first listed here"),),
+                )

@@ -30,5 +30,7 @@ def check(ctx):
     for view in ctx.typed_nodes:
         node = view.node
         if node.type in defaults.BASES and node.joint_names and len(node.joint_names) != WHEELS:
-            yield Finding(view.at("joint_names"),
-                          f"a differential-drive base has {WHEELS} wheels, got {len(node.joint_names)} joint_names")
+            yield Finding(
+                view.at("joint_names"),
+                f"a differential-drive base has {WHEELS} wheels, got {len(node.joint_names)} joint_names",
+            )

@@ -38,6 +38,7 @@ def check(ctx):
                     continue
                 close = difflib.get_close_matches(joint.name, joints, n=1)
                 hint = f'; did you mean "{close[0]}"?' if close else f" (its joints: {', '.join(joints)})"
-                yield Finding(view.at("preset", k, "joint", j, "name"),
-                              f'preset "{preset.name}" names joint "{joint.name}", which node "{view.name}" '
-                              f"does not have{hint}")
+                yield Finding(
+                    view.at("preset", k, "joint", j, "name"),
+                    f'preset "{preset.name}" names joint "{joint.name}", which node "{view.name}" does not have{hint}',
+                )

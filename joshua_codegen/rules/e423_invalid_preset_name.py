@@ -17,10 +17,9 @@ Example:
 
 import re
 
-from joshua_core.servo_topics import TORQUE_OFF, TORQUE_ON
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.servo_topics import TORQUE_OFF, TORQUE_ON
 
 CODE = "E423"
 NAME = "invalid-preset-name"
@@ -41,5 +40,8 @@ def check(ctx):
             elif not _WORD.fullmatch(preset.name):
                 yield Finding(at, f'preset name "{preset.name}" must be letters, digits, "_" or "-"')
             elif first_at.setdefault(preset.name, k) != k:
-                yield Finding(at, f'preset "{preset.name}" is defined twice',
-                              ((view.at("preset", first_at[preset.name], "name"), "first defined here"),))
+                yield Finding(
+                    at,
+                    f'preset "{preset.name}" is defined twice',
+                    ((view.at("preset", first_at[preset.name], "name"), "first defined here"),),
+                )

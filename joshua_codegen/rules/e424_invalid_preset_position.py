@@ -32,10 +32,14 @@ def check(ctx):
             first_at = {}
             for j, joint in enumerate(preset.joint):
                 if not math.isfinite(joint.position):
-                    yield Finding(view.at("preset", k, "joint", j, "position"),
-                                  f'preset "{preset.name}": {joint.name} position must be a finite number of '
-                                  f"radians, got {joint.position}")
+                    yield Finding(
+                        view.at("preset", k, "joint", j, "position"),
+                        f'preset "{preset.name}": {joint.name} position must be a finite number of '
+                        f"radians, got {joint.position}",
+                    )
                 if first_at.setdefault(joint.name, j) != j:
-                    yield Finding(view.at("preset", k, "joint", j, "name"),
-                                  f'{joint.name} is listed twice in preset "{preset.name}"',
-                                  ((view.at("preset", k, "joint", first_at[joint.name], "name"), "first listed here"),))
+                    yield Finding(
+                        view.at("preset", k, "joint", j, "name"),
+                        f'{joint.name} is listed twice in preset "{preset.name}"',
+                        ((view.at("preset", k, "joint", first_at[joint.name], "name"), "first listed here"),),
+                    )

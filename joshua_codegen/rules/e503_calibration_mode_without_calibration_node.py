@@ -28,5 +28,6 @@ def check(ctx):
     if ctx.config.mode == pb.MODE_CALIBRATION and not any(
         v.node.type == pb.OPERATIONAL_LIMIT_CALIBRATION for v in ctx.nodes
     ):
-        yield Finding(ROBOT + ("mode",), "MODE_CALIBRATION needs an OPERATIONAL_LIMIT_CALIBRATION node; "
-                                         "none is declared")
+        yield Finding(
+            ROBOT + ("mode",), "MODE_CALIBRATION needs an OPERATIONAL_LIMIT_CALIBRATION node; none is declared"
+        )

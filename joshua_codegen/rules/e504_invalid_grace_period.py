@@ -35,5 +35,4 @@ def check(ctx):
             continue
         value = getattr(shutdown, field)
         if not (math.isfinite(value) and 0 <= value <= MAX_GRACE_S):
-            yield Finding(ROBOT + ("shutdown", field),
-                          f"{field} must be from 0 to {MAX_GRACE_S:g} s, got {value:g}")
+            yield Finding(ROBOT + ("shutdown", field), f"{field} must be from 0 to {MAX_GRACE_S:g} s, got {value:g}")

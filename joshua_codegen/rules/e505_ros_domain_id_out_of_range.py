@@ -27,5 +27,6 @@ MAX_ROS_DOMAIN_ID = 232
 def check(ctx):
     config = ctx.config
     if config.HasField("ros_domain_id") and config.ros_domain_id > MAX_ROS_DOMAIN_ID:
-        yield Finding(ROBOT + ("ros_domain_id",),
-                      f"ros_domain_id {config.ros_domain_id} is out of range 0-{MAX_ROS_DOMAIN_ID}")
+        yield Finding(
+            ROBOT + ("ros_domain_id",), f"ros_domain_id {config.ros_domain_id} is out of range 0-{MAX_ROS_DOMAIN_ID}"
+        )

@@ -29,7 +29,9 @@ STAGE = "check"
 
 # What a node type whose topics are declared in blocks (CUSTOM) ignores on the node itself.
 TOPIC_FIELDS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
-DECLARE_INSTEAD = "declare the program's topics in publishes { topic_name: ... message_type: ... } or subscribes { ... }"
+DECLARE_INSTEAD = (
+    "declare the program's topics in publishes { topic_name: ... message_type: ... } or subscribes { ... }"
+)
 
 
 def check(ctx):
@@ -41,5 +43,6 @@ def check(ctx):
         if defaults.entry(view.node).declares_topics:
             for field in TOPIC_FIELDS:
                 if is_set(view.node, field):
-                    yield Finding(view.at(field), f"{field} does not apply to {type_name} and is ignored; "
-                                                  + DECLARE_INSTEAD)
+                    yield Finding(
+                        view.at(field), f"{field} does not apply to {type_name} and is ignored; " + DECLARE_INSTEAD
+                    )

@@ -29,5 +29,7 @@ def check(ctx):
         node = view.node
         if node.type in defaults.ALWAYS_PYTHON and node.preferred_backend == pb.CPP:
             runs = "its executable" if node.type == pb.CUSTOM else "its Python entrypoint"
-            yield Finding(view.at("preferred_backend"),
-                          f"{defaults.type_name(node.type)} always runs {runs}; preferred_backend CPP is ignored")
+            yield Finding(
+                view.at("preferred_backend"),
+                f"{defaults.type_name(node.type)} always runs {runs}; preferred_backend CPP is ignored",
+            )

@@ -16,10 +16,10 @@ Example:
     }
 """
 
-from joshua_core.models import BUILTIN_PREFIX, REGISTRY_PREFIX
 from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
+from joshua_core.models import BUILTIN_PREFIX, REGISTRY_PREFIX
 
 CODE = "W104"
 NAME = "relative-data-path"

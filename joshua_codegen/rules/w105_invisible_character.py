@@ -65,7 +65,9 @@ def check(ctx):
         char = found[0]
         name = unicodedata.name(char, "FORMAT CHARACTER")
         more = f" (and {len(found) - 1} more)" if len(found) > 1 else ""
-        message = (f"{what} contains U+{ord(char):04X} {name}{more} at character {text.index(char) + 1}, "
-                   "an invisible character that changes how the text looks; remove it")
+        message = (
+            f"{what} contains U+{ord(char):04X} {name}{more} at character {text.index(char) + 1}, "
+            "an invisible character that changes how the text looks; remove it"
+        )
         column = columns.of(ctx.source.get(path), char)
         yield Finding(path, message, column=column, end_column=column + 1 if column else None)

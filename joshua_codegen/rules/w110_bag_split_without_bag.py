@@ -34,5 +34,8 @@ def check(ctx):
             continue
         for field in BAG_FIELDS:
             if is_set(view.node, field):
-                yield Finding(view.at(field), f'{field} applies to output_format "{BAG_FORMAT}" only and is ignored '
-                                              f'(this recorder writes "{defaults.output_format(view.node)}")')
+                yield Finding(
+                    view.at(field),
+                    f'{field} applies to output_format "{BAG_FORMAT}" only and is ignored '
+                    f'(this recorder writes "{defaults.output_format(view.node)}")',
+                )

@@ -37,5 +37,9 @@ def check(ctx):
         related = tuple((p.at, "publisher declared here") for p in named)
         for sub in subscribers:
             if sub.view.node.type in defaults.ACTUATORS:
-                yield Finding(sub.at, f'actuator "{sub.view.name}" receives commands on "{topic}" from '
-                                      f"{len(publishers)} publishers: {listing}", related)
+                yield Finding(
+                    sub.at,
+                    f'actuator "{sub.view.name}" receives commands on "{topic}" from '
+                    f"{len(publishers)} publishers: {listing}",
+                    related,
+                )

@@ -89,8 +89,11 @@ class Supervisor:
                 break  # asked to stop while starting: the rest stay pending
             self.launch(node)
         running = sum(node.state == "running" for node in self.nodes)
-        log("supervisor", f"started: {running} of {len(self.nodes)} nodes running "
-                          f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready")
+        log(
+            "supervisor",
+            f"started: {running} of {len(self.nodes)} nodes running "
+            f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
+        )
         while not self.finished():
             self.wait(self.timeout())
             self.reap()
@@ -119,8 +122,11 @@ class Supervisor:
                     return path
                 remove_cgroup(path)
                 reason = f"a process cannot join {path}"
-        log("supervisor", f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
-                          f"/proc every {TRACKING_POLL_S} s")
+        log(
+            "supervisor",
+            f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
+            f"/proc every {TRACKING_POLL_S} s",
+        )
         return None
 
     # Launching and reaping
@@ -161,8 +167,10 @@ class Supervisor:
             node = self.by_pid.pop(pid, None)
             if pid == self.guard.pid:
                 self.guard.pid = None
-                log("supervisor", f"warning: guard process {pid} {exit_text(status)}; "
-                                  "nodes will outlive a killed supervisor")
+                log(
+                    "supervisor",
+                    f"warning: guard process {pid} {exit_text(status)}; nodes will outlive a killed supervisor",
+                )
             elif node is None:
                 log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
             else:
@@ -170,8 +178,11 @@ class Supervisor:
         if self.abandoned_since is not None:
             files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
             if files:
-                log("supervisor", f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
-                                  "that dead processes left in /dev/shm")
+                log(
+                    "supervisor",
+                    f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                    "that dead processes left in /dev/shm",
+                )
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -240,8 +251,11 @@ class Supervisor:
                 self.escalate()
             return
         self.stopping = True
-        log("supervisor", f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
-                          f"SIGKILL after {SIGTERM_GRACE_S} s more)")
+        log(
+            "supervisor",
+            f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
+            f"SIGKILL after {SIGTERM_GRACE_S} s more)",
+        )
         for node in self.nodes:
             if node.state == "backoff":
                 node.state = "stopped"
@@ -274,7 +288,9 @@ class Supervisor:
                 if node.alive():
                     log(node.name, f"still present {KILL_WAIT_S} s after SIGKILL; giving up on it")
             for pid in self.leftover_children():
-                log("supervisor", f"leftover process {pid} still present {KILL_WAIT_S} s after SIGKILL; giving up on it")
+                log(
+                    "supervisor", f"leftover process {pid} still present {KILL_WAIT_S} s after SIGKILL; giving up on it"
+                )
 
     def signal_node(self, node, number):
         try:

@@ -70,8 +70,10 @@ class Node:
 
     def status_line(self, now):
         if self.state == "running":
-            return (f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
-                    f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts")
+            return (
+                f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
+                f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts"
+            )
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")

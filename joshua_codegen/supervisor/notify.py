@@ -3,7 +3,6 @@
 import os
 import socket
 import struct
-import time
 
 from joshua_codegen.supervisor.common import START, log
 from joshua_codegen.supervisor.policy import READY_TIMEOUT_S
@@ -106,16 +105,20 @@ class Readiness:
         """Log the robot's ready line when every running node is ready and none waits to start."""
         if self.all_ready:
             return
-        if any(node.state in ("pending", "backoff") or (node.state == "running" and not node.ready)
-               for node in self.nodes):
+        if any(
+            node.state in ("pending", "backoff") or (node.state == "running" and not node.ready) for node in self.nodes
+        ):
             return
         ready = sum(node.ready for node in self.nodes)
         if not ready:
             return
         self.all_ready = True
         others = len(self.nodes) - ready
-        log("supervisor", f"ready: {ready} of {len(self.nodes)} nodes ready ({now - START:.2f} s after start)"
-                          + (f"; {others} not running" if others else ""))
+        log(
+            "supervisor",
+            f"ready: {ready} of {len(self.nodes)} nodes ready ({now - START:.2f} s after start)"
+            + (f"; {others} not running" if others else ""),
+        )
         if self.upstream:
             notify_upstream(self.upstream, f"READY=1\nSTATUS={ready} of {len(self.nodes)} nodes ready")
 
@@ -130,5 +133,8 @@ class Readiness:
             if node.ready_deadline is not None and now >= node.ready_deadline:
                 node.ready_deadline = None
                 if node.state == "running" and not node.ready:
-                    log(node.name, f"warning: not ready {READY_TIMEOUT_S:g} s after its start (no READY=1 "
-                                   "yet); it keeps running and the robot is not ready")
+                    log(
+                        node.name,
+                        f"warning: not ready {READY_TIMEOUT_S:g} s after its start (no READY=1 "
+                        "yet); it keeps running and the robot is not ready",
+                    )

@@ -37,6 +37,8 @@ class Outcome:
         lines = []
         for spec in self.data_lost:
             where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
-            lines.append(f"data lost: node {spec['name']} could not save data it had taken in{where} "
-                         f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)")
+            lines.append(
+                f"data lost: node {spec['name']} could not save data it had taken in{where} "
+                f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)"
+            )
         return lines

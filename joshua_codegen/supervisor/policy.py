@@ -27,6 +27,8 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
 
 # Names the fix: the binaries are built by `make cpp` of the joshuac repository; cpp_bin_dir selects them.
-CPP_FALLBACK_WARNING = ("warning: C++ binary {binary} is missing or not executable; running the Python entrypoint "
-                        "(make cpp in the joshuac repository builds the binaries into build/bin; "
-                        "set cpp_bin_dir in the description to the directory holding them)")
+CPP_FALLBACK_WARNING = (
+    "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint "
+    "(make cpp in the joshuac repository builds the binaries into build/bin; "
+    "set cpp_bin_dir in the description to the directory holding them)"
+)

@@ -17,16 +17,24 @@ def runtime_fix(python: str) -> str:
     script = under_script_dir(INSTALL_SCRIPT)
     if os.path.isfile(script):
         return f"install it: sh {script} (then run supervisor.py with that environment's python)"
-    return (f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
-            f"or install this repository's core/ and runtime/ for {python}")
+    return (
+        f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
+        f"or install this repository's core/ and runtime/ for {python}"
+    )
 
 
 def runtime_problem(python: str, env: dict[str, str]) -> str | None:
     """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
     expected = ROBOT["settings_format_version"]
     try:
-        probe = subprocess.run([python, "-c", RUNTIME_PROBE], env=env, capture_output=True, text=True,
-                               timeout=RUNTIME_PROBE_TIMEOUT_S, stdin=subprocess.DEVNULL)
+        probe = subprocess.run(
+            [python, "-c", RUNTIME_PROBE],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=RUNTIME_PROBE_TIMEOUT_S,
+            stdin=subprocess.DEVNULL,
+        )
     except subprocess.TimeoutExpired:
         return f"{python} did not report its joshua_runtime within {RUNTIME_PROBE_TIMEOUT_S:g} s"
     except OSError as exc:
@@ -36,8 +44,10 @@ def runtime_problem(python: str, env: dict[str, str]) -> str | None:
         reason = (probe.stderr.strip().splitlines() or [f"exit code {probe.returncode}"])[-1]
         return f"{python} cannot import the runtime ({reason}); {runtime_fix(python)}"
     if int(lines[-1]) != expected:
-        return (f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
-                f"format {expected}; {runtime_fix(python)}")
+        return (
+            f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
+            f"format {expected}; {runtime_fix(python)}"
+        )
     return None
 
 
@@ -45,7 +55,7 @@ def registry_problem(reference: str, env: dict[str, str]) -> str | None:
     """Why `registry:NAME[@REVISION]` names no entry of the model registry the node will see, or None."""
     registry = ROBOT["model_registry"]
     root = os.path.expanduser(env.get(registry["variable"]) or registry["default_root"])
-    name, _, revision = reference[len(registry["prefix"]):].partition("@")
+    name, _, revision = reference[len(registry["prefix"]) :].partition("@")
     if name and "/" not in name + revision and name not in (".", "..") and revision not in (".", ".."):
         try:
             revisions = [revision] if revision else os.listdir(os.path.join(root, name))
@@ -97,7 +107,11 @@ def preflight(nodes, python):
             if problem:
                 problems.append(f"{node.name}: {problem}")
         binary = node.cpp_binary()
-        if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        if (
+            binary is not None
+            and os.path.lexists(binary)
+            and not (os.path.isfile(binary) and os.access(binary, os.X_OK))
+        ):
             problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
         if spec["kind"] == "custom":
             program = node.custom_program()

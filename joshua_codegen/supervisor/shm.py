@@ -21,7 +21,7 @@ def locked_inodes(device: int) -> set[int]:
             for line in locks:
                 for field in line.split():
                     if field.startswith(wanted):
-                        inodes.add(int(field[len(wanted):]))
+                        inodes.add(int(field[len(wanted) :]))
     except OSError:
         pass
     return inodes

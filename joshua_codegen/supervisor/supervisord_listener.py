@@ -29,9 +29,14 @@ def supervisord_listener():
         spec = critical.get(fields.get("processname")) if fields.get("groupname") == group else None
         never_restarted = spec is not None and (spec["restart"] == "RESTART_NEVER" or spec["max_restarts"] == 0)
         event = header.get("eventname")
-        if spec is not None and (event == "PROCESS_STATE_FATAL" or
-                                 (event == "PROCESS_STATE_EXITED" and fields.get("expected") == "0" and never_restarted)):
-            log(spec["name"], f"{event[len('PROCESS_STATE_'):].lower()}: critical node failed for good; stopping the robot")
+        if spec is not None and (
+            event == "PROCESS_STATE_FATAL"
+            or (event == "PROCESS_STATE_EXITED" and fields.get("expected") == "0" and never_restarted)
+        ):
+            log(
+                spec["name"],
+                f"{event[len('PROCESS_STATE_') :].lower()}: critical node failed for good; stopping the robot",
+            )
             os.kill(os.getppid(), signal.SIGTERM)
         stdout.write(b"RESULT 2\nOK")
         stdout.flush()

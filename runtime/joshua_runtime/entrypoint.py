@@ -23,6 +23,7 @@ from joshua_core.settings import SettingsFormatError
 from joshua_core.settings import parse as parse_settings
 from joshua_runtime.errors import JoshuaError, SettingsError
 
+
 def node_class(node_type: str):
     """Import and return the class that implements a node type (named by the node-type registry)."""
     entry = spec(node_type)

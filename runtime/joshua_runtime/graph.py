@@ -27,8 +27,10 @@ def with_discovered_types(ros_node, topics, timeout_s: float = TYPE_DISCOVERY_TI
         if not unknown:
             break
         if time.monotonic() >= deadline:
-            raise DeviceError(f"no publisher of {', '.join(unknown)} appeared within {timeout_s:g} s, so its "
-                              "message type is unknown; start it, or declare its publisher in the description")
+            raise DeviceError(
+                f"no publisher of {', '.join(unknown)} appeared within {timeout_s:g} s, so its "
+                "message type is unknown; start it, or declare its publisher in the description"
+            )
         time.sleep(TYPE_DISCOVERY_POLL_S)
     filled = []
     for topic in topics:

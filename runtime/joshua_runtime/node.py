@@ -84,8 +84,9 @@ class JoshuaNode:
 
     def subscription(self, topic: TopicSettings, callback):
         """Create a subscription for a topic of the settings."""
-        return self.ros.create_subscription(message_class(topic.message_type), topic.name, callback,
-                                            qos_profile(topic.qos))
+        return self.ros.create_subscription(
+            message_class(topic.message_type), topic.name, callback, qos_profile(topic.qos)
+        )
 
     def stamp(self):
         """The node clock's now() as a builtin_interfaces/Time."""

@@ -39,7 +39,7 @@ class Pose:
     x: float = 0.0
     y: float = 0.0
     yaw: float = 0.0
-    linear: float = 0.0   # m/s
+    linear: float = 0.0  # m/s
     angular: float = 0.0  # rad/s
 
 

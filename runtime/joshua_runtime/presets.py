@@ -14,8 +14,14 @@ TORQUE_PRESETS = (TORQUE_ON, TORQUE_OFF)
 # Joint poses in rad by preset name; a joint left out keeps its goal.
 BUILTIN_PRESETS = {
     "home": dict.fromkeys(SO100_JOINTS, 0.0),
-    "rest": {"shoulder_pan": 0.0, "shoulder_lift": -1.65, "elbow_flex": 1.55, "wrist_flex": 0.7,
-             "wrist_roll": 0.0, "gripper": 0.0},
+    "rest": {
+        "shoulder_pan": 0.0,
+        "shoulder_lift": -1.65,
+        "elbow_flex": 1.55,
+        "wrist_flex": 0.7,
+        "wrist_roll": 0.0,
+        "gripper": 0.0,
+    },
     "grip_open": {"gripper": 1.5},
 }
 

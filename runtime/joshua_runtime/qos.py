@@ -1,7 +1,8 @@
 """Conversion of the QoS settings written by joshuac into rclpy QoSProfile objects."""
 
-from joshua_core.settings import QosSettings
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from joshua_core.settings import QosSettings
 
 _RELIABILITY = {"RELIABLE": ReliabilityPolicy.RELIABLE, "BEST_EFFORT": ReliabilityPolicy.BEST_EFFORT}
 _DURABILITY = {"VOLATILE": DurabilityPolicy.VOLATILE, "TRANSIENT_LOCAL": DurabilityPolicy.TRANSIENT_LOCAL}

@@ -7,10 +7,10 @@ import rclpy
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
-from testsupport.compiled_settings import compiled_settings
 from joshua_core.settings import TopicSettings
 from joshua_runtime.errors import DeviceError
 from joshua_runtime.graph import with_discovered_types
+from testsupport.compiled_settings import compiled_settings
 
 DISCOVERY_TIMEOUT_S = 10.0
 ABSENT_TIMEOUT_S = 0.3
@@ -30,8 +30,10 @@ def ros_node(ros_domain):
 def test_an_unknown_type_is_taken_from_the_publisher_in_the_graph(ros_node):
     publisher_node = rclpy.create_node("outside_publisher")
     publisher_node.create_publisher(JointState, OUTSIDE_TOPIC, RELIABLE)
-    topics = [TopicSettings(name=OUTSIDE_TOPIC, message_type=""),
-              TopicSettings(name="/known", message_type="sensor_msgs/msg/Image")]
+    topics = [
+        TopicSettings(name=OUTSIDE_TOPIC, message_type=""),
+        TopicSettings(name="/known", message_type="sensor_msgs/msg/Image"),
+    ]
     try:
         resolved = with_discovered_types(ros_node, topics, DISCOVERY_TIMEOUT_S)
     finally:
@@ -54,6 +56,7 @@ def test_compiler_gives_an_outside_input_a_subscription_any_publisher_can_serve(
       node {{ type: DATA_SUBSCRIBER topic_name: "/arm" input_topics: ["{OUTSIDE_TOPIC}"] output_directory: "/d" }}
     }}''')
     [outside] = settings["data_subscriber"]["inputs"]
-    assert outside == {"name": OUTSIDE_TOPIC,  # message_type "" (learnt at run time) is left out, as all zero values
-                       "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "BEST_EFFORT",
-                               "durability": "VOLATILE"}}
+    assert outside == {
+        "name": OUTSIDE_TOPIC,  # message_type "" (learnt at run time) is left out, as all zero values
+        "qos": {"history": "KEEP_LAST", "depth": 10, "reliability": "BEST_EFFORT", "durability": "VOLATILE"},
+    }

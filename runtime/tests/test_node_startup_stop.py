@@ -32,8 +32,9 @@ entrypoint.run_node({{"format_version": FORMAT_VERSION, "name": "slow", "type": 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_signal_during_start_ends_the_node_cleanly(signum, ros_env):
-    process = subprocess.Popen([sys.executable, "-c", SCRIPT], env=ros_env, stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT], env=ros_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
     try:
         assert process.stdout.readline().strip() == STARTUP_MARKER
         sent = time.monotonic()

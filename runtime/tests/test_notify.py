@@ -6,7 +6,6 @@ import socket
 import time
 
 from joshua_runtime.notify import Notifier
-
 from testsupport.compiled_settings import compiled_node
 
 RECEIVE_TIMEOUT_S = 30.0
@@ -35,8 +34,9 @@ def test_a_node_says_ready_with_what_it_serves_feeds_the_watchdog_and_says_stopp
     name = f"joshua-test-notify-{os.getpid()}"
     with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as listener:
         listener.bind("\0" + name)  # the abstract namespace, as supervisor.py uses it
-        settings = compiled_node('name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
-                                 "rate_hz: 40")
+        settings = compiled_node(
+            'name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 40'
+        )
         node = start_node(settings, NOTIFY_SOCKET=f"@{name}", WATCHDOG_USEC=str(WATCHDOG_USEC))
         ready = receive_until(listener, "READY")[-1]
         assert ready == {"READY": "1", "STATUS": "publishing /leader/joint_states at 40 Hz"}

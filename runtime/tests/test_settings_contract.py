@@ -37,8 +37,15 @@ def test_settings_of_another_version_exit_2_naming_both_versions(version, ros_en
 
 
 def test_a_field_the_contract_does_not_know_exits_2_naming_it(ros_env):
-    result = run_literal({"format_version": FORMAT_VERSION, "name": "n", "type": "MOCK_ENCODER_PUBLISHER",
-                          "serial_prot": "/dev/ttyUSB0"}, ros_env)
+    result = run_literal(
+        {
+            "format_version": FORMAT_VERSION,
+            "name": "n",
+            "type": "MOCK_ENCODER_PUBLISHER",
+            "serial_prot": "/dev/ttyUSB0",
+        },
+        ros_env,
+    )
     assert result.returncode == 2
     assert "serial_prot" in result.stderr and result.stderr.count("\n") == 1, result.stderr
 

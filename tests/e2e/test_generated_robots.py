@@ -11,8 +11,8 @@ import pytest
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Image, JointState, LaserScan
 
-from testsupport.joshuac_cli import ROOT, joshuac
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+from testsupport.joshuac_cli import ROOT, joshuac
 
 STARTUP_TIMEOUT_S = 40.0
 TRACKING_TIMEOUT_S = 15.0
@@ -36,8 +36,13 @@ def build(config: str, out, *overrides: str) -> None:
 
 
 def start_supervisor(out, env) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, str(out / "supervisor.py")], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
+    return subprocess.Popen(
+        [sys.executable, str(out / "supervisor.py")],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
 
 
 def stop(supervisor: subprocess.Popen) -> tuple[int, str]:
@@ -65,13 +70,22 @@ def test_mock_robot_publishes_every_topic_with_its_declared_types_and_qos(tmp_pa
         assert (image.width, image.height) == (320, 240)
         assert len(ros_client.last("/scan").ranges) == 360
         leader = ros_client.last("/leader/joint_states")
-        assert list(leader.name) == ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll",
-                                     "gripper"]
+        assert list(leader.name) == [
+            "shoulder_pan",
+            "shoulder_lift",
+            "elbow_flex",
+            "wrist_flex",
+            "wrist_roll",
+            "gripper",
+        ]
         camera = ros_client.publishers_info("/camera/image_raw", DISCOVERY_TIMEOUT_S)
         assert [(i.node_name, i.topic_type, i.qos_profile.reliability, i.qos_profile.durability) for i in camera] == [
-            ("camera", "sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)]
+            ("camera", "sensor_msgs/msg/Image", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)
+        ]
         follower = ros_client.publishers_info("/follower/joint_states", DISCOVERY_TIMEOUT_S)
-        assert [(i.node_name, i.qos_profile.reliability) for i in follower] == [("follower", ReliabilityPolicy.RELIABLE)]
+        assert [(i.node_name, i.qos_profile.reliability) for i in follower] == [
+            ("follower", ReliabilityPolicy.RELIABLE)
+        ]
     finally:
         code, output = stop(supervisor)
     assert code == 0, output
@@ -94,12 +108,15 @@ def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_e
     video = tmp_path / "camera.avi"
     write_video(video)
     out = tmp_path / "out"
-    build("so100_leader_follower.pbtxt", out,
-          f"encoder_publisher.serial_port={leader_bus.link}",
-          f"actuator_subscriber.serial_port={follower_bus.link}",
-          f"camera_publisher.video_source={video}",
-          f"data_subscriber.output_directory={tmp_path / 'episodes'}",
-          f"cpp_bin_dir={tmp_path / 'bin'}")
+    build(
+        "so100_leader_follower.pbtxt",
+        out,
+        f"encoder_publisher.serial_port={leader_bus.link}",
+        f"actuator_subscriber.serial_port={follower_bus.link}",
+        f"camera_publisher.video_source={video}",
+        f"data_subscriber.output_directory={tmp_path / 'episodes'}",
+        f"cpp_bin_dir={tmp_path / 'bin'}",
+    )
     supervisor = start_supervisor(out, ros_env)
     try:
         ros_client.listen("/leader/joint_states", JointState, RELIABLE_QOS)
@@ -112,8 +129,7 @@ def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_e
         def follower_tracks() -> bool:
             return all(abs(follower_bus.position(i) - ticks) <= TRACKING_TOLERANCE_TICKS for i, ticks in pose.items())
 
-        assert follower_bus.wait_until(follower_tracks, TRACKING_TIMEOUT_S), {
-            i: follower_bus.position(i) for i in pose}
+        assert follower_bus.wait_until(follower_tracks, TRACKING_TIMEOUT_S), {i: follower_bus.position(i) for i in pose}
     finally:
         code, output = stop(supervisor)
         leader_bus.stop()

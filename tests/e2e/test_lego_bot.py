@@ -13,8 +13,8 @@ from nav_msgs.msg import Odometry
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
-from testsupport.joshuac_cli import ROOT
 from testsupport.compiled_settings import compiled_settings
+from testsupport.joshuac_cli import ROOT
 
 CONFIG = ROOT / "config" / "robots" / "lego_bot.pbtxt"
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -57,9 +57,13 @@ def drive_and_coast(ros_client) -> tuple[float, float, float]:
 
 
 def test_the_simulated_car_drives_at_the_commanded_speed_and_stops_after_the_timeout(ros_env, ros_client):
-    runner = subprocess.Popen([sys.executable, "-m", "joshua_codegen", "run", str(CONFIG),
-                               "--set", "mode=MODE_SIMULATION"], env=ros_env, stdout=subprocess.PIPE,
-                              stderr=subprocess.STDOUT, text=True)
+    runner = subprocess.Popen(
+        [sys.executable, "-m", "joshua_codegen", "run", str(CONFIG), "--set", "mode=MODE_SIMULATION"],
+        env=ros_env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     try:
         moved, coasted, speed_after = drive_and_coast(ros_client)
         wheels = ros_client.last("/wheel_states")
@@ -80,8 +84,12 @@ def free_port() -> int:
 
 def test_the_real_base_node_drives_the_emulated_hub_over_bluetooth(ros_env, ros_client, start_node):
     port = free_port()
-    emulator = subprocess.Popen([sys.executable, "-m", "joshua_runtime.emulators.cli", "pybricks", "--port",
-                                 str(port)], stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    emulator = subprocess.Popen(
+        [sys.executable, "-m", "joshua_runtime.emulators.cli", "pybricks", "--port", str(port)],
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
     try:
         assert "reachable over hci" in emulator.stdout.readline()
         settings = compiled_settings(CONFIG.read_text(), [f"base.ble_transport=tcp-client:127.0.0.1:{port}"])["base"]

@@ -12,8 +12,8 @@ from google.protobuf import text_format
 
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
-from joshua_core.schema import RobotDescription
 from joshua_codegen.write import write_tree
+from joshua_core.schema import RobotDescription
 
 PYTHON = sys.executable
 WAIT_S = 10.0  # the longest any single wait of these tests may take before it fails
@@ -22,7 +22,7 @@ POLL_S = 0.01
 # A node program: records what happens to it in a log file, reacts to signals as told.
 # argv: LOG NAME [SIGINT=exit|ignore] [SIGTERM=exit|ignore] [exit_after=S] [code=N]
 #       [grandchild=same|ignore|escape] [env_file=PATH (environment, arguments and directory as JSON)]
-BEHAVE = r'''
+BEHAVE = r"""
 import json, os, signal, sys, time
 log_path, name = sys.argv[1], sys.argv[2]
 options = dict(arg.split("=", 1) for arg in sys.argv[3:] if "=" in arg)
@@ -61,13 +61,13 @@ if "exit_after" in options:
     os._exit(int(options.get("code", "0")))
 while True:
     time.sleep(1)
-'''
+"""
 
-CPP_STAND_IN = r'''#!/bin/sh
+CPP_STAND_IN = r"""#!/bin/sh
 printf '%s\n' "$0" "$@" > "$(dirname "$0")/argv.txt"
 trap 'exit 0' INT TERM
 while :; do sleep 0.05; done
-'''
+"""
 
 
 def describe(text: str) -> RobotDescription:
@@ -98,8 +98,10 @@ def custom_node(name: str, log: Path, *options: str, **fields: str) -> str:
 
 def robot(nodes: list[str], sigint: float = 0.3, sigterm: float = 0.3, extra: str = "") -> str:
     body = "\n".join(nodes)
-    return (f'robot_config {{ name: "r" mode: MODE_TELEOPERATION '
-            f'shutdown {{ sigint_grace_s: {sigint} sigterm_grace_s: {sigterm} }} {extra}\n{body}\n}}')
+    return (
+        f'robot_config {{ name: "r" mode: MODE_TELEOPERATION '
+        f"shutdown {{ sigint_grace_s: {sigint} sigterm_grace_s: {sigterm} }} {extra}\n{body}\n}}"
+    )
 
 
 def events(log: Path) -> list[tuple[str, int, str]]:
@@ -159,8 +161,13 @@ class Supervisor:
         self.log_path = out.parent / "supervisor.log"
         self.log_file = open(self.log_path, "w")
         self.started = time.monotonic()
-        self.process = subprocess.Popen([PYTHON, str(out / "supervisor.py"), *args], stdout=self.log_file,
-                                        stderr=subprocess.STDOUT, cwd=cwd or out.parent, env=env)
+        self.process = subprocess.Popen(
+            [PYTHON, str(out / "supervisor.py"), *args],
+            stdout=self.log_file,
+            stderr=subprocess.STDOUT,
+            cwd=cwd or out.parent,
+            env=env,
+        )
         self.pid = self.process.pid
 
     def log(self) -> str:

@@ -26,8 +26,12 @@ RUN_S = 8
 def bundle(tmp_path_factory) -> Path:
     """The mock arm built with its bundle, outside the repository."""
     out = tmp_path_factory.mktemp("robot") / "mock_arm"
-    built = subprocess.run([str(JOSHUAC), "build", str(ROOT / "config" / "robots" / "mock_arm.pbtxt"), "-o", str(out),
-                            "--bundle"], capture_output=True, text=True, timeout=INSTALL_TIMEOUT_S)
+    built = subprocess.run(
+        [str(JOSHUAC), "build", str(ROOT / "config" / "robots" / "mock_arm.pbtxt"), "-o", str(out), "--bundle"],
+        capture_output=True,
+        text=True,
+        timeout=INSTALL_TIMEOUT_S,
+    )
     assert built.returncode == 0, built.stderr
     return out
 
@@ -38,29 +42,54 @@ def clean_environment(tmp_path: Path, ros_env: dict, **extra) -> dict:
     tools.mkdir(exist_ok=True)
     if not (tools / "uv").exists():
         (tools / "uv").symlink_to(find_uv_bin())
-    return {"PATH": f"{tools}:/usr/bin:/bin", "HOME": os.environ["HOME"], "ROS_DOMAIN_ID": ros_env["ROS_DOMAIN_ID"],
-            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST", **extra}
+    return {
+        "PATH": f"{tools}:/usr/bin:/bin",
+        "HOME": os.environ["HOME"],
+        "ROS_DOMAIN_ID": ros_env["ROS_DOMAIN_ID"],
+        "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
+        **extra,
+    }
 
 
 def test_a_fresh_environment_made_only_from_the_bundle_runs_the_robot(bundle, tmp_path, ros_env):
     out = bundle
     assert sorted(path.name for path in (out / "wheels").iterdir()) == [
-        "joshua_core-0.1.0-py3-none-any.whl", "joshua_runtime-0.1.0-py3-none-any.whl", "requirements.txt"]
+        "joshua_core-0.1.0-py3-none-any.whl",
+        "joshua_runtime-0.1.0-py3-none-any.whl",
+        "requirements.txt",
+    ]
     assert (out / "install.sh").stat().st_mode & 0o111
     assert subprocess.run(["sha256sum", "--quiet", "-c", ".joshuac-stamp"], cwd=out).returncode == 0  # stamp covers it
 
     venv = tmp_path / "venv"
     env = clean_environment(tmp_path, ros_env, UV_OFFLINE="1", PYTHON=BASE_PYTHON)
-    installed = subprocess.run(["sh", str(out / "install.sh"), str(venv)], cwd=tmp_path, env=env,
-                               capture_output=True, text=True, timeout=INSTALL_TIMEOUT_S)
+    installed = subprocess.run(
+        ["sh", str(out / "install.sh"), str(venv)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=INSTALL_TIMEOUT_S,
+    )
     assert installed.returncode == 0, installed.stderr
     assert f"joshua_runtime installed in {venv}" in installed.stdout
-    located = subprocess.run([str(venv / "bin" / "python"), "-c", "import joshua_runtime; print(joshua_runtime.__file__)"],
-                             cwd=tmp_path, env=env, capture_output=True, text=True)
+    located = subprocess.run(
+        [str(venv / "bin" / "python"), "-c", "import joshua_runtime; print(joshua_runtime.__file__)"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
     assert located.stdout.startswith(str(venv)), located  # the bundle's copy, not this checkout
 
-    run = subprocess.run([str(venv / "bin" / "python"), str(out / "supervisor.py"), "--duration", str(RUN_S)],
-                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=RUN_S + 30)
+    run = subprocess.run(
+        [str(venv / "bin" / "python"), str(out / "supervisor.py"), "--duration", str(RUN_S)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=RUN_S + 30,
+    )
     assert run.returncode == 0, run.stderr
     assert "supervisor: ready: 4 of 4 nodes ready" in run.stderr
     for node in ("leader", "follower", "camera", "lidar"):
@@ -69,9 +98,17 @@ def test_a_fresh_environment_made_only_from_the_bundle_runs_the_robot(bundle, tm
 
 def test_preflight_names_the_bundle_install_command_for_an_interpreter_without_the_runtime(bundle, tmp_path, ros_env):
     out = bundle
-    run = subprocess.run([BASE_PYTHON, str(out / "supervisor.py"), "--duration", "1"], cwd=tmp_path,
-                         env=clean_environment(tmp_path, ros_env), capture_output=True, text=True, timeout=60)
+    run = subprocess.run(
+        [BASE_PYTHON, str(out / "supervisor.py"), "--duration", "1"],
+        cwd=tmp_path,
+        env=clean_environment(tmp_path, ros_env),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert run.returncode == 3
-    assert (f"{BASE_PYTHON} cannot import the runtime (ModuleNotFoundError: No module named 'joshua_runtime'); "
-            f"install it: sh {out / 'install.sh'}") in run.stderr
+    assert (
+        f"{BASE_PYTHON} cannot import the runtime (ModuleNotFoundError: No module named 'joshua_runtime'); "
+        f"install it: sh {out / 'install.sh'}"
+    ) in run.stderr
     assert "started pid" not in run.stderr

@@ -7,13 +7,16 @@ import sys
 import pytest
 from supervisor_harness import PYTHON, build, custom_node, events, robot, wait_until
 
-RUNNER = "import sys; from pathlib import Path; from joshua_codegen.run import run_supervisor; " \
-         "sys.exit(run_supervisor(Path(sys.argv[1]), sys.argv[2:]))"
+RUNNER = (
+    "import sys; from pathlib import Path; from joshua_codegen.run import run_supervisor; "
+    "sys.exit(run_supervisor(Path(sys.argv[1]), sys.argv[2:]))"
+)
 
 
 def run_in_subprocess(out, *args):
-    return subprocess.Popen([PYTHON, "-c", RUNNER, str(out), *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
+    return subprocess.Popen(
+        [PYTHON, "-c", RUNNER, str(out), *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+    )
 
 
 @pytest.mark.parametrize("number", [signal.SIGINT, signal.SIGTERM])
@@ -48,8 +51,10 @@ def test_the_supervisor_stops_its_nodes_when_the_runner_is_killed(tmp_path):
         wait_until(lambda: events(log), "the node to start")
         runner.kill()
         runner.wait()
-        wait_until(lambda: [text for _, _, text in events(log)] == ["start", "got SIGINT exit"],
-                   "the node to be stopped with SIGINT")
+        wait_until(
+            lambda: [text for _, _, text in events(log)] == ["start", "got SIGINT exit"],
+            "the node to be stopped with SIGINT",
+        )
     finally:
         runner.kill()
         runner.stdout.close()

@@ -47,8 +47,12 @@ def test_sigterm_to_the_supervisor_also_starts_with_sigint_to_the_nodes(tmp_path
 
 def test_node_ignoring_sigint_gets_sigterm_after_the_sigint_grace(tmp_path):
     log = tmp_path / "events.log"
-    code, text = stop_after_start(tmp_path, [custom_node("stubborn", log, "SIGINT=ignore"), custom_node("a", log)],
-                                  sigint=GRACE_S, sigterm=GRACE_S)
+    code, text = stop_after_start(
+        tmp_path,
+        [custom_node("stubborn", log, "SIGINT=ignore"), custom_node("a", log)],
+        sigint=GRACE_S,
+        sigterm=GRACE_S,
+    )
     assert code == 1
     assert received(log, "stubborn") == ["got SIGINT ignore", "got SIGTERM exit"]
     assert received(log, "a") == ["got SIGINT exit"]
@@ -60,8 +64,9 @@ def test_node_ignoring_sigint_gets_sigterm_after_the_sigint_grace(tmp_path):
 
 def test_node_ignoring_sigint_and_sigterm_is_killed_after_both_graces(tmp_path):
     log = tmp_path / "events.log"
-    code, text = stop_after_start(tmp_path, [custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore")],
-                                  sigint=GRACE_S, sigterm=GRACE_S)
+    code, text = stop_after_start(
+        tmp_path, [custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore")], sigint=GRACE_S, sigterm=GRACE_S
+    )
     assert code == 1
     assert received(log, "deaf") == ["got SIGINT ignore", "got SIGTERM ignore"]
     [stop] = log_times(text, r"supervisor: received SIGINT")

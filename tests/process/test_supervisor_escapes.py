@@ -23,7 +23,7 @@ from joshua_codegen.supervisor.policy import TRACKING_POLL_S
 # argv: PIDS_FILE MODE; MODE daemon (double fork, setsid), setsid or setpgid (one child that leaves
 # the node's session or group). Every process writes "pid" lines to PIDS_FILE, then sleeps, deaf to
 # SIGINT, SIGTERM and SIGHUP.
-ESCAPE = r'''
+ESCAPE = r"""
 import os, signal, sys, time
 pids_file, mode = sys.argv[1], sys.argv[2]
 for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
@@ -46,7 +46,7 @@ if os.fork() == 0:
     note()
 while True:
     time.sleep(1)
-'''
+"""
 
 ESCAPING_PROCESSES = {"daemon": 2, "setsid": 2, "setpgid": 2}  # node + the one that left
 
@@ -59,8 +59,12 @@ def escaping_node(tmp_path: Path, mode: str) -> str:
 
 
 def written_pids(tmp_path: Path) -> list[int]:
-    return [int(line) for mode in ESCAPING_PROCESSES if (tmp_path / f"{mode}.pids").exists()
-            for line in (tmp_path / f"{mode}.pids").read_text().split()]
+    return [
+        int(line)
+        for mode in ESCAPING_PROCESSES
+        if (tmp_path / f"{mode}.pids").exists()
+        for line in (tmp_path / f"{mode}.pids").read_text().split()
+    ]
 
 
 @pytest.mark.parametrize("options", [(), ("--no-cgroup",)], ids=["cgroup", "tracking"])

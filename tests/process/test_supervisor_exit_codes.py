@@ -9,10 +9,10 @@ import struct
 from contextlib import contextmanager
 from pathlib import Path
 
-from joshua_core.exit_codes import NODE_EXIT_DATA_LOST, NODE_EXIT_SETTINGS
 from supervisor_harness import Supervisor, build, robot, wait_until
 
 from joshua_codegen.supervisor.policy import EXIT_CRITICAL, EXIT_DATA_LOST
+from joshua_core.exit_codes import NODE_EXIT_DATA_LOST, NODE_EXIT_SETTINGS
 
 OFFLINE = {"HF_HUB_OFFLINE": "1", "HF_DATASETS_OFFLINE": "1", "TRANSFORMERS_OFFLINE": "1"}
 RECORDER_START_S = 120.0  # importing LeRobot and torch on a busy machine
@@ -55,12 +55,21 @@ def test_a_recorder_that_cannot_save_its_episode_makes_the_supervisor_fail_and_s
     parent = tmp_path / "data"
     parent.mkdir()
     dataset = parent / "dataset"
-    out = build(tmp_path, robot([
-        'node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/arm/joint_states" rate_hz: 30 }',
-        (f'node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/arm/joint_states" output_format: "parquet" '
-         'input_topics: ["/arm/joint_states"] '
-         f'output_directory: "{dataset}" rate_hz: 10 restart: RESTART_NEVER }}'),
-    ], sigint=30, sigterm=5))
+    out = build(
+        tmp_path,
+        robot(
+            [
+                'node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/arm/joint_states" rate_hz: 30 }',
+                (
+                    f'node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/arm/joint_states" output_format: "parquet" '
+                    'input_topics: ["/arm/joint_states"] '
+                    f'output_directory: "{dataset}" rate_hz: 10 restart: RESTART_NEVER }}'
+                ),
+            ],
+            sigint=30,
+            sigterm=5,
+        ),
+    )
     env = dict(ros_env, **OFFLINE, HF_DATASETS_CACHE=str(tmp_path / "hf-cache"), HF_LEROBOT_HOME=str(tmp_path / "hf"))
     supervisor = Supervisor(out, env=env)
     try:
@@ -75,7 +84,12 @@ def test_a_recorder_that_cannot_save_its_episode_makes_the_supervisor_fail_and_s
     assert code == EXIT_DATA_LOST, log
     assert re.search(rf"recorder: pid \d+ exited with code {NODE_EXIT_DATA_LOST}", log)
     assert re.search(rf"recorder: error.*episode of \d+ frames lost, not saved to {dataset}", log)
-    assert log.rstrip().splitlines()[-1].endswith(
-        f"supervisor: data lost: node recorder could not save data it had taken in to {dataset} "
-        f"(exit code {NODE_EXIT_DATA_LOST}; its error line above says what)")
+    assert (
+        log.rstrip()
+        .splitlines()[-1]
+        .endswith(
+            f"supervisor: data lost: node recorder could not save data it had taken in to {dataset} "
+            f"(exit code {NODE_EXIT_DATA_LOST}; its error line above says what)"
+        )
+    )
     assert not dataset.exists()

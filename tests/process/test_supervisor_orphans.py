@@ -23,11 +23,18 @@ def processes_running(script: Path) -> list[int]:
 
 def test_sigkill_of_the_supervisor_leaves_no_child_or_grandchild(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([
-        custom_node("cooperative", log),
-        custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore"),
-        custom_node("parent", log, "SIGINT=ignore", "SIGTERM=ignore", "grandchild=ignore"),
-    ], sigint=30, sigterm=30))
+    out = build(
+        tmp_path,
+        robot(
+            [
+                custom_node("cooperative", log),
+                custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore"),
+                custom_node("parent", log, "SIGINT=ignore", "SIGTERM=ignore", "grandchild=ignore"),
+            ],
+            sigint=30,
+            sigterm=30,
+        ),
+    )
     supervisor = Supervisor(out)
     try:
         wait_until(lambda: len(events(log)) == 4, "three nodes and a grandchild to start")

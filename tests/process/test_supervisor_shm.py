@@ -12,7 +12,7 @@ SHM = Path("/dev/shm")
 
 # argv: READY_FILE. A real rclpy node with a publisher and a subscription; writes its PID once up,
 # stops cleanly on SIGINT.
-ROS_NODE = r'''
+ROS_NODE = r"""
 import os, sys
 import rclpy
 from rclpy.executors import ExternalShutdownException
@@ -31,7 +31,7 @@ except (KeyboardInterrupt, ExternalShutdownException):
 finally:
     node.destroy_node()
     rclpy.try_shutdown()
-'''
+"""
 
 
 def ros_node(tmp_path: Path, name: str) -> str:
@@ -66,8 +66,9 @@ def shm_files(pid: int) -> set[str]:
 def test_segments_of_a_sigkilled_node_are_removed_and_others_kept(tmp_path, ros_env):
     out = build(tmp_path, robot([ros_node(tmp_path, "victim"), ros_node(tmp_path, "bystander")], sigint=10))
     outside_env = dict(ros_env, FASTRTPS_DEFAULT_PROFILES_FILE=str(out / "fastdds_profile.xml"))
-    outside = subprocess.Popen([PYTHON, str(tmp_path / "ros_node.py"), str(tmp_path / "outside.ready")],
-                               env=outside_env)
+    outside = subprocess.Popen(
+        [PYTHON, str(tmp_path / "ros_node.py"), str(tmp_path / "outside.ready")], env=outside_env
+    )
     supervisor = Supervisor(out, env=ros_env)
     try:
         victim, bystander = ready_pid(tmp_path, "victim"), ready_pid(tmp_path, "bystander")

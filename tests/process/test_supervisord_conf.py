@@ -23,20 +23,26 @@ class Supervisord:
         self.conf = out / "supervisord.conf"
         self.log_path = out.parent / "supervisord.log"
         with open(self.log_path, "w") as log:
-            self.process = subprocess.Popen([BIN / "supervisord", "-c", self.conf], stdout=log, stderr=subprocess.STDOUT)
+            self.process = subprocess.Popen(
+                [BIN / "supervisord", "-c", self.conf], stdout=log, stderr=subprocess.STDOUT
+            )
         wait_until(lambda: (out / "supervisord.sock").exists(), "the control socket")
 
     def ctl(self, *args: str) -> subprocess.CompletedProcess:
-        return subprocess.run([BIN / "supervisorctl", "-c", self.conf, *args], capture_output=True, text=True,
-                              timeout=WAIT_S)
+        return subprocess.run(
+            [BIN / "supervisorctl", "-c", self.conf, *args], capture_output=True, text=True, timeout=WAIT_S
+        )
 
     def states(self) -> dict[str, str]:
         lines = self.ctl("status").stdout.splitlines()
         return {m.group(1): m.group(2) for m in (re.match(rf"{GROUP}:(\S+)\s+(\S+)", line) for line in lines) if m}
 
     def wait_states(self, wanted: dict[str, str]) -> dict[str, str]:
-        return wait_until(lambda: (s := self.states()) and all(s.get(k) == v for k, v in wanted.items()) and s,
-                          f"supervisord states {wanted}", poll=CTL_POLL_S)
+        return wait_until(
+            lambda: (s := self.states()) and all(s.get(k) == v for k, v in wanted.items()) and s,
+            f"supervisord states {wanted}",
+            poll=CTL_POLL_S,
+        )
 
     def log(self) -> str:
         return self.log_path.read_text()
@@ -58,8 +64,14 @@ class Supervisord:
 
 def test_group_starts_reports_running_and_stops_every_node_at_once(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("a", log), custom_node("b", log, "SIGINT=ignore"),
-                                 custom_node("c", log, "SIGINT=ignore")], sigint=0.3, sigterm=0.3))
+    out = build(
+        tmp_path,
+        robot(
+            [custom_node("a", log), custom_node("b", log, "SIGINT=ignore"), custom_node("c", log, "SIGINT=ignore")],
+            sigint=0.3,
+            sigterm=0.3,
+        ),
+    )
     supervisord = Supervisord(out)
     try:
         supervisord.wait_states({"a": "RUNNING", "b": "RUNNING", "c": "RUNNING"})
@@ -84,17 +96,24 @@ def test_group_starts_reports_running_and_stops_every_node_at_once(tmp_path):
 
 def test_restart_policies_map_to_autorestart_and_startretries(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([
-        custom_node("crash", log, "exit_after=0", "code=3", max_restarts="2", critical="false"),
-        custom_node("always", log, "exit_after=1.2", restart="RESTART_ALWAYS", critical="false"),
-        custom_node("never", log, "exit_after=0", "code=0", restart="RESTART_NEVER"),
-    ]))
+    out = build(
+        tmp_path,
+        robot(
+            [
+                custom_node("crash", log, "exit_after=0", "code=3", max_restarts="2", critical="false"),
+                custom_node("always", log, "exit_after=1.2", restart="RESTART_ALWAYS", critical="false"),
+                custom_node("never", log, "exit_after=0", "code=0", restart="RESTART_NEVER"),
+            ]
+        ),
+    )
     supervisord = Supervisord(out)
     try:
         states = supervisord.wait_states({"crash": "FATAL", "never": "EXITED"})
         assert states["always"] in ("RUNNING", "STARTING", "BACKOFF")
-        wait_until(lambda: len([e for e in events(log) if e[:1] == ("always",) and e[2] == "start"]) >= 2,
-                   "the always node to be restarted after exiting 0")
+        wait_until(
+            lambda: len([e for e in events(log) if e[:1] == ("always",) and e[2] == "start"]) >= 2,
+            "the always node to be restarted after exiting 0",
+        )
     finally:
         supervisord.close()
     starts = [name for name, _, text in events(log) if text == "start"]
@@ -103,8 +122,10 @@ def test_restart_policies_map_to_autorestart_and_startretries(tmp_path):
 
 def test_a_critical_node_failing_for_good_stops_supervisord_and_every_node(tmp_path):
     log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("crash", log, "exit_after=0", "code=3", max_restarts="1"),
-                                 custom_node("steady", log)]))
+    out = build(
+        tmp_path,
+        robot([custom_node("crash", log, "exit_after=0", "code=3", max_restarts="1"), custom_node("steady", log)]),
+    )
     supervisord = Supervisord(out)
     try:
         assert supervisord.process.wait(WAIT_S + 5) == 0
@@ -134,8 +155,11 @@ def test_arguments_and_environment_reach_the_node_unchanged(tmp_path):
         supervisord.close()
     assert seen["argv"] == [f"env_file={env_file}", *ODD]
     assert {key: seen["env"][key] for key in (f"V{i}" for i in range(len(values)))} == {
-        f"V{i}": v for i, v in enumerate(values)}
+        f"V{i}": v for i, v in enumerate(values)
+    }
     assert seen["env"]["DASH-KEY"] == "d"
-    assert seen["env"]["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(out / "fastdds_profile_images.xml")  # custom: may carry images
+    assert seen["env"]["FASTRTPS_DEFAULT_PROFILES_FILE"] == str(
+        out / "fastdds_profile_images.xml"
+    )  # custom: may carry images
     assert (seen["env"]["PYTHONUNBUFFERED"], seen["env"]["ROS_DOMAIN_ID"]) == ("1", "3")
     assert seen["cwd"] == str(out)

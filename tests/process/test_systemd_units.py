@@ -5,7 +5,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from supervisor_harness import PYTHON, build, custom_node, quoted, robot
 
 from joshua_codegen.compile import compile_file
@@ -15,8 +16,25 @@ from joshua_core.exit_codes import NODE_EXIT_SETTINGS
 SYSTEMD_ANALYZE = "/usr/bin/systemd-analyze"
 ROOT = Path(__file__).resolve().parents[2]
 SEEDS = sorted((ROOT / "config" / "robots").glob("*.pbtxt"))
-NASTY = ["$HOME", "${HOME}", "%h", "%%", "it's", 'say "hi"', "back\\slash", "a ;b", ";", "tab\there",
-         "new\nline", "", " lead", "trail ", "\\n", "\x7f", "é✓"]
+NASTY = [
+    "$HOME",
+    "${HOME}",
+    "%h",
+    "%%",
+    "it's",
+    'say "hi"',
+    "back\\slash",
+    "a ;b",
+    ";",
+    "tab\there",
+    "new\nline",
+    "",
+    " lead",
+    "trail ",
+    "\\n",
+    "\x7f",
+    "é✓",
+]
 
 
 def verify(out: Path) -> subprocess.CompletedProcess:
@@ -48,7 +66,7 @@ def unquote(line: str, exec_line: bool = True) -> list[str]:
             while line[i] != '"':
                 if line[i] == "\\":
                     if line[i + 1] == "x":
-                        word.append(chr(int(line[i + 2:i + 4], 16)))
+                        word.append(chr(int(line[i + 2 : i + 4], 16)))
                         i += 4
                         continue
                     word.append(escapes[line[i + 1]])
@@ -83,15 +101,22 @@ def test_units_with_odd_values_pass_verify_and_keep_every_value(tmp_path):
     assert (result.returncode, result.stderr) == (0, "")
     unit = dict(settings_of((out / "systemd" / "joshua-r-odd.service").read_text()))
     assert unquote(unit["ExecStart"])[:3] == ["/usr/bin/env", "DASH-KEY=d e", PYTHON]  # not a valid Environment= key
-    assert unquote(unit["ExecStart"])[-len(NASTY):] == NASTY
+    assert unquote(unit["ExecStart"])[-len(NASTY) :] == NASTY
     text = (out / "systemd" / "joshua-r-odd.service").read_text()
     environment = [unquote(value, exec_line=False)[0] for key, value in settings_of(text) if key == "Environment"]
-    assert dict(item.split("=", 1) for item in environment[-len(NASTY):]) == {f"V{i}": v for i, v in enumerate(NASTY)}
+    assert dict(item.split("=", 1) for item in environment[-len(NASTY) :]) == {f"V{i}": v for i, v in enumerate(NASTY)}
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.text(alphabet=st.characters(codec="utf-8", exclude_characters="\0", exclude_categories=("Cs",)),
-                        max_size=20), min_size=1, max_size=4))
+@given(
+    st.lists(
+        st.text(
+            alphabet=st.characters(codec="utf-8", exclude_characters="\0", exclude_categories=("Cs",)), max_size=20
+        ),
+        min_size=1,
+        max_size=4,
+    )
+)
 def test_systemd_quoting_round_trips(words):
     assert unquote(" ".join(systemd_quote(w) for w in words)) == words
 
@@ -111,32 +136,71 @@ def test_odd_program_paths_run_through_sh_which_systemd_accepts(tmp_path):
 
 def test_units_map_the_cascade_restarts_and_criticality(tmp_path):
     log = tmp_path / "events.log"
-    nodes = [custom_node("main", log, max_restarts="3"),
-             custom_node("helper", log, restart="RESTART_ALWAYS", critical="false"),
-             custom_node("once", log, restart="RESTART_NEVER")]
+    nodes = [
+        custom_node("main", log, max_restarts="3"),
+        custom_node("helper", log, restart="RESTART_ALWAYS", critical="false"),
+        custom_node("once", log, restart="RESTART_NEVER"),
+    ]
     out = build(tmp_path, robot(nodes, sigint=0.3, sigterm=2, extra="ros_domain_id: 9"), prefix="/srv/joshua/r")
     units = out / "systemd"
     assert sorted(p.name for p in units.iterdir()) == [
-        "joshua-r-helper.service", "joshua-r-main.service", "joshua-r-once.service", "joshua-r.target"]
+        "joshua-r-helper.service",
+        "joshua-r-main.service",
+        "joshua-r-once.service",
+        "joshua-r.target",
+    ]
     target = settings_of((units / "joshua-r.target").read_text())
     assert [s for s in target if s[0] in ("BindsTo", "Wants")] == [
-        ("BindsTo", "joshua-r-main.service"), ("BindsTo", "joshua-r-once.service"), ("Wants", "joshua-r-helper.service")]
+        ("BindsTo", "joshua-r-main.service"),
+        ("BindsTo", "joshua-r-once.service"),
+        ("Wants", "joshua-r-helper.service"),
+    ]
     main = settings_of((units / "joshua-r-main.service").read_text())
-    assert [s for s in main if s[0] in ("KillMode", "KillSignal", "TimeoutStopSec", "TimeoutStopFailureMode",
-                                        "WatchdogSignal", "TimeoutAbortSec", "FinalKillSignal", "SendSIGKILL")] == [
-        ("KillMode", "control-group"), ("KillSignal", "SIGINT"), ("TimeoutStopSec", "300ms"),
-        ("TimeoutStopFailureMode", "abort"), ("WatchdogSignal", "SIGTERM"), ("TimeoutAbortSec", "2s"),
-        ("FinalKillSignal", "SIGKILL"), ("SendSIGKILL", "yes")]
+    assert [
+        s
+        for s in main
+        if s[0]
+        in (
+            "KillMode",
+            "KillSignal",
+            "TimeoutStopSec",
+            "TimeoutStopFailureMode",
+            "WatchdogSignal",
+            "TimeoutAbortSec",
+            "FinalKillSignal",
+            "SendSIGKILL",
+        )
+    ] == [
+        ("KillMode", "control-group"),
+        ("KillSignal", "SIGINT"),
+        ("TimeoutStopSec", "300ms"),
+        ("TimeoutStopFailureMode", "abort"),
+        ("WatchdogSignal", "SIGTERM"),
+        ("TimeoutAbortSec", "2s"),
+        ("FinalKillSignal", "SIGKILL"),
+        ("SendSIGKILL", "yes"),
+    ]
     main = dict(main)
     assert (main["Restart"], main["RestartSec"], main["StartLimitBurst"], main["StartLimitIntervalSec"]) == (
-        "on-failure", "250ms", "4", "240s")
-    assert (main["PartOf"], main["WantedBy"], main["WorkingDirectory"]) == ("joshua-r.target", "joshua-r.target",
-                                                                             "/srv/joshua/r")
+        "on-failure",
+        "250ms",
+        "4",
+        "240s",
+    )
+    assert (main["PartOf"], main["WantedBy"], main["WorkingDirectory"]) == (
+        "joshua-r.target",
+        "joshua-r.target",
+        "/srv/joshua/r",
+    )
     assert unquote(main["ExecStart"])[:4] == [PYTHON, "-I", "-S", str(tmp_path / "behave.py")]
-    environment = [value for key, value in settings_of((units / "joshua-r-main.service").read_text())
-                   if key == "Environment"]
-    assert environment == ["FASTRTPS_DEFAULT_PROFILES_FILE=/srv/joshua/r/fastdds_profile_images.xml",
-                           "PYTHONUNBUFFERED=1", "ROS_DOMAIN_ID=9"]
+    environment = [
+        value for key, value in settings_of((units / "joshua-r-main.service").read_text()) if key == "Environment"
+    ]
+    assert environment == [
+        "FASTRTPS_DEFAULT_PROFILES_FILE=/srv/joshua/r/fastdds_profile_images.xml",
+        "PYTHONUNBUFFERED=1",
+        "ROS_DOMAIN_ID=9",
+    ]
     helper = dict(settings_of((units / "joshua-r-helper.service").read_text()))
     once = dict(settings_of((units / "joshua-r-once.service").read_text()))
     assert (helper["Restart"], "RemainAfterExit" in helper) == ("always", False)
@@ -160,17 +224,23 @@ def test_python_nodes_run_through_env_and_cpp_nodes_through_a_fallback_script(tm
     encoder = dict(settings_of(next(units.glob("*-encoder_publisher.service")).read_text()))
     sh, flag, script = unquote(encoder["ExecStart"])
     assert (sh, flag) == ("/bin/sh", "-c")
-    assert script.startswith("if [ -f /opt/joshua/bin/encoder_publisher ] && [ -x /opt/joshua/bin/encoder_publisher ]; "
-                             "then exec /opt/joshua/bin/encoder_publisher --ros-args -r __node:=encoder_publisher ")
+    assert script.startswith(
+        "if [ -f /opt/joshua/bin/encoder_publisher ] && [ -x /opt/joshua/bin/encoder_publisher ]; "
+        "then exec /opt/joshua/bin/encoder_publisher --ros-args -r __node:=encoder_publisher "
+    )
     assert script.endswith("exec /usr/bin/env python3 /opt/joshua/so100/nodes/encoder_publisher.py")
 
 
 def test_runtime_nodes_notify_readiness_and_feed_a_watchdog_while_others_start_as_exec(tmp_path):
     config = (ROOT / "config" / "robots" / "so100_leader_follower.pbtxt").read_text()
-    config = config.replace("robot_config {", 'robot_config {\n  node { name: "tool" type: CUSTOM executable: "/bin/true" }', 1)
+    config = config.replace(
+        "robot_config {", 'robot_config {\n  node { name: "tool" type: CUSTOM executable: "/bin/true" }', 1
+    )
     out = build(tmp_path, config)
-    units = {path.name.split("-", 2)[2].removesuffix(".service"): dict(settings_of(path.read_text()))
-             for path in (out / "systemd").glob("*.service")}
+    units = {
+        path.name.split("-", 2)[2].removesuffix(".service"): dict(settings_of(path.read_text()))
+        for path in (out / "systemd").glob("*.service")
+    }
     recorder, encoder, tool = units["data_subscriber"], units["encoder_publisher"], units["tool"]
     assert (recorder["Type"], recorder["NotifyAccess"], recorder["WatchdogSec"]) == ("notify", "main", "20s")
     assert recorder["TimeoutStartSec"] == "90s"

@@ -21,10 +21,47 @@ SEEDS = [p.read_bytes() for p in sorted((HERE / "seeds").glob("*.pbtxt"))]
 SEEDS += [p.read_bytes() for p in sorted(HERE.glob("[EW]*/bad.pbtxt")) if p.is_file()][:20]
 TOKEN = re.compile(rb'"[^"\n]*"|\'[^\'\n]*\'|#[^\n]*|[A-Za-z_][A-Za-z0-9_]*|-?[0-9][0-9a-zA-Z.+-]*|\S')
 VOCABULARY = [
-    b"{", b"}", b"<", b">", b"[", b"]", b":", b",", b";", b'"', b"'", b"#", b"\\", b"\n", b"node", b"robot_config",
-    b"type", b"name", b"qos_depth", b"device_ids", b"MODE_SIMULATION", b"CUSTOM", b"KEEP_ALL", b"-1", b"0",
-    b"99999999999999999999999", b"1e999", b"nan", b"-inf", b'"/a//b"', b'"\\xff"', b'"\\q"', b"\xff", b"\x00",
-    b"\xe9", b"\t", b"\r", b"true", b"0x10", b"010", b"\xe2\x80\xa8",
+    b"{",
+    b"}",
+    b"<",
+    b">",
+    b"[",
+    b"]",
+    b":",
+    b",",
+    b";",
+    b'"',
+    b"'",
+    b"#",
+    b"\\",
+    b"\n",
+    b"node",
+    b"robot_config",
+    b"type",
+    b"name",
+    b"qos_depth",
+    b"device_ids",
+    b"MODE_SIMULATION",
+    b"CUSTOM",
+    b"KEEP_ALL",
+    b"-1",
+    b"0",
+    b"99999999999999999999999",
+    b"1e999",
+    b"nan",
+    b"-inf",
+    b'"/a//b"',
+    b'"\\xff"',
+    b'"\\q"',
+    b"\xff",
+    b"\x00",
+    b"\xe9",
+    b"\t",
+    b"\r",
+    b"true",
+    b"0x10",
+    b"010",
+    b"\xe2\x80\xa8",
 ]
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -74,13 +111,13 @@ def byte_mutants(draw):
         kind = draw(st.sampled_from(["delete", "insert", "replace", "duplicate"]))
         size = draw(st.integers(1, 12))
         if kind == "delete":
-            del data[where:where + size]
+            del data[where : where + size]
         elif kind == "insert":
             data[where:where] = draw(st.sampled_from(VOCABULARY) | st.binary(min_size=1, max_size=4))
         elif kind == "replace" and where < len(data):
             data[where] = draw(st.integers(0, 255))
         else:
-            data[where:where] = data[where:where + size]
+            data[where:where] = data[where : where + size]
     return bytes(data)
 
 
@@ -144,10 +181,25 @@ def random_field_values(draw):
             lines.append(f"    {field}: {draw(SCALARS)}")
         lines.append("  }")
     lines.append("}")
-    overrides = draw(st.lists(st.sampled_from([
-        "mode=MODE_SIMULATION", "simulation.model=builtin:so100", "name=x", "shutdown.sigint_grace_s=nan",
-        "camera_publisher.qos_depth=0", "custom.args=a,b", "env.A=1", "ros_domain_id=999", "=", "a..b=1",
-    ]), max_size=3))
+    overrides = draw(
+        st.lists(
+            st.sampled_from(
+                [
+                    "mode=MODE_SIMULATION",
+                    "simulation.model=builtin:so100",
+                    "name=x",
+                    "shutdown.sigint_grace_s=nan",
+                    "camera_publisher.qos_depth=0",
+                    "custom.args=a,b",
+                    "env.A=1",
+                    "ros_domain_id=999",
+                    "=",
+                    "a..b=1",
+                ]
+            ),
+            max_size=3,
+        )
+    )
     return "\n".join(lines) + "\n", overrides
 
 

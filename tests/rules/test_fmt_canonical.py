@@ -122,7 +122,7 @@ def test_unformattable_text_gives_diagnostics(text, code, line, column):
 
 
 def test_quote_escapes_canonically():
-    assert quote("a\"b\\c\nd\te\r".encode()) == '"a\\"b\\\\c\\nd\\te\\r"'
+    assert quote(b'a"b\\c\nd\te\r') == '"a\\"b\\\\c\\nd\\te\\r"'
     assert quote("é\x01\x7f\u2028".encode()) == '"é\\001\\177\\342\\200\\250"'
     assert quote(b"\xff") == '"\\377"'
     assert re.fullmatch(r'"[^\n]*"', quote(bytes(range(256))))

@@ -3,15 +3,16 @@
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings, strategies as st
 from google.protobuf import text_format
 from google.protobuf.text_format import Tokenizer
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from joshua_codegen.check import check_file, check_text
 from joshua_codegen.load import load_text
 from joshua_codegen.positions import Location
-from joshua_core.schema import RobotDescription
 from joshua_codegen.syntax import tokens
+from joshua_core.schema import RobotDescription
 
 SEEDS = Path(__file__).parent / "seeds"
 
@@ -95,13 +96,20 @@ robot_config {
     result = check_text("r.pbtxt", text)
     assert result.description is None and result.has_errors
     assert codes_and_positions(result) == [
-        ("E002", 2, 3), ("E004", 3, 9), ("E002", 4, 3), ("E002", 7, 5), ("E004", 8, 22), ("E003", 9, 19),
+        ("E002", 2, 3),
+        ("E004", 3, 9),
+        ("E002", 4, 3),
+        ("E002", 7, 5),
+        ("E004", 8, 22),
+        ("E003", 9, 19),
     ]
     messages = [d.message for d in result.diagnostics]
     assert messages[0] == 'unknown field "nmae" in RobotConfig; did you mean "name"?'
     assert messages[2] == 'unknown field "sigterm_grace_s" in RobotConfig; it belongs in shutdown { ... }'
     assert messages[3] == 'unknown field "qos_dept" in Node; did you mean "qos_depth"?'
-    assert messages[4] == 'unknown value "best_effort" for qos_reliability (enum Reliability); did you mean "BEST_EFFORT"?'
+    assert (
+        messages[4] == 'unknown value "best_effort" for qos_reliability (enum Reliability); did you mean "BEST_EFFORT"?'
+    )
     assert messages[5] == "camera_index takes an unsigned 32-bit integer (0 to 4294967295), got 4294967296"
 
 
@@ -111,34 +119,66 @@ robot_config {
         ("", ("E006", 1, 1, "the description is empty: expected robot_config { ... }")),
         ("# only a comment\n", ("E006", 1, 1, "the description is empty: expected robot_config { ... }")),
         ("robot_config {\n", ("E001", 1, 1, '"robot_config {" opened here is never closed')),
-        ("robot_config { name: 'x }", ("E001", 1, 22, "unterminated string (a string must close on the line it opens)")),
-        ('robot_config { name: "x\\" }', ("E001", 1, 22, "unterminated string (a string must close on the line it opens)")),
+        (
+            "robot_config { name: 'x }",
+            ("E001", 1, 22, "unterminated string (a string must close on the line it opens)"),
+        ),
+        (
+            'robot_config { name: "x\\" }',
+            ("E001", 1, 22, "unterminated string (a string must close on the line it opens)"),
+        ),
         ("robot_config { name = 1 }", ("E001", 1, 21, 'expected ":" or "{" after field name "name", found "="')),
         ("robot_config { } }", ("E001", 1, 18, 'expected a field name, found "}"')),
         ("robot_config { [ext]: 1 }", ("E001", 1, 16, "extension and Any fields ([...]) are not supported")),
-        ("robot_config { device_ids [1] }", ("E002", 1, 16, 'unknown field "device_ids" in RobotConfig; it belongs in node { ... }')),
+        (
+            "robot_config { device_ids [1] }",
+            ("E002", 1, 16, 'unknown field "device_ids" in RobotConfig; it belongs in node { ... }'),
+        ),
         ("robot_config { node { device_ids [1] } }", ("E001", 1, 34, 'expected ":" after field name "device_ids"')),
         ("robot_config { node { device_ids: [1 2] } }", ("E001", 1, 38, 'expected "," or "]" in a list, found "2"')),
         ("robot_config { name: }", ("E001", 1, 22, 'expected a value, found "}"')),
         ("robot_config " + "{ node " * 40, ("E001", 1, 238, "messages nested deeper than 32 levels")),
         ("robot_config { node { qos_depth: 1" + "0" * 500 + " } }", ("E003", 1, 34, None)),
-        ("robot_config { node { qos_depth: 0x1g } }", ("E003", 1, 34, "qos_depth takes an unsigned 32-bit integer, got 0x1g")),
-        ("robot_config { name: \"\\xff\" }", ("E003", 1, 22, "string is not valid UTF-8 (write non-ASCII characters directly)")),
-        ("robot_config { name: \"\\x\" }", ("E003", 1, 22, None)),
-        ("robot_config { name: \"a\" name: \"b\" }", ("E005", 1, 26, 'field "name" is given twice in RobotConfig; it takes one value')),
-        ("robot_config {}\nrobot_config {}", ("E005", 2, 1, 'field "robot_config" is given twice in RobotDescription; it takes one value')),
+        (
+            "robot_config { node { qos_depth: 0x1g } }",
+            ("E003", 1, 34, "qos_depth takes an unsigned 32-bit integer, got 0x1g"),
+        ),
+        (
+            'robot_config { name: "\\xff" }',
+            ("E003", 1, 22, "string is not valid UTF-8 (write non-ASCII characters directly)"),
+        ),
+        ('robot_config { name: "\\x" }', ("E003", 1, 22, None)),
+        (
+            'robot_config { name: "a" name: "b" }',
+            ("E005", 1, 26, 'field "name" is given twice in RobotConfig; it takes one value'),
+        ),
+        (
+            "robot_config {}\nrobot_config {}",
+            ("E005", 2, 1, 'field "robot_config" is given twice in RobotDescription; it takes one value'),
+        ),
         ("robot_config { node: 3 }", ("E003", 1, 22, '"node" is a message: write node { ... }')),
-        ("robot_config { name [\"a\"] }", ("E003", 1, 21, '"name" takes one value, not a list')),
+        ('robot_config { name ["a"] }', ("E003", 1, 21, '"name" takes one value, not a list')),
         ("robot_config { shutdown: [{}] }", ("E003", 1, 26, '"shutdown" is not repeated: write shutdown { ... }')),
         ("robot_config { node: [1] }", ("E003", 1, 23, '"node" holds messages: write { ... }, not 1')),
         ("robot_config { name { } }", ("E003", 1, 21, '"name" takes a value, not a message: write name: ...')),
-        ("camera_index: 1", ("E002", 1, 1, 'unknown field "camera_index" in RobotDescription; it belongs in node { ... }')),
-        ("robot_configg {}", ("E002", 1, 1, 'unknown field "robot_configg" in RobotDescription; did you mean "robot_config"?')),
-        ("mode: MODE_TELEOPERATION", ("E006", 1, 1, '"mode" belongs inside robot_config { ... }: the file root holds one robot_config block')),
+        (
+            "camera_index: 1",
+            ("E002", 1, 1, 'unknown field "camera_index" in RobotDescription; it belongs in node { ... }'),
+        ),
+        (
+            "robot_configg {}",
+            ("E002", 1, 1, 'unknown field "robot_configg" in RobotDescription; did you mean "robot_config"?'),
+        ),
+        (
+            "mode: MODE_TELEOPERATION",
+            ("E006", 1, 1, '"mode" belongs inside robot_config { ... }: the file root holds one robot_config block'),
+        ),
         ("\x00\x01binary", ("E008", 1, 1, "the file contains a NUL character: is it a binary file?")),
-        ("robot_config { name: \"a\" }\x7f", ("E001", 1, 27, 'expected a field name, found "\x7f"')),
-        ("robot_config { node { preferred_backend: -4294967294 } }",
-         ("E004", 1, 42, "preferred_backend has no value numbered -4294967294; expected one of CPP, PYTHON")),
+        ('robot_config { name: "a" }\x7f', ("E001", 1, 27, 'expected a field name, found "\x7f"')),
+        (
+            "robot_config { node { preferred_backend: -4294967294 } }",
+            ("E004", 1, 42, "preferred_backend has no value numbered -4294967294; expected one of CPP, PYTHON"),
+        ),
     ],
 )
 def test_load_errors_have_positions_and_clear_messages(text, expected):

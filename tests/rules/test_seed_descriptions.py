@@ -29,16 +29,29 @@ def test_so100_leader_follower_is_clean(monkeypatch):
 
 def large_description(count: int) -> str:
     """`count` nodes in leader/follower/camera triples, each on its own bus, camera and topics."""
-    lines = ['robot_config {', '  name: "fleet"', "  mode: MODE_TELEOPERATION"]
+    lines = ["robot_config {", '  name: "fleet"', "  mode: MODE_TELEOPERATION"]
     for i in range(count // 3):
         lines += [
-            "  node {", f'    name: "leader_{i}"', "    type: ENCODER_PUBLISHER",
-            f'    topic_name: "/arm_{i}/leader"', f'    serial_port: "/dev/leader_{i}"', "  }",
-            "  node {", f'    name: "follower_{i}"', "    type: ACTUATOR_SUBSCRIBER",
-            f'    topic_name: "/arm_{i}/leader"', f'    state_topic: "/arm_{i}/state"',
-            f'    serial_port: "/dev/follower_{i}"', "    device_ids: [1, 2, 3, 4, 5, 6]", "  }",
-            "  node {", f'    name: "camera_{i}"', "    type: CAMERA_PUBLISHER",
-            f'    topic_name: "/arm_{i}/image"', f"    camera_index: {i}", "  }",
+            "  node {",
+            f'    name: "leader_{i}"',
+            "    type: ENCODER_PUBLISHER",
+            f'    topic_name: "/arm_{i}/leader"',
+            f'    serial_port: "/dev/leader_{i}"',
+            "  }",
+            "  node {",
+            f'    name: "follower_{i}"',
+            "    type: ACTUATOR_SUBSCRIBER",
+            f'    topic_name: "/arm_{i}/leader"',
+            f'    state_topic: "/arm_{i}/state"',
+            f'    serial_port: "/dev/follower_{i}"',
+            "    device_ids: [1, 2, 3, 4, 5, 6]",
+            "  }",
+            "  node {",
+            f'    name: "camera_{i}"',
+            "    type: CAMERA_PUBLISHER",
+            f'    topic_name: "/arm_{i}/image"',
+            f"    camera_index: {i}",
+            "  }",
         ]
     lines.append("}")
     return "\n".join(lines) + "\n"

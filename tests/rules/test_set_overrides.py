@@ -90,30 +90,40 @@ def test_the_parsed_input_is_never_mutated():
     [
         ("mode", "E010", 'expected KEY=VALUE (e.g. mode=MODE_SIMULATION), got "mode"'),
         (".mode=1", "E010", 'key ".mode" has an empty part; expected names joined by "."'),
-        ("colour=red", "E011", 'no robot field or node named "colour" (nodes: encoder_publisher, '
-                               "actuator_subscriber, camera_publisher, data_subscriber)"),
+        (
+            "colour=red",
+            "E011",
+            'no robot field or node named "colour" (nodes: encoder_publisher, '
+            "actuator_subscriber, camera_publisher, data_subscriber)",
+        ),
         ("camera.qos_depth=3", "E011", 'no robot field or node named "camera"; did you mean "camera_publisher"?'),
         ("encoder_publisher=3", "E011", "name a field of the node: encoder_publisher.FIELD=VALUE"),
-        ("encoder_publisher.qos_dept=3", "E011",
-         'node "encoder_publisher" has no field "qos_dept"; did you mean "qos_depth"?'),
+        (
+            "encoder_publisher.qos_dept=3",
+            "E011",
+            'node "encoder_publisher" has no field "qos_dept"; did you mean "qos_depth"?',
+        ),
         ("shutdown.grace=1", "E011", 'shutdown has no field "grace"'),
         ("env=1", "E011", "set one variable: env.NAME=VALUE"),
         ("node.type=CUSTOM", "E011", "address a node by its name: NODE_NAME.FIELD=VALUE"),
-        ("mode=SIMULATION", "E012",
-         'unknown value "SIMULATION" for mode (enum Mode); did you mean "MODE_SIMULATION"?'),
+        ("mode=SIMULATION", "E012", 'unknown value "SIMULATION" for mode (enum Mode); did you mean "MODE_SIMULATION"?'),
         ("ros_domain_id=-1", "E012", "ros_domain_id takes an unsigned 32-bit integer (0 to 4294967295), got -1"),
         ("encoder_publisher.device_ids=1,two", "E012", "device_ids takes an unsigned 32-bit integer, got two"),
         ("camera_publisher.critical=maybe", "E012", "critical takes true or false, got maybe"),
         ("encoder_publisher.device_ids=[1,x]", "E012", "device_ids takes an unsigned 32-bit integer, got x"),
-        ("encoder_publisher.device_ids=[1,2", "E012",
-         'device_ids: expected "," or "]" in a list, found end of the value'),
+        (
+            "encoder_publisher.device_ids=[1,2",
+            "E012",
+            'device_ids: expected "," or "]" in a list, found end of the value',
+        ),
         ("encoder_publisher.device_ids=[{}]", "E012", "device_ids takes a list of values: [1, 2, 3] or 1,2,3"),
     ],
 )
 def test_bad_overrides_are_diagnostics_at_their_position(override, code, message):
     result = check_text("r.pbtxt", FOLLOWER, ["name=ok", override])
-    located = [(d.path, d.line, d.column, d.end_column, d.code, d.message) for d in result.diagnostics
-               if d.path == "--set"]
+    located = [
+        (d.path, d.line, d.column, d.end_column, d.code, d.message) for d in result.diagnostics if d.path == "--set"
+    ]
     assert located == [("--set", 2, 1, len(override) + 1, code, message)]
     assert result.description.robot_config.name == "ok"
 
@@ -133,11 +143,12 @@ def test_rule_findings_on_an_overridden_value_point_at_the_override():
 
 
 def test_two_nodes_with_one_name_cannot_be_addressed():
-    text = FOLLOWER.replace('type: ENCODER_PUBLISHER', 'name: "arm"\n    type: ENCODER_PUBLISHER')
-    text = text.replace('type: ACTUATOR_SUBSCRIBER', 'name: "arm"\n    type: ACTUATOR_SUBSCRIBER')
+    text = FOLLOWER.replace("type: ENCODER_PUBLISHER", 'name: "arm"\n    type: ENCODER_PUBLISHER')
+    text = text.replace("type: ACTUATOR_SUBSCRIBER", 'name: "arm"\n    type: ACTUATOR_SUBSCRIBER')
     result = check_text("r.pbtxt", text, ["arm.qos_depth=1"])
     assert [(d.code, d.message) for d in result.diagnostics if d.path == "--set"] == [
-        ("E011", '2 nodes are named "arm"')]
+        ("E011", '2 nodes are named "arm"')
+    ]
 
 
 def test_the_help_says_how_lists_are_written():

@@ -11,10 +11,24 @@ from joshua_codegen.supervisor.robot import ROBOT
 
 
 def spec(**fields) -> dict:
-    values = {"name": "n", "type": "CUSTOM", "kind": "custom", "entrypoint": "", "executable": "true", "args": ["-x"],
-              "cpp_binary": "", "cpp_args": [], "restart": "RESTART_NEVER", "max_restarts": 0, "critical": False,
-              "env": {"EXTRA": "1"}, "fastdds_profile": "fastdds_profile_images.xml", "devices": [],
-              "model_reference": "", "output_directory": ""}
+    values = {
+        "name": "n",
+        "type": "CUSTOM",
+        "kind": "custom",
+        "entrypoint": "",
+        "executable": "true",
+        "args": ["-x"],
+        "cpp_binary": "",
+        "cpp_args": [],
+        "restart": "RESTART_NEVER",
+        "max_restarts": 0,
+        "critical": False,
+        "env": {"EXTRA": "1"},
+        "fastdds_profile": "fastdds_profile_images.xml",
+        "devices": [],
+        "model_reference": "",
+        "output_directory": "",
+    }
     values.update(fields)
     return values
 
@@ -41,9 +55,18 @@ def test_a_custom_program_is_found_on_path():
 def test_preflight_lists_every_problem(tmp_path):
     nodes = [
         Node(spec(name="a", executable=str(tmp_path / "nothing")), sys.executable),
-        Node(spec(name="b", kind="python", entrypoint=str(tmp_path / "b.py"),
-                  devices=[{"kind": "model", "path": str(tmp_path / "model")},
-                           {"kind": "serial", "path": str(tmp_path / "tty")}]), sys.executable),
+        Node(
+            spec(
+                name="b",
+                kind="python",
+                entrypoint=str(tmp_path / "b.py"),
+                devices=[
+                    {"kind": "model", "path": str(tmp_path / "model")},
+                    {"kind": "serial", "path": str(tmp_path / "tty")},
+                ],
+            ),
+            sys.executable,
+        ),
     ]
     problems = preflight(nodes, sys.executable)
     assert problems == [
@@ -64,10 +87,17 @@ def test_preflight_resolves_registry_references_in_the_registry_the_node_sees(tm
     (registry / "act_arm" / "0123abcd").mkdir(parents=True)
     (registry / "act_arm" / "0123abcd" / ROBOT["model_registry"]["entry_file"]).write_text("{}")
     env = {ROBOT["model_registry"]["variable"]: str(registry)}
-    references = ["registry:act_arm", "registry:act_arm@0123abcd", "registry:act_arm@ffff", "registry:other",
-                  "registry:../registry/act_arm"]
-    nodes = [Node(spec(name=f"n{i}", model_reference=reference, env=env), sys.executable)
-             for i, reference in enumerate(references)]
+    references = [
+        "registry:act_arm",
+        "registry:act_arm@0123abcd",
+        "registry:act_arm@ffff",
+        "registry:other",
+        "registry:../registry/act_arm",
+    ]
+    nodes = [
+        Node(spec(name=f"n{i}", model_reference=reference, env=env), sys.executable)
+        for i, reference in enumerate(references)
+    ]
     assert preflight(nodes, sys.executable) == [
         f"n2: registry:act_arm@ffff is not in the model registry at {registry}",
         f"n3: registry:other is not in the model registry at {registry}",
@@ -78,8 +108,9 @@ def test_preflight_resolves_registry_references_in_the_registry_the_node_sees(tm
 def test_preflight_refuses_output_directories_the_node_cannot_write(tmp_path):
     (tmp_path / "a_file").write_text("")
     directories = [str(tmp_path / "new" / "episodes"), str(tmp_path / "a_file" / "episodes"), "/proc/joshua/episodes"]
-    nodes = [Node(spec(name=f"n{i}", output_directory=directory), sys.executable)
-             for i, directory in enumerate(directories)]
+    nodes = [
+        Node(spec(name=f"n{i}", output_directory=directory), sys.executable) for i, directory in enumerate(directories)
+    ]
     problems = preflight(nodes, sys.executable)
     assert problems[0] == f"n1: output directory {directories[1]}: {tmp_path / 'a_file'} is not a directory"
     assert problems[1].startswith(f"n2: output directory {directories[2]}: cannot write in /proc: ")
@@ -111,8 +142,10 @@ def test_preflight_refuses_a_runtime_of_another_settings_format(tmp_path):
     old_runtime.write_text("#!/bin/sh\necho 1\n")
     old_runtime.chmod(0o755)
     [problem] = preflight([python_node(tmp_path)], str(old_runtime))
-    assert problem.startswith(f"the runtime installed for {old_runtime} reads node settings format 1, "
-                              f"this build writes format {ROBOT['settings_format_version']}; ")
+    assert problem.startswith(
+        f"the runtime installed for {old_runtime} reads node settings format 1, "
+        f"this build writes format {ROBOT['settings_format_version']}; "
+    )
 
 
 def test_readiness_counts_only_the_main_process_and_warns_about_a_node_that_never_gets_ready(capsys, tmp_path):

@@ -32,6 +32,7 @@ def top_level_names(tree: ast.Module) -> set[str]:
 
 def generated_supervisor() -> str:
     from google.protobuf import text_format
+
     from joshua_core.schema import RobotDescription
 
     config = ROOT / "config/robots/mock_arm.pbtxt"
@@ -80,8 +81,11 @@ def test_generated_file_defines_exactly_the_names_of_the_placeholder_robot_modul
         joined |= top_level_names(module_tree(name))
     data_names = top_level_names(tree) - joined
     assert data_names == top_level_names(module_tree(package.ROBOT_MODULE))
-    robot_literal = next(node.value for node in tree.body if isinstance(node, ast.Assign)
-                         and isinstance(node.targets[0], ast.Name) and node.targets[0].id == "ROBOT")
+    robot_literal = next(
+        node.value
+        for node in tree.body
+        if isinstance(node, ast.Assign) and isinstance(node.targets[0], ast.Name) and node.targets[0].id == "ROBOT"
+    )
     assert ast.literal_eval(robot_literal).keys() == robot.ROBOT.keys()
     assert "joshua_codegen" not in text
 
@@ -89,10 +93,16 @@ def test_generated_file_defines_exactly_the_names_of_the_placeholder_robot_modul
 def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
     script = tmp_path / "supervisor.py"
     script.write_text(generated_supervisor())
-    result = subprocess.run([sys.executable, "-I", "-S", str(script), "--help"], capture_output=True, text=True,
-                            timeout=30, check=False)
+    result = subprocess.run(
+        [sys.executable, "-I", "-S", str(script), "--help"], capture_output=True, text=True, timeout=30, check=False
+    )
     assert result.returncode == 0, result.stderr
     assert "--skip-preflight" in result.stdout
-    bad = subprocess.run([sys.executable, "-I", "-S", str(script), "--duration", "-1"], capture_output=True,
-                         text=True, timeout=30, check=False)
+    bad = subprocess.run(
+        [sys.executable, "-I", "-S", str(script), "--duration", "-1"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
     assert bad.returncode == 2 and "positive number of seconds" in bad.stderr

@@ -27,4 +27,10 @@ def test_only_unlocked_segments_created_since_the_moment_are_removed(tmp_path, m
         assert shm.abandoned_segments(since) == ["fastrtps_dead", "fastrtps_port7411"]
         assert shm.remove_abandoned_segments(since) == (5, 64 + 64 + 32)
         assert sorted(path.name for path in tmp_path.iterdir()) == [
-            "fastrtps_live", "fastrtps_live_el", "fastrtps_lockonly_el", "fastrtps_old", "fastrtps_old_el", "other_el"]
+            "fastrtps_live",
+            "fastrtps_live_el",
+            "fastrtps_lockonly_el",
+            "fastrtps_old",
+            "fastrtps_old_el",
+            "other_el",
+        ]

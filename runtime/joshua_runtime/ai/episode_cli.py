@@ -35,10 +35,17 @@ def parse_arguments(argv):
     parser = argparse.ArgumentParser(prog="joshua-episode", description=__doc__.split("\n")[0])
     parser.add_argument("command", choices=protocol.COMMANDS)
     parser.add_argument("--task", default="", help="task text of the episode `start` begins (default: the robot name)")
-    parser.add_argument("--node", default="", help="the recorder's node name (default: the robot's only DATA_SUBSCRIBER)")
+    parser.add_argument(
+        "--node", default="", help="the recorder's node name (default: the robot's only DATA_SUBSCRIBER)"
+    )
     parser.add_argument("--robot", metavar="OUT", help="the robot's build directory: its manifest gives the ROS domain")
-    parser.add_argument("--timeout", type=float, default=ANSWER_TIMEOUT_S, metavar="SECONDS",
-                        help=f"how long to wait for the recorder's answer (default {ANSWER_TIMEOUT_S:g})")
+    parser.add_argument(
+        "--timeout",
+        type=float,
+        default=ANSWER_TIMEOUT_S,
+        metavar="SECONDS",
+        help=f"how long to wait for the recorder's answer (default {ANSWER_TIMEOUT_S:g})",
+    )
     options = parser.parse_args(argv)
     if options.task and options.command != "start":
         parser.error("--task goes with start")
@@ -58,8 +65,10 @@ def from_manifest(out: str, node: str) -> tuple[str, int | None]:
         raise UsageError(f"{path}: no DATA_SUBSCRIBER named {node!r} (recorders: {', '.join(recorders) or 'none'})")
     if not node:
         if len(recorders) != 1:
-            raise UsageError(f"{path}: {len(recorders)} DATA_SUBSCRIBER nodes ({', '.join(recorders) or 'none'}); "
-                             "name one with --node")
+            raise UsageError(
+                f"{path}: {len(recorders)} DATA_SUBSCRIBER nodes ({', '.join(recorders) or 'none'}); "
+                "name one with --node"
+            )
         node = recorders[0]
     return node, domain
 
@@ -82,8 +91,9 @@ def exchange(node_name: str, domain: int | None, text: str, answers: tuple[str, 
         states = []
         command_topic = f"/{node_name}/{protocol.COMMAND_TOPIC.removeprefix('~/')}"
         state_topic = f"/{node_name}/{protocol.STATE_TOPIC.removeprefix('~/')}"
-        client.create_subscription(String, state_topic, lambda msg: states.append(protocol.decode(msg.data)),
-                                   protocol.state_qos())
+        client.create_subscription(
+            String, state_topic, lambda msg: states.append(protocol.decode(msg.data)), protocol.state_qos()
+        )
         publisher = client.create_publisher(String, command_topic, protocol.COMMAND_QOS_DEPTH)
         executor = SingleThreadedExecutor(context=context)
         executor.add_node(client)
@@ -123,12 +133,17 @@ def main(argv=None) -> int:
     shown_domain = domain if domain is not None else os.environ.get("ROS_DOMAIN_ID", "0")
     state = exchange(node, domain, command_text(options), protocol.ANSWERS[options.command], options.timeout)
     if state is None:
-        print(f"joshua-episode: error: no recorder answers on /{node}/episode in ROS domain {shown_domain} within "
-              f"{DISCOVERY_TIMEOUT_S:g} s (is the robot running, and is {node} its DATA_SUBSCRIBER?)", file=sys.stderr)
+        print(
+            f"joshua-episode: error: no recorder answers on /{node}/episode in ROS domain {shown_domain} within "
+            f"{DISCOVERY_TIMEOUT_S:g} s (is the robot running, and is {node} its DATA_SUBSCRIBER?)",
+            file=sys.stderr,
+        )
         return EXIT_NO_RECORDER
     if not state:
-        print(f"joshua-episode: error: {node} took the command but did not answer within {options.timeout:g} s",
-              file=sys.stderr)
+        print(
+            f"joshua-episode: error: {node} took the command but did not answer within {options.timeout:g} s",
+            file=sys.stderr,
+        )
         return EXIT_NO_RECORDER
     message = state.get("message") or state["event"]
     if state["event"] in protocol.SUCCESS:

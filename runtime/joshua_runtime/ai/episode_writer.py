@@ -97,8 +97,9 @@ class EpisodeWriter:
                 getattr(self, f"_{command}")(argument)
         except BaseException as exc:  # reported by the node through `error`
             if self._frames and not isinstance(exc, SettingsError):
-                exc = DataLostError(f"episode of {self._frames} frames lost, not saved to {self.target}: "
-                                    f"{type(exc).__name__}: {exc}")
+                exc = DataLostError(
+                    f"episode of {self._frames} frames lost, not saved to {self.target}: {type(exc).__name__}: {exc}"
+                )
             elif not isinstance(exc, JoshuaError):
                 exc = JoshuaError(f"recording failed: {type(exc).__name__}: {exc}")
             self.error = exc
@@ -137,8 +138,13 @@ class EpisodeWriter:
         self._clear_cache()
         self.saved_episodes += 1
         self.log.info(f"episode {episode} saved: {frames} frames, {episode + 1} episodes in {self.target}")
-        self.on_event("saved", episode=episode, frames=frames, episodes=episode + 1,
-                      message=f"saved episode {episode} ({frames} frames) in {self.target}")
+        self.on_event(
+            "saved",
+            episode=episode,
+            frames=frames,
+            episodes=episode + 1,
+            message=f"saved episode {episode} ({frames} frames) in {self.target}",
+        )
 
     def _discard(self, _argument) -> None:
         frames = self._frames
@@ -172,13 +178,24 @@ class EpisodeWriter:
         repo_id = f"local/{self.target.name}"
         if not (staging / "meta" / "info.json").is_file():
             return LeRobotDataset.create(
-                repo_id, self.fps, self._features, root=staging, robot_type=self.robot_type,
-                use_videos=self.use_videos, image_writer_threads=0 if self.use_videos else IMAGE_WRITER_THREADS,
-                video_backend="pyav", vcodec=VIDEO_CODEC, streaming_encoding=self.use_videos,
+                repo_id,
+                self.fps,
+                self._features,
+                root=staging,
+                robot_type=self.robot_type,
+                use_videos=self.use_videos,
+                image_writer_threads=0 if self.use_videos else IMAGE_WRITER_THREADS,
+                video_backend="pyav",
+                vcodec=VIDEO_CODEC,
+                streaming_encoding=self.use_videos,
             )
         self._check_compatible(staging)
         dataset = LeRobotDataset(
-            repo_id, root=staging, video_backend="pyav", vcodec=VIDEO_CODEC, streaming_encoding=self.use_videos,
+            repo_id,
+            root=staging,
+            video_backend="pyav",
+            vcodec=VIDEO_CODEC,
+            streaming_encoding=self.use_videos,
         )
         if not self.use_videos:
             dataset.start_image_writer(num_processes=0, num_threads=IMAGE_WRITER_THREADS)

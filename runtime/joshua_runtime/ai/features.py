@@ -10,10 +10,9 @@
 """
 
 from joshua_core.feature_keys import IMAGE_PREFIX, image_feature, image_key  # noqa: F401 (part of this mapping)
-from joshua_core.node_types import IMAGE_TYPES, JOINT_STATE, OBSERVATION_TYPES
+from joshua_core.node_types import IMAGE_TYPES, OBSERVATION_TYPES
 from joshua_core.settings import TopicSettings
 from joshua_runtime.errors import SettingsError
-
 
 ACTION = "action"
 STATE = "observation.state"
@@ -43,7 +42,5 @@ def check_inputs(node_name: str, inputs: list[TopicSettings]) -> None:
         if kind in IMAGE_TYPES:
             feature = image_feature(topic.name)
             if feature in seen:
-                raise SettingsError(
-                    f"{node_name}: inputs {seen[feature]} and {topic.name} both map to {feature}"
-                )
+                raise SettingsError(f"{node_name}: inputs {seen[feature]} and {topic.name} both map to {feature}")
             seen[feature] = topic.name

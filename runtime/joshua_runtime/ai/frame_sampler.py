@@ -49,7 +49,9 @@ class FrameSampler:
             except ValueError as exc:
                 raise FrameUnavailable(f"{topic}: {exc}") from exc
             if pixels.shape != self.image_shapes[feature]:
-                raise FrameUnavailable(f"{topic}: image is {pixels.shape}, the dataset records {self.image_shapes[feature]}")
+                raise FrameUnavailable(
+                    f"{topic}: image is {pixels.shape}, the dataset records {self.image_shapes[feature]}"
+                )
             frame[feature] = pixels
         return frame
 

@@ -108,9 +108,13 @@ class InferenceNode(JoshuaNode):
                 runner = PolicyRunner(self.policy_dir, self.settings.device)
                 names = model_files.feature_names(self.policy_dir)
             self.joint_names = action_joint_names(
-                list(self.settings.joint_names), runner.shapes.action_size, names.get(keys.ACTION))
+                list(self.settings.joint_names), runner.shapes.action_size, names.get(keys.ACTION)
+            )
             self.mapper = ObservationMapper(
-                self.name, self.inputs, runner.shapes.images, runner.shapes.state_size,
+                self.name,
+                self.inputs,
+                runner.shapes.images,
+                runner.shapes.state_size,
                 names.get(keys.STATE),
             )
             for unused in self.mapper.unused_topics:

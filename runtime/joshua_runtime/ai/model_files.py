@@ -16,7 +16,6 @@ import os
 from pathlib import Path
 
 from joshua_core.models import POLICY_TYPES as SUPPORTED_POLICY_TYPES  # noqa: F401 (read by the policy loaders)
-
 from joshua_runtime.errors import SettingsError
 
 CONFIG_FILE = "config.json"

@@ -25,8 +25,14 @@ class ObservationUnavailable(ValueError):
 class ObservationMapper:
     """Maps input topics to policy features once, then converts messages on every step."""
 
-    def __init__(self, node_name: str, inputs: list[TopicSettings], images: dict[str, tuple[int, ...]],
-                 state_size: int | None, state_names: list[str] | None = None):
+    def __init__(
+        self,
+        node_name: str,
+        inputs: list[TopicSettings],
+        images: dict[str, tuple[int, ...]],
+        state_size: int | None,
+        state_names: list[str] | None = None,
+    ):
         image_topics = [t.name for t in inputs if t.message_type in keys.IMAGE_TYPES]
         self.state_topics = [t.name for t in inputs if t.message_type == keys.JOINT_STATE]
         self.image_sources = _pair_images(node_name, image_topics, images)
@@ -77,6 +83,6 @@ def _pair_images(node_name: str, topics: list[str], images: dict[str, tuple[int,
     by_feature = {keys.image_feature(topic): topic for topic in topics}
     missing = [feature for feature in images if feature not in by_feature]
     if missing:
-        wanted = ", ".join(f"{f} (e.g. topic /{f[len(keys.IMAGE_PREFIX):]}/image_raw)" for f in missing)
+        wanted = ", ".join(f"{f} (e.g. topic /{f[len(keys.IMAGE_PREFIX) :]}/image_raw)" for f in missing)
         raise SettingsError(f"{node_name}: no Image input for policy feature {wanted}")
     return {feature: by_feature[feature] for feature in images}

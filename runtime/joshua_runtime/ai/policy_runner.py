@@ -77,8 +77,14 @@ class PolicyRunner:
         from lerobot.utils.control_utils import predict_action
 
         action = predict_action(
-            dict(observation), self.policy, self.device, self.preprocessor, self.postprocessor,
-            use_amp=False, task="", robot_type="",
+            dict(observation),
+            self.policy,
+            self.device,
+            self.preprocessor,
+            self.postprocessor,
+            use_amp=False,
+            task="",
+            robot_type="",
         )
         return action.squeeze(0).to("cpu").numpy().astype(np.float32)
 

@@ -28,7 +28,6 @@ import time
 from pathlib import Path
 
 from joshua_core.models import BAG_FORMAT, OUTPUT_FORMATS
-
 from joshua_runtime.ai import episode_protocol as protocol
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
@@ -52,7 +51,9 @@ def check_output_directory(directory: Path, fps: int) -> None:
         except (OSError, ValueError) as exc:
             raise SettingsError(f"output_directory {directory}: unreadable {info}: {exc}") from exc
         if recorded_fps != fps:
-            raise SettingsError(f"output_directory {directory} holds a dataset recorded at {recorded_fps} fps, not {fps}")
+            raise SettingsError(
+                f"output_directory {directory} holds a dataset recorded at {recorded_fps} fps, not {fps}"
+            )
     elif directory.is_dir() and any(directory.iterdir()):
         raise SettingsError(f"output_directory {directory} is not empty and holds no LeRobot dataset")
     elif directory.exists() and not directory.is_dir():
@@ -93,20 +94,24 @@ class RecorderNode(JoshuaNode):
         self.state_seq = 0
         self.recording = False
         self.writer_opened = threading.Event()
-        self.writer = EpisodeWriter(self.settings.output_directory, self.fps, self.settings.robot, use_videos,
-                                    self.log, self._writer_event)
+        self.writer = EpisodeWriter(
+            self.settings.output_directory, self.fps, self.settings.robot, use_videos, self.log, self._writer_event
+        )
         self.sampler = FrameSampler(topic.name, inputs, use_videos)
         self.samples = LatestSamples(self.sampler.topic_names)
         self.subscriptions = [self.subscription(t, self.samples.callback(t.name)) for t in [topic, *inputs]]
-        self.commands = self.ros.create_subscription(String, protocol.COMMAND_TOPIC, self._command,
-                                                     protocol.COMMAND_QOS_DEPTH)
+        self.commands = self.ros.create_subscription(
+            String, protocol.COMMAND_TOPIC, self._command, protocol.COMMAND_QOS_DEPTH
+        )
         self.frames = 0
         self.skipped = 0
         self._begin(self._default_task())
         self.timer = self.ros.create_timer(1.0 / self.fps, self._tick)
-        self.summary = (f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
-                        f"{self.settings.output_directory} ({output_format}); episode commands on "
-                        f"{self.ros.resolve_topic_name(protocol.COMMAND_TOPIC)}")
+        self.summary = (
+            f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
+            f"{self.settings.output_directory} ({output_format}); episode commands on "
+            f"{self.ros.resolve_topic_name(protocol.COMMAND_TOPIC)}"
+        )
 
     def _writer_event(self, event: str, **details) -> None:
         """Called from the writing thread: note that the dataset is open (the next tick announces it),

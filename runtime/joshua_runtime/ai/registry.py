@@ -66,8 +66,10 @@ class Entry:
             parts.append(f"seed {self.lineage['seed']}")
         evaluation = self.lineage.get("evaluation")
         if isinstance(evaluation, dict):
-            parts.append(f"success {evaluation.get('success_rate')} over {evaluation.get('episodes')} episodes "
-                         f"(return {evaluation.get('mean_return')})")
+            parts.append(
+                f"success {evaluation.get('success_rate')} over {evaluation.get('episodes')} episodes "
+                f"(return {evaluation.get('mean_return')})"
+            )
         return ", ".join(parts)
 
 
@@ -81,7 +83,7 @@ def is_reference(model_path: str) -> bool:
 
 def parse_reference(reference: str) -> tuple[str, str | None]:
     """`registry:NAME@REV` -> (NAME, REV); `registry:NAME` -> (NAME, None)."""
-    body = reference[len(REF_PREFIX):] if is_reference(reference) else reference
+    body = reference[len(REF_PREFIX) :] if is_reference(reference) else reference
     name, _, revision = body.partition("@")
     check_name(name, "model name")
     if revision:

@@ -48,7 +48,9 @@ def _list(name: str | None) -> None:
     print(f"{'NAME':<24} {'REVISION':<16} {'TYPE':<10} {'IMPORTED':<20} SOURCE")
     for entry in found:
         mark = "*" if latest[entry.name] == entry.revision else " "
-        print(f"{entry.name:<24} {entry.revision + mark:<16} {entry.policy_type:<10} {entry.imported_at:<20} {entry.source}")
+        print(
+            f"{entry.name:<24} {entry.revision + mark:<16} {entry.policy_type:<10} {entry.imported_at:<20} {entry.source}"
+        )
         print(f"{'':<24}   trained on {entry.lineage_text()}")
 
 
@@ -61,7 +63,9 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "list":
             _list(args.name)
         elif args.command == "resolve":
-            reference = args.reference if registry.is_reference(args.reference) else registry.REF_PREFIX + args.reference
+            reference = (
+                args.reference if registry.is_reference(args.reference) else registry.REF_PREFIX + args.reference
+            )
             print(registry.resolve(reference).path)
         elif args.command == "remove":
             entry = registry.remove(args.reference)

@@ -45,17 +45,25 @@ class BagRecorderNode(JoshuaNode):
         if root.exists() and not root.is_dir():
             raise SettingsError(f"output_directory {root} is not a directory")
         try:
-            self.writer = BagWriter(new_bag_directory(root, self.settings.robot or self.name),
-                                    self.settings.bag_max_size_mb * BYTES_PER_MB,
-                                    round(self.settings.bag_max_duration_s * NS_PER_S))
+            self.writer = BagWriter(
+                new_bag_directory(root, self.settings.robot or self.name),
+                self.settings.bag_max_size_mb * BYTES_PER_MB,
+                round(self.settings.bag_max_duration_s * NS_PER_S),
+            )
         except OSError as exc:
             raise DataLostError(f"cannot create a bag in {root}: {exc}") from exc
         self.subscriptions = []
         for topic in topics:
             self.writer.add_topic(topic.name, topic.message_type)
-            self.subscriptions.append(self.ros.create_subscription(
-                message_class(topic.message_type), topic.name, self._writer_of(topic.name),
-                qos_profile(topic.qos), raw=True))
+            self.subscriptions.append(
+                self.ros.create_subscription(
+                    message_class(topic.message_type),
+                    topic.name,
+                    self._writer_of(topic.name),
+                    qos_profile(topic.qos),
+                    raw=True,
+                )
+            )
         self.flush_timer = self.ros.create_timer(CHUNK_FLUSH_PERIOD_S, self.writer.flush_if_due)
         self.log.info(f"recording {len(topics)} topics into the bag {self.writer.directory}")
 
@@ -65,6 +73,7 @@ class BagRecorderNode(JoshuaNode):
                 self.writer.write(topic, data, time.time_ns())
             except OSError as exc:
                 raise DataLostError(f"cannot write to the bag {self.writer.directory}: {exc}") from exc
+
         return write
 
     def close(self) -> None:

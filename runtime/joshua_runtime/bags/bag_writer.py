@@ -77,8 +77,9 @@ class BagWriter:
             self._finish_file()
             self._open_next_file()
             current = self.stats.files[-1]
-        self._writer.add_message(self._channels[topic], log_time=receive_time_ns, data=data,
-                                 publish_time=receive_time_ns)
+        self._writer.add_message(
+            self._channels[topic], log_time=receive_time_ns, data=data, publish_time=receive_time_ns
+        )
         if not current.count:
             current.start_ns = receive_time_ns
         current.end_ns = max(current.end_ns, receive_time_ns)
@@ -119,10 +120,14 @@ class BagWriter:
         message_type = self.stats.topics[topic].message_type
         if message_type not in self._schemas:
             self._schemas[message_type] = self._writer.register_schema(
-                name=message_type, encoding=SchemaEncoding.ROS2, data=self._definitions[message_type])
+                name=message_type, encoding=SchemaEncoding.ROS2, data=self._definitions[message_type]
+            )
         self._channels[topic] = self._writer.register_channel(
-            topic=topic, message_encoding=MessageEncoding.CDR, schema_id=self._schemas[message_type],
-            metadata={"offered_qos_profiles": ""})
+            topic=topic,
+            message_encoding=MessageEncoding.CDR,
+            schema_id=self._schemas[message_type],
+            metadata={"offered_qos_profiles": ""},
+        )
 
     def _finish_file(self) -> None:
         self._writer.finish()
@@ -141,16 +146,29 @@ class BagWriter:
             "starting_time": {"nanoseconds_since_epoch": start},
             "message_count": sum(f.count for f in self.stats.files),
             "topics_with_message_count": [
-                {"topic_metadata": {"name": topic, "type": stats.message_type, "serialization_format": "cdr",
-                                    "offered_qos_profiles": ""},
-                 "message_count": stats.count}
-                for topic, stats in self.stats.topics.items()],
+                {
+                    "topic_metadata": {
+                        "name": topic,
+                        "type": stats.message_type,
+                        "serialization_format": "cdr",
+                        "offered_qos_profiles": "",
+                    },
+                    "message_count": stats.count,
+                }
+                for topic, stats in self.stats.topics.items()
+            ],
             "compression_format": "",
             "compression_mode": "",
             "relative_file_paths": [f.path for f in self.stats.files],
-            "files": [{"path": f.path, "starting_time": {"nanoseconds_since_epoch": f.start_ns},
-                       "duration": {"nanoseconds": f.end_ns - f.start_ns}, "message_count": f.count}
-                      for f in self.stats.files],
+            "files": [
+                {
+                    "path": f.path,
+                    "starting_time": {"nanoseconds_since_epoch": f.start_ns},
+                    "duration": {"nanoseconds": f.end_ns - f.start_ns},
+                    "message_count": f.count,
+                }
+                for f in self.stats.files
+            ],
         }
         staging = self.directory / f".{METADATA_FILE}.tmp"
         staging.write_text(yaml.safe_dump({"rosbag2_bagfile_information": info}, sort_keys=False))

@@ -16,8 +16,25 @@ import sys
 from joshua_runtime.errors import SettingsError
 
 SEPARATOR = "=" * 80
-PRIMITIVES = frozenset({"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16",
-                        "int32", "uint32", "int64", "uint64", "string", "wstring"})
+PRIMITIVES = frozenset(
+    {
+        "bool",
+        "byte",
+        "char",
+        "float32",
+        "float64",
+        "int8",
+        "uint8",
+        "int16",
+        "uint16",
+        "int32",
+        "uint32",
+        "int64",
+        "uint64",
+        "string",
+        "wstring",
+    }
+)
 _FIELD_TYPE = re.compile(r"^\s*([A-Za-z][\w/]*)")
 
 
@@ -73,8 +90,10 @@ def _msg_text(package: str, name: str) -> str:
         path = prefix / "share" / package / "msg" / f"{name}.msg"
         if path.is_file():
             return path.read_text(encoding="utf-8").rstrip("\n")
-    raise SettingsError(f"no definition of {package}/msg/{name} (share/{package}/msg/{name}.msg) in "
-                        f"{', '.join(str(p) for p in _prefixes())}")
+    raise SettingsError(
+        f"no definition of {package}/msg/{name} (share/{package}/msg/{name}.msg) in "
+        f"{', '.join(str(p) for p in _prefixes())}"
+    )
 
 
 def _prefixes() -> list[pathlib.Path]:

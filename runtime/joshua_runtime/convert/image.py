@@ -6,9 +6,9 @@ with `format` "jpeg"/"png"; decoding gives a bgr8 (or mono8) packet image.
 
 import cv2
 import numpy as np
-from joshua_core.schema import PerceptionPacket
 from sensor_msgs.msg import CompressedImage, Image
 
+from joshua_core.schema import PerceptionPacket
 from joshua_runtime.convert.stamp import to_proto_timestamp, to_ros_time
 from joshua_runtime.errors import SettingsError
 

@@ -8,8 +8,9 @@ matches. Header stamps carry the packet timestamp when it has one.
 import math
 
 from builtin_interfaces.msg import Time
-from joshua_core.schema import ActionPacket, PerceptionPacket
 from sensor_msgs.msg import JointState
+
+from joshua_core.schema import ActionPacket, PerceptionPacket
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
 COMMAND_FIELDS = ("position", "velocity", "effort")

@@ -1,8 +1,8 @@
 """sensor_msgs/LaserScan <-> PerceptionPacket with a "laser_scan" SensorData."""
 
-from joshua_core.schema import PerceptionPacket
 from sensor_msgs.msg import LaserScan
 
+from joshua_core.schema import PerceptionPacket
 from joshua_runtime.convert.stamp import to_proto_timestamp, to_ros_time
 
 SCAN_KIND = "laser_scan"

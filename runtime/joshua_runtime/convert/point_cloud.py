@@ -7,9 +7,9 @@ A lidar node publishes LaserScan or PointCloud2, whichever its topic's message_t
 from __future__ import annotations
 
 import numpy as np
-from joshua_core.schema import PerceptionPacket
 from sensor_msgs.msg import LaserScan, PointCloud2, PointField
 
+from joshua_core.schema import PerceptionPacket
 from joshua_runtime.convert.laser_scan import packet_to_laser_scan
 from joshua_runtime.convert.stamp import to_ros_time
 from joshua_runtime.drivers.scan_geometry import scan_points
@@ -24,10 +24,17 @@ def point_cloud2(xyz: np.ndarray, intensity: np.ndarray, header) -> PointCloud2:
     points = np.empty((len(xyz), len(_FIELDS)), dtype="<f4")
     points[:, :3] = xyz
     points[:, 3] = intensity
-    message = PointCloud2(height=1, width=len(xyz), is_bigendian=False, point_step=_POINT_STEP,
-                          row_step=_POINT_STEP * len(xyz), is_dense=True)
-    message.fields = [PointField(name=name, offset=4 * i, datatype=PointField.FLOAT32, count=1)
-                      for i, name in enumerate(_FIELDS)]
+    message = PointCloud2(
+        height=1,
+        width=len(xyz),
+        is_bigendian=False,
+        point_step=_POINT_STEP,
+        row_step=_POINT_STEP * len(xyz),
+        is_dense=True,
+    )
+    message.fields = [
+        PointField(name=name, offset=4 * i, datatype=PointField.FLOAT32, count=1) for i, name in enumerate(_FIELDS)
+    ]
     message.data = points.tobytes()
     if header is not None:
         message.header = header
@@ -48,8 +55,9 @@ def packet_to_point_cloud2(packet: PerceptionPacket) -> PointCloud2:
 
 
 def laser_scan_to_point_cloud2(scan: LaserScan) -> PointCloud2:
-    xyz, intensity = scan_points(scan.ranges, scan.intensities, scan.angle_min, scan.angle_increment,
-                                 scan.range_min, scan.range_max)
+    xyz, intensity = scan_points(
+        scan.ranges, scan.intensities, scan.angle_min, scan.angle_increment, scan.range_min, scan.range_max
+    )
     return point_cloud2(xyz, intensity, scan.header)
 
 

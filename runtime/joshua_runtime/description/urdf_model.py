@@ -12,6 +12,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 
 import numpy as np
+
 from joshua_runtime.errors import SettingsError
 
 BUILTIN_PREFIX = "builtin:"
@@ -84,8 +85,11 @@ def axis_angle_matrix(axis: np.ndarray, angle: float) -> np.ndarray:
 
 def rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """URDF's fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    return (axis_angle_matrix(np.array([0.0, 0.0, 1.0]), yaw) @ axis_angle_matrix(np.array([0.0, 1.0, 0.0]), pitch)
-            @ axis_angle_matrix(np.array([1.0, 0.0, 0.0]), roll))
+    return (
+        axis_angle_matrix(np.array([0.0, 0.0, 1.0]), yaw)
+        @ axis_angle_matrix(np.array([0.0, 1.0, 0.0]), pitch)
+        @ axis_angle_matrix(np.array([1.0, 0.0, 0.0]), roll)
+    )
 
 
 def quaternion_xyzw(rotation: np.ndarray) -> tuple[float, float, float, float]:
@@ -110,8 +114,11 @@ def quaternion_xyzw(rotation: np.ndarray) -> tuple[float, float, float, float]:
 
 def load(reference: str) -> UrdfModel:
     """The model of `builtin:NAME` or of a URDF file path; SettingsError when unreadable."""
-    path = BUILTIN_DIR / f"{reference[len(BUILTIN_PREFIX):]}.urdf" if reference.startswith(BUILTIN_PREFIX) \
+    path = (
+        BUILTIN_DIR / f"{reference[len(BUILTIN_PREFIX) :]}.urdf"
+        if reference.startswith(BUILTIN_PREFIX)
         else pathlib.Path(reference).expanduser()
+    )
     try:
         return parse(path.read_text(encoding="utf-8"))
     except OSError as exc:
@@ -142,8 +149,12 @@ def _joint(element) -> Joint:
     axis = np.array(_floats(axis_element.get("xyz") if axis_element is not None else "1 0 0", 3))
     limit = element.find("limit")
     return Joint(
-        name=element.attrib["name"], kind=element.attrib["type"], parent=element.find("parent").attrib["link"],
-        child=element.find("child").attrib["link"], origin=transform, axis=axis / np.linalg.norm(axis),
+        name=element.attrib["name"],
+        kind=element.attrib["type"],
+        parent=element.find("parent").attrib["link"],
+        child=element.find("child").attrib["link"],
+        origin=transform,
+        axis=axis / np.linalg.norm(axis),
         lower=float(limit.get("lower")) if limit is not None and limit.get("lower") else None,
         upper=float(limit.get("upper")) if limit is not None and limit.get("upper") else None,
     )

@@ -23,8 +23,12 @@ DEMO_PRESET_PERIOD_S = 1.5
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="joshua-desktop", description=__doc__.splitlines()[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="joshua-desktop",
+        description=__doc__.splitlines()[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=__doc__,
+    )
     link = parser.add_mutually_exclusive_group(required=True)
     link.add_argument("--port", help="serial port of the servo bus")
     link.add_argument("--ros", action="store_true", help="connect to a running robot over ROS 2")
@@ -55,8 +59,10 @@ def main(argv: list[str] | None = None) -> int:
     has_display = any(os.environ.get(name) for name in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"))
     if not has_display:
         if not args.screenshot:
-            print("joshua-desktop: error: no display (set DISPLAY, or render offscreen with --screenshot PATH)",
-                  file=sys.stderr)
+            print(
+                "joshua-desktop: error: no display (set DISPLAY, or render offscreen with --screenshot PATH)",
+                file=sys.stderr,
+            )
             return EXIT_NO_DISPLAY
         os.environ["QT_QPA_PLATFORM"] = "offscreen"
     try:
@@ -85,14 +91,18 @@ def _run(args) -> int:
     window.start()
     if emulator is not None and args.demo:
         _demo(window, presets)
-    delay = args.quit_after if args.quit_after is not None else (DEFAULT_SCREENSHOT_DELAY_S if args.screenshot else None)
+    delay = (
+        args.quit_after if args.quit_after is not None else (DEFAULT_SCREENSHOT_DELAY_S if args.screenshot else None)
+    )
     if delay is not None:
+
         def finish():
             if args.screenshot:
                 args.screenshot.parent.mkdir(parents=True, exist_ok=True)
                 window.grab().save(str(args.screenshot))
             window.close()
             app.quit()
+
         QTimer.singleShot(round(delay * 1000), finish)
     try:
         app.exec()

@@ -35,8 +35,10 @@ class JointRow:
         swatch.setStyleSheet(f"background: {color.name()}; border-radius: 3px;")
         self.slider = QSlider(Qt.Orientation.Horizontal)
         self.slider.setObjectName(f"slider_{name}")
-        self.slider.setRange(round(math.degrees(limits.low) * SLIDER_STEPS_PER_DEGREE),
-                             round(math.degrees(limits.high) * SLIDER_STEPS_PER_DEGREE))
+        self.slider.setRange(
+            round(math.degrees(limits.low) * SLIDER_STEPS_PER_DEGREE),
+            round(math.degrees(limits.high) * SLIDER_STEPS_PER_DEGREE),
+        )
         self.slider.setMinimumWidth(180)
         self.slider.sliderMoved.connect(self._moved)
         self.slider.valueChanged.connect(self._changed)
@@ -54,8 +56,19 @@ class JointRow:
         self.torque.clicked.connect(lambda on: panel.torque_toggled.emit(name, on))
         title = QLabel(name)
         title.setObjectName("jointName")
-        for column, widget in enumerate((swatch, title, self.slider, self.goal, self.present, self.load,
-                                         self.temperature, self.voltage, self.torque)):
+        for column, widget in enumerate(
+            (
+                swatch,
+                title,
+                self.slider,
+                self.goal,
+                self.present,
+                self.load,
+                self.temperature,
+                self.voltage,
+                self.torque,
+            )
+        ):
             grid.addWidget(widget, row, column)
         for label in (self.goal, self.present, self.temperature, self.voltage):
             label.setObjectName("value")
@@ -117,8 +130,9 @@ class JointPanel(QWidget):
             header.setObjectName("header")
             grid.addWidget(header, 0, column)
         grid.setColumnStretch(2, 1)
-        self.rows = {name: JointRow(grid, row + 1, name, colors[name], limits[name], self)
-                     for row, name in enumerate(joints)}
+        self.rows = {
+            name: JointRow(grid, row + 1, name, colors[name], limits[name], self) for row, name in enumerate(joints)
+        }
         self._pending: dict[str, float] = {}
 
     def goal_changed(self, joint: str, radians: float) -> None:

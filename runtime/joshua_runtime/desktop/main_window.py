@@ -44,8 +44,15 @@ class MainWindow(QMainWindow):
     joint_torque_requested = Signal(str, bool)
     estop_requested = Signal()
 
-    def __init__(self, worker: LinkWorker, joints: list[str], limits: dict[str, JointLimits], presets: Presets,
-                 arm: ArmModel, calibration_output: Path):
+    def __init__(
+        self,
+        worker: LinkWorker,
+        joints: list[str],
+        limits: dict[str, JointLimits],
+        presets: Presets,
+        arm: ArmModel,
+        calibration_output: Path,
+    ):
         super().__init__()
         self.setWindowTitle("joshua-desktop")
         self.setStyleSheet(STYLESHEET)

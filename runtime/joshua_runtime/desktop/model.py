@@ -8,7 +8,6 @@ from pathlib import Path
 
 from joshua_core.servo_topics import TORQUE_OFF, TORQUE_ON
 from joshua_core.so100 import SO100_JOINTS, SO100_RANGES
-
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.presets import BUILTIN_PRESETS
 

@@ -96,14 +96,19 @@ class StripChart(QWidget):
     def paintEvent(self, _event) -> None:
         painter = QPainter(self)
         painter.fillRect(self.rect(), BACKGROUND)
-        plot = QRectF(MARGIN_LEFT, MARGIN_TOP, self.width() - MARGIN_LEFT - MARGIN_RIGHT,
-                      self.height() - MARGIN_TOP - MARGIN_BOTTOM)
+        plot = QRectF(
+            MARGIN_LEFT,
+            MARGIN_TOP,
+            self.width() - MARGIN_LEFT - MARGIN_RIGHT,
+            self.height() - MARGIN_TOP - MARGIN_BOTTOM,
+        )
         font = QFont(self.font())
         font.setPointSizeF(8.5)
         painter.setFont(font)
         painter.setPen(TITLE)
-        painter.drawText(QRectF(8, 2, plot.right(), MARGIN_TOP - 4), Qt.AlignmentFlag.AlignVCenter,
-                         f"{self.title}  [{self.unit}]")
+        painter.drawText(
+            QRectF(8, 2, plot.right(), MARGIN_TOP - 4), Qt.AlignmentFlag.AlignVCenter, f"{self.title}  [{self.unit}]"
+        )
         if self._count < 2 or plot.width() < 10 or plot.height() < 10:
             painter.setPen(TEXT)
             painter.drawText(plot, Qt.AlignmentFlag.AlignCenter, self.empty_text)
@@ -141,13 +146,22 @@ class StripChart(QWidget):
         rows = [plot.bottom() - plot.height() * line / count for line in range(count + 1)]
         columns = [plot.right() - plot.width() * second / WINDOW_S for second in range(1, int(WINDOW_S))]
         painter.setPen(QPen(GRID, 1))
-        painter.drawLines([QLineF(plot.left(), y, plot.right(), y) for y in rows]
-                          + [QLineF(x, plot.top(), x, plot.bottom()) for x in columns])
+        painter.drawLines(
+            [QLineF(plot.left(), y, plot.right(), y) for y in rows]
+            + [QLineF(x, plot.top(), x, plot.bottom()) for x in columns]
+        )
         painter.setPen(TEXT)
         for line, y in enumerate(rows):
-            painter.drawText(QRectF(0, y - 8, MARGIN_LEFT - 6, 16),
-                             Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter, f"{low + line * step:g}")
-        painter.drawText(QRectF(plot.left(), plot.bottom() + 2, plot.width(), MARGIN_BOTTOM - 2),
-                         Qt.AlignmentFlag.AlignLeft, f"-{WINDOW_S:g} s")
-        painter.drawText(QRectF(plot.left(), plot.bottom() + 2, plot.width(), MARGIN_BOTTOM - 2),
-                         Qt.AlignmentFlag.AlignRight, "now")
+            painter.drawText(
+                QRectF(0, y - 8, MARGIN_LEFT - 6, 16),
+                Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
+                f"{low + line * step:g}",
+            )
+        painter.drawText(
+            QRectF(plot.left(), plot.bottom() + 2, plot.width(), MARGIN_BOTTOM - 2),
+            Qt.AlignmentFlag.AlignLeft,
+            f"-{WINDOW_S:g} s",
+        )
+        painter.drawText(
+            QRectF(plot.left(), plot.bottom() + 2, plot.width(), MARGIN_BOTTOM - 2), Qt.AlignmentFlag.AlignRight, "now"
+        )

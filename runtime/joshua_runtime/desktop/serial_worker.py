@@ -23,8 +23,16 @@ SERIAL_POLL_HZ = 50.0
 class SerialWorker(LinkWorker):
     direct_bus = True
 
-    def __init__(self, port: str, joints: list[str], ids: list[int], baud_rate: int,
-                 calibration_file: str | None = None, poll_hz: float = SERIAL_POLL_HZ, arm: str = "so100"):
+    def __init__(
+        self,
+        port: str,
+        joints: list[str],
+        ids: list[int],
+        baud_rate: int,
+        calibration_file: str | None = None,
+        poll_hz: float = SERIAL_POLL_HZ,
+        arm: str = "so100",
+    ):
         super().__init__(poll_hz)
         self.port, self.joints, self.ids, self.baud_rate = port, list(joints), list(ids), baud_rate
         self.calibration_file = calibration_file
@@ -39,9 +47,15 @@ class SerialWorker(LinkWorker):
     def connect_link(self) -> bool:
         try:
             calibration = calibration_for_bus(self.calibration_file, self.joints, self.ids)
-            self.bus = Sts3215Driver(self.port, self.ids, self.joints, baud_rate=self.baud_rate,
-                                     calibration=calibration if self.calibration_file else None,
-                                     reply_timeout_s=TOOL_REPLY_TIMEOUT_S, max_retries=TOOL_RETRIES)
+            self.bus = Sts3215Driver(
+                self.port,
+                self.ids,
+                self.joints,
+                baud_rate=self.baud_rate,
+                calibration=calibration if self.calibration_file else None,
+                reply_timeout_s=TOOL_REPLY_TIMEOUT_S,
+                max_retries=TOOL_RETRIES,
+            )
             self.bus.open()
             self.torque = self.bus.torque_enabled()
         except JoshuaError as exc:
@@ -71,10 +85,14 @@ class SerialWorker(LinkWorker):
         joints = {}
         for name, motor, status in zip(self.joints, self.bus.calibration, statuses):
             joints[name] = JointSample(
-                position=motor.to_radians(status.position), load_percent=status.load_percent,
-                temperature_c=status.temperature_c, voltage_v=status.voltage_v,
-                torque_on=self.torque.get(status.id), errors=tuple(status.errors),
-                health=level(findings := assess(status)), findings=tuple(f.message for f in findings),
+                position=motor.to_radians(status.position),
+                load_percent=status.load_percent,
+                temperature_c=status.temperature_c,
+                voltage_v=status.voltage_v,
+                torque_on=self.torque.get(status.id),
+                errors=tuple(status.errors),
+                health=level(findings := assess(status)),
+                findings=tuple(f.message for f in findings),
             )
         self.telemetry.emit(Telemetry(time.monotonic(), joints))
 
@@ -88,8 +106,11 @@ class SerialWorker(LinkWorker):
     @Slot(object)
     def send_goals(self, goals: dict) -> None:
         index = {name: i for i, name in enumerate(self.joints)}
-        raw = {self.ids[index[name]]: self.bus.calibration[index[name]].to_ticks(value)
-               for name, value in goals.items() if name in index and not math.isnan(value)}
+        raw = {
+            self.ids[index[name]]: self.bus.calibration[index[name]].to_ticks(value)
+            for name, value in goals.items()
+            if name in index and not math.isnan(value)
+        }
         self._command(self.bus.sync_write, "Goal_Position", raw)
 
     @Slot(bool)

@@ -26,8 +26,16 @@ def _silence_opencv() -> None:
 class CameraDriver(Driver):
     """Reads frames from `video_source` when it is set, else from `/dev/video<camera_index>`."""
 
-    def __init__(self, camera_index: int = 0, video_source: str = "", width: int = 640, height: int = 480,
-                 fps: float = 30.0, frame_id: str = "camera", loop: bool = True):
+    def __init__(
+        self,
+        camera_index: int = 0,
+        video_source: str = "",
+        width: int = 640,
+        height: int = 480,
+        fps: float = 30.0,
+        frame_id: str = "camera",
+        loop: bool = True,
+    ):
         self.camera_index = camera_index
         self.video_source = video_source
         self.width = width

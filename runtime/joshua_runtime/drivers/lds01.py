@@ -31,8 +31,14 @@ SCAN_KIND = "laser_scan"
 class Lds01Driver(Driver):
     """Reads complete turns from an LDS-01 on `port`."""
 
-    def __init__(self, port: str, baud_rate: int = proto.BAUD_RATE, frame_id: str = "laser",
-                 verify_checksum: bool = False, silent_timeout_s: float = SILENT_DEVICE_TIMEOUT_S):
+    def __init__(
+        self,
+        port: str,
+        baud_rate: int = proto.BAUD_RATE,
+        frame_id: str = "laser",
+        verify_checksum: bool = False,
+        silent_timeout_s: float = SILENT_DEVICE_TIMEOUT_S,
+    ):
         self.port = port
         self.baud_rate = baud_rate
         self.frame_id = frame_id
@@ -128,7 +134,7 @@ class Lds01Driver(Driver):
         intensities = [0.0] * proto.READINGS_PER_TURN
         speeds = []
         for k in range(proto.PACKETS_PER_TURN):
-            packet = turn[k * proto.PACKET_BYTES:(k + 1) * proto.PACKET_BYTES]
+            packet = turn[k * proto.PACKET_BYTES : (k + 1) * proto.PACKET_BYTES]
             if not self.packet_is_sane(packet, k):
                 self.packets_skipped += 1
                 continue
@@ -146,8 +152,9 @@ class Lds01Driver(Driver):
         return scan_packet(ranges, intensities, rpm, self.frame_id, first_reading_ns)
 
 
-def scan_packet(ranges: list[float], intensities: list[float], rpm: float, frame_id: str,
-                stamp_ns: int) -> PerceptionPacket:
+def scan_packet(
+    ranges: list[float], intensities: list[float], rpm: float, frame_id: str, stamp_ns: int
+) -> PerceptionPacket:
     """A "laser_scan" PerceptionPacket of one LDS-01 turn (ranges in m, index = angle in degrees).
 
     `values` holds one number: the motor speed in rpm; point_cloud holds the valid readings as points.

@@ -78,9 +78,7 @@ def packet_checksum(packet: bytes) -> int:
 
 def packet_readings(packet: bytes) -> list[tuple[int, int]]:
     """The 6 (intensity, range_mm) pairs of a packet."""
-    return [
-        _READING.unpack_from(packet, READINGS_OFFSET + j * READING_BYTES)[:2] for j in range(READINGS_PER_PACKET)
-    ]
+    return [_READING.unpack_from(packet, READINGS_OFFSET + j * READING_BYTES)[:2] for j in range(READINGS_PER_PACKET)]
 
 
 def scan_index(packet_index: int, reading: int) -> int:

@@ -16,9 +16,21 @@ from concurrent.futures import Future
 
 from joshua_runtime.drivers.driver import Driver
 from joshua_runtime.drivers.pybricks_protocol import (
-    CMD_START_PROGRAM, CMD_STOP_PROGRAM, CMD_WRITE_PROGRAM_META, CMD_WRITE_RAM, CMD_WRITE_STDIN, EVENT_STATUS,
-    EVENT_STDOUT, STATUS_PROGRAM_RUNNING, WRITE_RAM_HEADER, AngleReport, LineAssembler, encode_line, parse_angles,
-    status_flags, unpack_capabilities,
+    CMD_START_PROGRAM,
+    CMD_STOP_PROGRAM,
+    CMD_WRITE_PROGRAM_META,
+    CMD_WRITE_RAM,
+    CMD_WRITE_STDIN,
+    EVENT_STATUS,
+    EVENT_STDOUT,
+    STATUS_PROGRAM_RUNNING,
+    WRITE_RAM_HEADER,
+    AngleReport,
+    LineAssembler,
+    encode_line,
+    parse_angles,
+    status_flags,
+    unpack_capabilities,
 )
 from joshua_runtime.drivers.pybricks_transport import HubTransport
 from joshua_runtime.errors import DeviceError
@@ -79,7 +91,7 @@ class PybricksHub(Driver):
             self._thread.start()
         try:
             return asyncio.run_coroutine_threadsafe(asyncio.wait_for(coroutine, timeout), self._loop).result()
-        except (asyncio.TimeoutError, TimeoutError):
+        except TimeoutError:
             raise DeviceError(f"Pybricks hub {self.hub!r} did not answer within {timeout:g} s") from None
 
     # --- on the driver's event loop -------------------------------------------------------------
@@ -101,9 +113,10 @@ class PybricksHub(Driver):
                 raise DeviceError(f"Pybricks hub {self.hub!r} did not start its program within {START_TIMEOUT_S:g} s")
         try:
             await asyncio.wait_for(self._reported.wait(), FIRST_REPORT_TIMEOUT_S)
-        except asyncio.TimeoutError:
-            raise DeviceError(f"Pybricks hub {self.hub!r} runs a program that sends no wheel angles: "
-                              "is another program on the hub?") from None
+        except TimeoutError:
+            raise DeviceError(
+                f"Pybricks hub {self.hub!r} runs a program that sends no wheel angles: is another program on the hub?"
+            ) from None
 
     async def _download(self) -> None:
         caps = unpack_capabilities(await self.transport.read_capabilities())
@@ -112,7 +125,7 @@ class PybricksHub(Driver):
         chunk = caps.max_write - WRITE_RAM_HEADER
         await self.transport.write_command(struct.pack("<BI", CMD_WRITE_PROGRAM_META, 0))
         for offset in range(0, len(self.program), chunk):
-            payload = self.program[offset:offset + chunk]
+            payload = self.program[offset : offset + chunk]
             await self.transport.write_command(struct.pack("<BI", CMD_WRITE_RAM, offset) + payload)
         await self.transport.write_command(struct.pack("<BI", CMD_WRITE_PROGRAM_META, len(self.program)))
 
@@ -120,7 +133,7 @@ class PybricksHub(Driver):
         if self._status is None:
             try:
                 await asyncio.wait_for(self._status_changed.wait(), timeout)
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 pass
 
     async def _wait_running(self, timeout: float) -> bool:
@@ -129,7 +142,7 @@ class PybricksHub(Driver):
             self._status_changed.clear()
             try:
                 await asyncio.wait_for(self._status_changed.wait(), max(deadline - time.monotonic(), 0))
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 return False
         return True
 
@@ -141,7 +154,9 @@ class PybricksHub(Driver):
         ack = self._acks[self._seq] = self._loop.create_future()
         sent = time.perf_counter()
         try:
-            await self.transport.write_command(bytes([CMD_WRITE_STDIN]) + encode_line(fields[0], self._seq, *fields[1:]))
+            await self.transport.write_command(
+                bytes([CMD_WRITE_STDIN]) + encode_line(fields[0], self._seq, *fields[1:])
+            )
             await asyncio.wait_for(ack, ACK_TIMEOUT_S)
             return time.perf_counter() - sent
         except Exception:  # a link that drops mid-command fails the write in transport-specific ways

@@ -28,7 +28,7 @@ def checksum(body):
 
 
 def send(body):
-    stdout.write("{}*{:02X}\n".format(body, checksum(body)))
+    stdout.write(f"{body}*{checksum(body):02X}\n")
 
 
 def decode(line):
@@ -37,7 +37,7 @@ def decode(line):
         return None
     body = line[:star]
     try:
-        if int(line[star + 1:], 16) != checksum(body):
+        if int(line[star + 1 :], 16) != checksum(body):
             return None
     except ValueError:
         return None
@@ -82,6 +82,6 @@ while True:
         right.stop()
         last_command = now
     if now >= next_report:
-        send("A,{},{},{}".format(now, left.angle(), right.angle()))
+        send(f"A,{now},{left.angle()},{right.angle()}")
         next_report = now + REPORT_PERIOD_MS
     wait(1)

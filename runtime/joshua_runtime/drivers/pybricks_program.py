@@ -36,11 +36,11 @@ def main_module(blob: bytes) -> bytes | None:
     """The `__main__` MPY of a blob; None when the blob is not a well-formed multi-file blob."""
     offset = 0
     while offset + 4 < len(blob):
-        size = int.from_bytes(blob[offset:offset + 4], "little")
+        size = int.from_bytes(blob[offset : offset + 4], "little")
         end_of_name = blob.find(b"\0", offset + 4)
         if end_of_name < 0 or end_of_name + 1 + size > len(blob):
             return None
-        name, mpy = blob[offset + 4:end_of_name], blob[end_of_name + 1:end_of_name + 1 + size]
+        name, mpy = blob[offset + 4 : end_of_name], blob[end_of_name + 1 : end_of_name + 1 + size]
         if name == MAIN_MODULE.encode():
             return mpy
         offset = end_of_name + 1 + size

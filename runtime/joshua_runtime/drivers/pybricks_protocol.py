@@ -95,7 +95,7 @@ def decode_line(line: bytes) -> list[str] | None:
         return None
     body = line[:star]
     try:
-        if int(line[star + 1:], 16) != checksum(body):
+        if int(line[star + 1 :], 16) != checksum(body):
             return None
         return body.decode("ascii").split(",")
     except ValueError:
@@ -105,7 +105,7 @@ def decode_line(line: bytes) -> list[str] | None:
 def resynchronised(line: bytes) -> list[str] | None:
     """The fields of a line, or of its longest tail that is a valid line (garbage glued to its front)."""
     for start in range(len(line) - 3):
-        if start == 0 or line[start:start + 1] in LINE_STARTS:
+        if start == 0 or line[start : start + 1] in LINE_STARTS:
             fields = decode_line(line[start:])
             if fields is not None:
                 return fields

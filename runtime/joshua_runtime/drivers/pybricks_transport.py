@@ -61,8 +61,10 @@ class BleakTransport(HubTransport):
             await self.client.connect()
             await self.client.start_notify(COMMAND_EVENT_UUID, lambda _char, data: on_event(bytes(data)))
         except (FileNotFoundError, ConnectionRefusedError) as exc:
-            raise DeviceError(f"no Bluetooth through BlueZ here (D-Bus: {exc}); is bluetoothd running? "
-                              "Set ble_transport to use a controller directly") from None
+            raise DeviceError(
+                f"no Bluetooth through BlueZ here (D-Bus: {exc}); is bluetoothd running? "
+                "Set ble_transport to use a controller directly"
+            ) from None
         except (BleakError, OSError) as exc:
             raise DeviceError(f"cannot connect to Pybricks hub {hub!r}: {exc}") from None
 

@@ -12,12 +12,11 @@ disappears, the next call reopens it and checks the servos again, raising Device
 
 import math
 
+from joshua_core.devices import STS3215_DEFAULT_BAUD_RATE
 from joshua_core.schema import ActionPacket, PerceptionPacket
-
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.calibration import MotorCalibration, uncalibrated
 from joshua_runtime.drivers.driver import Driver
-from joshua_core.devices import STS3215_DEFAULT_BAUD_RATE
 from joshua_runtime.drivers.sts3215_table import (
     MODEL_NUMBER_STS3215,
     STATE_BLOCK_ADDRESS,
@@ -121,8 +120,11 @@ class Sts3215Driver(Driver):
     def _store_calibration(self) -> None:
         """Write Homing_Offset and position limits from the calibration into servos that differ."""
         for servo_id, motor in zip(self.ids, self.calibration):
-            wanted = {"Homing_Offset": motor.homing_offset, "Min_Position_Limit": motor.range_min,
-                      "Max_Position_Limit": motor.range_max}
+            wanted = {
+                "Homing_Offset": motor.homing_offset,
+                "Min_Position_Limit": motor.range_min,
+                "Max_Position_Limit": motor.range_max,
+            }
             present = {name: self.read(servo_id, name) for name in CALIBRATION_REGISTERS}
             if present == wanted:
                 continue

@@ -18,7 +18,7 @@ def _ids(text: str) -> list[int]:
     try:
         ids = [int(part) for part in text.split(",") if part.strip()]
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated servo ids, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected comma-separated servo ids, got {text!r}") from None
     if not ids or any(not 0 <= i <= 253 for i in ids):
         raise argparse.ArgumentTypeError("servo ids must be 0-253")
     return ids
@@ -28,15 +28,16 @@ def _port(text: str) -> int:
     try:
         port = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a TCP port number, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a TCP port number, got {text!r}") from None
     if not 1 <= port <= 65535:
         raise argparse.ArgumentTypeError("TCP ports are 1-65535")
     return port
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="joshua-emulate", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        prog="joshua-emulate", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     sub = parser.add_subparsers(dest="device", required=True)
     sts = sub.add_parser("sts3215", help="a Feetech STS3215 servo bus")
     sts.add_argument(

@@ -29,8 +29,14 @@ BAD_INDEX_BASE = proto.FIRST_INDEX + proto.PACKETS_PER_TURN  # 0xDC: never a val
 class Lds01Stream:
     """The device behaviour on a pty master fd: command parsing and the packet schedule."""
 
-    def __init__(self, fd: int, rpm: float = proto.NOMINAL_RPM, corrupt_rate: float = 0.0, seed: int = 0,
-                 corrupt_packets: frozenset[int] = frozenset()):
+    def __init__(
+        self,
+        fd: int,
+        rpm: float = proto.NOMINAL_RPM,
+        corrupt_rate: float = 0.0,
+        seed: int = 0,
+        corrupt_packets: frozenset[int] = frozenset(),
+    ):
         if rpm <= 0:
             raise ValueError("rpm must be positive")
         self.fd = fd
@@ -132,8 +138,14 @@ def serve(args, should_stop) -> None:
 class Lds01Emulator:
     """The emulator on a background thread, for tests: `with Lds01Emulator(link) as emu: ...`."""
 
-    def __init__(self, link, rpm: float = proto.NOMINAL_RPM, corrupt_rate: float = 0.0, seed: int = 0,
-                 corrupt_packets=frozenset()):
+    def __init__(
+        self,
+        link,
+        rpm: float = proto.NOMINAL_RPM,
+        corrupt_rate: float = 0.0,
+        seed: int = 0,
+        corrupt_packets=frozenset(),
+    ):
         self.link = link
         self._options = dict(rpm=rpm, corrupt_rate=corrupt_rate, seed=seed, corrupt_packets=frozenset(corrupt_packets))
         self._stop = threading.Event()
@@ -145,8 +157,9 @@ class Lds01Emulator:
         self._pty = PtyLink(self.link)
         self.stream = Lds01Stream(self._pty.master_fd, **self._options)
         self._stop.clear()
-        self._thread = threading.Thread(target=self.stream.run, args=(self._stop.is_set,), daemon=True,
-                                        name="lds01-emulator")
+        self._thread = threading.Thread(
+            target=self.stream.run, args=(self._stop.is_set,), daemon=True, name="lds01-emulator"
+        )
         self._thread.start()
         return self
 

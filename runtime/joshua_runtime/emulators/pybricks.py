@@ -37,9 +37,9 @@ GARBAGE = b"\x00\xff*\n#A,1,2*ZZ\nK,x*00\r\n\xfe\x80\n"
 
 @dataclass
 class HubFaults:
-    never_start: bool = False        # START_PROGRAM is accepted, the program never runs
-    garbage_rate: float = 0.0        # fraction of stdout writes preceded by garbage bytes
-    drop_link_after: int = 0         # drop the link on this stdin command (0: never)
+    never_start: bool = False  # START_PROGRAM is accepted, the program never runs
+    garbage_rate: float = 0.0  # fraction of stdout writes preceded by garbage bytes
+    drop_link_after: int = 0  # drop the link on this stdin command (0: never)
     seed: int = 0
 
 
@@ -62,12 +62,16 @@ class EmulatedHub:
         self._task: asyncio.Task | None = None
         self.command_event = Characteristic(
             hub.COMMAND_EVENT_UUID,
-            Characteristic.Properties.WRITE | Characteristic.Properties.WRITE_WITHOUT_RESPONSE
+            Characteristic.Properties.WRITE
+            | Characteristic.Properties.WRITE_WITHOUT_RESPONSE
             | Characteristic.Properties.NOTIFY,
-            Attribute.Permissions.WRITEABLE, CharacteristicValue(write=self._on_write))
+            Attribute.Permissions.WRITEABLE,
+            CharacteristicValue(write=self._on_write),
+        )
         capabilities = hub.pack_capabilities(hub.Capabilities(MAX_WRITE, 0b10, MAX_PROGRAM, 1))
-        self.capabilities = Characteristic(hub.CAPABILITIES_UUID, Characteristic.Properties.READ,
-                                           Attribute.Permissions.READABLE, capabilities)
+        self.capabilities = Characteristic(
+            hub.CAPABILITIES_UUID, Characteristic.Properties.READ, Attribute.Permissions.READABLE, capabilities
+        )
         device.add_service(Service(hub.SERVICE_UUID, [self.command_event, self.capabilities]))
         device.on(Device.EVENT_CONNECTION, self._on_connection)
         self.command_event.on(Characteristic.EVENT_SUBSCRIPTION, self._on_subscription)
@@ -75,13 +79,18 @@ class EmulatedHub:
     async def start(self) -> None:
         """Power on, advertise (again after every disconnection) and run the motors."""
         await self.device.power_on()
-        advertising = AdvertisingData([
-            (AdvertisingData.COMPLETE_LOCAL_NAME, self.name.encode()),
-            (AdvertisingData.INCOMPLETE_LIST_OF_128_BIT_SERVICE_CLASS_UUIDS, UUID(hub.SERVICE_UUID).to_bytes()),
-        ])
-        await self.device.start_advertising(auto_restart=True, advertising_data=bytes(advertising),
-                                            advertising_interval_min=ADVERTISING_INTERVAL_MS,
-                                            advertising_interval_max=ADVERTISING_INTERVAL_MS)
+        advertising = AdvertisingData(
+            [
+                (AdvertisingData.COMPLETE_LOCAL_NAME, self.name.encode()),
+                (AdvertisingData.INCOMPLETE_LIST_OF_128_BIT_SERVICE_CLASS_UUIDS, UUID(hub.SERVICE_UUID).to_bytes()),
+            ]
+        )
+        await self.device.start_advertising(
+            auto_restart=True,
+            advertising_data=bytes(advertising),
+            advertising_interval_min=ADVERTISING_INTERVAL_MS,
+            advertising_interval_max=ADVERTISING_INTERVAL_MS,
+        )
         self._task = asyncio.get_running_loop().create_task(self._run())
 
     async def stop(self) -> None:
@@ -114,7 +123,7 @@ class EmulatedHub:
             offset = struct.unpack_from("<I", body)[0]
             if offset + len(body) - 4 > MAX_PROGRAM:
                 raise ATT_Error(ERROR_VALUE_NOT_ALLOWED)
-            self.ram[offset:offset + len(body) - 4] = body[4:]
+            self.ram[offset : offset + len(body) - 4] = body[4:]
         elif command == hub.CMD_START_PROGRAM:
             mpy = main_module(self.program)
             if mpy is None or not mpy.startswith(MPY_V6_MAGIC):
@@ -187,7 +196,7 @@ class EmulatedHub:
         mtu = self.connection.att_mtu if self.connection is not None else ATT_DEFAULT_MTU
         chunk = mtu - 3 - 1
         for offset in range(0, len(line), chunk):
-            self._notify(bytes([hub.EVENT_STDOUT]) + line[offset:offset + chunk])
+            self._notify(bytes([hub.EVENT_STDOUT]) + line[offset : offset + chunk])
 
     async def _run(self) -> None:
         last = time.monotonic()
@@ -205,6 +214,7 @@ class EmulatedHub:
                 self._last_command = now
             if now >= self._next_report:
                 hub_ms = int((now - self._started_at) * 1000)
-                self._write_stdout(hub.encode_line("A", hub_ms, round(self.left.angle_deg),
-                                                   round(self.right.angle_deg)))
+                self._write_stdout(
+                    hub.encode_line("A", hub_ms, round(self.left.angle_deg), round(self.right.angle_deg))
+                )
                 self._next_report = now + hub.REPORT_PERIOD_MS / 1000

@@ -50,13 +50,20 @@ async def serve_hci(name: str, port: int, faults: HubFaults | None = None):
 
 def serve(args, should_stop) -> None:
     """`joshua-emulate pybricks`: serve until should_stop() says so."""
-    faults = HubFaults(never_start=args.never_start, garbage_rate=args.garbage_rate,
-                       drop_link_after=args.drop_link_after, seed=args.seed)
+    faults = HubFaults(
+        never_start=args.never_start,
+        garbage_rate=args.garbage_rate,
+        drop_link_after=args.drop_link_after,
+        seed=args.seed,
+    )
 
     async def main() -> None:
         emulated, transport = await serve_hci(args.name, args.port, faults)
-        print(f"joshua-emulate: Pybricks hub {args.name!r} ({HUB_ADDRESS}) reachable over "
-              f"hci tcp-client:127.0.0.1:{args.port}", flush=True)
+        print(
+            f"joshua-emulate: Pybricks hub {args.name!r} ({HUB_ADDRESS}) reachable over "
+            f"hci tcp-client:127.0.0.1:{args.port}",
+            flush=True,
+        )
         while not should_stop():
             await asyncio.sleep(POLL_S)
         await transport.close()

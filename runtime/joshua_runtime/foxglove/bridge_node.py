@@ -32,11 +32,15 @@ class FoxgloveBridgeNode(JoshuaNode):
         self.channels: dict[str, object] = {}
         self.subscriptions = []
         try:
-            self.server = foxglove.start_server(name=self.settings.robot or self.name, host=self.settings.foxglove.host,
-                                                port=self.settings.foxglove.port)
+            self.server = foxglove.start_server(
+                name=self.settings.robot or self.name,
+                host=self.settings.foxglove.host,
+                port=self.settings.foxglove.port,
+            )
         except Exception as exc:  # the SDK reports a busy port as a RuntimeError of its own
-            raise DeviceError(f"cannot serve Foxglove on {self.settings.foxglove.host}:"
-                              f"{self.settings.foxglove.port}: {exc}") from exc
+            raise DeviceError(
+                f"cannot serve Foxglove on {self.settings.foxglove.host}:{self.settings.foxglove.port}: {exc}"
+            ) from exc
         for topic in self.settings.inputs:
             if topic.message_type:
                 self._bridge(topic.name, topic.message_type, qos_profile(topic.qos))
@@ -46,8 +50,9 @@ class FoxgloveBridgeNode(JoshuaNode):
 
     def _bridge(self, topic: str, message_type: str, qos) -> None:
         try:
-            schema = self.foxglove.Schema(name=message_type, encoding="ros2msg",
-                                          data=full_definition(message_type).encode())
+            schema = self.foxglove.Schema(
+                name=message_type, encoding="ros2msg", data=full_definition(message_type).encode()
+            )
             ros_class = message_class(message_type)
         except JoshuaError as exc:
             self.log.warning(f"{topic} is not served: {exc}")

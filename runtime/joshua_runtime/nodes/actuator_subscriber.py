@@ -17,10 +17,10 @@ next goal or pose resumes it.
 import math
 import time
 
-from joshua_core.servo_topics import FIXED_QOS, TORQUE_ON, preset_topic
-from joshua_core.settings import QosSettings
 from std_msgs.msg import String
 
+from joshua_core.servo_topics import FIXED_QOS, TORQUE_ON, preset_topic
+from joshua_core.settings import QosSettings
 from joshua_runtime import presets
 from joshua_runtime.convert.joint_state import (
     joint_state_to_action,
@@ -56,8 +56,9 @@ class ActuatorSubscriber(JoshuaNode):
         self.next_clamp_log = 0.0
         topic = settings_checks.topic(self.settings)
         self.subscription(topic, self._command)
-        self.ros.create_subscription(String, preset_topic(topic.name), self._preset,
-                                     qos_profile(QosSettings(**FIXED_QOS)))
+        self.ros.create_subscription(
+            String, preset_topic(topic.name), self._preset, qos_profile(QosSettings(**FIXED_QOS))
+        )
         self.watchdog = None
         if self.settings.command_timeout_s > 0:
             self.watchdog = CommandWatchdog(self.settings.command_timeout_s)

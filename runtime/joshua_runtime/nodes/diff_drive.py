@@ -37,8 +37,10 @@ class WheelDrive:
 def geometry(settings: NodeSettings) -> Geometry:
     """The base's wheel geometry; both lengths must be positive."""
     if not settings.wheel_radius_m > 0 or not settings.track_width_m > 0:
-        raise SettingsError(f"wheel_radius_m and track_width_m must be positive, got "
-                            f"{settings.wheel_radius_m!r} and {settings.track_width_m!r}")
+        raise SettingsError(
+            f"wheel_radius_m and track_width_m must be positive, got "
+            f"{settings.wheel_radius_m!r} and {settings.track_width_m!r}"
+        )
     return Geometry(settings.wheel_radius_m, settings.track_width_m)
 
 

@@ -18,8 +18,10 @@ def hub_transport(ble_transport: str):
     """The BLE transport named by the settings: Bumble over `ble_transport`, else bleak."""
     if ble_transport:
         from joshua_runtime.drivers.pybricks_bumble import BumbleTransport
+
         return BumbleTransport(hci=ble_transport)
     from joshua_runtime.drivers.pybricks_transport import BleakTransport
+
     return BleakTransport()
 
 

@@ -49,15 +49,20 @@ class RobotStatePublisher(JoshuaNode):
         self.description = self.ros.create_publisher(String, DESCRIPTION_TOPIC, LATCHED_QOS)
         self.description.publish(String(data=self.model.text))
         now = self.stamp()
-        self.tf_static.publish(TFMessage(transforms=[
-            transform_message(joint, joint.origin, now) for joint in self.model.fixed_joints]))
+        self.tf_static.publish(
+            TFMessage(transforms=[transform_message(joint, joint.origin, now) for joint in self.model.fixed_joints])
+        )
         self.subscription(settings_checks.topic(self.settings), self._joint_state)
-        self.log.info(f"publishing {self.model.name} ({len(self.movable)} joints) from "
-                      f"{self.settings.topic.name} on {TF_TOPIC}")
+        self.log.info(
+            f"publishing {self.model.name} ({len(self.movable)} joints) from {self.settings.topic.name} on {TF_TOPIC}"
+        )
 
     def _joint_state(self, message) -> None:
         stamp = message.header.stamp if message.header.stamp.sec or message.header.stamp.nanosec else self.stamp()
-        transforms = [transform_message(self.movable[name], joint_transform(self.movable[name], position), stamp)
-                      for name, position in zip(message.name, message.position) if name in self.movable]
+        transforms = [
+            transform_message(self.movable[name], joint_transform(self.movable[name], position), stamp)
+            for name, position in zip(message.name, message.position)
+            if name in self.movable
+        ]
         if transforms:
             self.tf.publish(self.TFMessage(transforms=transforms))

@@ -8,9 +8,9 @@ for DEVICE_LOST_GRACE_S.
 
 import time
 
+from joshua_core.settings import NodeSettings
 from joshua_runtime.drivers.calibration import calibration_for_bus
 from joshua_runtime.drivers.sts3215 import Sts3215Driver
-from joshua_core.settings import NodeSettings
 from joshua_runtime.errors import DeviceError
 from joshua_runtime.nodes import settings_checks
 

@@ -9,9 +9,9 @@ as a read failure. The node adds its own findings: `note` for one publication (a
 """
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
 from joshua_core.servo_topics import DIAGNOSTICS_RATE_HZ, DIAGNOSTICS_TOPIC, FIXED_QOS
 from joshua_core.settings import QosSettings
-
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.qos import qos_profile
 from joshua_runtime.servo_tools.diagnostics import Finding, assess, level, read_failure
@@ -31,8 +31,9 @@ class ServoDiagnostics:
         self.counters: dict[str, int] = {}
         self.condition: Finding | None = None
         self._notes: dict[int, list[Finding]] = {}
-        self.publisher = node.ros.create_publisher(DiagnosticArray, DIAGNOSTICS_TOPIC,
-                                                   qos_profile(QosSettings(**FIXED_QOS)))
+        self.publisher = node.ros.create_publisher(
+            DiagnosticArray, DIAGNOSTICS_TOPIC, qos_profile(QosSettings(**FIXED_QOS))
+        )
         self.timer = node.ros.create_timer(1.0 / rate, self.publish)
 
     def note(self, servo_id: int, finding: Finding) -> None:
@@ -71,8 +72,12 @@ class ServoDiagnostics:
         )
         values = {"servo_id": servo_id, "read_failures": self.read_failures[servo_id], **self.counters}
         if reading is not None:
-            values.update(temperature_c=reading.temperature_c, voltage_v=reading.voltage_v,
-                          load_percent=reading.load_percent, position_ticks=reading.position,
-                          errors=", ".join(reading.errors) or "none")
+            values.update(
+                temperature_c=reading.temperature_c,
+                voltage_v=reading.voltage_v,
+                load_percent=reading.load_percent,
+                position_ticks=reading.position,
+                errors=", ".join(reading.errors) or "none",
+            )
         status.values = [KeyValue(key=key, value=str(value)) for key, value in values.items()]
         return status

@@ -14,7 +14,6 @@ The engine does bus I/O only when called; a terminal command and the desktop app
 from dataclasses import dataclass, field
 
 from joshua_core.so100 import SO100_JOINTS
-
 from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, MotorCalibration
 from joshua_runtime.drivers.sts3215_table import BY_NAME, MAX_TICK, TICKS_PER_TURN
 from joshua_runtime.errors import JoshuaError

@@ -48,8 +48,10 @@ def _scan(args) -> int:
         for servo in result.servos:
             print(f"id {servo.id:3d}  {servo.model_name}  {servo.baud_rate} baud  firmware {servo.firmware}")
     for servo_id, baud_rate in result.shared_ids:
-        print(f"joshua-servo: error: two servos share id {servo_id} at {baud_rate} baud (their replies collide)",
-              file=sys.stderr)
+        print(
+            f"joshua-servo: error: two servos share id {servo_id} at {baud_rate} baud (their replies collide)",
+            file=sys.stderr,
+        )
     if result.shared_ids:
         return EXIT_SHARED_ID
     if not result.servos:
@@ -95,7 +97,9 @@ def _status(args) -> int:
 
 
 def _find_port(args) -> int:
-    lister = lambda: find_port.list_devices(args.pattern or find_port.DEVICE_PATTERNS)
+    def lister():
+        return find_port.list_devices(args.pattern or find_port.DEVICE_PATTERNS)
+
     if args.watch is not None:
         print(f"waiting up to {args.watch:g} s for a serial device to appear or vanish...", flush=True)
         change = find_port.watch_for_change(lister, args.watch)

@@ -1,9 +1,9 @@
 """Guards for an actuator's goals, free of ROS: a command watchdog, and clamping that says what it clamped.
 
-    watchdog = CommandWatchdog(timeout_s=0.5)
-    watchdog.feed(now)                        # on every goal received
-    if watchdog.expired(now): stop_actuator() # once per silence; feed() re-arms it
-    ticks, clamped = clamp_goals(calibrations, names, radians)
+watchdog = CommandWatchdog(timeout_s=0.5)
+watchdog.feed(now)                        # on every goal received
+if watchdog.expired(now): stop_actuator() # once per silence; feed() re-arms it
+ticks, clamped = clamp_goals(calibrations, names, radians)
 """
 
 import math

@@ -15,8 +15,10 @@ class PortChange:
     vanished: list[str]
 
     def describe(self) -> str:
-        parts = [f"appeared: {' '.join(self.appeared)}" if self.appeared else "",
-                 f"vanished: {' '.join(self.vanished)}" if self.vanished else ""]
+        parts = [
+            f"appeared: {' '.join(self.appeared)}" if self.appeared else "",
+            f"vanished: {' '.join(self.vanished)}" if self.vanished else "",
+        ]
         return "; ".join(part for part in parts if part) or "no serial device changed"
 
 
@@ -29,9 +31,7 @@ def compare(before: set[str], after: set[str]) -> PortChange:
     return PortChange(appeared=sorted(after - before), vanished=sorted(before - after))
 
 
-def find_port_interactive(
-    lister: Callable[[], set[str]], ask: Callable[[str], str]
-) -> PortChange:
+def find_port_interactive(lister: Callable[[], set[str]], ask: Callable[[str], str]) -> PortChange:
     """Snapshot, ask the user to unplug (or plug) the adapter, snapshot again."""
     before = lister()
     ask("Unplug the servo adapter's USB cable (or plug it in), then press Enter: ")

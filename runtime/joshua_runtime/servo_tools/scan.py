@@ -84,8 +84,9 @@ def _ping_every_id(bus) -> Counter:
 def identify(bus, servo_id: int, baud_rate: int) -> FoundServo:
     """Model number and firmware version of one servo, read in one READ (addresses 0 to 4)."""
     bus.transport.set_baud_rate(baud_rate)
-    major, minor, model = (register(name) for name in ("Firmware_Major_Version", "Firmware_Minor_Version",
-                                                       "Model_Number"))
+    major, minor, model = (
+        register(name) for name in ("Firmware_Major_Version", "Firmware_Minor_Version", "Model_Number")
+    )
     data = bus.read_bytes(servo_id, major.address, model.address + model.size - major.address)
 
     def value(reg):
@@ -102,4 +103,3 @@ def find(bus, servo_id: int, baud_rates=tuple(BAUD_RATE_CODES)) -> FoundServo:
         except NoAnswer:
             continue
     raise NoAnswer(f"{bus.port}: no answer from servo id {servo_id} at any baud rate")
-

@@ -50,10 +50,12 @@ class JointStateSource:
 
     def __init__(self, node, engine: SimulationEngine, group: JointGroup, frame_id: str):
         self.node, self.engine, self.group, self.frame_id = node, engine, group, frame_id
-        limits = np.array([
-            abs(engine.model.actuator_forcerange[a, 1]) if a >= 0 and engine.model.actuator_forcelimited[a] else 0.0
-            for a in group.actuators
-        ])
+        limits = np.array(
+            [
+                abs(engine.model.actuator_forcerange[a, 1]) if a >= 0 and engine.model.actuator_forcelimited[a] else 0.0
+                for a in group.actuators
+            ]
+        )
         self._effort_scale = np.where(limits > 0, 1.0 / np.where(limits > 0, limits, 1.0), 1.0)
 
     def message(self) -> JointState:
@@ -92,8 +94,10 @@ class CalibrationBridge:
         for name in names:
             low, high = engine.model.joint(name).range
             self.names += [name + RANGE_MIN_SUFFIX, name + RANGE_MAX_SUFFIX]
-            self.limits += [float(round(HALF_TURN_TICKS + low / RADIANS_PER_TICK)),
-                            float(round(HALF_TURN_TICKS + high / RADIANS_PER_TICK))]
+            self.limits += [
+                float(round(HALF_TURN_TICKS + low / RADIANS_PER_TICK)),
+                float(round(HALF_TURN_TICKS + high / RADIANS_PER_TICK)),
+            ]
         self.publisher = node.publisher(settings_checks.topic(settings))
         self.timer = node.ros.create_timer(settings_checks.period_s(settings), self.publish)
         if settings.calibration_file:
@@ -117,8 +121,9 @@ class ActuatorBridge:
         self.subscription = node.subscription(topic, self.on_command)
         self.poses = presets.poses({p.name: dict(p.positions) for p in settings.preset})
         self.frozen = False  # after torque_off, until torque_on
-        self.presets = node.ros.create_subscription(String, preset_topic(topic.name), self.on_preset,
-                                                    qos_profile(QosSettings(**FIXED_QOS)))
+        self.presets = node.ros.create_subscription(
+            String, preset_topic(topic.name), self.on_preset, qos_profile(QosSettings(**FIXED_QOS))
+        )
         self.state_publisher = None
         if settings.HasField("state_topic"):
             self.source = JointStateSource(node, engine, self.group, settings.frame_id)
@@ -176,8 +181,9 @@ class CameraBridge:
         if self.compressed:
             msg = CompressedImage()
             msg.format = JPEG_FORMAT
-            ok, encoded = cv2.imencode(".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
-                                       [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+            ok, encoded = cv2.imencode(
+                ".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY]
+            )
             if not ok:
                 return
             msg.data = array.array("B", encoded.tobytes())

@@ -8,8 +8,8 @@ drawn. A camera that cannot keep its rate skips frames instead of queueing them.
 
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import mujoco
 import numpy as np

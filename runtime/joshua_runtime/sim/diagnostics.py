@@ -7,10 +7,10 @@ type and QoS as the real nodes.
 """
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
 from joshua_core.node_types import spec
 from joshua_core.servo_topics import DIAGNOSTICS_RATE_HZ, DIAGNOSTICS_TOPIC, FIXED_QOS
 from joshua_core.settings import NodeSettings, QosSettings
-
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.qos import qos_profile
 from joshua_runtime.sim.engine import SimulationEngine
@@ -26,8 +26,9 @@ class SimulatedDiagnostics:
         self.publisher = None
         if servo_nodes:
             rate = max(s.diagnostics_rate_hz or DIAGNOSTICS_RATE_HZ for s in servo_nodes)
-            self.publisher = node.ros.create_publisher(DiagnosticArray, DIAGNOSTICS_TOPIC,
-                                                       qos_profile(QosSettings(**FIXED_QOS)))
+            self.publisher = node.ros.create_publisher(
+                DiagnosticArray, DIAGNOSTICS_TOPIC, qos_profile(QosSettings(**FIXED_QOS))
+            )
             self.timer = node.ros.create_timer(1.0 / rate, self.publish)
 
     def publish(self) -> None:
@@ -36,7 +37,13 @@ class SimulatedDiagnostics:
         for name, group in self.joints:
             positions = self.engine.read(group).positions
             for joint, position in zip(group.names, positions):
-                message.status.append(DiagnosticStatus(
-                    level=DiagnosticStatus.OK, name=f"{name}: {joint}", hardware_id=HARDWARE_ID,
-                    message="simulated", values=[KeyValue(key="position_rad", value=f"{position:.4f}")]))
+                message.status.append(
+                    DiagnosticStatus(
+                        level=DiagnosticStatus.OK,
+                        name=f"{name}: {joint}",
+                        hardware_id=HARDWARE_ID,
+                        message="simulated",
+                        values=[KeyValue(key="position_rad", value=f"{position:.4f}")],
+                    )
+                )
         self.publisher.publish(message)

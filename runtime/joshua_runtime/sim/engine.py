@@ -33,9 +33,9 @@ class JointGroup:
     """Joints of one simulated node, resolved to MuJoCo addresses once."""
 
     names: tuple[str, ...]
-    qpos: np.ndarray          # qpos address of each joint
-    dof: np.ndarray           # qvel / qfrc address of each joint
-    actuators: np.ndarray     # position actuator of each joint, or -1
+    qpos: np.ndarray  # qpos address of each joint
+    dof: np.ndarray  # qvel / qfrc address of each joint
+    actuators: np.ndarray  # position actuator of each joint, or -1
     ctrl_low: np.ndarray
     ctrl_high: np.ndarray
 

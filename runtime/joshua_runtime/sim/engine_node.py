@@ -64,8 +64,10 @@ class SimulationEngineNode(JoshuaNode):
         """One line on how the run went: real-time factor reached, time dropped, frames rendered."""
         sim_s, wall_s = self.engine.run_stats()
         factor = sim_s / wall_s if wall_s > 0 else 0.0
-        line = (f"stopped: simulated {sim_s:.3f} s in {wall_s:.3f} s (real-time factor {factor:.3f}), "
-                f"{self.engine.dropped_s:.3f} s dropped")
+        line = (
+            f"stopped: simulated {sim_s:.3f} s in {wall_s:.3f} s (real-time factor {factor:.3f}), "
+            f"{self.engine.dropped_s:.3f} s dropped"
+        )
         for bridge in self.bridges:
             stream = getattr(bridge, "stream", None)
             if stream is not None:

@@ -70,5 +70,5 @@ def render_failure(backend: str, exc: BaseException) -> DeviceError:
     other = next(b for b in GL_BACKENDS if b != backend)
     return DeviceError(
         f"offscreen rendering with MUJOCO_GL={backend} failed ({type(exc).__name__}: {exc}); "
-        f"try simulation gl_backend \"{other}\" (Debian packages: {_PACKAGES[other]})"
+        f'try simulation gl_backend "{other}" (Debian packages: {_PACKAGES[other]})'
     )

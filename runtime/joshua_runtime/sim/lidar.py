@@ -35,9 +35,7 @@ def lidar_site(model: mujoco.MjModel, frame_id: str) -> int:
             sid = site_id(model, name)
             if sid >= 0:
                 return sid
-    raise SettingsError(
-        f"simulation model has no site {frame_id!r} or {DEFAULT_SITE!r} to scan the lidar from"
-    )
+    raise SettingsError(f"simulation model has no site {frame_id!r} or {DEFAULT_SITE!r} to scan the lidar from")
 
 
 class PlanarLidar:
@@ -60,8 +58,18 @@ class PlanarLidar:
         rotation = data.site_xmat[self.site].reshape(3, 3)
         directions = (self.local_directions @ rotation.T).ravel()
         mujoco.mj_multiRay(
-            self.model, data, origin, directions, RAY_GEOM_GROUPS, 1, self.body_exclude,
-            self._geom_ids, self._distances, None, RAYS, RANGE_MAX_M,
+            self.model,
+            data,
+            origin,
+            directions,
+            RAY_GEOM_GROUPS,
+            1,
+            self.body_exclude,
+            self._geom_ids,
+            self._distances,
+            None,
+            RAYS,
+            RANGE_MAX_M,
         )
         ranges = self._distances.copy()
         valid = (ranges >= RANGE_MIN_M) & (ranges <= RANGE_MAX_M)

@@ -18,7 +18,7 @@ def model_path(spec: str) -> Path:
     if not spec:
         raise SettingsError("simulation model is not set (use builtin:so100 or an MJCF path)")
     if spec.startswith(BUILTIN_PREFIX):
-        name = spec[len(BUILTIN_PREFIX):]
+        name = spec[len(BUILTIN_PREFIX) :]
         if name not in BUILTIN_MODEL_FILES:
             known = ", ".join(BUILTIN_PREFIX + n for n in sorted(BUILTIN_MODEL_FILES))
             raise SettingsError(f"unknown built-in simulation model {spec!r} (known: {known})")
@@ -48,17 +48,15 @@ def joint_id(model: mujoco.MjModel, name: str) -> int:
     """Id of the hinge or slide joint called `name`, or a SettingsError naming the known joints."""
     jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
     if jid < 0 or int(model.jnt_type[jid]) not in _MOVABLE_JOINT_TYPES:
-        raise SettingsError(f"simulation model has no hinge or slide joint {name!r} (joints: {', '.join(joint_names(model))})")
+        raise SettingsError(
+            f"simulation model has no hinge or slide joint {name!r} (joints: {', '.join(joint_names(model))})"
+        )
     return jid
 
 
 def joint_names(model: mujoco.MjModel) -> list[str]:
     """Names of the model's hinge and slide joints, in model order."""
-    return [
-        model.joint(j).name
-        for j in range(model.njnt)
-        if int(model.jnt_type[j]) in _MOVABLE_JOINT_TYPES
-    ]
+    return [model.joint(j).name for j in range(model.njnt) if int(model.jnt_type[j]) in _MOVABLE_JOINT_TYPES]
 
 
 def position_actuator(model: mujoco.MjModel, jid: int) -> int:

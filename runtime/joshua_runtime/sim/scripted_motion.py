@@ -17,21 +17,21 @@ import time
 
 from sensor_msgs.msg import JointState
 
+from joshua_core.settings import NodeSettings, QosSettings, TopicSettings
+from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode, run
 from joshua_runtime.nodes import settings_checks
-from joshua_core.settings import NodeSettings, QosSettings, TopicSettings
-from joshua_core.so100 import SO100_JOINTS
 
 # (seconds to get there from the previous pose, pose in SO100_JOINTS order, radians).
 # The loop starts and ends at home (upper arm up, forearm forward), the simulated arm's initial pose.
 KEYFRAMES = (
-    (2.0, (0.24, 0.55, -0.90, 1.54, 0.0, 0.9)),      # over the cube, gripper open
-    (1.5, (0.24, 0.93, -0.90, 1.54, 0.0, 0.9)),      # lower around the cube
-    (1.0, (0.24, 0.93, -0.90, 1.54, 0.0, -0.1)),     # close the gripper
-    (2.0, (0.24, 0.45, -0.90, 1.54, 0.0, -0.1)),     # lift
-    (2.5, (-0.6, 0.3, 0.2, 0.6, 1.5, 0.5)),          # swing away and roll the wrist
-    (2.0, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)),           # home
+    (2.0, (0.24, 0.55, -0.90, 1.54, 0.0, 0.9)),  # over the cube, gripper open
+    (1.5, (0.24, 0.93, -0.90, 1.54, 0.0, 0.9)),  # lower around the cube
+    (1.0, (0.24, 0.93, -0.90, 1.54, 0.0, -0.1)),  # close the gripper
+    (2.0, (0.24, 0.45, -0.90, 1.54, 0.0, -0.1)),  # lift
+    (2.5, (-0.6, 0.3, 0.2, 0.6, 1.5, 0.5)),  # swing away and roll the wrist
+    (2.0, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)),  # home
 )
 CYCLE_S = sum(duration for duration, _ in KEYFRAMES)
 DEFAULT_RATE_HZ = 50.0
@@ -73,8 +73,10 @@ class ScriptedMotionNode(JoshuaNode):
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m joshua_runtime.sim.scripted_motion",
-                                     description="Publish a looping SO-100 demo motion as JointState commands.")
+    parser = argparse.ArgumentParser(
+        prog="python -m joshua_runtime.sim.scripted_motion",
+        description="Publish a looping SO-100 demo motion as JointState commands.",
+    )
     parser.add_argument("--topic", required=True, help="command topic of the (simulated) actuator")
     parser.add_argument("--rate-hz", type=float, default=DEFAULT_RATE_HZ, help="publication rate")
     parser.add_argument("--joint-names", default="", help="comma-separated subset/order of the SO-100 joints")
@@ -83,7 +85,9 @@ def main(argv: list[str] | None = None) -> int:
     if not args.rate_hz > 0:
         parser.error(f"--rate-hz must be positive, got {args.rate_hz}")
     settings = NodeSettings(
-        name=args.name, rate_hz=args.rate_hz, joint_names=[n for n in args.joint_names.split(",") if n],
+        name=args.name,
+        rate_hz=args.rate_hz,
+        joint_names=[n for n in args.joint_names.split(",") if n],
         topic=TopicSettings(name=args.topic, message_type="sensor_msgs/msg/JointState", qos=QosSettings(**DEFAULT_QOS)),
     )
     return run(ScriptedMotionNode, settings)

@@ -12,8 +12,8 @@ import os
 import select
 import signal
 import sys
-import threading
 import termios
+import threading
 import tty
 
 from joshua_runtime.teleop.mapping import KeyboardTeleop, joy_velocity
@@ -26,8 +26,9 @@ SPIN_SLICE_S = 0.02
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="joshua-teleop", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        prog="joshua-teleop", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--topic", default="/cmd_vel", help="Twist topic of the base")
     parser.add_argument("--joy", default="", help="read sensor_msgs/msg/Joy from this topic instead of keys")
     parser.add_argument("--max-linear", type=float, default=0.2, help="top linear speed, m/s")
@@ -44,7 +45,7 @@ def split_keys(data: str) -> list[str]:
     keys, i = [], 0
     while i < len(data):
         if data.startswith("\x1b[", i) and i + 2 < len(data):
-            keys.append(data[i:i + 3])
+            keys.append(data[i : i + 3])
             i += 3
         else:
             keys.append(data[i])
@@ -83,8 +84,15 @@ def main(argv: list[str] | None = None) -> int:
         publisher.publish(msg)
 
     def on_joy(msg) -> None:
-        state["velocity"] = joy_velocity(msg.axes, msg.buttons, args.max_linear, args.max_angular,
-                                         args.linear_axis, args.angular_axis, args.enable_button)
+        state["velocity"] = joy_velocity(
+            msg.axes,
+            msg.buttons,
+            args.max_linear,
+            args.max_angular,
+            args.linear_axis,
+            args.angular_axis,
+            args.enable_button,
+        )
 
     if args.joy:
         node.create_subscription(Joy, args.joy, on_joy, 10)
@@ -104,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
             for key in split_keys(data):
                 teleop.press(key)
             state["velocity"] = teleop.velocity()
-            print("joshua-teleop: linear %.2f m/s, angular %.2f rad/s\r" % state["velocity"], flush=True)
+            print("joshua-teleop: linear {:.2f} m/s, angular {:.2f} rad/s\r".format(*state["velocity"]), flush=True)
     finally:
         if saved is not None:
             termios.tcsetattr(keyboard, termios.TCSADRAIN, saved)

@@ -12,10 +12,20 @@ from dataclasses import dataclass
 
 # Each motion key: (share of the top linear speed, share of the top angular speed).
 MOTIONS = {
-    "w": (1, 0), "s": (-1, 0), "a": (0, 1), "d": (0, -1),
-    "q": (1, 1), "e": (1, -1), "z": (-1, -1), "c": (-1, 1),
-    "\x1b[A": (1, 0), "\x1b[B": (-1, 0), "\x1b[D": (0, 1), "\x1b[C": (0, -1),
-    " ": (0, 0), "x": (0, 0),
+    "w": (1, 0),
+    "s": (-1, 0),
+    "a": (0, 1),
+    "d": (0, -1),
+    "q": (1, 1),
+    "e": (1, -1),
+    "z": (-1, -1),
+    "c": (-1, 1),
+    "\x1b[A": (1, 0),
+    "\x1b[B": (-1, 0),
+    "\x1b[D": (0, 1),
+    "\x1b[C": (0, -1),
+    " ": (0, 0),
+    "x": (0, 0),
 }
 SPEED_STEP = 1.1
 DEADZONE = 0.05
@@ -46,8 +56,15 @@ class KeyboardTeleop:
         return self.linear_share * self.max_linear, self.angular_share * self.max_angular
 
 
-def joy_velocity(axes, buttons, max_linear: float, max_angular: float, linear_axis: int = 1,
-                 angular_axis: int = 0, enable_button: int = -1) -> tuple[float, float]:
+def joy_velocity(
+    axes,
+    buttons,
+    max_linear: float,
+    max_angular: float,
+    linear_axis: int = 1,
+    angular_axis: int = 0,
+    enable_button: int = -1,
+) -> tuple[float, float]:
     """The velocity of a Joy message's sticks; zero while the enable button (when one is set) is released."""
     if enable_button >= 0 and (enable_button >= len(buttons) or not buttons[enable_button]):
         return 0.0, 0.0

@@ -16,8 +16,7 @@ ECHO_ARRAY_LIMIT = 128
 def to_plain(message, array_limit: int | None = ECHO_ARRAY_LIMIT):
     """A message as nested dicts, lists and scalars (field order kept)."""
     if hasattr(message, "get_fields_and_field_types"):
-        return {field: to_plain(getattr(message, field), array_limit)
-                for field in message.get_fields_and_field_types()}
+        return {field: to_plain(getattr(message, field), array_limit) for field in message.get_fields_and_field_types()}
     if isinstance(message, (list, tuple, array.array, numpy.ndarray)):
         if array_limit is not None and len(message) > array_limit:
             return f"<sequence, length: {len(message)}>"
@@ -31,8 +30,10 @@ def to_plain(message, array_limit: int | None = ECHO_ARRAY_LIMIT):
 
 def to_yaml(message, array_limit: int | None = ECHO_ARRAY_LIMIT) -> str:
     """YAML text of a message, fields in definition order, ending with the `---` separator."""
-    return yaml.safe_dump(to_plain(message, array_limit), sort_keys=False, default_flow_style=False,
-                          allow_unicode=True) + "---\n"
+    return (
+        yaml.safe_dump(to_plain(message, array_limit), sort_keys=False, default_flow_style=False, allow_unicode=True)
+        + "---\n"
+    )
 
 
 def from_yaml(message_class, text: str):

@@ -58,13 +58,18 @@ def _parser() -> argparse.ArgumentParser:
     pub = sub.add_parser("pub", help="publish a message given as YAML")
     pub.add_argument("topic")
     pub.add_argument("type", help="message type, e.g. std_msgs/msg/String")
-    pub.add_argument("values", nargs="?", default="{}", help="field values as YAML, e.g. \"{data: hi}\"")
+    pub.add_argument("values", nargs="?", default="{}", help='field values as YAML, e.g. "{data: hi}"')
     pub.add_argument("-r", "--rate", type=float, default=1.0, help="messages per second (default %(default)s)")
     pub.add_argument("-1", "--once", action="store_true", help="publish one message, then exit")
     pub.add_argument("-t", "--times", type=int, help="publish this many messages, then exit")
     pub.add_argument("--transient-local", action="store_true", help="keep the last message for late subscribers")
-    pub.add_argument("--wait-matching", type=float, default=PUB_MATCH_WAIT_S, metavar="S",
-                     help="with --once/--times, seconds to wait for a subscriber first (default %(default)s)")
+    pub.add_argument(
+        "--wait-matching",
+        type=float,
+        default=PUB_MATCH_WAIT_S,
+        metavar="S",
+        help="with --once/--times, seconds to wait for a subscriber first (default %(default)s)",
+    )
     return parser
 
 
@@ -89,7 +94,9 @@ def main(argv: list[str] | None = None) -> int:
 
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=domain, signal_handler_options=SignalHandlerOptions.NO)
-    node = rclpy.create_node(f"joshua_topic_{args.command}_{os.getpid()}", context=context, start_parameter_services=False)
+    node = rclpy.create_node(
+        f"joshua_topic_{args.command}_{os.getpid()}", context=context, start_parameter_services=False
+    )
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
     try:
@@ -147,7 +154,9 @@ def _info(node, executor, args) -> int:
     discover(executor, INFO_SETTLE_S)
     types = dict(node.get_topic_names_and_types())[args.topic]
     publishers = node.get_publishers_info_by_topic(args.topic)
-    subscriptions = [info for info in node.get_subscriptions_info_by_topic(args.topic) if info.node_name != node.get_name()]
+    subscriptions = [
+        info for info in node.get_subscriptions_info_by_topic(args.topic) if info.node_name != node.get_name()
+    ]
     print(f"Type: {', '.join(types)}")
     print(f"Publisher count: {len(publishers)}")
     for info in publishers:
@@ -201,8 +210,10 @@ def _rate_report(arrivals: list[float]) -> str:
     gaps = [later - earlier for earlier, later in itertools.pairwise(arrivals)]
     mean = sum(gaps) / len(gaps)
     deviation = math.sqrt(sum((gap - mean) ** 2 for gap in gaps) / len(gaps))
-    return (f"average rate: {1.0 / mean:.3f}\n"
-            f"\tmin: {min(gaps):.3f}s max: {max(gaps):.3f}s std dev: {deviation:.5f}s window: {len(arrivals)}")
+    return (
+        f"average rate: {1.0 / mean:.3f}\n"
+        f"\tmin: {min(gaps):.3f}s max: {max(gaps):.3f}s std dev: {deviation:.5f}s window: {len(arrivals)}"
+    )
 
 
 def _pub(node, executor, args) -> None:
@@ -213,8 +224,9 @@ def _pub(node, executor, args) -> None:
 
     message = from_yaml(message_class(args.type), args.values)
     durability = DurabilityPolicy.TRANSIENT_LOCAL if args.transient_local else DurabilityPolicy.VOLATILE
-    publisher = node.create_publisher(type(message), args.topic,
-                                      QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=durability))
+    publisher = node.create_publisher(
+        type(message), args.topic, QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=durability)
+    )
     times = 1 if args.once else args.times
     if times is not None:
         deadline = time.monotonic() + args.wait_matching

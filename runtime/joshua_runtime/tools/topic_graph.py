@@ -24,8 +24,9 @@ def wait_for_topic(node, executor, topic: str, timeout_s: float) -> list[str]:
         if types:
             return types
         if time.monotonic() >= deadline:
-            raise TopicNotFound(f"topic {topic} does not appear in ROS domain {node_domain(node)} "
-                                f"within {timeout_s:g} s")
+            raise TopicNotFound(
+                f"topic {topic} does not appear in ROS domain {node_domain(node)} within {timeout_s:g} s"
+            )
         executor.spin_once(timeout_sec=GRAPH_POLL_S)
 
 
@@ -45,9 +46,11 @@ def subscription_qos(publishers) -> QoSProfile:
     profiles = [info.qos_profile for info in publishers]
     reliable = bool(profiles) and all(p.reliability == ReliabilityPolicy.RELIABLE for p in profiles)
     latched = bool(profiles) and all(p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in profiles)
-    return QoSProfile(depth=SUBSCRIBE_DEPTH,
-                      reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-                      durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+    return QoSProfile(
+        depth=SUBSCRIBE_DEPTH,
+        reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
+    )
 
 
 def describe_endpoint(info) -> str:

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
+from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.ai import model_files
 from joshua_runtime.errors import SettingsError
-from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.train import arm, envs, saved_policy
 
 
@@ -22,7 +22,7 @@ from joshua_runtime.train import arm, envs, saved_policy
 class Actor:
     """What a rollout needs: the action function, a reset between episodes, options of the environment."""
 
-    make_act: Callable                       # unwrapped env -> (observation -> action)
+    make_act: Callable  # unwrapped env -> (observation -> action)
     env_kwargs: dict = field(default_factory=dict)
     reset: Callable[[], None] | None = None
     close: Callable[[], None] = lambda: None
@@ -53,6 +53,7 @@ def goal_actor(goal_angles: Callable[[np.ndarray, np.ndarray], np.ndarray], env_
             state = view.state()
             goals = goal_angles(state, view.image())[: len(arm.ARM_JOINTS)]
             return np.clip((goals - state[: len(arm.ARM_JOINTS)]) / arm.MAX_DELTA_RAD, -1.0, 1.0)
+
         return act
 
     return Actor(make_act=make_act, env_kwargs=env_kwargs, close=lambda: [v.close() for v in views])
@@ -66,6 +67,7 @@ def demonstration_goal_kwargs() -> dict:
 
 def zeros_actor() -> Actor:
     """Sends goal angle 0 to every joint: the arm goes back to its home pose (the baseline of imitation)."""
+
     def act(observation):
         angles = observation[: len(arm.ARM_JOINTS)]
         return np.clip(-angles / arm.MAX_DELTA_RAD, -1.0, 1.0)
@@ -105,5 +107,7 @@ def load_actor(directory: str | Path, env_id: str) -> Actor:
             raise SettingsError(f"the policy in {directory} was trained on {metadata.get('env')}, not {env_id}")
         return ppo_actor(path)
     if env_id != envs.REACH:
-        raise SettingsError(f"LeRobot policies are evaluated on {envs.REACH} only (their demonstrations reach a fixed goal)")
+        raise SettingsError(
+            f"LeRobot policies are evaluated on {envs.REACH} only (their demonstrations reach a fixed goal)"
+        )
     return lerobot_actor(model_files.policy_directory(path))

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from joshua_runtime.sim.model import load_model, site_id
 from joshua_core.so100 import SO100_RANGES
+from joshua_runtime.sim.model import load_model, site_id
 
 MODEL = "builtin:so100"
 GRASP_SITE = "grasp"

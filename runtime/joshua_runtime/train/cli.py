@@ -31,15 +31,25 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     rl = sub.add_parser("rl", help="train PPO on a simulated task")
     rl.add_argument("--env", required=True, help=env_help)
-    rl.add_argument("--steps", type=int, required=True, help="environment steps in total (a resumed run continues to N)")
+    rl.add_argument(
+        "--steps", type=int, required=True, help="environment steps in total (a resumed run continues to N)"
+    )
     rl.add_argument("--output", required=True, help="run directory: checkpoints, policy.zip, joshua_policy.json")
     rl.add_argument("--seed", type=int, default=0)
     rl.add_argument("--checkpoint-every", type=int, default=DEFAULT_CHECKPOINT_EVERY, help="steps between checkpoints")
     rl.add_argument("--eval-episodes", type=int, default=DEFAULT_EVAL_EPISODES, help="episodes of the final evaluation")
-    rl.add_argument("--vec-env", choices=("dummy", "subproc"), default="dummy",
-                    help="environments in this process (dummy) or one process each (subproc)")
-    rl.add_argument("--backend", choices=("mujoco", "mjx"), default="mujoco",
-                    help="C MuJoCo, or MuJoCo-XLA worlds (so100_reach; for GPUs; extra `mjx`)")
+    rl.add_argument(
+        "--vec-env",
+        choices=("dummy", "subproc"),
+        default="dummy",
+        help="environments in this process (dummy) or one process each (subproc)",
+    )
+    rl.add_argument(
+        "--backend",
+        choices=("mujoco", "mjx"),
+        default="mujoco",
+        help="C MuJoCo, or MuJoCo-XLA worlds (so100_reach; for GPUs; extra `mjx`)",
+    )
     rl.add_argument("--n-envs", type=int, default=4, help="environments (MJX: worlds) stepped together")
     rl.add_argument("--no-progress", action="store_true", help="no progress bar")
     imitation = sub.add_parser("imitation", help="train a LeRobot policy on a recorded dataset")
@@ -49,15 +59,22 @@ def _parser() -> argparse.ArgumentParser:
     imitation.add_argument("--output", required=True, help="new directory for LeRobot's output")
     imitation.add_argument("--seed", type=int, default=0)
     imitation.add_argument("--batch-size", type=int, default=8)
-    imitation.add_argument("--eval-episodes", type=int, default=0,
-                           help="evaluate on so100_reach afterwards (for demonstrations made by `demonstrate`)")
+    imitation.add_argument(
+        "--eval-episodes",
+        type=int,
+        default=0,
+        help="evaluate on so100_reach afterwards (for demonstrations made by `demonstrate`)",
+    )
     evaluate = sub.add_parser("evaluate", help="roll a policy out in simulation")
     evaluate.add_argument("directory", nargs="?", help="policy directory (joshua-train rl output or a LeRobot policy)")
     evaluate.add_argument("--env", required=True, help=env_help)
     evaluate.add_argument("--episodes", type=int, required=True)
     evaluate.add_argument("--random", action="store_true", help="uniform random actions (the baseline)")
-    evaluate.add_argument("--zeros", action="store_true",
-                          help="goal angle 0 for every joint, on the demonstrations' goal (the imitation baseline)")
+    evaluate.add_argument(
+        "--zeros",
+        action="store_true",
+        help="goal angle 0 for every joint, on the demonstrations' goal (the imitation baseline)",
+    )
     evaluate.add_argument("--json", action="store_true", help="print the result as JSON")
     demonstrate = sub.add_parser("demonstrate", help="record scripted so100_reach demonstrations as a LeRobot dataset")
     demonstrate.add_argument("--output", required=True, help="dataset directory (appended to when it exists)")
@@ -87,9 +104,18 @@ def _rl(args) -> None:
     if args.n_envs < 1:
         raise SettingsError(f"--n-envs must be positive, got {args.n_envs}")
     settings = ppo.PpoSettings(n_envs=args.n_envs)
-    metadata = ppo.train(args.env, args.steps, Path(args.output), args.seed, args.checkpoint_every,
-                         args.eval_episodes, args.vec_env, settings, progress=not args.no_progress,
-                         backend=args.backend)
+    metadata = ppo.train(
+        args.env,
+        args.steps,
+        Path(args.output),
+        args.seed,
+        args.checkpoint_every,
+        args.eval_episodes,
+        args.vec_env,
+        settings,
+        progress=not args.no_progress,
+        backend=args.backend,
+    )
     print(f"saved PPO policy for {args.env} after {metadata['steps']} steps in {args.output}")
     if metadata["evaluation"]:
         print(summary(metadata["evaluation"]))
@@ -100,8 +126,9 @@ def _imitation(args) -> None:
     from joshua_runtime.train.envs import REACH
     from joshua_runtime.train.evaluation import summary
 
-    pretrained = imitation.train(Path(args.dataset), args.policy, args.steps, Path(args.output), args.seed,
-                                 args.batch_size)
+    pretrained = imitation.train(
+        Path(args.dataset), args.policy, args.steps, Path(args.output), args.seed, args.batch_size
+    )
     print(f"saved {args.policy} policy in {pretrained}")
     if args.eval_episodes > 0:
         result = run_evaluation(pretrained, REACH, args.eval_episodes)

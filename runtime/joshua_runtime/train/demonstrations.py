@@ -14,13 +14,13 @@ import numpy as np
 
 from joshua_core.node_types import IMAGE_TYPES
 from joshua_core.settings import TopicSettings
+from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler
 from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.sim.scripted_motion import KEYFRAMES
-from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.train import arm, reach_env
 from joshua_runtime.train.arm_view import ACTION_TOPIC, CAMERA_TOPIC, STATE_TOPIC, ArmView
 
@@ -56,8 +56,10 @@ def record(output: Path, episodes: int, seed: int = 0, echo=print) -> Path:
     output = Path(output).expanduser()
     if output.exists() and not (output / "meta" / "info.json").is_file():
         raise SettingsError(f"output {output} exists and is not a LeRobot dataset; choose another directory")
-    inputs = [TopicSettings(name=STATE_TOPIC, message_type=keys.JOINT_STATE),
-              TopicSettings(name=CAMERA_TOPIC, message_type=IMAGE)]
+    inputs = [
+        TopicSettings(name=STATE_TOPIC, message_type=keys.JOINT_STATE),
+        TopicSettings(name=CAMERA_TOPIC, message_type=IMAGE),
+    ]
     sampler = FrameSampler(ACTION_TOPIC, inputs, use_videos=False)
     writer = EpisodeWriter(str(output), FPS, ROBOT_TYPE, use_videos=False, log=_Log(echo))
     env = reach_env.So100ReachEnv(goal=DEMONSTRATION_GOAL)

@@ -10,8 +10,14 @@ from joshua_runtime.train import envs
 EVALUATION_SEED = 10_000
 
 
-def evaluate(make_act: Callable, env_id: str, episodes: int, env_kwargs: dict | None = None,
-             seed: int = EVALUATION_SEED, reset: Callable[[], None] | None = None) -> dict:
+def evaluate(
+    make_act: Callable,
+    env_id: str,
+    episodes: int,
+    env_kwargs: dict | None = None,
+    seed: int = EVALUATION_SEED,
+    reset: Callable[[], None] | None = None,
+) -> dict:
     """Run `episodes` episodes with `make_act(unwrapped env)`, a function `observation -> action`
     (or None: uniform random actions).
 
@@ -51,5 +57,7 @@ def evaluate(make_act: Callable, env_id: str, episodes: int, env_kwargs: dict | 
 
 def summary(result: dict) -> str:
     """One readable line of an evaluation result."""
-    return (f"{result['env']}: success rate {result['success_rate']:.2f} over {result['episodes']} episodes, "
-            f"mean return {result['mean_return']:.2f}, mean final distance {result['mean_final_distance']:.3f} m")
+    return (
+        f"{result['env']}: success rate {result['success_rate']:.2f} over {result['episodes']} episodes, "
+        f"mean return {result['mean_return']:.2f}, mean final distance {result['mean_final_distance']:.3f} m"
+    )

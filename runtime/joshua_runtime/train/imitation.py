@@ -18,12 +18,25 @@ TORCH_THREADS = 1
 PRETRAINED_SUBDIRECTORY = Path("checkpoints/last/pretrained_model")
 # Sizes that train in minutes on a CPU and still fit small demonstration datasets.
 ACT_SIZES = {
-    "dim_model": 64, "n_heads": 2, "dim_feedforward": 128, "n_encoder_layers": 1, "n_decoder_layers": 1,
-    "use_vae": False, "chunk_size": 10, "n_action_steps": 1, "optimizer_lr": 1e-3, "optimizer_lr_backbone": 1e-4,
+    "dim_model": 64,
+    "n_heads": 2,
+    "dim_feedforward": 128,
+    "n_encoder_layers": 1,
+    "n_decoder_layers": 1,
+    "use_vae": False,
+    "chunk_size": 10,
+    "n_action_steps": 1,
+    "optimizer_lr": 1e-3,
+    "optimizer_lr_backbone": 1e-4,
 }
 DIFFUSION_SIZES = {
-    "down_dims": (32, 64), "diffusion_step_embed_dim": 32, "horizon": 8, "n_action_steps": 1,
-    "spatial_softmax_num_keypoints": 16, "num_inference_steps": 10, "scheduler_warmup_steps": 10,
+    "down_dims": (32, 64),
+    "diffusion_step_embed_dim": 32,
+    "horizon": 8,
+    "n_action_steps": 1,
+    "spatial_softmax_num_keypoints": 16,
+    "num_inference_steps": 10,
+    "scheduler_warmup_steps": 10,
     "optimizer_lr": 1e-3,
 }
 
@@ -63,8 +76,16 @@ def train(dataset: Path, policy: str, steps: int, output: Path, seed: int = 0, b
 
     pipeline = TrainPipelineConfig(
         dataset=DatasetConfig(repo_id=f"local/{dataset.name}", root=str(dataset), video_backend="pyav"),
-        policy=config, output_dir=output, seed=seed, num_workers=0, batch_size=batch_size, steps=steps,
-        eval_freq=0, log_freq=max(steps // 10, 1), save_freq=steps, wandb=WandBConfig(enable=False),
+        policy=config,
+        output_dir=output,
+        seed=seed,
+        num_workers=0,
+        batch_size=batch_size,
+        steps=steps,
+        eval_freq=0,
+        log_freq=max(steps // 10, 1),
+        save_freq=steps,
+        wandb=WandBConfig(enable=False),
     )
     import torch
 
@@ -76,8 +97,15 @@ def train(dataset: Path, policy: str, steps: int, output: Path, seed: int = 0, b
     finally:
         sys.argv = arguments
     pretrained = output / PRETRAINED_SUBDIRECTORY
-    saved_policy.write(pretrained, {
-        "kind": saved_policy.KIND_LEROBOT, "policy_type": policy, "dataset": str(dataset), "steps": steps,
-        "seed": seed, "evaluation": None,
-    })
+    saved_policy.write(
+        pretrained,
+        {
+            "kind": saved_policy.KIND_LEROBOT,
+            "policy_type": policy,
+            "dataset": str(dataset),
+            "steps": steps,
+            "seed": seed,
+            "evaluation": None,
+        },
+    )
     return pretrained

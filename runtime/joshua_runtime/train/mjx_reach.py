@@ -77,8 +77,11 @@ class MjxWorlds:
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(angles, velocities, grasp points) of every world, as numpy arrays."""
-        return (np.asarray(self.data.qpos[:, self.addresses.qpos]), np.asarray(self.data.qvel[:, self.addresses.dof]),
-                np.asarray(self.data.site_xpos[:, self.addresses.grasp]))
+        return (
+            np.asarray(self.data.qpos[:, self.addresses.qpos]),
+            np.asarray(self.data.qvel[:, self.addresses.dof]),
+            np.asarray(self.data.site_xpos[:, self.addresses.grasp]),
+        )
 
 
 def jax_tree_stack(data, count: int):
@@ -111,7 +114,9 @@ class MjxReachVecEnv(VecEnv):
 
     def _observations(self):
         angles, velocities, grasp = self.worlds.read()
-        observations = np.stack([arm.observation(a, v, g, goal) for a, v, g, goal in zip(angles, velocities, grasp, self.goals)])
+        observations = np.stack(
+            [arm.observation(a, v, g, goal) for a, v, g, goal in zip(angles, velocities, grasp, self.goals)]
+        )
         return observations, np.linalg.norm(grasp - self.goals, axis=1)
 
     def step_async(self, actions) -> None:

@@ -26,7 +26,7 @@ class PpoSettings:
     """PPO hyperparameters that learn so100_reach in tens of thousands of steps."""
 
     n_envs: int = 4
-    n_steps: int = 256           # per environment and update
+    n_steps: int = 256  # per environment and update
     batch_size: int = 256
     n_epochs: int = 10
     learning_rate: float = 1e-3
@@ -64,13 +64,24 @@ def _check_output(output: Path, env_id: str) -> dict | None:
     if metadata["kind"] != saved_policy.KIND_PPO or metadata.get("env") != env_id:
         raise SettingsError(
             f"output {output} holds a {metadata['kind']} run of {metadata.get('env') or metadata.get('dataset')}, "
-            f"not PPO on {env_id}; choose another directory")
+            f"not PPO on {env_id}; choose another directory"
+        )
     return metadata
 
 
-def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every: int = 10_000,
-          eval_episodes: int = 20, vec_env: str = "dummy", settings: PpoSettings = PpoSettings(),
-          progress: bool = True, log=print, backend: str = "mujoco") -> dict:
+def train(
+    env_id: str,
+    steps: int,
+    output: Path,
+    seed: int = 0,
+    checkpoint_every: int = 10_000,
+    eval_episodes: int = 20,
+    vec_env: str = "dummy",
+    settings: PpoSettings = PpoSettings(),
+    progress: bool = True,
+    log=print,
+    backend: str = "mujoco",
+) -> dict:
     """Train (or continue training) PPO up to `steps` environment steps; return the saved metadata."""
     envs.check_env_id(env_id)
     if steps < 1:
@@ -95,23 +106,37 @@ def train(env_id: str, steps: int, output: Path, seed: int = 0, checkpoint_every
             output.mkdir(parents=True, exist_ok=True)
             saved_policy.write(output, _metadata(env_id, 0, seed, None))
             model = PPO(
-                "MlpPolicy", environments, n_steps=settings.n_steps, batch_size=settings.batch_size,
-                n_epochs=settings.n_epochs, learning_rate=settings.learning_rate, gamma=settings.gamma,
-                gae_lambda=settings.gae_lambda, policy_kwargs={"net_arch": list(settings.net_arch)},
-                seed=seed, device="cpu", verbose=0,
+                "MlpPolicy",
+                environments,
+                n_steps=settings.n_steps,
+                batch_size=settings.batch_size,
+                n_epochs=settings.n_epochs,
+                learning_rate=settings.learning_rate,
+                gamma=settings.gamma,
+                gae_lambda=settings.gae_lambda,
+                policy_kwargs={"net_arch": list(settings.net_arch)},
+                seed=seed,
+                device="cpu",
+                verbose=0,
             )
         remaining = steps - model.num_timesteps
         if remaining > 0:
             checkpoints = CheckpointCallback(
                 save_freq=max(checkpoint_every // settings.n_envs, 1),
-                save_path=str(output / CHECKPOINT_DIR), name_prefix=CHECKPOINT_PREFIX)
-            model.learn(total_timesteps=remaining, callback=checkpoints, reset_num_timesteps=False,
-                        progress_bar=progress)
+                save_path=str(output / CHECKPOINT_DIR),
+                name_prefix=CHECKPOINT_PREFIX,
+            )
+            model.learn(
+                total_timesteps=remaining, callback=checkpoints, reset_num_timesteps=False, progress_bar=progress
+            )
         model.save(output / saved_policy.PPO_FILE)
     finally:
         environments.close()
-    result = evaluate(lambda env: lambda obs: model.predict(obs, deterministic=True)[0], env_id, eval_episodes) \
-        if eval_episodes > 0 else None
+    result = (
+        evaluate(lambda env: lambda obs: model.predict(obs, deterministic=True)[0], env_id, eval_episodes)
+        if eval_episodes > 0
+        else None
+    )
     metadata = _metadata(env_id, int(model.num_timesteps), seed, result)
     saved_policy.write(output, metadata)
     return metadata
@@ -126,9 +151,10 @@ def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: st
         if env_id != envs.REACH:
             raise SettingsError(f"--backend mjx runs {envs.REACH} only")
         try:
-            from joshua_runtime.train.mjx_reach import MjxReachVecEnv
             import jax  # noqa: F401
             from mujoco import mjx  # noqa: F401
+
+            from joshua_runtime.train.mjx_reach import MjxReachVecEnv
         except ImportError as exc:
             raise SettingsError(f"--backend mjx needs the `mjx` extra (mujoco-mjx, jax): {exc}") from exc
         return VecMonitor(MjxReachVecEnv(n_envs, seed))
@@ -142,8 +168,13 @@ def _metadata(env_id: str, steps: int, seed: int, evaluation: dict | None) -> di
     from joshua_runtime.train import arm, reach_env
 
     metadata = {
-        "kind": saved_policy.KIND_PPO, "env": env_id, "steps": steps, "seed": seed, "evaluation": evaluation,
-        "joint_names": list(arm.ARM_JOINTS), "observation": env_id,
+        "kind": saved_policy.KIND_PPO,
+        "env": env_id,
+        "steps": steps,
+        "seed": seed,
+        "evaluation": evaluation,
+        "joint_names": list(arm.ARM_JOINTS),
+        "observation": env_id,
     }
     if env_id == envs.REACH:
         metadata["goal"] = [round(float(v), 4) for v in reach_env.SERVING_GOAL]

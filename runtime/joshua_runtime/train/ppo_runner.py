@@ -29,7 +29,9 @@ class PpoRunner:
 
         metadata = saved_policy.read(policy_dir) or {}
         if metadata.get("env") != envs.REACH:
-            raise SettingsError(f"only {envs.REACH} PPO policies can be served, {policy_dir} is for {metadata.get('env')}")
+            raise SettingsError(
+                f"only {envs.REACH} PPO policies can be served, {policy_dir} is for {metadata.get('env')}"
+            )
         goal = metadata.get("goal")
         if not (isinstance(goal, list) and len(goal) == 3):
             raise SettingsError(f"{policy_dir / saved_policy.METADATA_FILE} has no goal [x, y, z]")
@@ -39,8 +41,10 @@ class PpoRunner:
         self.period_s = 1.0 / rate_hz
         self.device = "cpu"
         self.shapes = PolicyShapes(images={}, state_size=len(arm.ARM_JOINTS), action_size=len(arm.ARM_JOINTS))
-        self.feature_names = {keys.STATE: keys.position_names(list(arm.ARM_JOINTS)),
-                              keys.ACTION: keys.position_names(list(arm.ARM_JOINTS))}
+        self.feature_names = {
+            keys.STATE: keys.position_names(list(arm.ARM_JOINTS)),
+            keys.ACTION: keys.position_names(list(arm.ARM_JOINTS)),
+        }
         self._previous: np.ndarray | None = None
 
     def reset(self) -> None:
@@ -48,7 +52,9 @@ class PpoRunner:
 
     def act(self, observation: dict[str, np.ndarray]) -> np.ndarray:
         positions = np.asarray(observation[keys.STATE], dtype=float)
-        velocities = np.zeros_like(positions) if self._previous is None else (positions - self._previous) / self.period_s
+        velocities = (
+            np.zeros_like(positions) if self._previous is None else (positions - self._previous) / self.period_s
+        )
         self._previous = positions
         vector = arm.observation(positions, velocities, self.kinematics.grasp_point(positions), self.goal)
         action, _ = self.model.predict(vector, deterministic=True)

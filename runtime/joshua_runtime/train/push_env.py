@@ -47,10 +47,12 @@ class So100PushEnv(gym.Env):
         self.data.ctrl[self.addresses.actuators] = start
         self.data.ctrl[self.addresses.held_actuators] = 0.0
         cube_xy = self.np_random.uniform(CUBE_START[:, 0], CUBE_START[:, 1])
-        self.data.qpos[self.cube_qpos:self.cube_qpos + 7] = [*cube_xy, CUBE_HALF_SIZE_M, 1, 0, 0, 0]
+        self.data.qpos[self.cube_qpos : self.cube_qpos + 7] = [*cube_xy, CUBE_HALF_SIZE_M, 1, 0, 0, 0]
         angle = self.np_random.uniform(-np.pi, np.pi)
         offset = self.np_random.uniform(*GOAL_OFFSET_M)
-        self.goal = np.array([cube_xy[0] + offset * np.cos(angle), cube_xy[1] + offset * np.sin(angle), CUBE_HALF_SIZE_M])
+        self.goal = np.array(
+            [cube_xy[0] + offset * np.cos(angle), cube_xy[1] + offset * np.sin(angle), CUBE_HALF_SIZE_M]
+        )
         mujoco.mj_forward(self.model, self.data)
         return self._observation(), {"distance": self._cube_to_goal()}
 
@@ -74,5 +76,6 @@ class So100PushEnv(gym.Env):
 
     def _observation(self) -> np.ndarray:
         reach = arm.observation(
-            self.data.qpos[self.addresses.qpos], self.data.qvel[self.addresses.dof], self._grasp(), self._cube())
+            self.data.qpos[self.addresses.qpos], self.data.qvel[self.addresses.dof], self._grasp(), self._cube()
+        )
         return np.concatenate([reach, self.goal, self.goal - self._cube()]).astype(np.float32)

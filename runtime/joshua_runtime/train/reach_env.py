@@ -76,7 +76,8 @@ class So100ReachEnv(gym.Env):
 
     def _observation(self) -> np.ndarray:
         return arm.observation(
-            self.data.qpos[self.addresses.qpos], self.data.qvel[self.addresses.dof], self._grasp(), self.goal)
+            self.data.qpos[self.addresses.qpos], self.data.qvel[self.addresses.dof], self._grasp(), self.goal
+        )
 
 
 # The goal an INFERENCE node serving a reach policy aims at, unless the policy's metadata says

@@ -51,8 +51,9 @@ def mock_camera(name: str, topic_name: str, width: int, height: int, rate_hz: fl
 
 def mock_encoder(name: str, topic_name: str, joints: list[str], rate_hz: float) -> str:
     ids = list(range(1, len(joints) + 1))
-    return node_block(name, "MOCK_ENCODER_PUBLISHER", topic_name=topic_name, joint_names=joints, device_ids=ids,
-                rate_hz=rate_hz)
+    return node_block(
+        name, "MOCK_ENCODER_PUBLISHER", topic_name=topic_name, joint_names=joints, device_ids=ids, rate_hz=rate_hz
+    )
 
 
 def compiled(mode: str, *nodes: str) -> dict[str, dict]:
@@ -66,12 +67,13 @@ class NodeProcess:
     """A node run the way a generated entrypoint runs it, stdout and stderr collected line by line."""
 
     def __init__(self, settings: dict, env: dict):
-        code = (
-            "from joshua_runtime.entrypoint import run_node; import sys; "
-            f"sys.exit(run_node({settings!r}))"
-        )
+        code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({settings!r}))"
         self.process = subprocess.Popen(
-            [sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            [sys.executable, "-c", code],
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
         )
         self.lines: list[str] = []
         self._condition = threading.Condition()

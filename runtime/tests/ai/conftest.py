@@ -6,7 +6,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from ai_support import RosPeer
 
 OFFLINE = {"HF_HUB_OFFLINE": "1", "HF_DATASETS_OFFLINE": "1", "TRANSFORMERS_OFFLINE": "1"}

@@ -6,12 +6,19 @@ import time
 
 import numpy as np
 import pytest
-
-from sensor_msgs.msg import Image, JointState
-
 from ai_support import (
-    IMAGE, LINE_TIMEOUT_S, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic,
+    IMAGE,
+    LINE_TIMEOUT_S,
+    RELIABLE,
+    NodeProcess,
+    compiled,
+    mock_camera,
+    mock_encoder,
+    node_block,
+    pattern_image,
+    topic,
 )
+from sensor_msgs.msg import Image, JointState
 
 HEIGHT, WIDTH = 24, 32
 SENSOR_HZ = 30.0
@@ -31,8 +38,16 @@ def save_tiny_diffusion(directory):
     from lerobot.policies.factory import make_pre_post_processors
 
     config = DiffusionConfig(
-        device="cpu", push_to_hub=False, n_obs_steps=2, horizon=8, n_action_steps=2, drop_n_last_frames=5,
-        down_dims=(16, 32), n_groups=4, diffusion_step_embed_dim=16, spatial_softmax_num_keypoints=8,
+        device="cpu",
+        push_to_hub=False,
+        n_obs_steps=2,
+        horizon=8,
+        n_action_steps=2,
+        drop_n_last_frames=5,
+        down_dims=(16, 32),
+        n_groups=4,
+        diffusion_step_embed_dim=16,
+        spatial_softmax_num_keypoints=8,
         num_inference_steps=2,
         input_features={
             "observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, HEIGHT, WIDTH)),
@@ -43,8 +58,12 @@ def save_tiny_diffusion(directory):
 
     def stats(low, high, shape):
         low, high = torch.tensor(low, dtype=torch.float32), torch.tensor(high, dtype=torch.float32)
-        return {"min": low.reshape(shape), "max": high.reshape(shape),
-                "mean": ((low + high) / 2).reshape(shape), "std": ((high - low) / 4).reshape(shape)}
+        return {
+            "min": low.reshape(shape),
+            "max": high.reshape(shape),
+            "mean": ((low + high) / 2).reshape(shape),
+            "std": ((high - low) / 4).reshape(shape),
+        }
 
     dataset_stats = {
         "observation.images.camera": stats([0.0] * 3, [1.0] * 3, (3, 1, 1)),
@@ -68,12 +87,21 @@ def inference_settings(model_path, **fields):
         "MODE_INFERENCE",
         mock_camera("inf_camera", "/inf/camera/image_raw", WIDTH, HEIGHT, SENSOR_HZ),
         mock_encoder("inf_arm", "/inf/arm/state", ["wrist", "gripper"], SENSOR_HZ),
-        node_block("inf_policy", "INFERENCE", topic_name=ACTIONS_TOPIC, model_path=str(model_path),
-                   input_topics=["/inf/camera/image_raw", "/inf/arm/state"], rate_hz=INFERENCE_HZ, **fields),
+        node_block(
+            "inf_policy",
+            "INFERENCE",
+            topic_name=ACTIONS_TOPIC,
+            model_path=str(model_path),
+            input_topics=["/inf/camera/image_raw", "/inf/arm/state"],
+            rate_hz=INFERENCE_HZ,
+            **fields,
+        ),
     )["inf_policy"]
 
 
-def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp_path, ai_env, ros_peer, lerobot_offline):
+def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(
+    tmp_path, ai_env, ros_peer, lerobot_offline
+):
     from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
 
     policy_dir = save_tiny_diffusion(tmp_path / "diffusion")
@@ -89,9 +117,11 @@ def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(tmp
         assert ros_peer.count(ACTIONS_TOPIC) == 0
 
         ros_peer.publish_periodically(
-            "/inf/arm/state", JointState, SENSOR_HZ, lambda: joint_state(["wrist", "gripper"], [0.1, 0.2]))
+            "/inf/arm/state", JointState, SENSOR_HZ, lambda: joint_state(["wrist", "gripper"], [0.1, 0.2])
+        )
         assert ros_peer.spin_until(lambda: ros_peer.count(ACTIONS_TOPIC) >= ACTIONS_TO_CHECK, LINE_TIMEOUT_S), (
-            f"no {ACTIONS_TO_CHECK} actions on {ACTIONS_TOPIC}")
+            f"no {ACTIONS_TO_CHECK} actions on {ACTIONS_TOPIC}"
+        )
         for message in ros_peer.messages(ACTIONS_TOPIC):
             assert list(message.name) == ["wrist", "gripper"]
             position = np.array(message.position)

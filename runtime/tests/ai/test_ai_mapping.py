@@ -24,8 +24,9 @@ def image_message(rgb: np.ndarray, encoding="rgb8", padding=0):
     height, width, depth = channels.shape
     rows = np.zeros((height, width * depth + padding), np.uint8)
     rows[:, : width * depth] = channels.reshape(height, -1)
-    return SimpleNamespace(encoding=encoding, height=height, width=width, step=width * depth + padding,
-                           data=rows.tobytes())
+    return SimpleNamespace(
+        encoding=encoding, height=height, width=width, step=width * depth + padding, data=rows.tobytes()
+    )
 
 
 def joints(names, positions):
@@ -34,8 +35,14 @@ def joints(names, positions):
 
 @pytest.mark.parametrize(
     ("topic_name", "key"),
-    [("/camera/image_raw", "camera"), ("/arm/wrist/image", "arm_wrist"), ("/front", "front"),
-     ("/cam.left/image_rect", "cam_left"), ("/image_raw", "image_raw"), ("/", "image")],
+    [
+        ("/camera/image_raw", "camera"),
+        ("/arm/wrist/image", "arm_wrist"),
+        ("/front", "front"),
+        ("/cam.left/image_rect", "cam_left"),
+        ("/image_raw", "image_raw"),
+        ("/", "image"),
+    ],
 )
 def test_image_topics_map_to_feature_keys(topic_name, key):
     assert features.image_key(topic_name) == key
@@ -45,8 +52,13 @@ def test_image_topics_map_to_feature_keys(topic_name, key):
 def test_inputs_of_other_types_or_same_key_are_refused():
     with pytest.raises(SettingsError, match="input /scan has message type sensor_msgs/msg/LaserScan"):
         features.check_inputs("n", [TopicSettings(name="/scan", message_type="sensor_msgs/msg/LaserScan")])
-    same = [TopicSettings(name="/cam/image_raw", message_type=IMAGE), TopicSettings(name="/cam/image_rect", message_type=IMAGE)]
-    with pytest.raises(SettingsError, match="inputs /cam/image_raw and /cam/image_rect both map to observation.images.cam"):
+    same = [
+        TopicSettings(name="/cam/image_raw", message_type=IMAGE),
+        TopicSettings(name="/cam/image_rect", message_type=IMAGE),
+    ]
+    with pytest.raises(
+        SettingsError, match="inputs /cam/image_raw and /cam/image_rect both map to observation.images.cam"
+    ):
         features.check_inputs("n", same)
 
 
@@ -67,11 +79,17 @@ def test_images_of_every_encoding_become_rgb():
 
 
 def test_frames_follow_the_first_layout_and_read_joints_by_name():
-    inputs = [TopicSettings(name="/cam/image_raw", message_type=IMAGE), TopicSettings(name="/follower", message_type=JOINT_STATE)]
+    inputs = [
+        TopicSettings(name="/cam/image_raw", message_type=IMAGE),
+        TopicSettings(name="/follower", message_type=JOINT_STATE),
+    ]
     sampler = FrameSampler("/leader", inputs, use_videos=True)
     rgb = np.full((4, 6, 3), 9, np.uint8)
-    latest = {"/leader": joints(["a", "b"], [1, 2]), "/follower": joints(["a", "b"], [3, 4]),
-              "/cam/image_raw": image_message(rgb)}
+    latest = {
+        "/leader": joints(["a", "b"], [1, 2]),
+        "/follower": joints(["a", "b"], [3, 4]),
+        "/cam/image_raw": image_message(rgb),
+    }
     frame = sampler.frame(latest.__getitem__)
     assert sampler.features == {
         "action": {"dtype": "float32", "shape": (2,), "names": ["a.pos", "b.pos"]},
@@ -91,18 +109,26 @@ def test_frames_follow_the_first_layout_and_read_joints_by_name():
 
 
 def test_observations_pair_images_and_pick_state_by_joint_name():
-    inputs = [TopicSettings(name="/top/image_raw", message_type=IMAGE), TopicSettings(name="/wrist/image_raw", message_type=IMAGE),
-              TopicSettings(name="/arm", message_type=JOINT_STATE), TopicSettings(name="/gripper", message_type=JOINT_STATE)]
+    inputs = [
+        TopicSettings(name="/top/image_raw", message_type=IMAGE),
+        TopicSettings(name="/wrist/image_raw", message_type=IMAGE),
+        TopicSettings(name="/arm", message_type=JOINT_STATE),
+        TopicSettings(name="/gripper", message_type=JOINT_STATE),
+    ]
     images = {"observation.images.wrist": (3, 4, 6), "observation.images.top": (3, 2, 3)}
     mapper = ObservationMapper("n", inputs, images, 3, ["a.pos", "b.pos", "g.pos"])
     top = np.arange(4 * 6 * 3, dtype=np.uint8).reshape(4, 6, 3)
-    latest = {"/top/image_raw": image_message(top), "/wrist/image_raw": image_message(top),
-              "/arm": joints(["b", "a"], [2, 1]), "/gripper": joints(["g"], [7])}
+    latest = {
+        "/top/image_raw": image_message(top),
+        "/wrist/image_raw": image_message(top),
+        "/arm": joints(["b", "a"], [2, 1]),
+        "/gripper": joints(["g"], [7]),
+    }
     observation = mapper.observation(latest.__getitem__)
     assert observation["observation.state"].tolist() == [1, 2, 7]
     assert np.array_equal(observation["observation.images.wrist"], top)
     assert observation["observation.images.top"].shape == (2, 3, 3)  # resized to the policy's size
-    unnamed = ObservationMapper("n", inputs, images, 3, None)          # no names: input order
+    unnamed = ObservationMapper("n", inputs, images, 3, None)  # no names: input order
     assert unnamed.observation(latest.__getitem__)["observation.state"].tolist() == [2, 1, 7]
     latest["/gripper"] = joints([], [])
     with pytest.raises(ObservationUnavailable, match="give 2 positions, the policy expects 3"):
@@ -138,11 +164,12 @@ def test_staging_shares_immutable_files_and_commits_atomically(tmp_path):
     assert staging == tmp_path / "dataset.staging"
     data = "data/chunk-000/file-000.parquet"
     assert os.path.samefile(staging / data, target / data)
-    assert os.path.samefile(staging / "meta/episodes/chunk-000/file-000.parquet",
-                            target / "meta/episodes/chunk-000/file-000.parquet")
+    assert os.path.samefile(
+        staging / "meta/episodes/chunk-000/file-000.parquet", target / "meta/episodes/chunk-000/file-000.parquet"
+    )
     assert not os.path.samefile(staging / "meta/info.json", target / "meta/info.json")
     assert not (staging / "images").exists()
-    (staging / "meta" / "info.json").write_text("info v2")      # rewritten in place by LeRobot
+    (staging / "meta" / "info.json").write_text("info v2")  # rewritten in place by LeRobot
     assert (target / "meta" / "info.json").read_text() == "info v1"
     write(staging / "images" / "left-over.png", "x")
     staged_directory.commit(target)
@@ -161,7 +188,7 @@ def test_recover_after_a_crash_between_renames(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dataset"]
     empty = tmp_path / "empty"
     empty.mkdir()
-    assert not staged_directory.prepare(empty).exists()      # LeRobot creates the dataset there
+    assert not staged_directory.prepare(empty).exists()  # LeRobot creates the dataset there
     first = tmp_path / "new"
     assert staged_directory.prepare(first) == tmp_path / "new.staging"
     write(tmp_path / "new.staging" / "meta" / "info.json", "first episode")

@@ -5,13 +5,19 @@ import time
 
 import numpy as np
 import pytest
-
+from ai_support import (
+    IMAGE,
+    RELIABLE,
+    NodeProcess,
+    compiled,
+    mock_camera,
+    mock_encoder,
+    node_block,
+    pattern_image,
+    topic,
+)
 from sensor_msgs.msg import Image, JointState
 from std_msgs.msg import String
-
-from ai_support import (
-    IMAGE, RELIABLE, NodeProcess, compiled, mock_camera, mock_encoder, node_block, pattern_image, topic,
-)
 
 RATE_HZ = 10.0
 PUBLISH_HZ = 30.0
@@ -32,11 +38,14 @@ class Sensors:
         self.phase = 0
         self.timers = {
             "leader": peer.publish_periodically(
-                "/rec/leader/joint_states", JointState, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())),
+                "/rec/leader/joint_states", JointState, PUBLISH_HZ, lambda: joint_state(JOINTS, self.action())
+            ),
             "follower": peer.publish_periodically(
-                "/rec/follower/joint_states", JointState, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())),
+                "/rec/follower/joint_states", JointState, PUBLISH_HZ, lambda: joint_state(JOINTS, self.state())
+            ),
             "camera": peer.publish_periodically(
-                "/rec/camera/image_raw", Image, PUBLISH_HZ, lambda: rgb_to_image(self.image())),
+                "/rec/camera/image_raw", Image, PUBLISH_HZ, lambda: rgb_to_image(self.image())
+            ),
         }
 
     def action(self, phase=None):
@@ -63,9 +72,15 @@ def recorder_settings(output, output_format):
         mock_camera("camera", "/rec/camera/image_raw", WIDTH, HEIGHT, PUBLISH_HZ),
         mock_encoder("leader", "/rec/leader/joint_states", JOINTS, PUBLISH_HZ),
         mock_encoder("follower", "/rec/follower/joint_states", JOINTS, PUBLISH_HZ),
-        node_block("ai_recorder", "DATA_SUBSCRIBER", topic_name="/rec/leader/joint_states",
-             input_topics=["/rec/camera/image_raw", "/rec/follower/joint_states"],
-             output_directory=str(output), output_format=output_format, rate_hz=RATE_HZ),
+        node_block(
+            "ai_recorder",
+            "DATA_SUBSCRIBER",
+            topic_name="/rec/leader/joint_states",
+            input_topics=["/rec/camera/image_raw", "/rec/follower/joint_states"],
+            output_directory=str(output),
+            output_format=output_format,
+            rate_hz=RATE_HZ,
+        ),
     )["ai_recorder"]
 
 
@@ -114,7 +129,7 @@ def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, 
     node = NodeProcess(recorder_settings(output, "lerobot"), ai_env)
     try:
         node.wait_for(r"recording 3 topics at 10 fps .*episode commands on /ai_recorder/episode")
-        record_one(node, 0)                                  # episode 0 starts with the node
+        record_one(node, 0)  # episode 0 starts with the node
         mark = node.count()
         send(ros_peer, commands, "stop")
         saved = [int(node.wait_for(r"episode 0 saved: (\d+) frames", after=mark).group(1))]
@@ -137,7 +152,7 @@ def test_episodes_by_command_and_sigint_saves_the_episode_in_progress(tmp_path, 
         mark = node.count()
         send(ros_peer, commands, "start")
         record_one(node, mark)
-        sensors.timers["camera"].cancel()                    # the camera goes silent: frames are skipped
+        sensors.timers["camera"].cancel()  # the camera goes silent: frames are skipped
         node.wait_for(r"frame skipped: /rec/camera/image_raw is stale", after=mark)
         assert node.stop(signal.SIGINT) == 0
         saved.append(int(node.wait_for(r"episode 2 saved: (\d+) frames", after=mark).group(1)))
@@ -175,7 +190,7 @@ def test_sigkill_loses_only_the_episode_in_progress_and_recording_resumes(tmp_pa
         mark = node.count()
         send(ros_peer, commands, "start")
         record_one(node, mark)
-        node.process.kill()                                   # SIGKILL in the middle of episode 1
+        node.process.kill()  # SIGKILL in the middle of episode 1
         assert node.process.wait() == -signal.SIGKILL
     finally:
         node.kill()
@@ -185,7 +200,7 @@ def test_sigkill_loses_only_the_episode_in_progress_and_recording_resumes(tmp_pa
     check_episode(dataset, 0, 0, first, sensors, exact_images=True)
 
     sensors.set_phase(2)
-    node = NodeProcess(recorder_settings(output, "parquet"), ai_env)   # resumes the same dataset
+    node = NodeProcess(recorder_settings(output, "parquet"), ai_env)  # resumes the same dataset
     try:
         record_one(node, 0)
         assert node.stop(signal.SIGINT) == 0
@@ -219,9 +234,16 @@ def dataset_at_30_fps(output):
     [
         ({"output_format": "hdf5"}, None, "output_format 'hdf5' is not one of lerobot, parquet"),
         ({"output_directory": ""}, None, "ai_recorder: output_directory is empty"),
-        ({"topic": topic("/rec/camera/image_raw", IMAGE)}, None, "the recorded topic must be sensor_msgs/msg/JointState"),
-        ({"inputs": [topic("/scan", "sensor_msgs/msg/LaserScan")]}, None,
-         "input /scan has message type sensor_msgs/msg/LaserScan"),
+        (
+            {"topic": topic("/rec/camera/image_raw", IMAGE)},
+            None,
+            "the recorded topic must be sensor_msgs/msg/JointState",
+        ),
+        (
+            {"inputs": [topic("/scan", "sensor_msgs/msg/LaserScan")]},
+            None,
+            "input /scan has message type sensor_msgs/msg/LaserScan",
+        ),
         ({}, other_files, "output_directory {output} is not empty and holds no LeRobot dataset"),
         ({}, dataset_at_30_fps, "output_directory {output} holds a dataset recorded at 30 fps, not 10"),
     ],

@@ -40,10 +40,17 @@ def registry_root(tmp_path, monkeypatch):
 
 
 def cli(*args, env_root):
-    env = {"PATH": "/usr/bin:/bin", registry.REGISTRY_ENV: str(env_root), "HF_HUB_OFFLINE": "1",
-           "HF_HOME": str(env_root.parent / "hf-home")}
+    env = {
+        "PATH": "/usr/bin:/bin",
+        registry.REGISTRY_ENV: str(env_root),
+        "HF_HUB_OFFLINE": "1",
+        "HF_HOME": str(env_root.parent / "hf-home"),
+    }
     return subprocess.run(
-        [sys.executable, "-m", "joshua_runtime.ai.registry_cli", *args], env=env, capture_output=True, text=True,
+        [sys.executable, "-m", "joshua_runtime.ai.registry_cli", *args],
+        env=env,
+        capture_output=True,
+        text=True,
     )
 
 
@@ -69,9 +76,10 @@ def test_training_output_directory_and_feature_names_are_kept(tmp_path, registry
     saved_policy(training / "checkpoints" / "last" / "pretrained_model", dataset_root=dataset)
     entry = registry.import_policy(training, "arm")
     assert entry.path.name == entry.revision and (entry.path / "config.json").is_file()
-    dataset.joinpath("meta", "info.json").unlink()            # the entry no longer needs the dataset
+    dataset.joinpath("meta", "info.json").unlink()  # the entry no longer needs the dataset
     assert model_files.feature_names(entry.path) == {
-        "action": ["shoulder_pan.pos", "gripper.pos"], "observation.state": ["a.pos", "b.pos"],
+        "action": ["shoulder_pan.pos", "gripper.pos"],
+        "observation.state": ["a.pos", "b.pos"],
     }
 
 
@@ -105,15 +113,18 @@ def test_command_line(tmp_path):
     assert listed.stdout.splitlines()[1].split()[:3] == ["pusher", "r1*", "diffusion"]
     missing = cli("resolve", "pusher@r9", env_root=root)
     assert (missing.returncode, missing.stderr) == (
-        1, f"joshua-registry: error: registry:pusher@r9 is not in the registry at {root}\n")
-    assert cli("import", str(policy), env_root=root).returncode == 2          # --name is required
+        1,
+        f"joshua-registry: error: registry:pusher@r9 is not in the registry at {root}\n",
+    )
+    assert cli("import", str(policy), env_root=root).returncode == 2  # --name is required
     removed = cli("remove", "pusher@r1", env_root=root)
     assert (removed.returncode, removed.stdout) == (0, "removed pusher@r1\n")
     assert cli("list", env_root=root).stdout == f"no models in {root}\n"
-    offline = cli("pull", "some-org/some-policy", env_root=root)   # the Hub is used only by pull
+    offline = cli("pull", "some-org/some-policy", env_root=root)  # the Hub is used only by pull
     assert offline.returncode == 1
     assert offline.stderr.startswith(
-        "joshua-registry: error: cannot download some-org/some-policy from the Hugging Face Hub: ")
+        "joshua-registry: error: cannot download some-org/some-policy from the Hugging Face Hub: "
+    )
     assert len(offline.stderr.splitlines()) == 1
 
 

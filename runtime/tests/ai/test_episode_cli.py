@@ -16,11 +16,19 @@ CLI_TIMEOUT_S = 120
 
 
 def nodes(output: Path) -> str:
-    return (mock_encoder("leader", "/ep/leader/joint_states", JOINTS, 30.0)
-            + mock_encoder("follower", "/ep/follower/joint_states", JOINTS, 30.0)
-            + node_block(RECORDER, "DATA_SUBSCRIBER", topic_name="/ep/leader/joint_states",
-                         input_topics=["/ep/follower/joint_states"], output_directory=str(output),
-                         output_format="parquet", rate_hz=10.0))
+    return (
+        mock_encoder("leader", "/ep/leader/joint_states", JOINTS, 30.0)
+        + mock_encoder("follower", "/ep/follower/joint_states", JOINTS, 30.0)
+        + node_block(
+            RECORDER,
+            "DATA_SUBSCRIBER",
+            topic_name="/ep/leader/joint_states",
+            input_topics=["/ep/follower/joint_states"],
+            output_directory=str(output),
+            output_format="parquet",
+            rate_hz=10.0,
+        )
+    )
 
 
 def episode(env: dict, *arguments: str) -> subprocess.CompletedProcess:
@@ -32,8 +40,9 @@ def test_start_stop_and_discard_report_what_the_recorder_did(tmp_path, ai_env, r
 
     settings = compiled("MODE_DATA_COLLECTION", nodes(tmp_path / "dataset"))[RECORDER]
     for arm in ("leader", "follower"):
-        ros_peer.publish_periodically(f"/ep/{arm}/joint_states", JointState, 30.0,
-                                      lambda: joint_state(JOINTS, [0.1, 0.2]))
+        ros_peer.publish_periodically(
+            f"/ep/{arm}/joint_states", JointState, 30.0, lambda: joint_state(JOINTS, [0.1, 0.2])
+        )
     node = NodeProcess(settings, ai_env)
     try:
         node.wait_for(r"ready: recording 2 topics at 10 fps")
@@ -49,7 +58,9 @@ def test_start_stop_and_discard_report_what_the_recorder_did(tmp_path, ai_env, r
 
         (tmp_path / "robot.pbtxt").write_text(  # the robot's build names its ROS domain
             f'robot_config {{ name: "{ROBOT}" mode: MODE_DATA_COLLECTION ros_domain_id: {ai_env["ROS_DOMAIN_ID"]}\n'
-            + nodes(tmp_path / "dataset") + "}\n")
+            + nodes(tmp_path / "dataset")
+            + "}\n"
+        )
         built = joshuac("build", tmp_path / "robot.pbtxt", "-o", tmp_path / "out")
         assert built.returncode == 0, built.stderr
         without_domain = {key: value for key, value in ai_env.items() if key != "ROS_DOMAIN_ID"}
@@ -67,16 +78,22 @@ def test_start_stop_and_discard_report_what_the_recorder_did(tmp_path, ai_env, r
 def test_no_recorder_is_a_clear_error(ai_env):
     missing = episode(ai_env, "stop", "--node", "nobody")
     assert missing.returncode == 3
-    assert missing.stderr.startswith(f"joshua-episode: error: no recorder answers on /nobody/episode in ROS domain "
-                                     f"{ai_env['ROS_DOMAIN_ID']} within 10 s")
+    assert missing.stderr.startswith(
+        f"joshua-episode: error: no recorder answers on /nobody/episode in ROS domain "
+        f"{ai_env['ROS_DOMAIN_ID']} within 10 s"
+    )
 
 
 def test_a_robot_without_a_recorder_is_a_usage_error(tmp_path, ai_env):
     (tmp_path / "robot.pbtxt").write_text(
         f'robot_config {{ name: "{ROBOT}" mode: MODE_TELEOPERATION\n'
-        + mock_encoder("leader", "/leader/joint_states", JOINTS, 30.0) + "}\n")
+        + mock_encoder("leader", "/leader/joint_states", JOINTS, 30.0)
+        + "}\n"
+    )
     assert joshuac("build", tmp_path / "robot.pbtxt", "-o", tmp_path / "out").returncode == 0
     refused = episode(ai_env, "start", "--robot", str(tmp_path / "out"))
     assert refused.returncode == 2
-    assert refused.stderr == (f"joshua-episode: error: {tmp_path / 'out' / 'manifest.json'}: 0 DATA_SUBSCRIBER nodes "
-                              "(none); name one with --node\n")
+    assert refused.stderr == (
+        f"joshua-episode: error: {tmp_path / 'out' / 'manifest.json'}: 0 DATA_SUBSCRIBER nodes "
+        "(none); name one with --node\n"
+    )

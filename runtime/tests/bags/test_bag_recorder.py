@@ -67,8 +67,10 @@ def decoded(path):
     """(topic, schema name, decoded message) of every message of one MCAP file."""
     with open(path, "rb") as stream:
         reader = make_reader(stream, decoder_factories=[DecoderFactory()])
-        return [(channel.topic, schema.name, message)
-                for schema, channel, _, message in reader.iter_decoded_messages(log_time_order=False)]
+        return [
+            (channel.topic, schema.name, message)
+            for schema, channel, _, message in reader.iter_decoded_messages(log_time_order=False)
+        ]
 
 
 def test_a_bag_holds_every_topic_with_its_definitions_and_splits_by_duration(start_node, ros_client, tmp_path):
@@ -94,10 +96,12 @@ def test_a_bag_holds_every_topic_with_its_definitions_and_splits_by_duration(sta
 
     recorded_tf = [m for topic, schema, m in records if topic == OUTSIDE]
     assert [t.transforms[0].transform.translation.x for t in recorded_tf] == [
-        float(i) for i in range(int(recorded_tf[0].transforms[0].transform.translation.x), len(sent) + 1)]
+        float(i) for i in range(int(recorded_tf[0].transforms[0].transform.translation.x), len(sent) + 1)
+    ]
     assert [t.transforms[0].child_frame_id for t in recorded_tf][-1] == sent[-1].transforms[0].child_frame_id
-    recorded_arm = {(m.header.stamp.sec, m.header.stamp.nanosec): list(m.position)
-                    for topic, schema, m in records if topic == ARM}
+    recorded_arm = {
+        (m.header.stamp.sec, m.header.stamp.nanosec): list(m.position) for topic, schema, m in records if topic == ARM
+    }
     assert all(schema == "sensor_msgs/msg/JointState" for topic, schema, _ in records if topic == ARM)
     since_recording = [m for m in heard if (m.header.stamp.sec, m.header.stamp.nanosec) >= min(recorded_arm)]
     assert len(since_recording) > 50
@@ -128,4 +132,4 @@ def test_a_restart_within_the_same_second_gets_a_bag_of_its_own(tmp_path):
     first = new_bag_directory(tmp_path, "bagbot")
     first.mkdir()
     second = new_bag_directory(tmp_path, "bagbot")
-    assert second != first and second.name.startswith(first.name[:len("bagbot_")])
+    assert second != first and second.name.startswith(first.name[: len("bagbot_")])

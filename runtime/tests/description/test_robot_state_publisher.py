@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
-from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 
+from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from testsupport.compiled_settings import compiled_settings
 
 WAIT_S = 20.0
@@ -28,8 +28,9 @@ def test_transforms_follow_the_joint_states(start_node, ros_client):
     assert ros_client.spin_until(lambda: ros_client.count("/tf") >= 10, WAIT_S), publisher.failure()
     ros_client.listen("/tf_static", TFMessage, LATCHED)
     ros_client.listen("/robot_description", String, LATCHED)
-    assert ros_client.spin_until(lambda: ros_client.last("/tf_static") and ros_client.last("/robot_description"),
-                                 WAIT_S), publisher.failure()
+    assert ros_client.spin_until(
+        lambda: ros_client.last("/tf_static") and ros_client.last("/robot_description"), WAIT_S
+    ), publisher.failure()
 
     model = load("builtin:so100")
     assert ros_client.last("/robot_description").data == model.text

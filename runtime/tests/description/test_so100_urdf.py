@@ -3,16 +3,29 @@
 import mujoco
 import numpy as np
 import pytest
+
 from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.description.urdf_model import load, quaternion_xyzw
 from joshua_runtime.sim.model import BUILTIN_MODEL_FILES
 
 CONFIGURATIONS = [
     dict.fromkeys(SO100_JOINTS, 0.0),
-    {"shoulder_pan": 0.7, "shoulder_lift": -0.4, "elbow_flex": 1.1, "wrist_flex": -0.9, "wrist_roll": 2.0,
-     "gripper": 1.2},
-    {"shoulder_pan": -1.5, "shoulder_lift": 1.2, "elbow_flex": -1.3, "wrist_flex": 0.5, "wrist_roll": -2.5,
-     "gripper": -0.1},
+    {
+        "shoulder_pan": 0.7,
+        "shoulder_lift": -0.4,
+        "elbow_flex": 1.1,
+        "wrist_flex": -0.9,
+        "wrist_roll": 2.0,
+        "gripper": 1.2,
+    },
+    {
+        "shoulder_pan": -1.5,
+        "shoulder_lift": 1.2,
+        "elbow_flex": -1.3,
+        "wrist_flex": 0.5,
+        "wrist_roll": -2.5,
+        "gripper": -0.1,
+    },
 ]
 
 

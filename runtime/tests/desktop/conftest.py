@@ -6,6 +6,7 @@ os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")  # before pytest-qt create
 
 import pytest
 from desktop_helpers import ARTIFACTS
+
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
 

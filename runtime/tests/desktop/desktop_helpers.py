@@ -14,10 +14,16 @@ LINK_TIMEOUT_MS = 10_000
 ARTIFACTS = Path(__file__).resolve().parents[3] / "artifacts" / "desktop"
 
 
-def open_panel(qtbot, worker, calibration_output: Path | None = None, presets: Presets | None = None,
-               timeout_ms: int = LINK_TIMEOUT_MS) -> MainWindow:
-    window = MainWindow(worker, JOINTS, so100_limits(), presets or Presets(), SO100,
-                        calibration_output or Path("unused.json"))
+def open_panel(
+    qtbot,
+    worker,
+    calibration_output: Path | None = None,
+    presets: Presets | None = None,
+    timeout_ms: int = LINK_TIMEOUT_MS,
+) -> MainWindow:
+    window = MainWindow(
+        worker, JOINTS, so100_limits(), presets or Presets(), SO100, calibration_output or Path("unused.json")
+    )
     qtbot.addWidget(window)
     window.show()
     window.start()

@@ -7,9 +7,10 @@ from pathlib import Path
 
 import pytest
 from desktop_helpers import ARTIFACTS
+from PySide6.QtGui import QImage
+
 from joshua_runtime.desktop.model import load_presets
 from joshua_runtime.errors import SettingsError
-from PySide6.QtGui import QImage
 
 JOINTS = ["shoulder_pan", "gripper"]
 
@@ -41,7 +42,9 @@ def test_no_display_is_one_line(tmp_path, monkeypatch):
         monkeypatch.delenv(name, raising=False)
     result = desktop("--emulate")
     assert result.returncode == 2
-    assert result.stderr == "joshua-desktop: error: no display (set DISPLAY, or render offscreen with --screenshot PATH)\n"
+    assert (
+        result.stderr == "joshua-desktop: error: no display (set DISPLAY, or render offscreen with --screenshot PATH)\n"
+    )
 
 
 def test_bad_preset_file_is_one_line(tmp_path):
@@ -49,15 +52,20 @@ def test_bad_preset_file_is_one_line(tmp_path):
     presets.write_text(json.dumps({"reach": {"elbow": 1.0}}))
     result = desktop("--emulate", "--presets", presets, "--screenshot", tmp_path / "x.png")
     assert result.returncode == 2
-    assert result.stderr == f"joshua-desktop: error: preset file {presets}: preset 'reach' names unknown joint 'elbow'\n"
+    assert (
+        result.stderr == f"joshua-desktop: error: preset file {presets}: preset 'reach' names unknown joint 'elbow'\n"
+    )
 
 
-@pytest.mark.parametrize(("document", "message"), [
-    ("[]", "expected an object of preset names"),
-    ('{"open": {}}', "preset 'open' must map joint names to radians"),
-    ('{"open": {"gripper": "wide"}}', "preset 'open': gripper must be a number of radians"),
-    ("{oops", "is unreadable"),
-])
+@pytest.mark.parametrize(
+    ("document", "message"),
+    [
+        ("[]", "expected an object of preset names"),
+        ('{"open": {}}', "preset 'open' must map joint names to radians"),
+        ('{"open": {"gripper": "wide"}}', "preset 'open': gripper must be a number of radians"),
+        ("{oops", "is unreadable"),
+    ],
+)
 def test_preset_file_errors(tmp_path, document, message):
     path = tmp_path / "presets.json"
     path.write_text(document)

@@ -4,10 +4,11 @@ import json
 import math
 
 from desktop_helpers import IDS, JOINTS, LINK_TIMEOUT_MS, close_panel, open_panel
+from PySide6.QtCore import Qt
+
 from joshua_runtime.desktop.model import BUILTIN_PRESETS
 from joshua_runtime.desktop.serial_worker import SerialWorker
 from joshua_runtime.drivers.calibration import uncalibrated
-from PySide6.QtCore import Qt
 
 WAIT_MS = 10_000  # generous: the machine may be busy; a pass returns at once
 
@@ -45,8 +46,9 @@ def test_sliders_torque_presets_and_estop_drive_the_bus(qtbot, emulators, screen
         qtbot.waitUntil(lambda: all(len(chart.times) > 10 for chart in window.charts[:2]), timeout=WAIT_MS)
         screenshot(window, "serial_panel")
         qtbot.mouseClick(window.estop, Qt.MouseButton.LeftButton)
-        qtbot.waitUntil(lambda: all(emulator.read_register(i, "Torque_Enable") == 0 for i in [*IDS, 7]),
-                        timeout=WAIT_MS)
+        qtbot.waitUntil(
+            lambda: all(emulator.read_register(i, "Torque_Enable") == 0 for i in [*IDS, 7]), timeout=WAIT_MS
+        )
         qtbot.waitUntil(lambda: "E-STOP" in window.statusBar().currentMessage(), timeout=WAIT_MS)
     finally:
         close_panel(window)
@@ -93,7 +95,9 @@ def test_calibration_tab_writes_a_lerobot_file(qtbot, emulators, tmp_path, scree
                 for ticks in stops:
                     emulator.turn_shaft(servo_id, (mounts[joint] + ticks) % 4096)
                     row = JOINTS.index(joint)
-                    qtbot.waitUntil(lambda r=row, t=ticks: panel.table.item(r, 4).text() == str(2047 + t), timeout=WAIT_MS)
+                    qtbot.waitUntil(
+                        lambda r=row, t=ticks: panel.table.item(r, 4).text() == str(2047 + t), timeout=WAIT_MS
+                    )
             if joint == "elbow_flex":
                 screenshot(window, "calibration")
             qtbot.mouseClick(panel.next_button, Qt.MouseButton.LeftButton)
@@ -106,8 +110,13 @@ def test_calibration_tab_writes_a_lerobot_file(qtbot, emulators, tmp_path, scree
         qtbot.mouseClick(panel.save_button, Qt.MouseButton.LeftButton)
         qtbot.waitUntil(lambda: output.read_text() != "{}", timeout=LINK_TIMEOUT_MS)
         saved = json.loads(output.read_text())
-        assert saved["elbow_flex"] == {"id": 3, "drive_mode": 0, "homing_offset": 1500 - 2047,
-                                       "range_min": 2047 - 900, "range_max": 2047 + 1000}
+        assert saved["elbow_flex"] == {
+            "id": 3,
+            "drive_mode": 0,
+            "homing_offset": 1500 - 2047,
+            "range_min": 2047 - 900,
+            "range_max": 2047 + 1000,
+        }
         assert (saved["wrist_roll"]["range_min"], saved["wrist_roll"]["range_max"]) == (0, 4095)
         qtbot.waitUntil(lambda: panel.instruction.text() == f"Calibration written to {output}.", timeout=WAIT_MS)
     finally:

@@ -54,8 +54,14 @@ async def first_messages(port: int, topics: list[str]) -> tuple[dict, dict]:
                         if channel["topic"] in topics and channel["topic"] not in subscribed.values():
                             subscription = len(subscribed) + 1
                             subscribed[subscription] = channel["topic"]
-                            await socket_.send(json.dumps({"op": "subscribe", "subscriptions": [
-                                {"id": subscription, "channelId": channel["id"]}]}))
+                            await socket_.send(
+                                json.dumps(
+                                    {
+                                        "op": "subscribe",
+                                        "subscriptions": [{"id": subscription, "channelId": channel["id"]}],
+                                    }
+                                )
+                            )
             elif frame[0] == MESSAGE_DATA_OPCODE:
                 subscription, _log_time = struct.unpack_from("<IQ", frame, 1)
                 payloads.setdefault(subscribed[subscription], bytes(frame[13:]))

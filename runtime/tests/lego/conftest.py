@@ -31,5 +31,5 @@ def linked_hub(blob):
         return driver, emulated
 
     yield make
-    for driver, emulated in made:
+    for driver, _emulated in made:
         driver.close()

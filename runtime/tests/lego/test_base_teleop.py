@@ -69,8 +69,11 @@ def test_joy_messages_become_twists(ros_env, ros_client):
     try:
         joy = ros_client.publisher("/joy", Joy, RELIABLE)
         stick = Joy(axes=[-1.0, 0.5], buttons=[0])
-        assert ros_client.spin_until(lambda: (ros_client.last("/cmd_vel") or Twist()).linear.x == pytest.approx(0.1),
-                                     20.0, every=lambda: joy.publish(stick))
+        assert ros_client.spin_until(
+            lambda: (ros_client.last("/cmd_vel") or Twist()).linear.x == pytest.approx(0.1),
+            20.0,
+            every=lambda: joy.publish(stick),
+        )
         assert ros_client.last("/cmd_vel").angular.z == pytest.approx(-2.0)
     finally:
         teleop.terminate()

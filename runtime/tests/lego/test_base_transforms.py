@@ -15,8 +15,9 @@ def test_the_mock_base_publishes_odom_to_base_link_on_tf(start_node, ros_client)
     node = start_node(compiled_node('name: "base" type: MOCK_DIFF_DRIVE_BASE topic_name: "/cmd_vel"'))
     ros_client.listen("/odom", Odometry, RELIABLE, keep=100)
     ros_client.listen("/tf", TFMessage, RELIABLE, keep=100)
-    assert ros_client.spin_until(lambda: ros_client.count("/tf") >= 5 and ros_client.count("/odom") >= 5,
-                                 WAIT_S), node.failure()
+    assert ros_client.spin_until(lambda: ros_client.count("/tf") >= 5 and ros_client.count("/odom") >= 5, WAIT_S), (
+        node.failure()
+    )
     odometry = {(m.header.stamp.sec, m.header.stamp.nanosec): m for m in ros_client.messages("/odom")}
     matched = 0
     for message in ros_client.messages("/tf"):

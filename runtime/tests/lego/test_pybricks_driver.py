@@ -73,8 +73,12 @@ def free_port() -> int:
 
 def test_joshua_emulate_serves_the_hub_to_another_process(blob):
     port = free_port()
-    emulator = subprocess.Popen([sys.executable, "-m", "joshua_runtime.emulators.cli", "pybricks", "--port", str(port)],
-                                stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    emulator = subprocess.Popen(
+        [sys.executable, "-m", "joshua_runtime.emulators.cli", "pybricks", "--port", str(port)],
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
     try:
         assert "reachable over hci tcp-client:127.0.0.1:" in emulator.stdout.readline()
         driver = PybricksHub("F4:B8:5E:00:00:01", BumbleTransport(hci=f"tcp-client:127.0.0.1:{port}"), blob)

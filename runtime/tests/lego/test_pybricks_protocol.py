@@ -22,7 +22,7 @@ def test_lines_split_anywhere_and_wrapped_in_garbage_are_recovered():
     assembler = hub.LineAssembler()
     found = []
     for i in range(0, len(stream), 7):
-        found += assembler.feed(stream[i:i + 7])
+        found += assembler.feed(stream[i : i + 7])
     assert found == [["A", "10", "1", "2"], ["K", "3"]]
     assert assembler.rejected >= 2
     assert assembler.feed(hub.encode_line("K", 4)) == [["K", "4"]]

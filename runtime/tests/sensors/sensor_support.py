@@ -27,8 +27,9 @@ def publishers(client: RosClient, topic: str, node: NodeProcess) -> list:
     return client.publishers_info(topic, NODE_START_TIMEOUT_S, every=still_running)
 
 
-def collect(client: RosClient, message_class, topic: str, qos: dict, count: int,
-            timeout_s: float = MESSAGE_TIMEOUT_S) -> list:
+def collect(
+    client: RosClient, message_class, topic: str, qos: dict, count: int, timeout_s: float = MESSAGE_TIMEOUT_S
+) -> list:
     """The first `count` messages on `topic` received by a subscription of `qos` made now."""
     client.listen(topic, message_class, qos, keep=count)
     received = client.spin_until(lambda: client.count(topic) >= count, timeout_s)

@@ -4,11 +4,11 @@ import math
 
 import numpy as np
 import pytest
-from joshua_runtime.drivers.lds01 import Lds01Driver
-from joshua_runtime.emulators.lds01 import Lds01Emulator
 from sensor_msgs.msg import PointCloud2
 from sensor_support import SENSOR_QOS, collect, publishers
 
+from joshua_runtime.drivers.lds01 import Lds01Driver
+from joshua_runtime.emulators.lds01 import Lds01Emulator
 from testsupport.compiled_settings import compiled_node
 
 # Readings of the emulator's room at whole degrees (as test_lds01_driver.py knows them), in metres.
@@ -17,7 +17,11 @@ KNOWN = {0: 0.8, 90: 1.5, 270: 1.0}
 
 def cloud_points(message: PointCloud2) -> np.ndarray:
     assert [(f.name, f.offset, f.datatype) for f in message.fields] == [
-        ("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("intensity", 12, 7)]
+        ("x", 0, 7),
+        ("y", 4, 7),
+        ("z", 8, 7),
+        ("intensity", 12, 7),
+    ]
     assert (message.height, message.point_step, message.is_bigendian) == (1, 16, False)
     return np.frombuffer(bytes(message.data), dtype="<f4").reshape(message.width, 4)
 
@@ -44,9 +48,12 @@ def test_driver_packets_hold_the_valid_readings_as_points(tmp_path):
 def test_a_lidar_node_with_point_cloud_type_publishes_point_clouds(tmp_path, start_node, ros_client):
     link = tmp_path / "ttyLIDAR"
     with Lds01Emulator(link):
-        node = start_node(compiled_node(
-            f'name: "lidar" type: LIDAR_PUBLISHER topic_name: "/points" message_type: "sensor_msgs/msg/PointCloud2" '
-            f'serial_port: "{link}" baud_rate: 230400 rate_hz: 5 frame_id: "laser"'))
+        node = start_node(
+            compiled_node(
+                f'name: "lidar" type: LIDAR_PUBLISHER topic_name: "/points" message_type: "sensor_msgs/msg/PointCloud2" '
+                f'serial_port: "{link}" baud_rate: 230400 rate_hz: 5 frame_id: "laser"'
+            )
+        )
         assert [i.topic_type for i in publishers(ros_client, "/points", node)] == ["sensor_msgs/msg/PointCloud2"]
         [cloud] = collect(ros_client, PointCloud2, "/points", SENSOR_QOS, 1)
     assert cloud.header.frame_id == "laser"
@@ -58,8 +65,11 @@ def test_a_lidar_node_with_point_cloud_type_publishes_point_clouds(tmp_path, sta
 
 
 def test_a_mock_lidar_publishes_point_clouds_too(start_node, ros_client):
-    node = start_node(compiled_node('name: "lidar" type: MOCK_LIDAR_PUBLISHER topic_name: "/points" '
-                                    'message_type: "sensor_msgs/msg/PointCloud2"'))
+    node = start_node(
+        compiled_node(
+            'name: "lidar" type: MOCK_LIDAR_PUBLISHER topic_name: "/points" message_type: "sensor_msgs/msg/PointCloud2"'
+        )
+    )
     [cloud] = collect(ros_client, PointCloud2, "/points", SENSOR_QOS, 1)
     assert len(cloud_points(cloud)) > 100, node.failure()
     assert cloud.header.frame_id == "laser"

@@ -13,16 +13,22 @@ import signal
 import numpy as np
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
-
-from testsupport.compiled_settings import compiled_node
-from testsupport.joshuac_cli import ROOT
 from sensor_support import (
-    DEFAULT_QOS, NODE_START_TIMEOUT_S, SENSOR_QOS, SHUTDOWN_CONTRACT_S, SO100_JOINTS, collect, publishers,
+    DEFAULT_QOS,
+    NODE_START_TIMEOUT_S,
+    SENSOR_QOS,
+    SHUTDOWN_CONTRACT_S,
+    SO100_JOINTS,
+    collect,
+    publishers,
 )
+
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.nodes import mock_arm
 from joshua_runtime.nodes.mock_camera_publisher import SCROLL_PX, gradient, pattern_frame
+from testsupport.compiled_settings import compiled_node
+from testsupport.joshuac_cli import ROOT
 
 RELIABLE_QOS = {"history": "KEEP_LAST", "depth": 3, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
 
@@ -47,19 +53,24 @@ def f32(value: float) -> float:
 
 def lidar(port, topic: str = "/scan", frame_id: str = "laser") -> dict:
     """Settings of an LDS-01 LIDAR_PUBLISHER named "lidar" on `port`."""
-    return compiled_node(f'name: "lidar" type: LIDAR_PUBLISHER topic_name: "{topic}" serial_port: "{port}" '
-                         f'baud_rate: 230400 rate_hz: 5 frame_id: "{frame_id}"')
+    return compiled_node(
+        f'name: "lidar" type: LIDAR_PUBLISHER topic_name: "{topic}" serial_port: "{port}" '
+        f'baud_rate: 230400 rate_hz: 5 frame_id: "{frame_id}"'
+    )
 
 
 def test_mock_camera_publishes_the_moving_pattern_as_jpeg(start_node, ros_client):
     width, height = 320, 240
-    settings = compiled_node(f'name: "mock_cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/cam/compressed" '
-                             'message_type: "sensor_msgs/msg/CompressedImage" '
-                             'qos_depth: 3 qos_reliability: RELIABLE qos_durability: TRANSIENT_LOCAL '
-                             f'width: {width} height: {height} rate_hz: 20 frame_id: "cam_optical"')
+    settings = compiled_node(
+        f'name: "mock_cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/cam/compressed" '
+        'message_type: "sensor_msgs/msg/CompressedImage" '
+        "qos_depth: 3 qos_reliability: RELIABLE qos_durability: TRANSIENT_LOCAL "
+        f'width: {width} height: {height} rate_hz: 20 frame_id: "cam_optical"'
+    )
     node = start_node(settings)
-    assert_endpoint(publishers(ros_client, "/cam/compressed", node), "mock_cam",
-                    "sensor_msgs/msg/CompressedImage", RELIABLE_QOS)
+    assert_endpoint(
+        publishers(ros_client, "/cam/compressed", node), "mock_cam", "sensor_msgs/msg/CompressedImage", RELIABLE_QOS
+    )
     messages = collect(ros_client, CompressedImage, "/cam/compressed", RELIABLE_QOS, 3)
     import cv2
 
@@ -80,11 +91,11 @@ def test_mock_camera_publishes_the_moving_pattern_as_jpeg(start_node, ros_client
 
 
 def test_mock_lidar_publishes_the_synthetic_room(start_node, ros_client):
-    settings = compiled_node('name: "mock_lidar" type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" rate_hz: 10 '
-                             'frame_id: "laser"')
+    settings = compiled_node(
+        'name: "mock_lidar" type: MOCK_LIDAR_PUBLISHER topic_name: "/scan" rate_hz: 10 frame_id: "laser"'
+    )
     node = start_node(settings)
-    assert_endpoint(publishers(ros_client, "/scan", node), "mock_lidar", "sensor_msgs/msg/LaserScan",
-                    SENSOR_QOS)
+    assert_endpoint(publishers(ros_client, "/scan", node), "mock_lidar", "sensor_msgs/msg/LaserScan", SENSOR_QOS)
     scan = collect(ros_client, LaserScan, "/scan", SENSOR_QOS, 2)[-1]
     assert scan.header.frame_id == "laser"
     assert list(scan.ranges) == [f32(mm / 1000.0) for mm in synthetic_room.scan_mm()]
@@ -96,11 +107,14 @@ def test_mock_lidar_publishes_the_synthetic_room(start_node, ros_client):
 def test_mock_encoder_swings_every_joint_within_its_range(start_node, ros_client):
     names = SO100_JOINTS + ["extra_joint"]
     ids = list(range(1, len(names) + 1))  # one per joint name: the compiler holds a mock to its real type's rules
-    settings = compiled_node(f'name: "mock_leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
-                             f'device_ids: {ids} joint_names: {json.dumps(names)} rate_hz: 50')
+    settings = compiled_node(
+        f'name: "mock_leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+        f"device_ids: {ids} joint_names: {json.dumps(names)} rate_hz: 50"
+    )
     node = start_node(settings)
-    assert_endpoint(publishers(ros_client, "/leader/joint_states", node), "mock_leader",
-                    "sensor_msgs/msg/JointState", DEFAULT_QOS)
+    assert_endpoint(
+        publishers(ros_client, "/leader/joint_states", node), "mock_leader", "sensor_msgs/msg/JointState", DEFAULT_QOS
+    )
     messages = collect(ros_client, JointState, "/leader/joint_states", DEFAULT_QOS, 10)
     for message in messages:
         assert list(message.name) == names
@@ -115,17 +129,21 @@ def test_mock_encoder_swings_every_joint_within_its_range(start_node, ros_client
 
 def test_mock_actuator_follows_commands_and_publishes_its_state(start_node, ros_client):
     # Six servos by default, so the SO-100 joint names.
-    settings = compiled_node('name: "mock_follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
-                             'state_topic: "/follower/state" rate_hz: 100')
+    settings = compiled_node(
+        'name: "mock_follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
+        'state_topic: "/follower/state" rate_hz: 100'
+    )
     node = start_node(settings)
-    assert_endpoint(publishers(ros_client, "/follower/state", node), "mock_follower",
-                    "sensor_msgs/msg/JointState", DEFAULT_QOS)
+    assert_endpoint(
+        publishers(ros_client, "/follower/state", node), "mock_follower", "sensor_msgs/msg/JointState", DEFAULT_QOS
+    )
     subscribers = ros_client.subscriptions_info("/follower/command", NODE_START_TIMEOUT_S)
     assert_endpoint(subscribers, "mock_follower", "sensor_msgs/msg/JointState", DEFAULT_QOS)
 
     commands = ros_client.publisher("/follower/command", JointState, DEFAULT_QOS)
-    command = JointState(name=["shoulder_pan", "gripper", "not_a_joint", "elbow_flex"],
-                         position=[1.0, 5.0, 3.0, float("nan")])
+    command = JointState(
+        name=["shoulder_pan", "gripper", "not_a_joint", "elbow_flex"], position=[1.0, 5.0, 3.0, float("nan")]
+    )
     expected = {"shoulder_pan": 1.0, "gripper": 1.75}
     settled = None
     for _ in range(100):
@@ -146,13 +164,17 @@ def test_lidar_publisher_streams_emulated_turns_and_stops_the_motor(tmp_path, st
     link = tmp_path / "ttyLIDAR"
     with Lds01Emulator(link) as emulator:
         node = start_node(lidar(link, topic="/base/scan", frame_id="lidar_link"))
-        assert_endpoint(publishers(ros_client, "/base/scan", node), "lidar", "sensor_msgs/msg/LaserScan",
-                        SENSOR_QOS)
+        assert_endpoint(publishers(ros_client, "/base/scan", node), "lidar", "sensor_msgs/msg/LaserScan", SENSOR_QOS)
         scans = collect(ros_client, LaserScan, "/base/scan", SENSOR_QOS, 2)
         for scan in scans:
             assert scan.header.frame_id == "lidar_link"
             assert (scan.ranges[0], scan.ranges[45], scan.ranges[90], scan.ranges[180], scan.ranges[270]) == (
-                f32(0.8), f32(2.121), 1.5, 0.0, 1.0)
+                f32(0.8),
+                f32(2.121),
+                1.5,
+                0.0,
+                1.0,
+            )
             assert scan.intensities[90] == 4000 - 1500
             assert (scan.angle_min, scan.angle_max) == (0.0, f32(2 * math.pi - 2 * math.pi / 360))
             assert (scan.range_min, scan.range_max) == (f32(0.12), 3.5)
@@ -198,13 +220,16 @@ def test_lidar_publisher_on_a_silent_device_exits_3(tmp_path, start_node):
     with PtyLink(tmp_path / "ttySILENT") as link:
         code, stderr = start_node(lidar(link.link)).wait()
     assert code == 3
-    assert stderr.strip() == f"lidar: error: LDS-01 lidar at {link.link} sent no usable scan within 2 s " \
-                             "(silent device, wrong baud rate or not an LDS-01)"
+    assert (
+        stderr.strip() == f"lidar: error: LDS-01 lidar at {link.link} sent no usable scan within 2 s "
+        "(silent device, wrong baud rate or not an LDS-01)"
+    )
 
 
 def test_camera_publisher_without_its_camera_exits_3_with_one_line(start_node):
-    settings = compiled_node('name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" camera_index: 63 '
-                             'frame_id: "camera"')
+    settings = compiled_node(
+        'name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" camera_index: 63 frame_id: "camera"'
+    )
     code, stderr = start_node(settings).wait()
     assert code == 3
     assert stderr == "front_camera: error: cannot open camera 63 (/dev/video63): no such device\n"
@@ -213,9 +238,10 @@ def test_camera_publisher_without_its_camera_exits_3_with_one_line(start_node):
 def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tmp_path, start_node, ros_client):
     """A video file stands in for the camera; the Fast DDS profile carries the 921,600-byte images."""
     import cv2
+    from sensor_msgs.msg import Image
+
     from joshua_codegen.compile import compile_file
     from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
-    from sensor_msgs.msg import Image
 
     width, height, colours = 640, 480, [(0, 0, 255), (0, 255, 0), (255, 0, 0), (0, 255, 255), (255, 255, 255)]
     video = tmp_path / "clip.avi"
@@ -225,12 +251,13 @@ def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tm
     writer.release()
     profile = tmp_path / IMAGES_PROFILE_PATH  # the one joshuac writes for the nodes that carry images
     profile.write_text(compile_file(str(ROOT / "config" / "robots" / "so100_arm.pbtxt")).files[IMAGES_PROFILE_PATH])
-    settings = compiled_node(f'name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" '
-                             f'video_source: "{video}" width: {width} height: {height} rate_hz: 30 '
-                             'frame_id: "front_optical"')
+    settings = compiled_node(
+        f'name: "front_camera" type: CAMERA_PUBLISHER topic_name: "/front/image" '
+        f'video_source: "{video}" width: {width} height: {height} rate_hz: 30 '
+        'frame_id: "front_optical"'
+    )
     node = start_node(settings, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
-    assert_endpoint(publishers(ros_client, "/front/image", node), "front_camera", "sensor_msgs/msg/Image",
-                    SENSOR_QOS)
+    assert_endpoint(publishers(ros_client, "/front/image", node), "front_camera", "sensor_msgs/msg/Image", SENSOR_QOS)
     # A deep queue on the reader side, so that only the transport could lose frames.
     deep = dict(SENSOR_QOS, depth=60)
     messages = collect(ros_client, Image, "/front/image", deep, 25)

@@ -19,4 +19,3 @@ def emulators(tmp_path):
     yield make
     for emulator in started:
         emulator.stop()
-

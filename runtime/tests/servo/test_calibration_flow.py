@@ -7,6 +7,11 @@ import sys
 import time
 
 import pytest
+from lerobot.motors import Motor, MotorNormMode
+from lerobot.motors import MotorCalibration as LeRobotCalibration
+from lerobot.motors.feetech import FeetechMotorsBus
+from servo_helpers import SO100_IDS, SO100_JOINTS
+
 from joshua_runtime.drivers.calibration import calibration_for_bus, save_calibration
 from joshua_runtime.drivers.sts3215 import Sts3215Driver
 from joshua_runtime.servo_tools.bus import open_bus
@@ -15,10 +20,6 @@ from joshua_runtime.servo_tools.calibration_flow import (
     CalibrationError,
     CalibrationFlow,
 )
-from lerobot.motors import Motor, MotorNormMode
-from lerobot.motors import MotorCalibration as LeRobotCalibration
-from lerobot.motors.feetech import FeetechMotorsBus
-from servo_helpers import SO100_IDS, SO100_JOINTS
 
 # Encoder ticks each arm reads at a joint's homing pose: the horns of the two arms sit differently.
 MOUNTS = {"follower": [300, 3700, 1500, 60, 2900, 1000], "leader": [2900, 400, 100, 3000, 4000, 2047]}
@@ -31,8 +32,14 @@ STOPS = {
     "wrist_roll": (-1800, 1800),
     "gripper": (-15, 1150),
 }
-POSE = {"shoulder_pan": 400, "shoulder_lift": -700, "elbow_flex": 950, "wrist_flex": -30,
-        "wrist_roll": 1234, "gripper": 600}
+POSE = {
+    "shoulder_pan": 400,
+    "shoulder_lift": -700,
+    "elbow_flex": 950,
+    "wrist_flex": -30,
+    "wrist_roll": 1234,
+    "gripper": 600,
+}
 SWEEP_STEP_TICKS = 150
 LEROBOT_CONNECT_ATTEMPTS = 3
 HOLD_S = 0.5  # how long the simulated person holds a joint for the terminal's 20 Hz sampling to see it
@@ -141,8 +148,17 @@ def test_terminal_calibration_driven_through_stdin(emulators, tmp_path):
     emulator = emulators("ttyTERMINAL", ids=SO100_IDS)
     person = Person(emulator, MOUNTS["leader"])
     output = tmp_path / "leader.json"
-    command = [sys.executable, "-m", "joshua_runtime.servo_tools.cli", "calibrate", str(emulator.link),
-               "--role", "leader", "--output", str(output)]
+    command = [
+        sys.executable,
+        "-m",
+        "joshua_runtime.servo_tools.cli",
+        "calibrate",
+        str(emulator.link),
+        "--role",
+        "leader",
+        "--output",
+        str(output),
+    ]
     process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
     transcript = []
     try:
@@ -163,7 +179,10 @@ def test_terminal_calibration_driven_through_stdin(emulators, tmp_path):
     finally:
         process.stdin.close()
         assert process.wait(30) == 0, transcript
-    assert transcript[0] == "Hold shoulder_pan at its homing pose: arm pointing straight ahead over the front of the base. Press Enter."
+    assert (
+        transcript[0]
+        == "Hold shoulder_pan at its homing pose: arm pointing straight ahead over the front of the base. Press Enter."
+    )
     assert "wrist_roll turns freely: its range is the full turn, no sweep needed." in transcript
     assert transcript[-1] == f"calibration written to {output}"
     saved = json.loads(output.read_text())

@@ -3,6 +3,7 @@
 import math
 
 import pytest
+
 from joshua_runtime.drivers.calibration import MotorCalibration
 from joshua_runtime.servo_tools.command_guard import CommandWatchdog, clamp_goals
 
@@ -21,8 +22,11 @@ def test_watchdog_fires_once_per_silence_and_never_before_a_goal():
 
 
 def test_goals_outside_the_calibrated_range_are_clamped_and_named():
-    motors = [MotorCalibration(1, 0, 0, 1000, 3000), MotorCalibration(2, 1, 0, 1000, 3000),
-              MotorCalibration(3, 0, 0, 1000, 3000)]
+    motors = [
+        MotorCalibration(1, 0, 0, 1000, 3000),
+        MotorCalibration(2, 1, 0, 1000, 3000),
+        MotorCalibration(3, 0, 0, 1000, 3000),
+    ]
     ticks, clamped = clamp_goals(motors, ["pan", "lift", "elbow"], [0.5, 9.0, math.nan])
     assert ticks == {1: motors[0].to_ticks(0.5), 2: 1000}
     assert [c.joint for c in clamped] == ["lift"]

@@ -3,10 +3,10 @@
 import signal
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from joshua_runtime.drivers import sts3215_protocol as proto
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from servo_helpers import SO100_JOINTS
 
+from joshua_runtime.drivers import sts3215_protocol as proto
 from testsupport.compiled_settings import compiled_node
 
 STARTUP_TIMEOUT_S = 30.0
@@ -26,9 +26,12 @@ def levels(ros_client) -> dict[str, bytes]:
 
 def test_encoder_reports_each_servo_and_follows_its_temperature_voltage_and_errors(emulators, start_node, ros_client):
     leader = emulators("ttyDIAGNOSE", ids=[1, 2, 3])
-    node = start_node(compiled_node(
-        f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" serial_port: "{leader.link}" '
-        f'device_ids: [1, 2, 3] joint_names: ["pan", "lift", "elbow"] diagnostics_rate_hz: 10'))
+    node = start_node(
+        compiled_node(
+            f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" serial_port: "{leader.link}" '
+            f'device_ids: [1, 2, 3] joint_names: ["pan", "lift", "elbow"] diagnostics_rate_hz: 10'
+        )
+    )
     ros_client.listen("/diagnostics", DiagnosticArray, RELIABLE)
     everything_ok = {"pan": OK, "lift": OK, "elbow": OK}
     assert ros_client.spin_until(lambda: levels(ros_client) == everything_ok, STARTUP_TIMEOUT_S), node.failure()
@@ -59,9 +62,12 @@ def test_encoder_reports_each_servo_and_follows_its_temperature_voltage_and_erro
 
 def test_a_bus_that_stops_answering_reads_as_errors_with_counted_failures(emulators, start_node, ros_client):
     leader = emulators("ttyDIAGLOST", ids=[1])
-    node = start_node(compiled_node(
-        f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" serial_port: "{leader.link}" '
-        f'device_ids: [1] joint_names: ["pan"] diagnostics_rate_hz: 10 rate_hz: 20'))
+    node = start_node(
+        compiled_node(
+            f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" serial_port: "{leader.link}" '
+            f'device_ids: [1] joint_names: ["pan"] diagnostics_rate_hz: 10 rate_hz: 20'
+        )
+    )
     ros_client.listen("/diagnostics", DiagnosticArray, RELIABLE)
     assert ros_client.spin_until(lambda: levels(ros_client) == {"pan": OK}, STARTUP_TIMEOUT_S), node.failure()
     leader.stop()
@@ -74,8 +80,11 @@ def test_a_bus_that_stops_answering_reads_as_errors_with_counted_failures(emulat
 
 def test_six_servo_actuator_reports_every_joint(emulators, start_node, ros_client):
     follower = emulators("ttyDIAGFOLLOW")
-    node = start_node(compiled_node(f'name: "follower" type: ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
-                                    f'serial_port: "{follower.link}"'))
+    node = start_node(
+        compiled_node(
+            f'name: "follower" type: ACTUATOR_SUBSCRIBER topic_name: "/follower/command" serial_port: "{follower.link}"'
+        )
+    )
     ros_client.listen("/diagnostics", DiagnosticArray, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last("/diagnostics"), STARTUP_TIMEOUT_S), node.failure()
     assert list(by_joint(ros_client.last("/diagnostics"))) == SO100_JOINTS

@@ -254,7 +254,9 @@ def test_joshua_emulate_command_serves_until_sigint(tmp_path):
     link = tmp_path / "ttyCLI"
     process = subprocess.Popen(
         [sys.executable, "-m", "joshua_runtime.emulators.cli", "sts3215", "--ids", "4,5", "--link", str(link)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
     )
     try:
         assert wait_for(link.exists, 10.0)

@@ -8,8 +8,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from servo_helpers import SO100_IDS, SO100_JOINTS, wait_for
 
-from testsupport.compiled_settings import compiled_node
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK, load_calibration
+from testsupport.compiled_settings import compiled_node
 
 STARTUP_TIMEOUT_S = 30.0
 DATA_TIMEOUT_S = 5.0
@@ -23,8 +23,10 @@ def test_missing_serial_port_is_one_line_and_exit_code_3(tmp_path, start_node):
     nodes = []
     for node_type in ("ENCODER_PUBLISHER", "ACTUATOR_SUBSCRIBER", "OPERATIONAL_LIMIT_CALIBRATION"):
         written = f'calibration_file: "{calibration}"' if node_type == "OPERATIONAL_LIMIT_CALIBRATION" else ""
-        settings = compiled_node(f'name: "arm" type: {node_type} topic_name: "/arm/joint_states" '
-                                 f'serial_port: "{tmp_path / "ttyUSB9"}" {written}')
+        settings = compiled_node(
+            f'name: "arm" type: {node_type} topic_name: "/arm/joint_states" '
+            f'serial_port: "{tmp_path / "ttyUSB9"}" {written}'
+        )
         nodes.append(start_node(settings))
     for node in nodes:
         _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
@@ -34,8 +36,11 @@ def test_missing_serial_port_is_one_line_and_exit_code_3(tmp_path, start_node):
 
 def test_missing_servo_is_named(emulators, start_node):
     bus = emulators("ttyFIVE", ids=[1, 2, 3, 4, 5])
-    node = start_node(compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
-                                    f'serial_port: "{bus.link}"'))
+    node = start_node(
+        compiled_node(
+            f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" serial_port: "{bus.link}"'
+        )
+    )
     _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
     assert node.process.returncode == 3
     assert stderr == f"leader: error: {bus.link}: no answer from servo id 6\n"
@@ -44,8 +49,12 @@ def test_missing_servo_is_named(emulators, start_node):
 def test_encoder_publisher(emulators, start_node, ros_client):
     leader = emulators("ttyLEADER")
     leader.write_register(1, "Torque_Enable", 1)
-    node = start_node(compiled_node(f'name: "leader_arm" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
-                                    f'serial_port: "{leader.link}" frame_id: "leader_base" rate_hz: 50'))
+    node = start_node(
+        compiled_node(
+            f'name: "leader_arm" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+            f'serial_port: "{leader.link}" frame_id: "leader_base" rate_hz: 50'
+        )
+    )
     ros_client.listen("/leader/joint_states", JointState, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
 
@@ -80,9 +89,11 @@ def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_n
         for name, i in zip(SO100_JOINTS, SO100_IDS)
     }
     (tmp_path / "follower.json").write_text(json.dumps(calibration))
-    settings = compiled_node(f'name: "follower_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
-                             f'serial_port: "{follower.link}" state_topic: "/follower/joint_states" '
-                             f'calibration_file: "{tmp_path / "follower.json"}"')
+    settings = compiled_node(
+        f'name: "follower_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/follower/command" '
+        f'serial_port: "{follower.link}" state_topic: "/follower/joint_states" '
+        f'calibration_file: "{tmp_path / "follower.json"}"'
+    )
     node = start_node(settings)
     ros_client.listen("/follower/joint_states", JointState, RELIABLE)
     command = ros_client.publisher("/follower/command", JointState, RELIABLE)
@@ -106,7 +117,8 @@ def test_actuator_subscriber_drives_goals_and_publishes_state(emulators, start_n
     def state_shows_goals():
         state = ros_client.last("/follower/joint_states")
         return state.position[0] == pytest.approx(-0.4, abs=RADIANS_PER_TICK) and state.position[2] == pytest.approx(
-            1000 * RADIANS_PER_TICK, abs=1e-9)
+            1000 * RADIANS_PER_TICK, abs=1e-9
+        )
 
     assert ros_client.spin_until(state_shows_goals, DATA_TIMEOUT_S)
     assert follower.read_register(1, "Min_Position_Limit") == 1048  # calibration stored in the servos
@@ -121,9 +133,11 @@ def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, star
     arm.move_by_hand(1, 2500)
     arm.move_by_hand(2, 1000)
     path = tmp_path / "calibration" / "arm.json"
-    settings = compiled_node(f'name: "calibrate" type: OPERATIONAL_LIMIT_CALIBRATION topic_name: "/arm/limits" '
-                             f'serial_port: "{arm.link}" device_ids: [1, 2] joint_names: ["pan", "lift"] '
-                             f'calibration_file: "{path}" rate_hz: 50')
+    settings = compiled_node(
+        f'name: "calibrate" type: OPERATIONAL_LIMIT_CALIBRATION topic_name: "/arm/limits" '
+        f'serial_port: "{arm.link}" device_ids: [1, 2] joint_names: ["pan", "lift"] '
+        f'calibration_file: "{path}" rate_hz: 50'
+    )
     node = start_node(settings)
     ros_client.listen("/arm/limits", JointState, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last("/arm/limits"), STARTUP_TIMEOUT_S), node.failure()
@@ -136,9 +150,11 @@ def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, star
 
     for servo_id, joint, low, high in ((1, "pan", 1200, 2900), (2, "lift", 300, 3900)):
         arm.move_by_hand(servo_id, low)
-        assert ros_client.spin_until(lambda: published(f"{joint}.range_min", low), DATA_TIMEOUT_S)
+        assert ros_client.spin_until(lambda joint=joint, low=low: published(f"{joint}.range_min", low), DATA_TIMEOUT_S)
         arm.move_by_hand(servo_id, high)
-        assert ros_client.spin_until(lambda: published(f"{joint}.range_max", high), DATA_TIMEOUT_S)
+        assert ros_client.spin_until(
+            lambda joint=joint, high=high: published(f"{joint}.range_max", high), DATA_TIMEOUT_S
+        )
         arm.move_by_hand(servo_id, 2047)
     message = ros_client.last("/arm/limits")
     assert list(message.name) == ["pan.range_min", "pan.range_max", "lift.range_min", "lift.range_max"]
@@ -155,8 +171,10 @@ def test_calibration_node_records_ranges_and_writes_lerobot_file(emulators, star
 
 def test_nodes_release_the_port_and_exit_0_on_sigint(emulators, start_node):
     bus = emulators("ttyRELEASE", ids=[1])
-    settings = compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
-                             f'serial_port: "{bus.link}" device_ids: [1] joint_names: ["j"]')
+    settings = compiled_node(
+        f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+        f'serial_port: "{bus.link}" device_ids: [1] joint_names: ["j"]'
+    )
     for _ in range(2):  # the second run can only open the port if the first released it
         node = start_node(settings)
         assert wait_for(lambda: bus.stats["packets"] > 5, STARTUP_TIMEOUT_S), node.failure()
@@ -168,8 +186,12 @@ def test_nodes_release_the_port_and_exit_0_on_sigint(emulators, start_node):
 
 def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulators, start_node, ros_client):
     leader = emulators("ttyREPLUG", ids=[1])
-    node = start_node(compiled_node(f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
-                                    f'serial_port: "{leader.link}" device_ids: [1] joint_names: ["j"]'))
+    node = start_node(
+        compiled_node(
+            f'name: "leader" type: ENCODER_PUBLISHER topic_name: "/leader/joint_states" '
+            f'serial_port: "{leader.link}" device_ids: [1] joint_names: ["j"]'
+        )
+    )
     ros_client.listen("/leader/joint_states", JointState, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last("/leader/joint_states"), STARTUP_TIMEOUT_S), node.failure()
 
@@ -192,14 +214,17 @@ def test_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulato
     _, stderr = node.process.communicate(timeout=STARTUP_TIMEOUT_S)
     assert node.process.returncode == 3
     assert stderr.splitlines()[-1] == (
-        f"leader: error: {leader.link}: bus failing for 3 s: serial port {leader.link} not found")
+        f"leader: error: {leader.link}: bus failing for 3 s: serial port {leader.link} not found"
+    )
 
 
 def test_actuator_keeps_torque_on_at_exit_when_configured(emulators, start_node, ros_client):
     follower = emulators("ttyHOLD")
-    settings = compiled_node(f'name: "holding_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/hold/command" '
-                             f'serial_port: "{follower.link}" state_topic: "/hold/joint_states" '
-                             f'keep_torque_on_exit: true')
+    settings = compiled_node(
+        f'name: "holding_arm" type: ACTUATOR_SUBSCRIBER topic_name: "/hold/command" '
+        f'serial_port: "{follower.link}" state_topic: "/hold/joint_states" '
+        f"keep_torque_on_exit: true"
+    )
     node = start_node(settings)
     ros_client.listen("/hold/joint_states", JointState, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last("/hold/joint_states"), STARTUP_TIMEOUT_S), node.failure()

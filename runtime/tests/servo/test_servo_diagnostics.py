@@ -15,8 +15,17 @@ from joshua_runtime.servo_tools.status import ServoStatus, read_status
 
 
 def reading(**changes) -> ServoStatus:
-    values = {"id": 1, "position": 2048, "speed": 0, "load_percent": 0.0, "voltage_v": 12.1, "temperature_c": 30,
-              "error_bits": 0, "moving": False, "current_ma": 0.0}
+    values = {
+        "id": 1,
+        "position": 2048,
+        "speed": 0,
+        "load_percent": 0.0,
+        "voltage_v": 12.1,
+        "temperature_c": 30,
+        "error_bits": 0,
+        "moving": False,
+        "current_ma": 0.0,
+    }
     return ServoStatus(**{**values, **changes})
 
 
@@ -37,7 +46,9 @@ def test_levels_follow_the_factory_limits():
 def test_error_bits_come_first_and_set_the_level():
     findings = assess(reading(error_bits=proto.ERROR_OVERLOAD | proto.ERROR_ANGLE_SENSOR, temperature_c=61))
     assert [f.message for f in findings] == [
-        "servo reports angle sensor", "servo reports overload", "temperature 61 C near 70 C"
+        "servo reports angle sensor",
+        "servo reports overload",
+        "temperature 61 C near 70 C",
     ]
     assert level(findings) == ERROR
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 import serial
+
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
 from joshua_runtime.emulators.pty_link import PtyLink
 from joshua_runtime.servo_tools import find_port
@@ -40,7 +41,8 @@ def test_console_script_scans_the_joshua_emulate_bus(tmp_path):
     link = tmp_path / "ttyCLI"
     emulator = subprocess.Popen(
         [sys.executable, "-m", "joshua_runtime.emulators.cli", "sts3215", "--ids", "3,7", "--link", str(link)],
-        stdout=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE,
+        text=True,
     )
     try:
         assert "sts3215: servos 3,7" in emulator.stdout.readline()

@@ -12,8 +12,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from servo_helpers import SO100_IDS, SO100_JOINTS
 
-from testsupport.compiled_settings import compiled_settings
 from joshua_runtime.drivers.calibration import RADIANS_PER_TICK
+from testsupport.compiled_settings import compiled_settings
 
 STARTUP_TIMEOUT_S = 30.0
 TRACKING_TIMEOUT_S = 10.0
@@ -27,14 +27,18 @@ ROBOT = Path(__file__).resolve().parents[3] / "config" / "robots" / "so100_leade
 def test_follower_tracks_the_leader(emulators, start_node, ros_client):
     leader_bus = emulators("ttyUSB0")
     follower_bus = emulators("ttyUSB1")
-    settings = compiled_settings(ROBOT.read_text(), [f"encoder_publisher.serial_port={leader_bus.link}",
-                                                     f"actuator_subscriber.serial_port={follower_bus.link}"],
-                                 path=str(ROBOT))
+    settings = compiled_settings(
+        ROBOT.read_text(),
+        [f"encoder_publisher.serial_port={leader_bus.link}", f"actuator_subscriber.serial_port={follower_bus.link}"],
+        path=str(ROBOT),
+    )
     leader = start_node(settings["encoder_publisher"])
     follower = start_node(settings["actuator_subscriber"])
     ros_client.listen(LEADER_TOPIC, JointState, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last(LEADER_TOPIC) is not None, STARTUP_TIMEOUT_S), (
-        leader.failure(), follower.failure())
+        leader.failure(),
+        follower.failure(),
+    )
     (publisher,) = ros_client.publishers_info(LEADER_TOPIC, STARTUP_TIMEOUT_S)
     assert (publisher.node_name, publisher.topic_type) == ("encoder_publisher", "sensor_msgs/msg/JointState")
     assert publisher.qos_profile.reliability == ReliabilityPolicy.RELIABLE
@@ -49,13 +53,13 @@ def test_follower_tracks_the_leader(emulators, start_node, ros_client):
         for servo_id, ticks in zip(SO100_IDS, pose):
             leader_bus.move_by_hand(servo_id, ticks)
 
-        def tracking():
+        def tracking(pose=pose):
             return all(abs(follower_bus.position(i) - t) <= TRACKING_TOLERANCE_TICKS for i, t in zip(SO100_IDS, pose))
 
         assert follower_bus.wait_until(tracking, TRACKING_TIMEOUT_S), [follower_bus.position(i) for i in SO100_IDS]
         assert [follower_bus.read_register(i, "Goal_Position") for i in SO100_IDS] == pose
 
-        def published_pose():
+        def published_pose(pose=pose):
             message = ros_client.last(LEADER_TOPIC)
             expected = [(t - 2047.5) * RADIANS_PER_TICK for t in pose]
             return all(abs(p - e) < 1e-9 for p, e in zip(message.position, expected))

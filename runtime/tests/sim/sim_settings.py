@@ -82,6 +82,8 @@ LIDAR = """
 
 def simulation(*nodes: str, overrides=()) -> dict:
     """The settings of the SIMULATION process of a robot made of the `node { }` blocks given."""
-    text = ('robot_config {\n  name: "sim_test"\n  mode: MODE_SIMULATION\n'
-            '  simulation { model: "builtin:so100" }\n' + "".join(nodes) + "}\n")
+    text = (
+        'robot_config {\n  name: "sim_test"\n  mode: MODE_SIMULATION\n'
+        '  simulation { model: "builtin:so100" }\n' + "".join(nodes) + "}\n"
+    )
     return compiled_settings(text, overrides)["simulation"]

@@ -7,10 +7,10 @@ import mujoco
 import numpy as np
 import pytest
 
+from joshua_core import so100
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.engine import SimulationEngine
-from joshua_core import so100
 from joshua_runtime.sim.model import load_model
 
 JOINTS = list(so100.SO100_JOINTS)
@@ -121,10 +121,9 @@ def test_lidar_sees_the_cube_move(engine):
     bearing = round(math.degrees(math.atan2(0.06 - 0.28, 0.22 + 0.25))) % 360
     before = sensor.scan(engine.data)[bearing]
     assert before == pytest.approx(math.hypot(0.47, 0.22) - 0.015, abs=0.01)
-    engine.data.qpos[cube:cube + 3] = [0.22, -1.0, 0.015]  # move it out of the beam
+    engine.data.qpos[cube : cube + 3] = [0.22, -1.0, 0.015]  # move it out of the beam
     engine.step(1)
     assert sensor.scan(engine.data)[bearing] > 1.0
-
 
 
 def test_lidar_site_is_the_frame_id_else_lidar_else_an_error(engine):

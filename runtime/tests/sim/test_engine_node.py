@@ -14,10 +14,9 @@ import time
 import cv2
 import numpy as np
 import pytest
+import sim_settings
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, Image, JointState, LaserScan
-
-import sim_settings
 from sim_ros import DISCOVERY_TIMEOUT_S, RELIABLE, SENSOR, STARTUP_TIMEOUT_S
 
 GOAL = [0.8, 0.3, 0.2, -0.4, 1.2, 0.7]
@@ -27,10 +26,18 @@ COMMAND_PERIOD_S = 0.1
 # Standard deviation of pixel values above which a frame is a real render, not a blank fill.
 MIN_PIXEL_STD = 10.0
 
+
 @pytest.fixture
 def arm_process(start_node):
-    return start_node(sim_settings.simulation(sim_settings.ENCODER, sim_settings.ACTUATOR, sim_settings.CAMERA,
-                                              sim_settings.WRIST_CAMERA, sim_settings.LIDAR))
+    return start_node(
+        sim_settings.simulation(
+            sim_settings.ENCODER,
+            sim_settings.ACTUATOR,
+            sim_settings.CAMERA,
+            sim_settings.WRIST_CAMERA,
+            sim_settings.LIDAR,
+        )
+    )
 
 
 def _positions(msg: JointState | None) -> list[float] | None:
@@ -69,7 +76,8 @@ def test_simulated_arm_camera_and_lidar(ros_client, arm_process):
     throttle = _Throttle(COMMAND_PERIOD_S, send)
     converged = ros_client.spin_until(
         lambda: _converged(ros_client.last("/arm/joint_states")) and _converged(ros_client.last("/arm/present")),
-        CONVERGE_TIMEOUT_S, every=throttle,
+        CONVERGE_TIMEOUT_S,
+        every=throttle,
     )
     assert converged, f"states {_positions(ros_client.last('/arm/joint_states'))} did not reach {GOAL}"
 
@@ -131,8 +139,9 @@ def _assert_endpoints(ros_client) -> None:
         assert infos[0].topic_type == message_type
         assert infos[0].qos_profile.reliability == reliability
         assert infos[0].qos_profile.durability == DurabilityPolicy.VOLATILE
-    subscriptions = [i for i in ros_client.subscriptions_info("/arm/command", DISCOVERY_TIMEOUT_S)
-                     if i.node_name == "simulation"]
+    subscriptions = [
+        i for i in ros_client.subscriptions_info("/arm/command", DISCOVERY_TIMEOUT_S) if i.node_name == "simulation"
+    ]
     assert len(subscriptions) == 1
     assert subscriptions[0].topic_type == "sensor_msgs/msg/JointState"
     assert subscriptions[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
@@ -145,8 +154,12 @@ def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node
         received = ros_client.spin_until(lambda: ros_client.last("/arm/limits") is not None, STARTUP_TIMEOUT_S)
         assert received, process.failure()
         limits = ros_client.last("/arm/limits")
-        assert list(limits.name) == ["shoulder_pan.range_min", "shoulder_pan.range_max",
-                                     "gripper.range_min", "gripper.range_max"]
+        assert list(limits.name) == [
+            "shoulder_pan.range_min",
+            "shoulder_pan.range_max",
+            "gripper.range_min",
+            "gripper.range_max",
+        ]
         # +-1.92 rad and -0.17..1.75 rad in ticks of 2 pi / 4095, the middle of each range at 2047.
         assert list(limits.position) == [796.0, 3298.0, 1936.0, 3188.0]
     finally:
@@ -160,8 +173,7 @@ def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node
     [
         # joshuac rejects these three (E506): they are written into the compiled settings, as a hand-edited
         # entrypoint would have them, to reach the runtime's own check.
-        ([], {"model": "builtin:so101"}, 2,
-         "simulation: error: unknown built-in simulation model 'builtin:so101'"),
+        ([], {"model": "builtin:so101"}, 2, "simulation: error: unknown built-in simulation model 'builtin:so101'"),
         ([], {"realtime_factor": -2.0}, 2, "simulation: error: simulation realtime_factor must be >= 0, got -2.0"),
         ([], {"gl_backend": "glx"}, 2, "simulation: error: gl_backend 'glx' is not one of egl, osmesa"),
     ],
@@ -180,7 +192,9 @@ def test_unusable_settings_exit_with_one_line(start_node, overrides, unchecked, 
 def test_unknown_joint_exits_with_settings_error(start_node):
     """joshuac refuses such a description (E123); settings written by hand reach the engine's own check."""
     settings = sim_settings.simulation(
-        sim_settings.ENCODER, overrides=["arm_encoder.device_ids=1,2", "arm_encoder.joint_names=shoulder_pan,wrist_flex"])
+        sim_settings.ENCODER,
+        overrides=["arm_encoder.device_ids=1,2", "arm_encoder.joint_names=shoulder_pan,wrist_flex"],
+    )
     [encoder] = settings["simulation"]["simulates"]
     encoder["joint_names"] = ["shoulder_pan", "elbow"]
     returncode, stderr = start_node(settings).wait(STARTUP_TIMEOUT_S)

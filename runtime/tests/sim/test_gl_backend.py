@@ -29,5 +29,7 @@ def test_unknown_backend_is_a_settings_error():
 def test_render_failure_suggests_the_other_backend():
     error = render_failure("egl", RuntimeError("eglInitialize failed"))
     assert error.exit_code == 3
-    assert str(error) == ('offscreen rendering with MUJOCO_GL=egl failed (RuntimeError: eglInitialize failed); '
-                          'try simulation gl_backend "osmesa" (Debian packages: libosmesa6)')
+    assert str(error) == (
+        "offscreen rendering with MUJOCO_GL=egl failed (RuntimeError: eglInitialize failed); "
+        'try simulation gl_backend "osmesa" (Debian packages: libosmesa6)'
+    )

@@ -2,10 +2,11 @@
 
 import mujoco
 import pytest
+from sim_settings import SO100_RANGES
 
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.sim.model import BUILTIN_MODEL_FILES, camera_id, joint_names, load_model, model_path
-from sim_settings import SO100_RANGES
+
 
 @pytest.fixture(scope="module")
 def so100():
@@ -51,8 +52,13 @@ def test_scene_has_cameras_lidar_site_table_and_a_free_cube(so100):
 
 
 def test_collision_geometry_is_primitives_only(so100):
-    primitives = {mujoco.mjtGeom.mjGEOM_PLANE, mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_CAPSULE,
-                  mujoco.mjtGeom.mjGEOM_CYLINDER, mujoco.mjtGeom.mjGEOM_SPHERE}
+    primitives = {
+        mujoco.mjtGeom.mjGEOM_PLANE,
+        mujoco.mjtGeom.mjGEOM_BOX,
+        mujoco.mjtGeom.mjGEOM_CAPSULE,
+        mujoco.mjtGeom.mjGEOM_CYLINDER,
+        mujoco.mjtGeom.mjGEOM_SPHERE,
+    }
     assert {mujoco.mjtGeom(int(t)) for t in so100.geom_type} <= primitives
     assert so100.nmesh == 0
 
@@ -70,7 +76,10 @@ def test_camera_lookup_names_the_known_cameras(so100):
     "spec, message",
     [
         ("", r"simulation model is not set"),
-        ("builtin:so101", r"unknown built-in simulation model 'builtin:so101' \(known: builtin:lego_bot, builtin:so100\)"),
+        (
+            "builtin:so101",
+            r"unknown built-in simulation model 'builtin:so101' \(known: builtin:lego_bot, builtin:so100\)",
+        ),
         ("missing.xml", r"simulation model 'missing.xml' does not exist"),
     ],
 )
@@ -90,4 +99,3 @@ def test_invalid_mjcf_is_one_settings_error(tmp_path):
 def test_non_positive_timestep_is_rejected():
     with pytest.raises(SettingsError, match=r"timestep_s must be positive, got 0.0"):
         load_model("builtin:so100", 0.0)
-

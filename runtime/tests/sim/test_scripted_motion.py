@@ -5,13 +5,13 @@ import subprocess
 import sys
 
 import pytest
-from sensor_msgs.msg import JointState
-
 import sim_settings
-from joshua_runtime.sim.scripted_motion import CYCLE_S, KEYFRAMES, SO100_JOINTS, scripted_positions
-from testsupport.node_process import stop_process
+from sensor_msgs.msg import JointState
 from sim_ros import RELIABLE, STARTUP_TIMEOUT_S
 from sim_settings import SO100_RANGES
+
+from joshua_runtime.sim.scripted_motion import CYCLE_S, KEYFRAMES, SO100_JOINTS, scripted_positions
+from testsupport.node_process import stop_process
 
 # Sample spacing of the smoothness check and the largest joint change allowed over it.
 SAMPLE_S = 0.01
@@ -46,13 +46,17 @@ def test_scripted_motion_drives_the_simulated_arm(ros_env, start_node, ros_clien
     simulation = start_node(sim_settings.simulation(sim_settings.ACTUATOR)).process
     motion = subprocess.Popen(
         [sys.executable, "-m", "joshua_runtime.sim.scripted_motion", "--topic", "/arm/command", "--rate-hz", "50"],
-        env=ros_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        env=ros_env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
     )
     try:
         ros_client.listen("/arm/present", JointState, RELIABLE)
         ros_client.listen("/arm/command", JointState, RELIABLE)
-        assert ros_client.spin_until(lambda: ros_client.count("/arm/present") and ros_client.count("/arm/command"),
-                                     STARTUP_TIMEOUT_S)
+        assert ros_client.spin_until(
+            lambda: ros_client.count("/arm/present") and ros_client.count("/arm/command"), STARTUP_TIMEOUT_S
+        )
         # Watch the present states for one loop: the arm must come down over the cube.
         lowered = KEYFRAMES[1][1]
 
@@ -61,7 +65,8 @@ def test_scripted_motion_drives_the_simulated_arm(ros_env, start_node, ros_clien
             return all(abs(p - g) < LOWERED_TOLERANCE_RAD for p, g in zip(present[:4], lowered[:4]))
 
         assert ros_client.spin_until(reached_lowered_pose, CYCLE_S + LOWERED_AT_S), list(
-            ros_client.last("/arm/present").position)
+            ros_client.last("/arm/present").position
+        )
         assert list(ros_client.last("/arm/command").name) == list(SO100_JOINTS)
     finally:
         for process in (motion, simulation):

@@ -5,10 +5,11 @@ import signal
 import pytest
 import sim_settings
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from joshua_runtime.presets import BUILTIN_PRESETS
 from sensor_msgs.msg import JointState
 from sim_ros import RELIABLE, STARTUP_TIMEOUT_S
 from std_msgs.msg import String
+
+from joshua_runtime.presets import BUILTIN_PRESETS
 
 CONVERGE_TIMEOUT_S = 20.0
 TOLERANCE_RAD = 0.03

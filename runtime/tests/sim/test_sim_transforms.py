@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
-from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from sensor_msgs.msg import JointState
 from sim_settings import ENCODER
 
+from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from testsupport.compiled_settings import compiled_settings
 
 WAIT_S = 60.0  # a cold MuJoCo process on a loaded machine
@@ -15,10 +15,10 @@ RELIABLE = {"history": "KEEP_LAST", "depth": 100, "reliability": "RELIABLE", "du
 def test_the_simulated_arm_publishes_transforms_of_its_joint_states(start_node, ros_client):
     from tf2_msgs.msg import TFMessage
 
-    settings = compiled_settings(f'''robot_config {{ name: "sim" mode: MODE_SIMULATION
+    settings = compiled_settings(f"""robot_config {{ name: "sim" mode: MODE_SIMULATION
       simulation {{ model: "builtin:so100" }}
       {ENCODER}
-      node {{ name: "state" type: ROBOT_STATE_PUBLISHER topic_name: "/arm/joint_states" }} }}''')
+      node {{ name: "state" type: ROBOT_STATE_PUBLISHER topic_name: "/arm/joint_states" }} }}""")
     assert set(settings) == {"arm_encoder", "state", "simulation"}
     ros_client.listen("/arm/joint_states", JointState, RELIABLE, keep=500)
     ros_client.listen("/tf", TFMessage, RELIABLE, keep=500)
@@ -26,8 +26,10 @@ def test_the_simulated_arm_publishes_transforms_of_its_joint_states(start_node, 
     state = start_node(settings["state"])
     assert ros_client.spin_until(lambda: ros_client.count("/tf") >= 20, WAIT_S), engine.failure() + state.failure()
     model = load("builtin:so100")
-    joints = {(m.header.stamp.sec, m.header.stamp.nanosec): dict(zip(m.name, m.position))
-              for m in ros_client.messages("/arm/joint_states")}
+    joints = {
+        (m.header.stamp.sec, m.header.stamp.nanosec): dict(zip(m.name, m.position))
+        for m in ros_client.messages("/arm/joint_states")
+    }
     matched = 0
     for message in ros_client.messages("/tf"):
         stamp = (message.transforms[0].header.stamp.sec, message.transforms[0].header.stamp.nanosec)

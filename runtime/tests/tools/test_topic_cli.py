@@ -17,8 +17,14 @@ RELIABLE = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "dur
 
 
 def topic_cli(env, *args, timeout=CLI_TIMEOUT_S) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "joshua_runtime.tools.topic_cli", *map(str, args)], env=env,
-                          capture_output=True, text=True, timeout=timeout, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "joshua_runtime.tools.topic_cli", *map(str, args)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
 
 
 @pytest.fixture
@@ -30,7 +36,9 @@ def arm(start_node):
 def test_list_info_echo_and_hz_see_a_running_node(ros_env, arm):
     echoed = topic_cli(ros_env, "echo", TOPIC, "--once", "--timeout", 30)
     assert echoed.returncode == 0, echoed.stderr
-    assert re.search(r"^name:\n- \w+", echoed.stdout, re.MULTILINE) and re.search(r"^position:\n- -?\d", echoed.stdout, re.MULTILINE)
+    assert re.search(r"^name:\n- \w+", echoed.stdout, re.MULTILINE) and re.search(
+        r"^position:\n- -?\d", echoed.stdout, re.MULTILINE
+    )
     assert echoed.stdout.count("\n---\n") == 1
 
     listed = topic_cli(ros_env, "list", "-t", "--wait", 5)
@@ -52,9 +60,22 @@ def test_pub_sends_nested_messages_a_subscriber_receives(ros_env, ros_client):
 
     ros_client.listen("/tf", TFMessage, RELIABLE)
     publisher = subprocess.Popen(
-        [sys.executable, "-m", "joshua_runtime.tools.topic_cli", "pub", "/tf", "tf2_msgs/msg/TFMessage",
-         "{transforms: [{header: {frame_id: base_link}, child_frame_id: gripper, transform: {translation: {x: 0.5}}}]}",
-         "--rate", "10"], env=ros_env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        [
+            sys.executable,
+            "-m",
+            "joshua_runtime.tools.topic_cli",
+            "pub",
+            "/tf",
+            "tf2_msgs/msg/TFMessage",
+            "{transforms: [{header: {frame_id: base_link}, child_frame_id: gripper, transform: {translation: {x: 0.5}}}]}",
+            "--rate",
+            "10",
+        ],
+        env=ros_env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         arrived = ros_client.spin_until(lambda: ros_client.last("/tf") is not None, RECEIVE_TIMEOUT_S)
     finally:
@@ -63,30 +84,50 @@ def test_pub_sends_nested_messages_a_subscriber_receives(ros_env, ros_client):
     assert arrived, stderr
     [transform] = ros_client.last("/tf").transforms
     assert (transform.header.frame_id, transform.child_frame_id, transform.transform.translation.x) == (
-        "base_link", "gripper", 0.5)
+        "base_link",
+        "gripper",
+        0.5,
+    )
 
 
 def test_the_robot_option_takes_the_domain_from_the_build(ros_env, ros_client, tmp_path):
     description = tmp_path / "r.pbtxt"
-    description.write_text(f'robot_config {{ name: "r" mode: MODE_TELEOPERATION ros_domain_id: {ros_env["ROS_DOMAIN_ID"]}\n'
-                           f'  node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "{TOPIC}" }} }}\n')
+    description.write_text(
+        f'robot_config {{ name: "r" mode: MODE_TELEOPERATION ros_domain_id: {ros_env["ROS_DOMAIN_ID"]}\n'
+        f'  node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "{TOPIC}" }} }}\n'
+    )
     assert joshuac("build", description, "-o", tmp_path / "out").returncode == 0
     ros_client.listen("/joints_in", JointState, RELIABLE)
     elsewhere = dict(ros_env, ROS_DOMAIN_ID=str(int(ros_env["ROS_DOMAIN_ID"]) + 1))
-    sent = topic_cli(elsewhere, "--robot", tmp_path / "out", "pub", "/joints_in", "sensor_msgs/msg/JointState",
-                     "{name: [shoulder_pan], position: [1.5]}", "--times", 10, "--rate", 10,
-                     "--wait-matching", 20)
+    sent = topic_cli(
+        elsewhere,
+        "--robot",
+        tmp_path / "out",
+        "pub",
+        "/joints_in",
+        "sensor_msgs/msg/JointState",
+        "{name: [shoulder_pan], position: [1.5]}",
+        "--times",
+        10,
+        "--rate",
+        10,
+        "--wait-matching",
+        20,
+    )
     assert sent.returncode == 0, sent.stderr
     assert ros_client.spin_until(lambda: ros_client.last("/joints_in") is not None, RECEIVE_TIMEOUT_S)
     assert list(ros_client.last("/joints_in").position) == [1.5]
 
 
-@pytest.mark.parametrize(("args", "message"), [
-    (("pub", "/x", "std_msgs/msg/Strin", "{data: a}"), "message type 'std_msgs/msg/Strin' is not available"),
-    (("pub", "/x", "std_msgs/msg/String", "{dat: a}"), "String.dat: no such field (fields: data)"),
-    (("pub", "/x", "std_msgs/msg/Int32", "{data: [1}"), "the values are not YAML"),
-    (("--robot", "/nonexistent/out", "list"), "/nonexistent/out: no manifest.json"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("pub", "/x", "std_msgs/msg/Strin", "{data: a}"), "message type 'std_msgs/msg/Strin' is not available"),
+        (("pub", "/x", "std_msgs/msg/String", "{dat: a}"), "String.dat: no such field (fields: data)"),
+        (("pub", "/x", "std_msgs/msg/Int32", "{data: [1}"), "the values are not YAML"),
+        (("--robot", "/nonexistent/out", "list"), "/nonexistent/out: no manifest.json"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_code_2(ros_env, args, message):
     result = topic_cli(ros_env, *args, *(["--once"] if args[0] == "pub" else []))
     assert result.returncode == 2

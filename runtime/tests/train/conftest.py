@@ -19,7 +19,14 @@ def trained_reach(tmp_path_factory):
     from joshua_runtime.train import ppo
 
     output = tmp_path_factory.mktemp("ppo") / "reach"
-    metadata = ppo.train("so100_reach", LEARNING_STEPS, output, seed=LEARNING_SEED,
-                         checkpoint_every=LEARNING_STEPS, eval_episodes=EVALUATION_EPISODES, progress=False,
-                         log=lambda text: None)
+    metadata = ppo.train(
+        "so100_reach",
+        LEARNING_STEPS,
+        output,
+        seed=LEARNING_SEED,
+        checkpoint_every=LEARNING_STEPS,
+        eval_episodes=EVALUATION_EPISODES,
+        progress=False,
+        log=lambda text: None,
+    )
     return output, metadata

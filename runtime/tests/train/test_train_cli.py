@@ -10,23 +10,39 @@ import pytest
 from joshua_runtime.train import saved_policy
 
 TOOL_TIMEOUT_S = 240
-STEPS = 1024           # one PPO update of 4 environments x 256 steps
+STEPS = 1024  # one PPO update of 4 environments x 256 steps
 
 
 def run(*args, registry=None, check=True):
     env = dict(os.environ)
     if registry is not None:
         env["JOSHUA_MODEL_REGISTRY"] = str(registry)
-    result = subprocess.run([sys.executable, "-m", *args], capture_output=True, text=True, env=env,
-                            timeout=TOOL_TIMEOUT_S)
+    result = subprocess.run(
+        [sys.executable, "-m", *args], capture_output=True, text=True, env=env, timeout=TOOL_TIMEOUT_S
+    )
     if check:
         assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
     return result
 
 
 def train(output, steps):
-    return run("joshua_runtime.train.cli", "rl", "--env", "so100_reach", "--steps", str(steps), "--output",
-               str(output), "--seed", "3", "--checkpoint-every", "512", "--eval-episodes", "2", "--no-progress")
+    return run(
+        "joshua_runtime.train.cli",
+        "rl",
+        "--env",
+        "so100_reach",
+        "--steps",
+        str(steps),
+        "--output",
+        str(output),
+        "--seed",
+        "3",
+        "--checkpoint-every",
+        "512",
+        "--eval-episodes",
+        "2",
+        "--no-progress",
+    )
 
 
 def test_rl_checkpoints_resumes_and_is_imported_with_its_lineage(tmp_path):
@@ -43,8 +59,9 @@ def test_rl_checkpoints_resumes_and_is_imported_with_its_lineage(tmp_path):
     assert saved_policy.read(output)["steps"] == 2 * STEPS
     assert (output / "checkpoints" / "ppo_2048_steps.zip").is_file()
 
-    evaluated = run("joshua_runtime.train.cli", "evaluate", str(output), "--env", "so100_reach", "--episodes", "3",
-                    "--json")
+    evaluated = run(
+        "joshua_runtime.train.cli", "evaluate", str(output), "--env", "so100_reach", "--episodes", "3", "--json"
+    )
     result = json.loads(evaluated.stdout)
     assert set(result) == {"success_rate", "mean_return", "episodes"} and result["episodes"] == 3
 
@@ -63,17 +80,36 @@ def test_random_baseline_prints_the_three_fields():
     assert result.stdout.count("\n") == 1
 
 
-@pytest.mark.parametrize("args, code, message", [
-    (["rl", "--env", "so100_fly", "--steps", "10", "--output", "{tmp}/x"], 2,
-     "joshua-train: error: unknown environment 'so100_fly' (known: so100_push, so100_reach)"),
-    (["rl", "--env", "so100_reach", "--steps", "10", "--output", "{tmp}/full"], 2,
-     "joshua-train: error: output {tmp}/full is not empty and holds no joshua-train run; choose another directory"),
-    (["evaluate", "{tmp}/missing", "--env", "so100_reach", "--episodes", "2"], 2,
-     "joshua-train: error: policy directory {tmp}/missing does not exist"),
-    (["evaluate", "--env", "so100_reach", "--episodes", "2"], 2, "give one of: a policy DIRECTORY, --random, --zeros"),
-    (["imitation", "--dataset", "{tmp}/full", "--policy", "act", "--steps", "2", "--output", "{tmp}/o"], 2,
-     "joshua-train: error: dataset {tmp}/full is not a LeRobot dataset (no meta/info.json)"),
-])
+@pytest.mark.parametrize(
+    "args, code, message",
+    [
+        (
+            ["rl", "--env", "so100_fly", "--steps", "10", "--output", "{tmp}/x"],
+            2,
+            "joshua-train: error: unknown environment 'so100_fly' (known: so100_push, so100_reach)",
+        ),
+        (
+            ["rl", "--env", "so100_reach", "--steps", "10", "--output", "{tmp}/full"],
+            2,
+            "joshua-train: error: output {tmp}/full is not empty and holds no joshua-train run; choose another directory",
+        ),
+        (
+            ["evaluate", "{tmp}/missing", "--env", "so100_reach", "--episodes", "2"],
+            2,
+            "joshua-train: error: policy directory {tmp}/missing does not exist",
+        ),
+        (
+            ["evaluate", "--env", "so100_reach", "--episodes", "2"],
+            2,
+            "give one of: a policy DIRECTORY, --random, --zeros",
+        ),
+        (
+            ["imitation", "--dataset", "{tmp}/full", "--policy", "act", "--steps", "2", "--output", "{tmp}/o"],
+            2,
+            "joshua-train: error: dataset {tmp}/full is not a LeRobot dataset (no meta/info.json)",
+        ),
+    ],
+)
 def test_bad_input_is_one_line_and_an_exit_code(tmp_path, args, code, message):
     (tmp_path / "full").mkdir()
     (tmp_path / "full" / "notes.txt").write_text("keep me\n")

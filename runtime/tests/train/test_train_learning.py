@@ -9,6 +9,7 @@ demonstrated goal (~0.01 m) where goal angles of 0 stay ~0.16 m away.
 import json
 
 from train_support import EVALUATION_EPISODES
+
 from joshua_runtime.train import cli, evaluation
 
 MIN_PPO_SUCCESS_RATE = 0.2
@@ -34,14 +35,31 @@ def test_imitation_of_scripted_demonstrations_beats_replaying_zeros(tmp_path, ca
     monkeypatch.setenv("HF_LEROBOT_HOME", str(tmp_path / "lerobot-home"))
     dataset, output = tmp_path / "demos", tmp_path / "act"
     assert cli.main(["demonstrate", "--output", str(dataset), "--episodes", str(DEMONSTRATIONS)]) == 0
-    assert cli.main(["imitation", "--dataset", str(dataset), "--policy", "act", "--steps", str(IMITATION_STEPS),
-                     "--output", str(output)]) == 0
+    assert (
+        cli.main(
+            [
+                "imitation",
+                "--dataset",
+                str(dataset),
+                "--policy",
+                "act",
+                "--steps",
+                str(IMITATION_STEPS),
+                "--output",
+                str(output),
+            ]
+        )
+        == 0
+    )
     capsys.readouterr()
-    assert cli.main(["evaluate", str(output), "--env", "so100_reach", "--episodes", str(IMITATION_EPISODES),
-                     "--json"]) == 0
+    assert (
+        cli.main(["evaluate", str(output), "--env", "so100_reach", "--episodes", str(IMITATION_EPISODES), "--json"])
+        == 0
+    )
     learnt = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    assert cli.main(["evaluate", "--zeros", "--env", "so100_reach", "--episodes", str(IMITATION_EPISODES),
-                     "--json"]) == 0
+    assert (
+        cli.main(["evaluate", "--zeros", "--env", "so100_reach", "--episodes", str(IMITATION_EPISODES), "--json"]) == 0
+    )
     zeros = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert zeros["success_rate"] == 0.0
     assert learnt["success_rate"] >= MIN_IMITATION_SUCCESS_RATE, (learnt, zeros)

@@ -36,6 +36,6 @@ def test_mjx_steps_match_c_mujoco_within_tolerance():
     angles, _, grasp = worlds.read()
     expected_angles = np.stack([world.qpos[worlds.addresses.qpos] for world in data])
     expected_grasp = np.stack([world.site_xpos[worlds.addresses.grasp] for world in data])
-    assert np.abs(expected_angles - START).max() > 0.1           # the arm really moved
+    assert np.abs(expected_angles - START).max() > 0.1  # the arm really moved
     np.testing.assert_allclose(angles, expected_angles, atol=ANGLE_TOLERANCE_RAD)
     np.testing.assert_allclose(grasp, expected_grasp, atol=GRASP_TOLERANCE_M)

@@ -52,8 +52,9 @@ def test_served_ppo_policy_brings_the_simulated_grasp_point_to_the_goal(trained_
     start = distance()
     assert start > 2 * CLOSE_ENOUGH_M
     policy = start_node(settings["reach_policy"])
-    assert ros_client.spin_until(lambda: ros_client.last("/arm/command") is not None, STARTUP_TIMEOUT_S), \
+    assert ros_client.spin_until(lambda: ros_client.last("/arm/command") is not None, STARTUP_TIMEOUT_S), (
         policy.failure()
+    )
     assert list(ros_client.last("/arm/command").name) == list(arm.ARM_JOINTS)
     reached = ros_client.spin_until(lambda: distance() < CLOSE_ENOUGH_M, REACH_TIMEOUT_S)
     assert reached, f"grasp point still {distance():.3f} m from the goal (started {start:.3f} m away)"
