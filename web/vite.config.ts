@@ -1,10 +1,9 @@
-import tailwindcss from "@tailwindcss/vite";
 import react from "@vitejs/plugin-react";
 import { defineConfig } from "vitest/config";
 
 // Two pages: index.html (one robot, served by the dashboard) and fleet.html (served by joshua-fleet).
 export default defineConfig({
-  plugins: [react(), tailwindcss()],
+  plugins: [react()],
   build: {
     outDir: "dist",
     emptyOutDir: true,
