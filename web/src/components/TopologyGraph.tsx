@@ -47,7 +47,7 @@ export function TopologyGraph({ topology, rates, nodes }: {
   const x = (box: PlacedBox) => 10 + box.column * COLUMN_WIDTH;
   const y = (box: PlacedBox) => 10 + box.row * ROW_HEIGHT;
   return (
-    <svg viewBox={`0 0 ${columns * COLUMN_WIDTH} ${rows * ROW_HEIGHT + 10}`} className="mx-auto max-h-72 w-full" role="img"
+    <svg viewBox={`0 0 ${columns * COLUMN_WIDTH} ${rows * ROW_HEIGHT + 10}`} className="w-full" style={{ maxWidth: columns * COLUMN_WIDTH }} role="img"
          aria-label="topology">
       {topology.edges.map((edge) => {
         const from = position.get(edge.from), to = position.get(edge.to);

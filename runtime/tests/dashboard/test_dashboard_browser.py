@@ -1,0 +1,98 @@
+"""The dashboard page in Debian's headless Chromium, against a robot whose nodes really run.
+
+The robot: a mock leader arm (restarted from the page), a recorder (episodes started and stopped from
+the page, saved by LeRobot), and a probe topic whose values this test publishes itself.
+"""
+
+
+import pandas
+import pytest
+from sensor_msgs.msg import JointState
+
+from dashboard_support import browser, build, get_json, running_robot, screenshot
+
+PAGE_TIMEOUT_MS = 30_000
+RECORDER_START_TIMEOUT_MS = 120_000  # LeRobot's import in a cold process on a busy machine
+PROBE_JOINTS = ["shoulder_pan", "gripper"]
+PROBE = {"position": [0.125, -1.5], "velocity": [2.25, 0.0], "effort": [-0.375, 3.0]}
+TASK = "pick the red cube"
+
+
+def description(output_directory) -> str:
+    return f"""robot_config {{
+  name: "dash_robot"
+  mode: MODE_DATA_COLLECTION
+  node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 30 }}
+  node {{ name: "probe" type: MOCK_ENCODER_PUBLISHER topic_name: "/probe/joint_states" rate_hz: 10
+          joint_names: ["shoulder_pan", "gripper"] device_ids: [1, 2] }}
+  node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/leader/joint_states" rate_hz: 10
+          output_directory: "{output_directory}" output_format: "parquet" }}
+}}
+"""
+
+
+@pytest.fixture
+def robot(tmp_path, ros_env):
+    manifest = build(description(tmp_path / "dataset"), tmp_path)
+    env = dict(ros_env, HF_HUB_OFFLINE="1", HF_DATASETS_OFFLINE="1")
+    # "probe" is not started: this test publishes its topic with exact values instead.
+    with running_robot(manifest, env, ["leader", "recorder"], tmp_path) as (url, peer, server):
+        yield url, peer, tmp_path / "dataset"
+
+
+@pytest.fixture
+def page():
+    with browser() as chromium:
+        page = chromium.new_page(viewport={"width": 1400, "height": 1000})
+        page.set_default_timeout(PAGE_TIMEOUT_MS)
+        yield page
+
+
+def probe_message() -> JointState:
+    return JointState(name=PROBE_JOINTS, **PROBE)
+
+
+def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robot, page, ros_client):
+    url, peer, dataset = robot
+    probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
+    ros_client.node.create_timer(0.05, lambda: probe.publish(probe_message()))
+    page.goto(url + "/")
+    page.get_by_role("tab", name="/probe/joint_states").click()
+
+    for quantity, values in PROBE.items():
+        for joint, value in zip(PROBE_JOINTS, values):
+            cell = page.get_by_test_id(f"joint-/probe/joint_states-{joint}-{quantity}")
+            _wait(page, ros_client, lambda: cell.count() == 1)
+            assert cell.inner_text() == f"{value:g}", f"{joint} {quantity}"
+
+    old_pid = peer.pid("leader")
+    assert page.get_by_test_id("node-pid-leader").inner_text() == str(old_pid)
+    page.get_by_test_id("node-restart-leader").click()
+    _wait(page, ros_client, lambda: peer.pid("leader") not in (None, old_pid))
+    new_pid = peer.pid("leader")
+    page.get_by_test_id("node-pid-leader").filter(has_text=str(new_pid)).wait_for()
+    assert get_json(url + "/api/status")["nodes"][0]["pid"] == new_pid
+    screenshot(page, "robot_page")
+
+    # The recorder starts an episode by itself; stop it, then record one started from the page.
+    state = page.get_by_test_id("recording-state-recorder")
+    _wait(page, ros_client, lambda: state.inner_text() == "recording", RECORDER_START_TIMEOUT_MS)
+    page.get_by_test_id("episode-stop-recorder").click()
+    _wait(page, ros_client, lambda: state.inner_text() == "idle")
+    page.get_by_test_id("episode-task-recorder").fill(TASK)
+    page.get_by_test_id("episode-start-recorder").click()
+    _wait(page, ros_client, lambda: state.inner_text() == "recording")
+    _wait(page, ros_client, lambda: page.get_by_text(" frames").count() == 1
+          and page.get_by_text("· 0 frames").count() == 0)
+    screenshot(page, "robot_page_recording")
+    page.get_by_test_id("episode-stop-recorder").click()
+    saved = page.get_by_test_id("episodes-saved-recorder")
+    _wait(page, ros_client, lambda: saved.inner_text() == "2 episodes saved", RECORDER_START_TIMEOUT_MS)
+
+    tasks = pandas.read_parquet(dataset / "meta" / "tasks.parquet")
+    assert TASK in set(tasks.index) | set(tasks.get("task", []))
+
+
+def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> None:
+    """Spin the test's ROS client (it publishes the probe) until `condition()` holds."""
+    assert ros_client.spin_until(condition, timeout_ms / 1000, every=None), "the page did not reach the expected state"
