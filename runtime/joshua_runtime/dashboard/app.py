@@ -58,6 +58,7 @@ class Dashboard:
 
         class Lifespan:
             async def __aenter__(self):
+                dashboard.broadcaster.attach(asyncio.get_running_loop())
                 self.poller = asyncio.create_task(dashboard._poll_status())
 
             async def __aexit__(self, *exc_info):

@@ -53,10 +53,10 @@ class Event(NamedTuple):
 
 
 class Broadcaster:
-    """Owns the clients' mailboxes; `publish` may be called from any thread."""
+    """Owns the clients' mailboxes; `publish` may be called from any thread once the server's loop is attached."""
 
-    def __init__(self, loop: asyncio.AbstractEventLoop):
-        self.loop = loop
+    def __init__(self):
+        self.loop: asyncio.AbstractEventLoop | None = None
         self.mailboxes: set[Mailbox] = set()
         # The newest event per key, replayed to a client when it connects (the page can reload any time).
         self.latest: dict[str, Event] = {}
@@ -75,10 +75,20 @@ class Broadcaster:
     def unsubscribe(self, mailbox: Mailbox) -> None:
         self.mailboxes.discard(mailbox)
 
+    def attach(self, loop: asyncio.AbstractEventLoop) -> None:
+        """Deliver events in `loop` (the server's) from now on; events published before are dropped."""
+        self.loop = loop
+
     def publish(self, key: str, kind: str, data: dict) -> None:
         """Queue an event for every client (thread-safe); it replaces an unsent event of the same key."""
+        loop = self.loop
+        if loop is None or loop.is_closed():
+            return
         payload = Event(kind, json.dumps(data, separators=(",", ":"), allow_nan=False))
-        self.loop.call_soon_threadsafe(self._deliver, key, payload)
+        try:
+            loop.call_soon_threadsafe(self._deliver, key, payload)
+        except RuntimeError:  # the server is shutting down
+            pass
 
     def _deliver(self, key: str, payload: Event) -> None:
         self.latest[key] = payload

@@ -77,7 +77,7 @@ async def serve(args) -> None:
     port = sock.getsockname()[1]
     host = socket.gethostname() if args.bind in ("0.0.0.0", "::") else args.bind
     url = args.public_url or f"http://{host if ':' not in host else f'[{host}]'}:{port}/"
-    broadcaster = Broadcaster(asyncio.get_running_loop())
+    broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
     control = ControlClient(args.control_socket or default_socket_path(view.robot))
     dashboard = Dashboard(view, control, broadcaster, telemetry, args.web_dir, token)
