@@ -26,13 +26,18 @@ def check_endpoint(endpoint: str) -> str:
 
 
 def open_session(mode: str, connect: list[str] = (), listen: list[str] = ()):
-    """A zenoh session in `mode` (client, peer, router), without multicast scouting."""
+    """A zenoh session in `mode` (peer, router), without multicast scouting.
+
+    A peer keeps trying its `connect` endpoints in the background: a robot starts whether or not the
+    fleet view is up, and appears there once it is.
+    """
     import zenoh
 
     config = zenoh.Config()
     config.insert_json5("mode", json.dumps(mode))
     config.insert_json5("connect/endpoints", json.dumps(list(connect)))
-    config.insert_json5("listen/endpoints", json.dumps(list(listen)))
+    config.insert_json5("connect/exit_on_failure", "false")
+    config.insert_json5("listen/endpoints", json.dumps(list(listen) if listen else []))
     config.insert_json5("scouting/multicast/enabled", "false")
     try:
         return zenoh.open(config)
@@ -54,7 +59,7 @@ class FleetLink:
         self.robot = robot
         self.url = url
         self.broadcaster = broadcaster
-        self.session = open_session("client", connect=[check_endpoint(endpoint)])
+        self.session = open_session("peer", connect=[check_endpoint(endpoint)])
 
     async def run(self) -> None:
         mailbox = self.broadcaster.subscribe()
