@@ -2,14 +2,15 @@
 
 import argparse
 import asyncio
+import os
 import socket
 import sys
 from pathlib import Path
 
+from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT
 from joshua_runtime.errors import JoshuaError
 
-DEFAULT_PORT = 8640
-DEFAULT_BIND = "127.0.0.1"
+TOKEN_VARIABLE = "JOSHUA_DASHBOARD_TOKEN"
 # The built page: web/dist of the checkout this package lives in (built by `make setup`).
 DEFAULT_WEB_DIR = Path(__file__).resolve().parents[3] / "web" / "dist"
 SHUTDOWN_GRACE_S = 1
@@ -35,8 +36,9 @@ def parse_arguments(argv):
     parser.add_argument("--port", type=port_number, default=DEFAULT_PORT, help=f"TCP port (default {DEFAULT_PORT})")
     parser.add_argument("--bind", default=DEFAULT_BIND, metavar="ADDR",
                         help=f"address to listen on (default {DEFAULT_BIND}); any non-loopback address requires a token")
-    parser.add_argument("--token", help="bearer token the API requires (generated and printed once when "
-                                        "bound beyond loopback without one)")
+    parser.add_argument("--token", default=os.environ.get(TOKEN_VARIABLE) or None,
+                        help=f"bearer token the API requires (default: ${TOKEN_VARIABLE}; generated and printed once "
+                             "when bound beyond loopback without one)")
     parser.add_argument("--zenoh-connect", metavar="ENDPOINT",
                         help="also publish status and telemetry over zenoh to this endpoint (tcp/HOST:PORT)")
     parser.add_argument("--public-url", metavar="URL", help="the page's address as the fleet view links to it")

@@ -1,23 +1,13 @@
 """Who may use the API: a bearer token whenever the server listens beyond loopback, and same-origin writes only."""
 
 import hmac
-import ipaddress
 import secrets
 
 from starlette.responses import JSONResponse
 
-LOOPBACK_NAMES = ("localhost",)
+from joshua_core.dashboard import is_loopback
+
 TOKEN_BYTES = 24
-
-
-def is_loopback(bind: str) -> bool:
-    """True for 127.0.0.0/8, ::1 and localhost: only this machine can connect."""
-    if bind in LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(bind).is_loopback
-    except ValueError:
-        return False
 
 
 def required_token(bind: str, given: str | None) -> tuple[str | None, bool]:

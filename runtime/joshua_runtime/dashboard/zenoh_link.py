@@ -8,20 +8,19 @@ through the endpoints given.
 
 import asyncio
 import json
-import re
 
+from joshua_core.dashboard import zenoh_endpoint_problem
 from joshua_runtime.errors import SettingsError
 
 KEY_ROOT = "joshua"
 PUBLISHED_KINDS = ("status", "rates", "joints", "recorder", "inference")
-ENDPOINT_PATTERN = re.compile(r"^(tcp|udp|quic|tls)/(\[[0-9a-fA-F:]+\]|[A-Za-z0-9.-]+):(\d{1,5})$")
 
 
 def check_endpoint(endpoint: str) -> str:
     """The endpoint when it reads `tcp/HOST:PORT` (or udp, quic, tls) with a port in 1..65535."""
-    match = ENDPOINT_PATTERN.match(endpoint)
-    if not match or not 0 < int(match.group(3)) < 65536:
-        raise SettingsError(f"zenoh endpoint {endpoint!r} is not PROTOCOL/HOST:PORT (e.g. tcp/127.0.0.1:7447)")
+    problem = zenoh_endpoint_problem(endpoint)
+    if problem:
+        raise SettingsError(problem)
     return endpoint
 
 

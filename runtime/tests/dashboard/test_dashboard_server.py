@@ -13,7 +13,8 @@ from joshua_runtime.dashboard.app import Dashboard
 from joshua_runtime.dashboard.broadcaster import Broadcaster, Mailbox
 from joshua_runtime.dashboard.control_client import ControlClient
 from joshua_runtime.dashboard.robot_view import load_robot_view
-from joshua_runtime.dashboard.security import is_loopback, required_token
+from joshua_core.dashboard import is_loopback
+from joshua_runtime.dashboard.security import required_token
 from testsupport.control_peer import ControlPeer
 
 ROOT = Path(__file__).resolve().parents[3]
