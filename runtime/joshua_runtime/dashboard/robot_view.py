@@ -5,6 +5,7 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
 from joshua_runtime.errors import SettingsError
 
 JOINT_STATE = "sensor_msgs/msg/JointState"
@@ -106,7 +107,7 @@ def topology(nodes: list[dict], processes: list[dict], topics: list[dict]) -> di
             {"name": n["name"], "type": n["type"], "process": n["simulated_by"] or n["name"]} for n in nodes
         ] + [
             {"name": p["name"], "type": p["type"], "process": p["name"]}
-            for p in processes if p["name"] not in {n["name"] for n in nodes}
+            for p in processes if p["name"] not in {n["name"] for n in nodes} and p["type"] != DASHBOARD_TYPE
         ],
         "topics": [{"name": t["name"], "message_type": t["message_type"]} for t in topics],
         "edges": [
