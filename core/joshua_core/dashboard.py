@@ -40,3 +40,11 @@ def zenoh_endpoint_problem(endpoint: str) -> str | None:
     if match is None or not 0 < int(match.group(3)) < 65536:
         return f'zenoh endpoint "{endpoint}" is not PROTOCOL/HOST:PORT with a port from 1 to 65535 (e.g. {ZENOH_ENDPOINT_EXAMPLE})'
     return None
+
+
+def page_url(bind: str, port: int) -> str:
+    """The address of the dashboard's page: the bind address, or this machine's name when bound to all."""
+    import socket
+
+    host = socket.gethostname() if bind in ("0.0.0.0", "::") else bind
+    return f"http://{f'[{host}]' if ':' in host else host}:{port}/"

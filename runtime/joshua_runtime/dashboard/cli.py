@@ -7,7 +7,7 @@ import socket
 import sys
 from pathlib import Path
 
-from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT
+from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
 from joshua_runtime.errors import JoshuaError
 
 TOKEN_VARIABLE = "JOSHUA_DASHBOARD_TOKEN"
@@ -77,8 +77,7 @@ async def serve(args) -> None:
     token, generated = required_token(args.bind, args.token)
     sock = listening_socket(args.bind, args.port)
     port = sock.getsockname()[1]
-    host = socket.gethostname() if args.bind in ("0.0.0.0", "::") else args.bind
-    url = args.public_url or f"http://{host if ':' not in host else f'[{host}]'}:{port}/"
+    url = args.public_url or page_url(args.bind, port)
     broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
     control = ControlClient(args.control_socket or default_socket_path(view.robot))
