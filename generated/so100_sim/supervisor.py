@@ -109,6 +109,21 @@ ROBOT = {
             'model_reference': '',
             'output_directory': '',
         },
+        {
+            'name': 'dashboard',
+            'type': 'DASHBOARD',
+            'kind': 'python',
+            'entrypoint': 'nodes/dashboard.py',
+            'executable': '',
+            'args': ['--port', '8640', '--bind', '127.0.0.1'],
+            'cpp_binary': '',
+            'cpp_args': [],
+            'restart': 'RESTART_ON_FAILURE',
+            'max_restarts': 5,
+            'critical': False,
+            'env': {},
+            'devices': [],
+        },
     ],
 }
 
