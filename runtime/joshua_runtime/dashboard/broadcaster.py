@@ -58,22 +58,28 @@ class Broadcaster:
     def __init__(self):
         self.loop: asyncio.AbstractEventLoop | None = None
         self.mailboxes: set[Mailbox] = set()
+        self.viewers: set[Mailbox] = set()
         # The newest event per key, replayed to a client when it connects (the page can reload any time).
         self.latest: dict[str, Event] = {}
 
     @property
     def client_count(self) -> int:
-        return len(self.mailboxes)
+        """How many browsers are connected (mailboxes of forwarders such as the fleet link do not count)."""
+        return len(self.viewers)
 
-    def subscribe(self) -> Mailbox:
+    def subscribe(self, viewer: bool = True) -> Mailbox:
+        """A new mailbox, primed with the newest event of every key; `viewer`: it serves a browser."""
         mailbox = Mailbox()
         for key, payload in self.latest.items():
             mailbox.put(key, payload)
         self.mailboxes.add(mailbox)
+        if viewer:
+            self.viewers.add(mailbox)
         return mailbox
 
     def unsubscribe(self, mailbox: Mailbox) -> None:
         self.mailboxes.discard(mailbox)
+        self.viewers.discard(mailbox)
 
     def attach(self, loop: asyncio.AbstractEventLoop) -> None:
         """Deliver events in `loop` (the server's) from now on; events published before are dropped."""

@@ -61,7 +61,7 @@ class FleetLink:
         self.session = open_session("peer", connect=[check_endpoint(endpoint)])
 
     async def run(self) -> None:
-        mailbox = self.broadcaster.subscribe()
+        mailbox = self.broadcaster.subscribe(viewer=False)
         try:
             while True:
                 key, event = await mailbox.get_with_key()

@@ -89,6 +89,10 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     saved = page.get_by_test_id("episodes-saved-recorder")
     _wait(page, ros_client, lambda: saved.inner_text() == "2 episodes saved", RECORDER_START_TIMEOUT_MS)
 
+    page.get_by_test_id("node-logs-recorder").click()
+    page.get_by_test_id("log-lines").filter(has_text="episode 1 saved").wait_for()
+    screenshot(page, "robot_page_log_tail")
+
     tasks = pandas.read_parquet(dataset / "meta" / "tasks.parquet")
     assert TASK in set(tasks.index) | set(tasks.get("task", []))
 
