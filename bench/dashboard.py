@@ -25,7 +25,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-from testsupport.joshuac_cli import joshuac  # noqa: E402
+from testsupport.joshuac_cli import joshuac
 
 JOINT_HZ, IMAGE_FPS, WIDTH, HEIGHT = 30.0, 15.0, 640, 480
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]

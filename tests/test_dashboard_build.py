@@ -1,13 +1,14 @@
 """RobotConfig.dashboard: one more process, `dashboard`, under supervisor.py, systemd and supervisord."""
 
+import ast
 import json
 
 from google.protobuf import text_format
+from joshua_core.schema import RobotDescription
 
 from joshua_codegen.check import check_text
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
-from joshua_core.schema import RobotDescription
 
 ROBOT = """robot_config {{ name: "r" mode: MODE_TELEOPERATION
   node {{ name: "{node}" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" }}
@@ -20,9 +21,10 @@ def build(dashboard: str, node: str = "leader") -> dict[str, str]:
 
 
 def arguments(files: dict[str, str]) -> list[str]:
-    namespace = {}
-    exec(compile(files["nodes/dashboard.py"], "nodes/dashboard.py", "exec"), namespace)  # defines ARGUMENTS only
-    return namespace["ARGUMENTS"]
+    """The ARGUMENTS literal of the generated dashboard entrypoint (which must compile)."""
+    module = ast.parse(files["nodes/dashboard.py"])
+    (value,) = [s.value for s in module.body if isinstance(s, ast.Assign) and s.targets[0].id == "ARGUMENTS"]
+    return ast.literal_eval(value)
 
 
 def test_a_dashboard_block_adds_one_process_to_every_process_manager():

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
+
 from joshua_runtime.errors import JoshuaError
 
 TOKEN_VARIABLE = "JOSHUA_DASHBOARD_TOKEN"
@@ -65,7 +66,10 @@ async def serve(args) -> None:
 
     from joshua_runtime.dashboard.app import Dashboard
     from joshua_runtime.dashboard.broadcaster import Broadcaster
-    from joshua_runtime.dashboard.control_client import ControlClient, default_socket_path
+    from joshua_runtime.dashboard.control_client import (
+        ControlClient,
+        default_socket_path,
+    )
     from joshua_runtime.dashboard.robot_view import load_robot_view
     from joshua_runtime.dashboard.security import required_token
     from joshua_runtime.dashboard.telemetry import Telemetry

@@ -18,7 +18,13 @@ from starlette.responses import FileResponse, JSONResponse, PlainTextResponse
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
-from joshua_runtime.dashboard.cli import DEFAULT_BIND, DEFAULT_WEB_DIR, SHUTDOWN_GRACE_S, listening_socket, port_number
+from joshua_runtime.dashboard.cli import (
+    DEFAULT_BIND,
+    DEFAULT_WEB_DIR,
+    SHUTDOWN_GRACE_S,
+    listening_socket,
+    port_number,
+)
 from joshua_runtime.dashboard.security import ApiGuard, required_token
 from joshua_runtime.dashboard.zenoh_link import KEY_ROOT, check_endpoint, open_session
 from joshua_runtime.errors import JoshuaError

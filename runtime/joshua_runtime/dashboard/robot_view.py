@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
+
 from joshua_runtime.errors import SettingsError
 
 JOINT_STATE = "sensor_msgs/msg/JointState"

@@ -3,9 +3,8 @@
 import hmac
 import secrets
 
-from starlette.responses import JSONResponse
-
 from joshua_core.dashboard import is_loopback
+from starlette.responses import JSONResponse
 
 TOKEN_BYTES = 24
 

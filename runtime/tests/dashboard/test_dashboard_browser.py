@@ -7,9 +7,8 @@ the page, saved by LeRobot), and a probe topic whose values this test publishes 
 
 import pandas
 import pytest
-from sensor_msgs.msg import JointState
-
 from dashboard_support import browser, build, get_json, running_robot, screenshot
+from sensor_msgs.msg import JointState
 
 PAGE_TIMEOUT_MS = 30_000
 RECORDER_START_TIMEOUT_MS = 120_000  # LeRobot's import in a cold process on a busy machine
@@ -36,7 +35,7 @@ def robot(tmp_path, ros_env):
     manifest = build(description(tmp_path / "dataset"), tmp_path)
     env = dict(ros_env, HF_HUB_OFFLINE="1", HF_DATASETS_OFFLINE="1")
     # "probe" is not started: this test publishes its topic with exact values instead.
-    with running_robot(manifest, env, ["leader", "recorder"], tmp_path) as (url, peer, server):
+    with running_robot(manifest, env, ["leader", "recorder"], tmp_path) as (url, peer, _server):
         yield url, peer, tmp_path / "dataset"
 
 
@@ -62,7 +61,7 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     for quantity, values in PROBE.items():
         for joint, value in zip(PROBE_JOINTS, values):
             cell = page.get_by_test_id(f"joint-/probe/joint_states-{joint}-{quantity}")
-            _wait(page, ros_client, lambda: cell.count() == 1)
+            _wait(page, ros_client, lambda cell=cell: cell.count() == 1)
             assert cell.inner_text() == f"{value:g}", f"{joint} {quantity}"
 
     old_pid = peer.pid("leader")

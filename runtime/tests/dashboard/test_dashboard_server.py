@@ -6,15 +6,15 @@ import sys
 from pathlib import Path
 
 import pytest
-from starlette.testclient import TestClient
-
 from dashboard_support import free_port
+from joshua_core.dashboard import is_loopback
 from joshua_runtime.dashboard.app import Dashboard
 from joshua_runtime.dashboard.broadcaster import Broadcaster, Mailbox
 from joshua_runtime.dashboard.control_client import ControlClient
 from joshua_runtime.dashboard.robot_view import load_robot_view
-from joshua_core.dashboard import is_loopback
 from joshua_runtime.dashboard.security import required_token
+from starlette.testclient import TestClient
+
 from testsupport.control_peer import ControlPeer
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -128,7 +128,7 @@ def test_robot_view_reads_topology_and_streams():
 
 def run_cli(*args) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "joshua_runtime.dashboard", *args], capture_output=True, text=True,
-                          timeout=60)
+                          timeout=60, check=False)
 
 
 def test_cli_reports_a_bad_manifest_in_one_line(tmp_path):

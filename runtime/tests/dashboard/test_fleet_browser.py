@@ -5,7 +5,14 @@ import sys
 from contextlib import ExitStack
 
 from dashboard_support import (
-    browser, build, free_port, get_json, running_robot, screenshot, stop, wait_for_server,
+    browser,
+    build,
+    free_port,
+    get_json,
+    running_robot,
+    screenshot,
+    stop,
+    wait_for_server,
 )
 
 PAGE_TIMEOUT_MS = 30_000
