@@ -32,8 +32,8 @@ def parse_arguments(argv):
                                      description="Serve a robot's web dashboard (page, status, live data, control).")
     parser.add_argument("--manifest", type=Path, required=True, help="OUT/manifest.json of the robot's build")
     parser.add_argument("--control-socket", type=Path, metavar="PATH",
-                        help="the supervisor's control socket (default: $XDG_RUNTIME_DIR/joshua/ROBOT.sock, "
-                             "else /tmp/joshua-UID/ROBOT.sock)")
+                        help="the supervisor's control socket (default: $JOSHUA_CONTROL_SOCKET, else "
+                             "$XDG_RUNTIME_DIR/joshua/ROBOT.sock, else /tmp/joshua-UID/ROBOT.sock)")
     parser.add_argument("--port", type=port_number, default=DEFAULT_PORT, help=f"TCP port (default {DEFAULT_PORT})")
     parser.add_argument("--bind", default=DEFAULT_BIND, metavar="ADDR",
                         help=f"address to listen on (default {DEFAULT_BIND}); any non-loopback address requires a token")

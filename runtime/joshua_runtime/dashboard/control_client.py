@@ -14,6 +14,8 @@ REQUEST_TIMEOUT_S = 15.0
 # The longest reply line accepted (a `logs` reply of many lines).
 REPLY_LIMIT_BYTES = 8 * 1024 * 1024
 NODE_ACTIONS = ("restart", "stop", "start")
+# Set by a supervisor for its children when it serves its socket somewhere else than the default.
+SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"
 
 
 class ControlError(Exception):
@@ -21,7 +23,9 @@ class ControlError(Exception):
 
 
 def default_socket_path(robot: str) -> Path:
-    """Where the supervisor serves its control socket when no --control-socket is given."""
+    """Where the supervisor serves its control socket: $JOSHUA_CONTROL_SOCKET, else its default path."""
+    if os.environ.get(SOCKET_VARIABLE):
+        return Path(os.environ[SOCKET_VARIABLE])
     runtime_dir = os.environ.get("XDG_RUNTIME_DIR")
     if runtime_dir:
         return Path(runtime_dir) / "joshua" / f"{robot}.sock"
