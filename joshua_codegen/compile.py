@@ -63,6 +63,5 @@ def node_settings(text: str, overrides=(), path: str = "description.pbtxt") -> d
     robot = plan_text(text, overrides, path)
     settings = {node.name: node.settings for node in robot.nodes}
     for process in robot.processes:
-        if robot.process_settings(process) is not None:
-            settings[process.name] = robot.process_settings(process)
+        settings[process.name] = robot.process_settings(process)
     return {name: to_literal(value) for name, value in settings.items()}

@@ -123,6 +123,8 @@ ROBOT = {
             'critical': False,
             'env': {},
             'devices': [],
+            'model_reference': '',
+            'output_directory': '',
         },
     ],
 }
