@@ -1,11 +1,18 @@
 """The command line of supervisor.py: parse options, run preflight, run the loop (or the listener)."""
 
 import argparse
+import os
 import shutil
 import sys
 
 from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.control import (
+    CONTROL_SOCKET_VARIABLE,
+    default_control_socket,
+)
+from joshua_codegen.supervisor.ctl import ctl
 from joshua_codegen.supervisor.loop import Supervisor
+from joshua_codegen.supervisor.node_log import default_log_dir
 from joshua_codegen.supervisor.policy import EXIT_PREFLIGHT
 from joshua_codegen.supervisor.preflight import preflight
 from joshua_codegen.supervisor.robot import ROBOT
@@ -31,6 +38,11 @@ def parse_arguments(argv):
                         help="interpreter of Python entrypoints (default: the one running this script)")
     parser.add_argument("--no-cgroup", action="store_true",
                         help="track the nodes' descendants through /proc even where a cgroup could hold them")
+    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
+                        help="serve the control socket here (default: %(default)s; `ctl` is its client)")
+    parser.add_argument("--no-control", action="store_true", help="serve no control socket")
+    parser.add_argument("--log-dir", default=default_log_dir(ROBOT["name"]), metavar="DIR",
+                        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)")
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:
@@ -39,7 +51,13 @@ def parse_arguments(argv):
 
 
 def main(argv):
+    if argv[:1] == ["ctl"]:
+        return ctl(argv[1:])
     options = parse_arguments(argv)
+    if options.no_control:
+        options.control_socket = None
+    else:
+        os.environ[CONTROL_SOCKET_VARIABLE] = os.path.abspath(options.control_socket)
     if options.supervisord_listener:
         return supervisord_listener()
     supervisor = Supervisor(options)
