@@ -11,7 +11,6 @@ import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
 
-from testsupport.control_peer import ControlPeer
 from testsupport.joshuac_cli import joshuac
 
 CHROMIUM = "/usr/bin/chromium-headless-shell"
@@ -42,17 +41,18 @@ def get_json(url: str, token: str | None = None):
         return json.loads(response.read())
 
 
-def wait_for_server(url: str, process: subprocess.Popen, token: str | None = None) -> None:
+def wait_for_server(url: str, process: subprocess.Popen, output: Path) -> None:
+    """Wait until `url` answers; `output` is where the process writes (shown when it fails)."""
     deadline = time.monotonic() + SERVER_START_TIMEOUT_S
     while time.monotonic() < deadline:
         if process.poll() is not None:
-            raise AssertionError(f"the server exited with {process.returncode}: {process.stderr.read()}")
+            raise AssertionError(f"{process.args[1]} exited with {process.returncode}:\n{output.read_text()}")
         try:
-            get_json(url, token)
+            get_json(url)
             return
         except OSError:
             time.sleep(0.2)
-    raise AssertionError(f"{url} did not answer within {SERVER_START_TIMEOUT_S:g} s")
+    raise AssertionError(f"{url} did not answer within {SERVER_START_TIMEOUT_S:g} s:\n{output.read_text()}")
 
 
 def stop(process: subprocess.Popen) -> None:
@@ -65,30 +65,44 @@ def stop(process: subprocess.Popen) -> None:
             process.wait()
 
 
+def control_request(control_socket: Path, request: dict) -> dict:
+    """One request to a supervisor's control socket, and its reply."""
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as connection:
+        connection.settimeout(30)
+        connection.connect(str(control_socket))
+        connection.sendall(json.dumps(request).encode() + b"\n")
+        return json.loads(connection.makefile("rb").readline())
+
+
+def node_pid(control_socket: Path, name: str) -> int | None:
+    nodes = control_request(control_socket, {"command": "status"})["nodes"]
+    return next(node["pid"] for node in nodes if node["name"] == name)
+
+
 @contextmanager
-def running_robot(manifest: Path, env: dict, run_nodes: list[str], workdir: Path, *extra_args: str):
-    """The robot's nodes `run_nodes` under a ControlPeer, and its dashboard; yields (url, peer, server)."""
-    processes = {p["name"]: p for p in json.loads(manifest.read_text())["processes"]}
-    robot = json.loads(manifest.read_text())["robot"]["name"]
-    logs = workdir / "logs"
-    logs.mkdir(exist_ok=True)
-    control_socket = workdir / "control.sock"
-    peer = ControlPeer(robot, control_socket, logs, {
-        name: ([sys.executable, str(manifest.parent / processes[name]["entrypoint"])], env) for name in run_nodes
-    })
-    port = free_port()
-    server = subprocess.Popen(
-        [sys.executable, "-m", "joshua_runtime.dashboard", "--manifest", str(manifest), "--control-socket",
-         str(control_socket), "--port", str(port), *extra_args],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )
-    url = f"http://127.0.0.1:{port}"
+def running_robot(description: str, directory: Path, env: dict, dashboard_port: int | None = None):
+    """The robot's generated supervisor.py, run with a control socket in `directory`; waits for its
+    dashboard at `dashboard_port` when given. Yields the control socket's path."""
+    manifest = build(description, directory)
+    control_socket = directory / "run" / "robot.sock"
+    output = directory / "supervisor.log"
+    with open(output, "w") as log:
+        supervisor = subprocess.Popen(
+            [sys.executable, str(manifest.parent / "supervisor.py"), "--python", sys.executable,
+             "--control-socket", str(control_socket), "--log-dir", str(directory / "logs")],
+            env=env, stdout=log, stderr=subprocess.STDOUT,
+        )
     try:
-        wait_for_server(f"{url}/api/robot", server)
-        yield url, peer, server
+        if dashboard_port is not None:
+            wait_for_server(f"http://127.0.0.1:{dashboard_port}/api/robot", supervisor, output)
+        else:
+            deadline = time.monotonic() + SERVER_START_TIMEOUT_S
+            while not control_socket.exists():
+                assert supervisor.poll() is None and time.monotonic() < deadline, "the supervisor did not start"
+                time.sleep(0.05)
+        yield control_socket
     finally:
-        stop(server)
-        peer.close()
+        stop(supervisor)
 
 
 @contextmanager

@@ -1,13 +1,14 @@
-"""The dashboard page in Debian's headless Chromium, against a robot whose nodes really run.
+"""The dashboard page in Debian's headless Chromium, against a robot run by its generated supervisor.py.
 
 The robot: a mock leader arm (restarted from the page), a recorder (episodes started and stopped from
-the page, saved by LeRobot), and a probe topic whose values this test publishes itself.
+the page, saved by LeRobot), a probe arm stopped from the page so that this test publishes its topic
+with values it knows, and the dashboard process the description's `dashboard { }` block adds.
 """
 
 
 import pandas
 import pytest
-from dashboard_support import browser, build, get_json, running_robot, screenshot
+from dashboard_support import browser, free_port, get_json, node_pid, running_robot, screenshot
 from sensor_msgs.msg import JointState
 
 PAGE_TIMEOUT_MS = 30_000
@@ -17,7 +18,7 @@ PROBE = {"position": [0.125, -1.5], "velocity": [2.25, 0.0], "effort": [-0.375, 
 TASK = "pick the red cube"
 
 
-def description(output_directory) -> str:
+def description(output_directory, port: int) -> str:
     return f"""robot_config {{
   name: "dash_robot"
   mode: MODE_DATA_COLLECTION
@@ -26,17 +27,17 @@ def description(output_directory) -> str:
           joint_names: ["shoulder_pan", "gripper"] device_ids: [1, 2] }}
   node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/leader/joint_states" rate_hz: 10
           output_directory: "{output_directory}" output_format: "parquet" }}
+  dashboard {{ port: {port} }}
 }}
 """
 
 
 @pytest.fixture
 def robot(tmp_path, ros_env):
-    manifest = build(description(tmp_path / "dataset"), tmp_path)
+    port = free_port()
     env = dict(ros_env, HF_HUB_OFFLINE="1", HF_DATASETS_OFFLINE="1")
-    # "probe" is not started: this test publishes its topic with exact values instead.
-    with running_robot(manifest, env, ["leader", "recorder"], tmp_path) as (url, peer, _server):
-        yield url, peer, tmp_path / "dataset"
+    with running_robot(description(tmp_path / "dataset", port), tmp_path, env, port) as control_socket:
+        yield f"http://127.0.0.1:{port}", control_socket, tmp_path / "dataset"
 
 
 @pytest.fixture
@@ -52,10 +53,13 @@ def probe_message() -> JointState:
 
 
 def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robot, page, ros_client):
-    url, peer, dataset = robot
+    url, control_socket, dataset = robot
+    page.goto(url + "/")
+    page.get_by_test_id("node-stop-probe").click()
+    page.get_by_test_id("node-row-probe").get_by_text("stopped").wait_for()
+    assert node_pid(control_socket, "probe") is None
     probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
     ros_client.node.create_timer(0.05, lambda: probe.publish(probe_message()))
-    page.goto(url + "/")
     page.get_by_role("tab", name="/probe/joint_states").click()
 
     for quantity, values in PROBE.items():
@@ -64,25 +68,25 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
             _wait(page, ros_client, lambda cell=cell: cell.count() == 1)
             assert cell.inner_text() == f"{value:g}", f"{joint} {quantity}"
 
-    old_pid = peer.pid("leader")
+    old_pid = node_pid(control_socket, "leader")
     assert page.get_by_test_id("node-pid-leader").inner_text() == str(old_pid)
     page.get_by_test_id("node-restart-leader").click()
-    _wait(page, ros_client, lambda: peer.pid("leader") not in (None, old_pid))
-    new_pid = peer.pid("leader")
+    _wait(page, ros_client, lambda: node_pid(control_socket, "leader") not in (None, old_pid))
+    new_pid = node_pid(control_socket, "leader")
     page.get_by_test_id("node-pid-leader").filter(has_text=str(new_pid)).wait_for()
-    assert get_json(url + "/api/status")["nodes"][0]["pid"] == new_pid
+    assert {node["name"]: node["pid"] for node in get_json(url + "/api/status")["nodes"]}["leader"] == new_pid
     screenshot(page, "robot_page")
 
     # The recorder starts an episode by itself; stop it, then record one started from the page.
     state = page.get_by_test_id("recording-state-recorder")
     _wait(page, ros_client, lambda: state.inner_text() == "recording", RECORDER_START_TIMEOUT_MS)
+    _wait(page, ros_client, lambda: recorded_frames(page))
     page.get_by_test_id("episode-stop-recorder").click()
     _wait(page, ros_client, lambda: state.inner_text() == "idle")
     page.get_by_test_id("episode-task-recorder").fill(TASK)
     page.get_by_test_id("episode-start-recorder").click()
     _wait(page, ros_client, lambda: state.inner_text() == "recording")
-    _wait(page, ros_client, lambda: page.get_by_text(" frames").count() == 1
-          and page.get_by_text("· 0 frames").count() == 0)
+    _wait(page, ros_client, lambda: recorded_frames(page))
     screenshot(page, "robot_page_recording")
     page.get_by_test_id("episode-stop-recorder").click()
     saved = page.get_by_test_id("episodes-saved-recorder")
@@ -94,6 +98,11 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
 
     tasks = pandas.read_parquet(dataset / "meta" / "tasks.parquet")
     assert TASK in set(tasks.index) | set(tasks.get("task", []))
+
+
+def recorded_frames(page) -> bool:
+    """Whether the page shows an episode in progress with at least one frame (an empty one is not saved)."""
+    return page.get_by_text(" frames").count() == 1 and page.get_by_text("· 0 frames").count() == 0
 
 
 def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> None:

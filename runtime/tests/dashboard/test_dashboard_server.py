@@ -1,12 +1,13 @@
 """The dashboard server without a browser: routes, token, same-origin writes, bounded client queues, CLI errors."""
 
 import asyncio
+import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-from dashboard_support import free_port
+from dashboard_support import free_port, node_pid, running_robot
 from joshua_core.dashboard import is_loopback
 from joshua_runtime.dashboard.app import Dashboard
 from joshua_runtime.dashboard.broadcaster import Broadcaster, Mailbox
@@ -15,48 +16,52 @@ from joshua_runtime.dashboard.robot_view import load_robot_view
 from joshua_runtime.dashboard.security import required_token
 from starlette.testclient import TestClient
 
-from testsupport.control_peer import ControlPeer
 
 ROOT = Path(__file__).resolve().parents[3]
 MOCK_ARM = ROOT / "generated" / "mock_arm" / "manifest.json"
 TOKEN = "s3cret-token"
 
 
+SLEEPERS = """robot_config { name: "sleepers" mode: MODE_TELEOPERATION
+  node { name: "leader" type: CUSTOM executable: "/bin/sleep" args: ["600"] }
+  node { name: "camera" type: CUSTOM executable: "/bin/sleep" args: ["600"] }
+}
+"""
+
+
 @pytest.fixture
-def peer(tmp_path):
-    """Two real (non-ROS) processes under the control protocol."""
-    children = {name: (["sleep", "60"], {}) for name in ("leader", "camera")}
-    control = ControlPeer("mock_arm", tmp_path / "control.sock", tmp_path, children)
-    yield control
-    control.close()
+def supervised(tmp_path):
+    """The control socket of a generated supervisor.py running two (non-ROS) processes."""
+    with running_robot(SLEEPERS, tmp_path, dict(os.environ)) as control_socket:
+        yield control_socket
 
 
-def client_for(peer, tmp_path, token=None) -> TestClient:
-    dashboard = Dashboard(load_robot_view(MOCK_ARM), ControlClient(tmp_path / "control.sock"), Broadcaster(),
+def client_for(control_socket, tmp_path, token=None) -> TestClient:
+    dashboard = Dashboard(load_robot_view(MOCK_ARM), ControlClient(control_socket), Broadcaster(),
                           telemetry=None, web_dir=tmp_path / "no-page", token=token)
     return TestClient(dashboard.app)
 
 
-def test_status_is_the_supervisor_status(peer, tmp_path):
-    with client_for(peer, tmp_path) as client:
+def test_status_is_the_supervisor_status(supervised, tmp_path):
+    with client_for(supervised, tmp_path) as client:
         status = client.get("/api/status").json()
-    assert status["robot"] == "mock_arm"
+    assert status["robot"] == "sleepers"
     assert [(n["name"], n["state"], n["pid"]) for n in status["nodes"]] == [
-        ("leader", "running", peer.pid("leader")), ("camera", "running", peer.pid("camera"))]
+        ("leader", "running", node_pid(supervised, "leader")), ("camera", "running", node_pid(supervised, "camera"))]
 
 
-def test_restart_replaces_the_process_and_get_changes_nothing(peer, tmp_path):
-    old = peer.pid("leader")
-    with client_for(peer, tmp_path) as client:
+def test_restart_replaces_the_process_and_get_changes_nothing(supervised, tmp_path):
+    old = node_pid(supervised, "leader")
+    with client_for(supervised, tmp_path) as client:
         assert client.get("/api/nodes/leader/restart").status_code == 405
-        assert peer.pid("leader") == old
+        assert node_pid(supervised, "leader") == old
         reply = client.post("/api/nodes/leader/restart").json()
     assert reply["node"] == "leader" and reply["state"] == "running"
-    assert reply["pid"] == peer.pid("leader") != old
+    assert reply["pid"] == node_pid(supervised, "leader") != old
 
 
-def test_errors_are_one_line_json(peer, tmp_path):
-    with client_for(peer, tmp_path) as client:
+def test_errors_are_one_line_json(supervised, tmp_path):
+    with client_for(supervised, tmp_path) as client:
         unknown = client.post("/api/nodes/nobody/restart")
         bad_action = client.post("/api/nodes/leader/explode")
     assert unknown.status_code == 502 and unknown.json() == {"error": "no node named 'nobody'"}
@@ -72,27 +77,27 @@ def test_unreachable_supervisor_answers_503(tmp_path):
     assert "missing.sock" in reply.json()["error"]
 
 
-def test_without_the_token_every_api_route_answers_401_and_nothing_runs(peer, tmp_path):
-    old = peer.pid("leader")
-    with client_for(peer, tmp_path, token=TOKEN) as client:
+def test_without_the_token_every_api_route_answers_401_and_nothing_runs(supervised, tmp_path):
+    old = node_pid(supervised, "leader")
+    with client_for(supervised, tmp_path, token=TOKEN) as client:
         for method, path in [("GET", "/api/status"), ("GET", "/api/robot"), ("GET", "/api/events"),
                              ("GET", "/api/nodes/leader/logs"), ("POST", "/api/nodes/leader/restart"),
                              ("POST", "/api/nodes/leader/stop"), ("POST", "/api/recorders/r/episode/start")]:
             assert client.request(method, path).status_code == 401, path
             wrong = client.request(method, path, headers={"Authorization": "Bearer wrong"})
             assert wrong.status_code == 401, path
-        assert peer.pid("leader") == old
+        assert node_pid(supervised, "leader") == old
         authorized = client.get("/api/status", headers={"Authorization": f"Bearer {TOKEN}"})
         assert authorized.status_code == 200
         assert client.get("/").status_code == 503  # the page itself needs no token (here: not built)
 
 
-def test_a_page_of_another_origin_cannot_post(peer, tmp_path):
-    old = peer.pid("leader")
-    with client_for(peer, tmp_path) as client:
+def test_a_page_of_another_origin_cannot_post(supervised, tmp_path):
+    old = node_pid(supervised, "leader")
+    with client_for(supervised, tmp_path) as client:
         reply = client.post("/api/nodes/leader/stop", headers={"Origin": "http://evil.example"})
     assert reply.status_code == 403
-    assert peer.pid("leader") == old
+    assert node_pid(supervised, "leader") == old
 
 
 def test_token_is_required_beyond_loopback_only():
