@@ -8,7 +8,14 @@ with values it knows, and the dashboard process the description's `dashboard { }
 
 import pandas
 import pytest
-from dashboard_support import browser, free_port, get_json, node_pid, running_robot, screenshot
+from dashboard_support import (
+    browser,
+    free_port,
+    get_json,
+    node_pid,
+    running_robot,
+    screenshot,
+)
 from sensor_msgs.msg import JointState
 
 PAGE_TIMEOUT_MS = 30_000

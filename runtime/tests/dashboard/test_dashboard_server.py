@@ -16,7 +16,6 @@ from joshua_runtime.dashboard.robot_view import load_robot_view
 from joshua_runtime.dashboard.security import required_token
 from starlette.testclient import TestClient
 
-
 ROOT = Path(__file__).resolve().parents[3]
 MOCK_ARM = ROOT / "generated" / "mock_arm" / "manifest.json"
 TOKEN = "s3cret-token"

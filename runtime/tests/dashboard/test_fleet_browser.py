@@ -4,7 +4,15 @@ import subprocess
 import sys
 from contextlib import ExitStack
 
-from dashboard_support import browser, free_port, get_json, running_robot, screenshot, stop, wait_for_server
+from dashboard_support import (
+    browser,
+    free_port,
+    get_json,
+    running_robot,
+    screenshot,
+    stop,
+    wait_for_server,
+)
 
 PAGE_TIMEOUT_MS = 30_000
 ROBOTS = ("fleet_alpha", "fleet_beta")
