@@ -116,6 +116,7 @@ ROBOT = {
             'max_restarts': 5,
             'critical': False,
             'env': {},
+            'fastdds_profile': 'fastdds_profile_images.xml',
             'devices': [],
             'model_reference': '',
             'output_directory': '',
