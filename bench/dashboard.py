@@ -25,6 +25,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
 from testsupport.joshuac_cli import joshuac
 
 JOINT_HZ, IMAGE_FPS, WIDTH, HEIGHT = 30.0, 15.0, 640, 480
@@ -68,12 +69,13 @@ class Publisher:
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
         self.node = rclpy.create_node("bench_dashboard_publisher", context=self.context)
-        from joshua_runtime.qos import qos_profile
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-        best_effort = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}
-        reliable = dict(best_effort, reliability="RELIABLE", depth=10)
-        self.joints = self.node.create_publisher(JointState, "/bench/joint_states", qos_profile(reliable))
-        self.images = self.node.create_publisher(Image, "/bench/image_raw", qos_profile(best_effort))
+        # The mock nodes' default QoS: reliable joint states, best-effort camera frames.
+        reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+        best_effort = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
+        self.joints = self.node.create_publisher(JointState, "/bench/joint_states", reliable)
+        self.images = self.node.create_publisher(Image, "/bench/image_raw", best_effort)
         gradient = np.linspace(0, 255, WIDTH, dtype=np.uint8)
         self.frames = [np.ascontiguousarray(np.dstack([np.roll(gradient, 40 * i)[None, :].repeat(HEIGHT, 0)] * 3)).tobytes()
                        for i in range(8)]
@@ -215,7 +217,7 @@ def main() -> int:
             raise SystemExit(built.stderr)
         out = Path(directory) / "out"
         os.environ.update(ROS_DOMAIN_ID=str(100 + os.getpid() % 100), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-                          FASTRTPS_DEFAULT_PROFILES_FILE=str(out / "fastdds_profile.xml"))
+                          FASTRTPS_DEFAULT_PROFILES_FILE=str(out / IMAGES_PROFILE_PATH))
         with socket.socket() as probe:
             probe.bind(("127.0.0.1", 0))
             port = probe.getsockname()[1]

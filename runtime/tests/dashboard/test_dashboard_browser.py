@@ -72,8 +72,10 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     for quantity, values in PROBE.items():
         for joint, value in zip(PROBE_JOINTS, values):
             cell = page.get_by_test_id(f"joint-/probe/joint_states-{joint}-{quantity}")
-            _wait(page, ros_client, lambda cell=cell: cell.count() == 1)
-            assert cell.inner_text() == f"{value:g}", f"{joint} {quantity}"
+            expected = f"{value:g}"
+            ros_client.spin_until(lambda cell=cell, expected=expected: cell.count() == 1
+                                  and cell.inner_text() == expected, PAGE_TIMEOUT_MS / 1000)
+            assert cell.inner_text() == expected, f"{joint} {quantity}"
 
     old_pid = node_pid(control_socket, "leader")
     assert page.get_by_test_id("node-pid-leader").inner_text() == str(old_pid)
@@ -114,4 +116,7 @@ def recorded_frames(page) -> bool:
 
 def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> None:
     """Spin the test's ROS client (it publishes the probe) until `condition()` holds."""
-    assert ros_client.spin_until(condition, timeout_ms / 1000, every=None), "the page did not reach the expected state"
+    if not ros_client.spin_until(condition, timeout_ms / 1000, every=None):
+        screenshot(page, "robot_page_timeout")
+        pytest.fail(f"the page did not reach the expected state within {timeout_ms / 1000:g} s "
+                    "(test-artifacts/dashboard/robot_page_timeout.png shows it)")
