@@ -61,11 +61,11 @@ def probe_message() -> JointState:
 
 def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robot, page, ros_client):
     url, control_socket, dataset = robot
+    probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
     page.goto(url + "/")
     page.get_by_test_id("node-stop-probe").click()
     page.get_by_test_id("node-row-probe").get_by_text("stopped").wait_for()
     assert node_pid(control_socket, "probe") is None
-    probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
     ros_client.node.create_timer(0.05, lambda: probe.publish(probe_message()))
     page.get_by_role("tab", name="/probe/joint_states").click()
 
