@@ -33,6 +33,7 @@ def description(output_directory, port: int) -> str:
   node {{ name: "probe" type: MOCK_ENCODER_PUBLISHER topic_name: "/probe/joint_states" rate_hz: 10
           joint_names: ["shoulder_pan", "gripper"] device_ids: [1, 2] }}
   node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/leader/joint_states" rate_hz: 10
+          input_topics: ["/leader/joint_states"]
           output_directory: "{output_directory}" output_format: "parquet" }}
   dashboard {{ port: {port} }}
 }}
