@@ -48,8 +48,8 @@ export interface RecorderEvent {
   node: string;
   known: boolean;
   recording: boolean;
-  task: string;
-  frames: number;
+  event: string;
+  message: string;
   episodes_saved: number;
 }
 export interface InferenceEvent {

@@ -92,7 +92,7 @@ def load_robot_view(manifest_path: Path) -> RobotView:
         settings = _entrypoint_settings(manifest_path.parent, entrypoints.get(node["name"]))
         if node["type"] == RECORDER_TYPE:
             recorders.append(Recorder(node["name"], settings.get("output_directory") or "",
-                                      f"/{node['name']}/episode", f"/{node['name']}/episode_status"))
+                                      f"/{node['name']}/episode", f"/{node['name']}/episode_state"))
         else:
             inferences.append(Inference(
                 node["name"], settings.get("model_path") or "", float(settings.get("rate_hz") or 0),

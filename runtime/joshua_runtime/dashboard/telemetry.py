@@ -2,7 +2,7 @@
 
 Subscriptions are BEST_EFFORT with a short queue, so the dashboard never holds a publisher back;
 camera frames are JPEG-encoded only while a browser is connected, at most IMAGE_MAX_FPS per topic.
-It also sends the recorder's episode commands (std_msgs/String on `/<recorder>/episode`).
+It also sends the recorder's episode commands and follows its answers (see ai/episode_protocol.py).
 """
 
 import json
@@ -14,6 +14,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard import frames
 from joshua_runtime.dashboard.robot_view import RobotView
 from joshua_runtime.messages import message_class
@@ -25,8 +26,8 @@ JOINTS_MAX_HZ = 60.0
 INPUT_STALE_AFTER_S = 0.5
 SPIN_SLICE_S = 0.05
 SENSOR_QOS = QoSProfile(depth=2, reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
-COMMAND_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
-STATUS_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+COMMAND_QOS = QoSProfile(depth=episode_protocol.COMMAND_QOS_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)
 _EVENT_MAKERS = {"joints": frames.joint_state_event, "image": frames.image_event, "scan": frames.scan_event}
 _MIN_PERIOD_S = {"joints": 1.0 / JOINTS_MAX_HZ, "image": 1.0 / IMAGE_MAX_FPS, "scan": 0.0}
 
@@ -61,7 +62,8 @@ class Telemetry:
         self.command_publishers = {r.node: self.node.create_publisher(String, r.command_topic, COMMAND_QOS)
                                    for r in view.recorders}
         self.status_subscriptions = [
-            self.node.create_subscription(String, r.status_topic, self._recorder_callback(r.node), STATUS_QOS)
+            self.node.create_subscription(String, r.status_topic, self._recorder_callback(r.node),
+                                          episode_protocol.state_qos())
             for r in view.recorders
         ]
         self.timer = self.node.create_timer(REPORT_PERIOD_S, self._report)
@@ -114,11 +116,10 @@ class Telemetry:
 
     def _recorder_callback(self, recorder: str):
         def receive(message) -> None:
-            try:
-                self.recorder_status[recorder] = json.loads(message.data)
-            except ValueError:
-                return
-            self._publish_recorder(recorder)
+            state = episode_protocol.decode(message.data)
+            if state is not None:
+                self.recorder_status[recorder] = state
+                self._publish_recorder(recorder)
 
         return receive
 
@@ -129,8 +130,8 @@ class Telemetry:
             "node": recorder,
             "known": bool(status),
             "recording": bool(status.get("recording")),
-            "task": status.get("task", ""),
-            "frames": status.get("frames", 0),
+            "event": status.get("event", ""),
+            "message": status.get("message", ""),
             "episodes_saved": saved_episodes(spec.output_directory) or 0,
         })
 

@@ -28,8 +28,10 @@ export function EpisodeControls({ node }: { node: string }) {
         <span className="text-slate-200" data-testid={`recording-state-${node}`}>
           {recorder === null || !recorder.known ? "waiting for the recorder" : recording ? "recording" : "idle"}
         </span>
-        {recording && <span className="text-slate-400">“{recorder?.task}” · {recorder?.frames} frames</span>}
       </div>
+      {recorder?.message && (
+        <p className="mb-3 truncate text-xs text-slate-400" data-testid={`recorder-message-${node}`}>{recorder.message}</p>
+      )}
       <div className="flex flex-wrap gap-2">
         <input value={task} onChange={(e) => setTask(e.target.value)} placeholder="Task, e.g. pick the red cube"
                aria-label="task" data-testid={`episode-task-${node}`}

@@ -60,7 +60,7 @@ describe("EpisodeControls", () => {
     vi.stubGlobal("fetch", fetchMock);
     const events = hub();
     render(<EventHubProvider hub={events}><EpisodeControls node="rec" /></EventHubProvider>);
-    send(events, "recorder", { node: "rec", known: true, recording: false, task: "", frames: 0, episodes_saved: 4 });
+    send(events, "recorder", { node: "rec", known: true, recording: false, event: "saved", message: "saved episode 3", episodes_saved: 4 });
     expect(screen.getByTestId("episodes-saved-rec").textContent).toBe("4 episodes saved");
     fireEvent.change(screen.getByTestId("episode-task-rec"), { target: { value: "stack blocks" } });
     await act(async () => fireEvent.click(screen.getByTestId("episode-start-rec")));
