@@ -9,8 +9,12 @@ Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this 
 the directory can move. Nodes run in the directory the supervisor was started from.
 
 - Preflight: before anything starts, every device, model directory, registry: model reference, output
-  directory, entrypoint and program is checked; all problems are listed and the supervisor exits with
-  EXIT_PREFLIGHT.
+  directory, entrypoint and program is checked, and the node interpreter (--python) must import
+  joshua_runtime of this build's node-settings format; all problems are listed and the supervisor
+  exits with EXIT_PREFLIGHT.
+- Readiness: every node gets NOTIFY_SOCKET (sd_notify); a node is ready once its main process sends
+  READY=1 (a CUSTOM program or a C++ binary: once it starts). "ready: N of N nodes ready" is logged when every running
+  node is; a node not ready READY_TIMEOUT_S after its start is warned about, not stopped.
 - Each node is fork()+execv()ed in its own session (process group); it gets SIGKILL through
   PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every descendant if the
   supervisor is killed outright: the whole cgroup the nodes joined where one can be created, else
@@ -45,6 +49,8 @@ import shlex
 import shutil
 import signal
 import socket
+import struct
+import subprocess
 import sys
 import time
 
@@ -66,6 +72,7 @@ ROBOT = {
         'settings': 2,
         'data_lost': 6,
     },
+    'settings_format_version': 3,
     'processes': [
         {
             'name': 'encoder_publisher',
@@ -177,6 +184,8 @@ TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for n
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
+READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may take to report its runtime
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
 EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
@@ -644,6 +653,9 @@ class Node:
         self.backend = ""
         self.last_exit = ""
         self.warned_fallback = False
+        self.ready = False  # it said READY=1 since its last start (a CUSTOM node: it started); see notify.py
+        self.ready_deadline = None  # when it is warned about for not being ready
+        self.status_text = ""  # its last STATUS= notification
         self.stop_requested = False  # stopped over the control socket: no restart until started again
         self.environment = self.make_environment()
 
@@ -684,16 +696,176 @@ class Node:
     def status_line(self, now):
         if self.state == "running":
             return (f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
-                    f"{self.restarts} restarts")
+                    f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts")
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
+
+
+# Readiness: the sd_notify socket nodes send READY=1 to, the ready flag of each node, and the "ready" lines.
+
+
+NOTIFY_VARIABLES = ("NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID")
+NOTIFY_DATAGRAM_MAX = 4096
+UCRED = struct.Struct("3i")  # pid, uid, gid
+
+
+def notify_fields(data: bytes) -> dict[str, str]:
+    """The KEY=VALUE lines of one notification datagram."""
+    fields = {}
+    for line in data.decode("utf-8", "replace").splitlines():
+        key, equals, value = line.partition("=")
+        if equals:
+            fields[key] = value
+    return fields
+
+
+def notify_upstream(address: str, text: str) -> None:
+    """Send one notification to the manager that runs the supervisor itself (best effort)."""
+    target = "\0" + address[1:] if address.startswith("@") else address
+    try:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC) as sender:
+            sender.sendto(text.encode(), target)
+    except OSError:
+        pass
+
+
+class Readiness:
+    """Receives the nodes' notifications and keeps each node's `ready` flag.
+
+    One Unix datagram socket in the abstract namespace (`@joshua-notify-<robot>-<supervisor pid>`),
+    handed to every node as NOTIFY_SOCKET. SO_PASSCRED makes the kernel attach the sender's pid to each
+    datagram, so a message counts only when it comes from a node's main process (systemd's
+    NotifyAccess=main). A node is ready when it sends READY=1; a CUSTOM program or a C++ binary when it
+    starts (neither need speak the protocol). A node not ready READY_TIMEOUT_S after its start gets one warning and keeps
+    running. When every running node is ready, the supervisor logs "ready: N of N nodes ready" and,
+    when it runs under systemd itself (Type=notify), passes READY=1 on to its own NOTIFY_SOCKET.
+    WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that).
+    """
+
+    def __init__(self, nodes, robot_name):
+        self.nodes = nodes
+        self.upstream = os.environ.get("NOTIFY_SOCKET", "")
+        self.all_ready = False
+        self.socket = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK)
+        self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
+        name = f"joshua-notify-{robot_name}-{os.getpid()}"[:100]
+        self.socket.bind("\0" + name)
+        self.address = "@" + name
+        for node in nodes:
+            for variable in NOTIFY_VARIABLES:
+                node.environment.pop(variable, None)
+            node.environment["NOTIFY_SOCKET"] = self.address
+
+    def fileno(self):
+        return self.socket.fileno()
+
+    def on_launch(self, node, now):
+        """A node just started: runtime nodes are ready once they say so; programs that may not speak
+        sd_notify (CUSTOM programs, C++ binaries) are ready now."""
+        silent = {"custom": "a CUSTOM program", "C++": "a C++ binary"}.get(node.backend)
+        node.ready = silent is not None
+        node.ready_deadline = None if node.ready else now + READY_TIMEOUT_S
+        if node.ready:
+            self.on_ready(node, now, f"{silent}: ready when started")
+
+    def on_exit(self, node):
+        node.ready = False
+        node.ready_deadline = None
+        self.all_ready = False
+
+    def receive(self, node_of_pid, now):
+        """Read every pending datagram; `node_of_pid(pid)` names the node whose main process sent it."""
+        while True:
+            try:
+                data, ancillary, _, _ = self.socket.recvmsg(NOTIFY_DATAGRAM_MAX, socket.CMSG_SPACE(UCRED.size))
+            except (BlockingIOError, InterruptedError):
+                return
+            pid = None
+            for level, kind, payload in ancillary:
+                if level == socket.SOL_SOCKET and kind == socket.SCM_CREDENTIALS and len(payload) >= UCRED.size:
+                    pid = UCRED.unpack_from(payload)[0]
+            node = node_of_pid(pid) if pid is not None else None
+            if node is None:
+                continue  # not a node's main process: ignored, like NotifyAccess=main
+            fields = notify_fields(data)
+            if "STATUS" in fields:
+                node.status_text = fields["STATUS"]
+            if fields.get("READY") == "1" and not node.ready:
+                node.ready = True
+                node.ready_deadline = None
+                self.on_ready(node, now, node.status_text)
+
+    def on_ready(self, node, now, status):
+        log(node.name, f"ready after {now - node.started_at:.2f} s" + (f": {status}" if status else ""))
+
+    def check_all(self, now):
+        """Log the robot's ready line when every running node is ready and none waits to start."""
+        if self.all_ready:
+            return
+        if any(node.state in ("pending", "backoff") or (node.state == "running" and not node.ready)
+               for node in self.nodes):
+            return
+        ready = sum(node.ready for node in self.nodes)
+        if not ready:
+            return
+        self.all_ready = True
+        others = len(self.nodes) - ready
+        log("supervisor", f"ready: {ready} of {len(self.nodes)} nodes ready ({now - START:.2f} s after start)"
+                          + (f"; {others} not running" if others else ""))
+        if self.upstream:
+            notify_upstream(self.upstream, f"READY=1\nSTATUS={ready} of {len(self.nodes)} nodes ready")
+
+    def next_deadline(self):
+        deadlines = [node.ready_deadline for node in self.nodes if node.ready_deadline is not None]
+        return min(deadlines) if deadlines else None
+
+    def on_timer(self, now, stopping):
+        if not stopping:
+            self.check_all(now)
+        for node in self.nodes:
+            if node.ready_deadline is not None and now >= node.ready_deadline:
+                node.ready_deadline = None
+                if node.state == "running" and not node.ready:
+                    log(node.name, f"warning: not ready {READY_TIMEOUT_S:g} s after its start (no READY=1 "
+                                   "yet); it keeps running and the robot is not ready")
 
 
 # Preflight: every reason the robot cannot start, found before anything starts.
 
 
 PROBE_PREFIX = ".joshua-preflight-"  # a file created and removed at once, to learn a directory is writable
+RUNTIME_PROBE = "import joshua_runtime, joshua_core.settings as s; print(s.FORMAT_VERSION)"
+INSTALL_SCRIPT = "install.sh"  # written next to supervisor.py by `joshuac build --bundle`
+
+
+def runtime_fix(python: str) -> str:
+    """How to install the runtime this build needs for `python`."""
+    script = under_script_dir(INSTALL_SCRIPT)
+    if os.path.isfile(script):
+        return f"install it: sh {script} (then run supervisor.py with that environment's python)"
+    return (f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
+            f"or install this repository's core/ and runtime/ for {python}")
+
+
+def runtime_problem(python: str, env: dict[str, str]) -> str | None:
+    """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
+    expected = ROBOT["settings_format_version"]
+    try:
+        probe = subprocess.run([python, "-c", RUNTIME_PROBE], env=env, capture_output=True, text=True,
+                               timeout=RUNTIME_PROBE_TIMEOUT_S, stdin=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired:
+        return f"{python} did not report its joshua_runtime within {RUNTIME_PROBE_TIMEOUT_S:g} s"
+    except OSError as exc:
+        return f"cannot run {python}: {exc.strerror or exc}"
+    lines = probe.stdout.split()
+    if probe.returncode != 0 or not lines or not lines[-1].isdigit():
+        reason = (probe.stderr.strip().splitlines() or [f"exit code {probe.returncode}"])[-1]
+        return f"{python} cannot import the runtime ({reason}); {runtime_fix(python)}"
+    if int(lines[-1]) != expected:
+        return (f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
+                f"format {expected}; {runtime_fix(python)}")
+    return None
 
 
 def registry_problem(reference: str, env: dict[str, str]) -> str | None:
@@ -765,6 +937,11 @@ def preflight(nodes, python):
                 problems.append(f"{node.name}: entrypoint {entrypoint} is missing")
     if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
         problems.append(f"Python interpreter {python} is not an executable file")
+    elif needs_python:
+        environment = next(node.environment for node in nodes if node.spec["kind"] != "custom")
+        problem = runtime_problem(python, environment)
+        if problem:
+            problems.append(problem)
     return problems
 
 
@@ -817,6 +994,18 @@ def default_log_dir(robot: str) -> str:
     """$XDG_STATE_HOME/joshua/<robot>/logs, else ~/.local/state/joshua/<robot>/logs."""
     state = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
     return os.path.join(state, "joshua", robot, "logs")
+
+
+def open_node_logs(directory: str | None, names: list[str]) -> dict:
+    """A NodeLog per node name in `directory` (created 0700); none when there is no directory."""
+    if not directory:
+        return {}
+    try:
+        os.makedirs(directory, mode=0o700, exist_ok=True)
+    except OSError as exc:
+        log("supervisor", f"warning: no node logs in {directory}: {exc}")
+        return {}
+    return {name: NodeLog(directory, name) for name in names}
 
 
 class NodeLog:
@@ -1081,7 +1270,7 @@ class ControlPlane:
         self.note_states(now)
         return {"robot": ROBOT["name"], "nodes": [
             {"name": node.name, "state": node.state, "pid": node.pid, "restarts": node.restarts,
-             "ready": node.state == "running", "since_s": round(now - self.since[node.name][1], 3)}
+             "ready": node.ready, "since_s": round(now - self.since[node.name][1], 3)}
             for node in self.supervisor.nodes
         ]}
 
@@ -1156,8 +1345,9 @@ class Supervisor:
         self.outcome = Outcome()
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
+        self.readiness = Readiness(self.nodes, ROBOT["name"])
         self.control = None  # the ControlPlane while the control socket is served
-        self.logs = self.open_logs(options.log_dir)  # node name -> NodeLog; empty: output not captured
+        self.logs = open_node_logs(options.log_dir, [node.name for node in self.nodes])  # empty: output not kept
 
     # Setup
 
@@ -1181,6 +1371,7 @@ class Supervisor:
         self.guard = Guard(self.contain())
         self.guard.start()
         self.install_signals()
+        self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
         if self.options.control_socket:
             try:
                 self.control = ControlPlane(self, self.options.control_socket)
@@ -1192,8 +1383,8 @@ class Supervisor:
                 break  # asked to stop while starting: the rest stay pending
             self.launch(node)
         running = sum(node.state == "running" for node in self.nodes)
-        log("supervisor", f"ready: {running} of {len(self.nodes)} nodes running "
-                          f"({(time.monotonic() - START) * 1000:.1f} ms after start)")
+        log("supervisor", f"started: {running} of {len(self.nodes)} nodes running "
+                          f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready")
         while not self.finished():
             self.wait(self.timeout())
             self.reap()
@@ -1208,16 +1399,6 @@ class Supervisor:
         for line in self.outcome.last_lines():
             log("supervisor", line)
         return self.outcome.exit_code()
-
-    def open_logs(self, directory):
-        if not directory:
-            return {}
-        try:
-            os.makedirs(directory, mode=0o700, exist_ok=True)
-        except OSError as exc:
-            log("supervisor", f"warning: no node logs in {directory}: {exc}")
-            return {}
-        return {node.name: NodeLog(directory, node.name) for node in self.nodes}
 
     def contain(self):
         """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
@@ -1270,6 +1451,7 @@ class Supervisor:
         self.by_pid[pid] = node
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
+        self.readiness.on_launch(node, node.started_at)
 
     def read_output(self, node_log, fd):
         if not node_log.read(fd):
@@ -1308,6 +1490,7 @@ class Supervisor:
 
     def on_exit(self, node, pid, status):
         node.pid = None
+        self.readiness.on_exit(node)
         node.last_exit = exit_text(status)
         ran_for = time.monotonic() - node.started_at
         log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
@@ -1442,7 +1625,7 @@ class Supervisor:
         return False
 
     def timeout(self):
-        moments = [self.duration_end, self.next_status, self.stage_deadline]
+        moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
         moments.append(self.control.deadline() if self.control is not None else None)
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
         moments = [moment for moment in moments if moment is not None]
@@ -1474,6 +1657,7 @@ class Supervisor:
             self.request_stop(f"duration of {self.options.duration} s elapsed")
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
+        self.readiness.on_timer(now, self.stopping)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 node.restart_at = None
