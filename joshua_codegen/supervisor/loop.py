@@ -24,8 +24,8 @@ from joshua_codegen.supervisor.containment import (
 from joshua_codegen.supervisor.control import ControlPlane
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
-from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.node_log import open_node_logs
+from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
     KILL_WAIT_S,

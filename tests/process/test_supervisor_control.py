@@ -44,7 +44,7 @@ def start_robot(tmp_path, *nodes):
     out = build(tmp_path, robot([custom_node("steady", log), *nodes]))
     sock, logs = tmp_path / "run" / "r.sock", tmp_path / "logs"
     supervisor = Supervisor(out, "--control-socket", str(sock), "--log-dir", str(logs))
-    supervisor.wait_log(r"ready: \d+ of \d+ nodes running")
+    supervisor.wait_log(r"started: \d+ of \d+ nodes running")
     return out, sock, logs, log, supervisor
 
 

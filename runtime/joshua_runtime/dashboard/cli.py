@@ -10,11 +10,13 @@ from pathlib import Path
 from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
 
 from joshua_runtime.errors import JoshuaError
+from joshua_runtime.notify import Notifier
 
 TOKEN_VARIABLE = "JOSHUA_DASHBOARD_TOKEN"
 # The built page: web/dist of the checkout this package lives in (built by `make setup`).
 DEFAULT_WEB_DIR = Path(__file__).resolve().parents[3] / "web" / "dist"
 SHUTDOWN_GRACE_S = 1
+NOTIFY_POLL_S = 0.05  # how often the start of the server is checked, then the watchdog pinged (it waits its half)
 
 
 def port_number(text: str) -> int:
@@ -94,13 +96,29 @@ async def serve(args) -> None:
     link_task = asyncio.create_task(link.run()) if link else None
     config = uvicorn.Config(dashboard.app, log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S,
                             lifespan="on")
+    server = uvicorn.Server(config)
+    notifier = Notifier.from_environment()
+    notify_task = asyncio.create_task(notify_manager(server, notifier, url))
     try:
-        await uvicorn.Server(config).serve(sockets=[sock])
+        await server.serve(sockets=[sock])
     finally:
+        notify_task.cancel()
+        notifier.stopping()
         if link_task:
             link_task.cancel()
             link.close()
         telemetry.close()
+
+
+async def notify_manager(server, notifier, url: str) -> None:
+    """READY=1 to the process manager (supervisor.py, systemd) once the server listens, then the
+    watchdog's pings while the event loop runs."""
+    while not server.started:
+        await asyncio.sleep(NOTIFY_POLL_S)
+    notifier.ready(f"serving {url}")
+    while True:
+        notifier.watchdog()
+        await asyncio.sleep(NOTIFY_POLL_S)
 
 
 def main(argv=None) -> int:

@@ -10,6 +10,7 @@ import pandas
 import pytest
 from dashboard_support import (
     browser,
+    control_request,
     free_port,
     get_json,
     node_pid,
@@ -68,6 +69,8 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     page.get_by_test_id("node-stop-probe").click()
     page.get_by_test_id("node-row-probe").get_by_text("stopped").wait_for()
     assert node_pid(control_socket, "probe") is None
+    nodes = {node["name"]: node for node in control_request(control_socket, {"command": "status"})["nodes"]}
+    assert nodes["dashboard"]["ready"]  # it told the supervisor (sd_notify) once it served
     ros_client.node.create_timer(0.05, lambda: probe.publish(probe_message()))
     page.get_by_role("tab", name="/probe/joint_states").click()
 
