@@ -11,6 +11,16 @@ import pytest
 from testsupport.node_process import NodeProcess
 
 
+@pytest.fixture(autouse=True)
+def private_state_dirs(tmp_path_factory, monkeypatch) -> None:
+    """Supervisors a test starts keep their node logs ($XDG_STATE_HOME) and control socket
+    ($XDG_RUNTIME_DIR) in directories of that test, never in the user's own."""
+    base = tmp_path_factory.mktemp("xdg")
+    for variable, name in (("XDG_STATE_HOME", "state"), ("XDG_RUNTIME_DIR", "run")):
+        (base / name).mkdir(mode=0o700)
+        monkeypatch.setenv(variable, str(base / name))
+
+
 @pytest.fixture
 def ros_env(request) -> dict:
     """Environment for ROS processes of this test: its own domain id, discovery on localhost only.

@@ -237,6 +237,7 @@ def run(config, overrides, duration, skip_preflight, status_interval) -> None:
         out = Path(tmp) / "out"
         compilation = compile_or_exit(config, overrides, "text", prefix=str(out))
         write_tree(compilation.files, out)
+        _print_dashboard_url(compilation)
         extra = []
         if duration is not None:
             extra += ["--duration", str(duration)]
@@ -245,6 +246,16 @@ def run(config, overrides, duration, skip_preflight, status_interval) -> None:
         if status_interval is not None:
             extra += ["--status-interval", str(status_interval)]
         sys.exit(run_supervisor(out, extra))
+
+
+def _print_dashboard_url(compilation) -> None:
+    from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
+
+    config = compilation.check.description.robot_config
+    if config.HasField("dashboard"):
+        dashboard = config.dashboard
+        port = dashboard.port if dashboard.HasField("port") else DEFAULT_PORT
+        click.echo(f"joshuac: dashboard of {config.name}: {page_url(dashboard.bind or DEFAULT_BIND, port)}")
 
 
 def main() -> None:

@@ -6,8 +6,9 @@
 from dataclasses import dataclass, field
 from functools import cached_property
 
+from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
 from joshua_core.node_types import FOXGLOVE_BRIDGE, SIMULATION_ENGINE
-from joshua_core.settings import NodeSettings
+from joshua_core.settings import FORMAT_VERSION, NodeSettings
 
 
 @dataclass(frozen=True)
@@ -132,7 +133,11 @@ class Robot:
         return simulated
 
     def process_settings(self, process: Process) -> NodeSettings:
-        """The settings of a python process (a node's, or the simulation engine's)."""
+        """The settings of a python process (a node's, or the simulation engine's); the dashboard's
+        name only its process (its entrypoint holds command-line arguments instead)."""
+        if process.node_type == DASHBOARD_TYPE:
+            return NodeSettings(format_version=FORMAT_VERSION, robot=self.name, mode=self.mode, name=process.name,
+                                type=DASHBOARD_TYPE)
         if process.node_type == SIMULATION_ENGINE.name:
             return self.simulation
         if process.node_type == FOXGLOVE_BRIDGE.name:

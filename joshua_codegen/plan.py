@@ -5,6 +5,7 @@ import os
 from joshua_codegen import defaults, escape, node_settings, topology
 from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
 from joshua_codegen.positions import node_path
+from joshua_core import dashboard as dashboard_facts
 from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
@@ -45,6 +46,8 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     foxglove = _foxglove_settings(config, topics) if config.HasField("foxglove") else None
     if foxglove is not None:
         processes += (_foxglove_process(foxglove.name, any(t.message_type in IMAGE_TYPES for t in topics)),)
+    if config.HasField("dashboard"):
+        processes += (_dashboard_process(config, any(_carries_images(model) for model in nodes)),)
     return Robot(
         name=config.name,
         mode=mode,
@@ -239,6 +242,23 @@ def _foxglove_process(name: str, carries_images: bool) -> Process:
         critical=False,
         env=(),
         devices=(),
+        carries_images=carries_images,
+    )
+
+
+def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
+    """The web dashboard: its entrypoint runs `python -m joshua_runtime.dashboard` with `args`; it
+    subscribes to every topic, images included when the robot has some."""
+    dashboard = config.dashboard
+    port = dashboard.port if dashboard.HasField("port") else dashboard_facts.DEFAULT_PORT
+    args = ["--port", str(port), "--bind", dashboard.bind or dashboard_facts.DEFAULT_BIND]
+    if dashboard.zenoh_connect:
+        args += ["--zenoh-connect", dashboard.zenoh_connect]
+    name = dashboard_facts.PROCESS_NAME
+    return Process(
+        name=name, node_type=dashboard_facts.PROCESS_TYPE, kind="python", entrypoint=f"nodes/{name}.py",
+        executable="", args=tuple(args), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE",
+        max_restarts=defaults.MAX_RESTARTS, critical=False, env=tuple(sorted(config.env.items())), devices=(),
         carries_images=carries_images,
     )
 

@@ -5,9 +5,10 @@ cd "$(dirname "$0")/.."
 export UV_PYTHON_DOWNLOADS=never
 
 # System packages: systemd-analyze (unit checks), Mesa EGL (MuJoCo offscreen rendering), the libraries
-# Qt needs offscreen, and the compiler and JSON header of the C++ nodes (g++ also builds the ROS
-# interface packages no wheel ships, from interfaces/).
-APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core g++ make nlohmann-json3-dev)
+# Qt needs offscreen, the compiler and JSON header of the C++ nodes (g++ also builds the ROS
+# interface packages no wheel ships, from interfaces/), Node.js with npm (the dashboard page) and
+# Chromium's headless shell (the browser tests drive it through Playwright).
+APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core g++ make nlohmann-json3-dev nodejs chromium-headless-shell)
 missing=()
 for package in "${APT_PACKAGES[@]}"; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
@@ -38,4 +39,17 @@ uv sync --locked --inexact --quiet --compile-bytecode
 # C++ node binaries (build/bin/), compiled against the ROS 2 wheels just installed; a no-op when up to date.
 if ! make --no-print-directory -s -C cpp; then
   echo "setup: warning: the C++ nodes did not build; nodes preferring CPP fall back to Python" >&2
+fi
+
+# The dashboard's page: installed from web/package-lock.json and built into web/dist, only when a
+# source, the lock file or the build configuration is newer than the last build.
+if command -v npm >/dev/null 2>&1; then
+  stamp=web/dist/.built
+  if [ ! -f "$stamp" ] || [ -n "$(find web/src web/index.html web/fleet.html web/package-lock.json web/vite.config.ts web/tsconfig.json web/tailwind.config.js -newer "$stamp" -print -quit)" ]; then
+    echo "setup: building the dashboard page (web/dist)"
+    (cd web && npm ci --no-audit --no-fund --loglevel=error && npx --no-install tsc --noEmit -p . && npx --no-install vite build --logLevel error)
+    touch "$stamp"
+  fi
+else
+  echo "setup: warning: npm is missing; the dashboard page (web/dist) is not built" >&2
 fi

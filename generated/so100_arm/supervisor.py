@@ -42,6 +42,7 @@ Exit codes (the first that applies):
 
 import argparse
 import ctypes
+import json
 import os
 import select
 import shlex
@@ -403,10 +404,14 @@ class DescendantTracker:
 # The forked child of a node: own session, death signal, default signals, then exec.
 
 
-def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None) -> None:
+def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None) -> None:
     """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
-    signals, then exec."""
+    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec."""
     try:
+        if output is not None:
+            os.dup2(output, 1)
+            os.dup2(output, 2)
+            os.close(output)
         for number in RESET_IN_CHILD:
             signal.signal(number, signal.SIG_DFL)
         signal.set_wakeup_fd(-1)
@@ -610,6 +615,7 @@ class Node:
         self.ready = False  # it said READY=1 since its last start (a CUSTOM node: it started); see notify.py
         self.ready_deadline = None  # when it is warned about for not being ready
         self.status_text = ""  # its last STATUS= notification
+        self.stop_requested = False  # stopped over the control socket: no restart until started again
         self.environment = self.make_environment()
 
     def make_environment(self):
@@ -933,6 +939,350 @@ class Outcome:
         return lines
 
 
+# Each node's output: passed on to the supervisor's own stderr and kept in `<log dir>/<node>.log`, rotated.
+
+
+# A node's log file is rotated when it would grow past LOG_MAX_BYTES: <node>.log becomes <node>.log.1,
+# .1 becomes .2, ... and the oldest of LOG_BACKUPS is dropped; at most (1 + LOG_BACKUPS) x 10 MiB a node.
+LOG_MAX_BYTES = 10 * 1024 * 1024
+LOG_BACKUPS = 3
+LOG_READ_BYTES = 65536
+
+
+def default_log_dir(robot: str) -> str:
+    """$XDG_STATE_HOME/joshua/<robot>/logs, else ~/.local/state/joshua/<robot>/logs."""
+    state = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
+    return os.path.join(state, "joshua", robot, "logs")
+
+
+def open_node_logs(directory: str | None, names: list[str]) -> dict:
+    """A NodeLog per node name in `directory` (created 0700); none when there is no directory."""
+    if not directory:
+        return {}
+    try:
+        os.makedirs(directory, mode=0o700, exist_ok=True)
+    except OSError as exc:
+        log("supervisor", f"warning: no node logs in {directory}: {exc}")
+        return {}
+    return {name: NodeLog(directory, name) for name in names}
+
+
+class NodeLog:
+    """The log file of one node; `feed` takes what the node's output pipe gave and hands complete lines on."""
+
+    def __init__(self, directory: str, name: str):
+        self.path = os.path.join(directory, f"{name}.log")
+        self.partial = b""
+        self.listeners = []  # callables taking one decoded line, e.g. `ctl logs -f` clients
+
+    def open_pipe(self):
+        """(read end, write end) of a new pipe for one launch; the read end is non-blocking."""
+        read_end, write_end = os.pipe()
+        os.set_blocking(read_end, False)
+        return read_end, write_end
+
+    def read(self, fd: int) -> bool:
+        """Read what is available on the node's pipe; False at end of file (every writer gone)."""
+        try:
+            data = os.read(fd, LOG_READ_BYTES)
+        except BlockingIOError:
+            return True
+        except OSError:
+            data = b""
+        if not data:
+            if self.partial:
+                self.feed(b"\n")
+            return False
+        self.feed(data)
+        return True
+
+    def feed(self, data: bytes) -> None:
+        try:
+            sys.stderr.buffer.write(data)
+            sys.stderr.flush()
+        except (OSError, ValueError):
+            pass
+        self.append(data)
+        lines = (self.partial + data).split(b"\n")
+        self.partial = lines.pop()
+        for line in lines:
+            text = line.decode(errors="replace")
+            for listener in list(self.listeners):
+                listener(text)
+
+    def append(self, data: bytes) -> None:
+        try:
+            if os.path.exists(self.path) and os.path.getsize(self.path) + len(data) > LOG_MAX_BYTES:
+                self.rotate()
+            with open(self.path, "ab") as log_file:
+                log_file.write(data)
+        except OSError:
+            pass  # a full or read-only disk must not stop the robot; stderr still has the output
+
+    def rotate(self) -> None:
+        for index in range(LOG_BACKUPS - 1, 0, -1):
+            older = f"{self.path}.{index}"
+            if os.path.exists(older):
+                os.replace(older, f"{self.path}.{index + 1}")
+        os.replace(self.path, f"{self.path}.1")
+
+    def tail(self, count: int) -> list[str]:
+        """The last `count` lines, from the rotated files too when the current one holds fewer."""
+        lines = []
+        for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
+            if len(lines) >= count:
+                break
+            try:
+                with open(path, "rb") as log_file:
+                    older = log_file.read().decode(errors="replace").splitlines()
+            except OSError:
+                continue
+            lines = older + lines
+        return lines[-count:] if count > 0 else []
+
+
+# The control socket: status, restart / stop / start of one node and its log, one JSON line each way.
+
+
+CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
+CONTROL_REQUEST_LIMIT = 65536  # longest request line accepted
+CONTROL_SEND_TIMEOUT_S = 1.0  # a client that does not read its replies for this long is dropped
+LOG_LINES_DEFAULT = 100
+
+
+def default_control_socket(robot: str) -> str:
+    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock."""
+    runtime_dir = os.environ.get("XDG_RUNTIME_DIR")
+    directory = os.path.join(runtime_dir, "joshua") if runtime_dir else f"/tmp/joshua-{os.getuid()}"
+    return os.path.join(directory, f"{robot}.sock")
+
+
+class ControlClient:
+    """One connection: buffers request bytes, writes reply lines, may follow a node's log."""
+
+    def __init__(self, connection):
+        self.connection = connection
+        self.connection.settimeout(CONTROL_SEND_TIMEOUT_S)
+        self.buffer = b""
+        self.following = None  # (NodeLog, listener) while `logs -f` runs
+        self.closed = False
+
+    def send(self, reply: dict) -> None:
+        if self.closed:
+            return
+        try:
+            self.connection.sendall(json.dumps(reply).encode() + b"\n")
+        except OSError:
+            self.close()
+
+    def close(self) -> None:
+        if self.following is not None:
+            node_log, listener = self.following
+            if listener in node_log.listeners:
+                node_log.listeners.remove(listener)
+            self.following = None
+        if not self.closed:
+            self.closed = True
+            self.connection.close()
+
+
+class ControlPlane:
+    """Serves the socket for a Supervisor: registers its descriptors in `supervisor.readers`, and is
+    polled by the loop (`poll`) to finish node stops and restarts and to escalate their signals.
+
+    Requests: {"command": "status"}, {"command": "restart"|"stop"|"start", "node": NAME},
+    {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
+    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a
+    stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a
+    Unix stream socket of mode 0600 in a directory of mode 0700.
+    """
+
+    def __init__(self, supervisor, path: str):
+        self.supervisor = supervisor
+        self.path = path
+        self.clients = {}  # fd -> ControlClient
+        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [(client, command)]}
+        self.since = {}  # node name -> (state, monotonic time it was entered)
+        directory = os.path.dirname(path)
+        os.makedirs(directory, mode=0o700, exist_ok=True)
+        if os.path.exists(path):
+            probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+            try:
+                probe.connect(path)
+            except OSError:
+                os.unlink(path)  # left by a supervisor that was killed
+            else:
+                raise OSError(f"another supervisor serves {path}")
+            finally:
+                probe.close()
+        self.listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        old_mask = os.umask(0o177)
+        try:
+            self.listener.bind(path)
+        finally:
+            os.umask(old_mask)
+        os.chmod(path, 0o600)
+        self.listener.listen(16)
+        self.listener.setblocking(False)
+        supervisor.readers[self.listener.fileno()] = self.accept
+        log("supervisor", f"control socket {path} (python3 supervisor.py ctl --control-socket {path} status)")
+
+    def close(self) -> None:
+        for client in list(self.clients.values()):
+            client.close()
+        self.supervisor.readers.pop(self.listener.fileno(), None)
+        self.listener.close()
+        try:
+            os.unlink(self.path)
+        except OSError:
+            pass
+
+    def accept(self) -> None:
+        try:
+            connection, _ = self.listener.accept()
+        except OSError:
+            return
+        client = ControlClient(connection)
+        fd = connection.fileno()
+        self.clients[fd] = client
+        self.supervisor.readers[fd] = lambda: self.receive(fd)
+
+    def drop(self, fd: int) -> None:
+        self.supervisor.readers.pop(fd, None)
+        client = self.clients.pop(fd, None)
+        if client is not None:
+            client.close()
+
+    def receive(self, fd: int) -> None:
+        client = self.clients[fd]
+        try:
+            data = client.connection.recv(CONTROL_REQUEST_LIMIT)
+        except OSError:
+            data = b""
+        if not data or len(client.buffer) + len(data) > CONTROL_REQUEST_LIMIT:
+            self.drop(fd)
+            return
+        client.buffer += data
+        while b"\n" in client.buffer and not client.closed:
+            line, client.buffer = client.buffer.split(b"\n", 1)
+            try:
+                request = json.loads(line)
+            except ValueError as exc:
+                request = f"not JSON ({exc})"
+            if not isinstance(request, dict):
+                client.send({"ok": False, "error": f"a request is one JSON object per line, got {request!r:.80}"})
+                continue
+            reply = self.handle(client, request)
+            if reply is not None:
+                client.send(reply)
+        if client.closed:
+            self.drop(fd)
+
+    # Requests
+
+    def handle(self, client, request):
+        """The reply to `request`, or None when it comes later (a stop or restart in progress)."""
+        command = request.get("command")
+        if command == "status":
+            return {"ok": True, **self.status()}
+        node = next((n for n in self.supervisor.nodes if n.name == request.get("node")), None)
+        if command not in ("restart", "stop", "start", "logs"):
+            return {"ok": False, "error": f"unknown command {command!r} (status, restart, stop, start, logs)"}
+        if node is None:
+            return {"ok": False, "error": f"no node named {request.get('node')!r}"}
+        if command == "logs":
+            return self.logs(client, node, request)
+        if self.supervisor.stopping:
+            return {"ok": False, "error": "the robot is stopping"}
+        if node.name in self.pending:
+            return {"ok": False, "error": f"{node.name} is already being stopped or restarted"}
+        if command == "start":
+            if node.alive():
+                return {"ok": False, "error": f"{node.name} is already {node.state}"}
+            self.start(node)
+            return self.action_reply(node)
+        if not node.alive():
+            if command == "stop":
+                node.restart_at = None
+                node.state = "stopped"
+                return self.action_reply(node)
+            self.start(node)
+            return self.action_reply(node)
+        self.pending[node.name] = {"stage": "SIGINT", "deadline": time.monotonic() + SIGINT_GRACE_S,
+                                   "then_start": command == "restart", "waiters": [client]}
+        node.stop_requested = True
+        node.state = "stopping"
+        log(node.name, f"{command} requested over the control socket: sending SIGINT")
+        self.supervisor.signal_node(node, signal.SIGINT)
+        return None
+
+    def start(self, node) -> None:
+        node.stop_requested = False
+        node.restart_at = None
+        self.supervisor.launch(node)
+
+    def action_reply(self, node) -> dict:
+        return {"ok": True, "node": node.name, "state": node.state, "pid": node.pid}
+
+    def status(self) -> dict:
+        now = time.monotonic()
+        self.note_states(now)
+        return {"robot": ROBOT["name"], "nodes": [
+            {"name": node.name, "state": node.state, "pid": node.pid, "restarts": node.restarts,
+             "ready": node.ready, "since_s": round(now - self.since[node.name][1], 3)}
+            for node in self.supervisor.nodes
+        ]}
+
+    def logs(self, client, node, request) -> dict | None:
+        try:
+            count = int(request.get("lines", LOG_LINES_DEFAULT))
+        except (TypeError, ValueError):
+            return {"ok": False, "error": "lines must be a whole number"}
+        node_log = self.supervisor.logs[node.name]
+        client.send({"ok": True, "lines": node_log.tail(count)})
+        if request.get("follow"):
+            def listener(line, client=client):
+                client.send({"line": line})
+
+            node_log.listeners.append(listener)
+            client.following = (node_log, listener)
+        return None
+
+    # The loop's part
+
+    def note_states(self, now: float) -> None:
+        for node in self.supervisor.nodes:
+            if self.since.get(node.name, ("",))[0] != node.state:
+                self.since[node.name] = (node.state, now)
+
+    def deadline(self):
+        """The next moment poll() must run (a stop's signal escalation), or None."""
+        return min((item["deadline"] for item in self.pending.values()), default=None)
+
+    def poll(self) -> None:
+        """Finish stops and restarts whose node is gone; escalate those past their grace."""
+        now = time.monotonic()
+        for node in self.supervisor.nodes:
+            item = self.pending.get(node.name)
+            if item is None:
+                continue
+            if not node.alive():
+                del self.pending[node.name]
+                node.state = "stopped"
+                if item["then_start"] and not self.supervisor.stopping:
+                    node.restarts += 1
+                    self.start(node)
+                for client in item["waiters"]:
+                    client.send(self.action_reply(node))
+            elif now >= item["deadline"]:
+                stage, number, grace = ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S) if item["stage"] == "SIGINT" \
+                    else ("SIGKILL", signal.SIGKILL, SIGTERM_GRACE_S)
+                log(node.name, f"still running: escalating to {stage}")
+                item.update(stage=stage, deadline=now + grace)
+                self.supervisor.signal_node(node, number)
+        self.note_states(now)
+
+
 # The event loop: launching, reaping, restarts with backoff, and the stop cascade.
 
 
@@ -955,6 +1305,8 @@ class Supervisor:
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
         self.readiness = Readiness(self.nodes, ROBOT["name"])
+        self.control = None  # the ControlPlane while the control socket is served
+        self.logs = open_node_logs(options.log_dir, [node.name for node in self.nodes])  # empty: output not kept
 
     # Setup
 
@@ -979,6 +1331,11 @@ class Supervisor:
         self.guard.start()
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
+        if self.options.control_socket:
+            try:
+                self.control = ControlPlane(self, self.options.control_socket)
+            except OSError as exc:
+                log("supervisor", f"warning: no control socket at {self.options.control_socket}: {exc}")
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
         for node in self.nodes:
             if self.requests:
@@ -994,6 +1351,8 @@ class Supervisor:
                 self.request_stop(f"received {signal_name(self.requests.pop(0))}")
             self.on_timers()
         self.guard.stop()
+        if self.control is not None:
+            self.control.close()
         for node in self.nodes:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
         for line in self.outcome.last_lines():
@@ -1023,19 +1382,27 @@ class Supervisor:
 
     def launch(self, node):
         argv, node.backend = node.command()
+        node_log = self.logs.get(node.name)
+        read_end, write_end = node_log.open_pipe() if node_log is not None else (None, None)
         blocked = STOP_SIGNALS + (signal.SIGCHLD,)
         signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid, self.guard.cgroup)
+                child_exec(argv, node.environment, self.pid, self.guard.cgroup, write_end)
         except OSError as exc:
+            if node_log is not None:
+                os.close(read_end)
+                os.close(write_end)
             log(node.name, f"cannot fork: {exc}")
             node.last_exit = f"fork failed: {exc}"
             self.after_exit(node, failed=True, ran_for=0.0)
             return
         finally:
             signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
+        if node_log is not None:
+            os.close(write_end)
+            self.readers[read_end] = lambda: self.read_output(node_log, read_end)
         node.pid = node.pgid = pid
         node.state = "running"
         node.started_at = time.monotonic()
@@ -1044,6 +1411,11 @@ class Supervisor:
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
         self.readiness.on_launch(node, node.started_at)
+
+    def read_output(self, node_log, fd):
+        if not node_log.read(fd):
+            del self.readers[fd]
+            os.close(fd)
 
     def reap(self):
         self.abandoned_since = None
@@ -1085,7 +1457,7 @@ class Supervisor:
         self.outcome.on_node_exit(node.spec, code)
         if code != 0:  # it may not have removed its shared-memory segments
             self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
-        if self.stopping:
+        if self.stopping or node.stop_requested:
             node.state = "stopping" if node.alive() else "stopped"
             return
         if group_alive(node.pgid):
@@ -1203,6 +1575,8 @@ class Supervisor:
             return True
         if not self.stopping and any(node.state in ("running", "backoff", "pending") for node in self.nodes):
             return False
+        if not self.stopping and any(node.stop_requested for node in self.nodes):
+            return False  # stopped over the control socket: it may be started again
         if not any(node.alive() for node in self.nodes) and not self.leftover_children():
             return True
         if not self.stopping:
@@ -1211,6 +1585,7 @@ class Supervisor:
 
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
+        moments.append(self.control.deadline() if self.control is not None else None)
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
         moments = [moment for moment in moments if moment is not None]
         now = time.monotonic()
@@ -1233,6 +1608,8 @@ class Supervisor:
                 pass
 
     def on_timers(self):
+        if self.control is not None:
+            self.control.poll()
         now = time.monotonic()
         if self.duration_end is not None and now >= self.duration_end:
             self.duration_end = None
@@ -1288,6 +1665,77 @@ def supervisord_listener():
         stdout.flush()
 
 
+# `supervisor.py ctl ...`: the control socket's command-line client.
+
+
+CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
+CTL_EXIT_FAILED = 1
+
+
+def ctl_arguments(argv):
+    parser = argparse.ArgumentParser(prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}.")
+    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
+                        help="the supervisor's socket (default: %(default)s)")
+    commands = parser.add_subparsers(dest="command", required=True)
+    status = commands.add_parser("status", help="every node's state")
+    status.add_argument("--json", action="store_true", help="print the status as one JSON object")
+    for action in ("restart", "stop", "start"):
+        commands.add_parser(action, help=f"{action} one node").add_argument("node")
+    logs = commands.add_parser("logs", help="the last lines of a node's output")
+    logs.add_argument("node")
+    logs.add_argument("-n", "--lines", type=int, default=100, help="how many lines (default 100)")
+    logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
+    return parser.parse_args(argv)
+
+
+def ctl(argv) -> int:
+    options = ctl_arguments(argv)
+    request = {"command": options.command}
+    if options.command != "status":
+        request["node"] = options.node
+    if options.command == "logs":
+        request.update(lines=options.lines, follow=options.follow)
+    try:
+        connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        connection.settimeout(CTL_TIMEOUT_S)
+        connection.connect(options.control_socket)
+        connection.sendall(json.dumps(request).encode() + b"\n")
+        if options.follow if options.command == "logs" else False:
+            connection.settimeout(None)
+        replies = connection.makefile("rb")
+        reply = json.loads(replies.readline() or b"{}")
+        if not reply.get("ok"):
+            print(f"supervisor.py ctl: error: {reply.get('error') or 'no answer'}", file=sys.stderr)
+            return CTL_EXIT_FAILED
+        print_reply(options, reply)
+        if options.command == "logs" and options.follow:
+            for line in replies:
+                print(json.loads(line).get("line", ""), flush=True)
+    except OSError as exc:
+        print(f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}",
+              file=sys.stderr)
+        return CTL_EXIT_FAILED
+    except KeyboardInterrupt:
+        pass
+    return 0
+
+
+def print_reply(options, reply: dict) -> None:
+    reply.pop("ok")
+    if options.command == "status":
+        if options.json:
+            print(json.dumps(reply))
+            return
+        for node in reply["nodes"]:
+            pid = f"pid {node['pid']}" if node["pid"] else "no process"
+            print(f"{node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts, {node['since_s']:.0f} s")
+    elif options.command == "logs":
+        for line in reply["lines"]:
+            print(line)
+    else:
+        print(f"{reply['node']}: {reply['state']}" + (f" (pid {reply['pid']})" if reply["pid"] else ""))
+
+
 # The command line of supervisor.py: parse options, run preflight, run the loop (or the listener).
 
 
@@ -1310,6 +1758,11 @@ def parse_arguments(argv):
                         help="interpreter of Python entrypoints (default: the one running this script)")
     parser.add_argument("--no-cgroup", action="store_true",
                         help="track the nodes' descendants through /proc even where a cgroup could hold them")
+    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
+                        help="serve the control socket here (default: %(default)s; `ctl` is its client)")
+    parser.add_argument("--no-control", action="store_true", help="serve no control socket")
+    parser.add_argument("--log-dir", default=default_log_dir(ROBOT["name"]), metavar="DIR",
+                        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)")
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:
@@ -1318,7 +1771,13 @@ def parse_arguments(argv):
 
 
 def main(argv):
+    if argv[:1] == ["ctl"]:
+        return ctl(argv[1:])
     options = parse_arguments(argv)
+    if options.no_control:
+        options.control_socket = None
+    else:
+        os.environ[CONTROL_SOCKET_VARIABLE] = os.path.abspath(options.control_socket)
     if options.supervisord_listener:
         return supervisord_listener()
     supervisor = Supervisor(options)

@@ -1,7 +1,9 @@
-"""nodes/<name>.py: one executable entrypoint per Python process, holding its resolved settings."""
+"""nodes/<name>.py: one executable entrypoint per Python process, holding its resolved settings
+(the dashboard's holds its command-line arguments instead)."""
 
 from joshua_codegen.model import Robot
 from joshua_codegen.render import Context, template
+from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
 from joshua_core.settings import to_literal
 
 
@@ -9,6 +11,9 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
     files = {}
     for process in robot.processes:
         if process.kind != "python":
+            continue
+        if process.node_type == DASHBOARD_TYPE:
+            files[process.entrypoint] = template("dashboard_entrypoint.py.j2", robot=robot, process=process)
             continue
         files[process.entrypoint] = template(
             "node_entrypoint.py.j2", robot=robot, process=process, settings=to_literal(robot.process_settings(process))

@@ -3,8 +3,9 @@
 What it checks:
     Node names, written or derived (an unnamed node is named after its type in lower case,
     suffixed _1, _2 ... when several share the type), are unique. In MODE_SIMULATION the name
-    "simulation" is reserved for the simulation engine. The error is at the second node, with
-    the first as a note.
+    "simulation" is reserved for the simulation engine, and with a `dashboard { }` block the name
+    "dashboard" is reserved for the dashboard process. The error is at the second node, with the
+    first as a note.
 
 Why it matters:
     Two ROS 2 nodes with one name confuse tools and parameters, and the name is also the node's
@@ -15,10 +16,12 @@ Example:
     node { type: CAMERA_PUBLISHER topic_name: "/b" }    # error: derived name "camera_publisher" is taken
 """
 
+from joshua_core.dashboard import PROCESS_NAME as DASHBOARD_NAME
+from joshua_core.schema import robot_config_pb2 as pb
+
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E205"
 NAME = "duplicate-node-name"
@@ -42,3 +45,5 @@ def check(ctx):
                 view.at("name"),
                 f'node name "{view.name}" is reserved for the simulation engine in MODE_SIMULATION{derived}',
             )
+        elif ctx.config.HasField("dashboard") and view.name == DASHBOARD_NAME:
+            yield Finding(view.at("name"), f'node name "{view.name}" is reserved for the dashboard process{derived}')

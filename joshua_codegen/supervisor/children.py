@@ -13,10 +13,14 @@ from joshua_codegen.supervisor.policy import (
 )
 
 
-def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None) -> None:
+def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None) -> None:
     """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
-    signals, then exec."""
+    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec."""
     try:
+        if output is not None:
+            os.dup2(output, 1)
+            os.dup2(output, 2)
+            os.close(output)
         for number in RESET_IN_CHILD:
             signal.signal(number, signal.SIG_DFL)
         signal.set_wakeup_fd(-1)

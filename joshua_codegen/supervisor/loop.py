@@ -21,8 +21,10 @@ from joshua_codegen.supervisor.containment import (
     create_cgroup,
     remove_cgroup,
 )
+from joshua_codegen.supervisor.control import ControlPlane
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
+from joshua_codegen.supervisor.node_log import open_node_logs
 from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
@@ -59,6 +61,8 @@ class Supervisor:
         self.duration_end = START + options.duration if options.duration else None
         self.next_status = START + options.status_interval if options.status_interval else None
         self.readiness = Readiness(self.nodes, ROBOT["name"])
+        self.control = None  # the ControlPlane while the control socket is served
+        self.logs = open_node_logs(options.log_dir, [node.name for node in self.nodes])  # empty: output not kept
 
     # Setup
 
@@ -83,6 +87,11 @@ class Supervisor:
         self.guard.start()
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
+        if self.options.control_socket:
+            try:
+                self.control = ControlPlane(self, self.options.control_socket)
+            except OSError as exc:
+                log("supervisor", f"warning: no control socket at {self.options.control_socket}: {exc}")
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
         for node in self.nodes:
             if self.requests:
@@ -101,6 +110,8 @@ class Supervisor:
                 self.request_stop(f"received {signal_name(self.requests.pop(0))}")
             self.on_timers()
         self.guard.stop()
+        if self.control is not None:
+            self.control.close()
         for node in self.nodes:
             log(node.name, f"final state: {node.status_line(time.monotonic())}")
         for line in self.outcome.last_lines():
@@ -133,19 +144,27 @@ class Supervisor:
 
     def launch(self, node):
         argv, node.backend = node.command()
+        node_log = self.logs.get(node.name)
+        read_end, write_end = node_log.open_pipe() if node_log is not None else (None, None)
         blocked = STOP_SIGNALS + (signal.SIGCHLD,)
         signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid, self.guard.cgroup)
+                child_exec(argv, node.environment, self.pid, self.guard.cgroup, write_end)
         except OSError as exc:
+            if node_log is not None:
+                os.close(read_end)
+                os.close(write_end)
             log(node.name, f"cannot fork: {exc}")
             node.last_exit = f"fork failed: {exc}"
             self.after_exit(node, failed=True, ran_for=0.0)
             return
         finally:
             signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
+        if node_log is not None:
+            os.close(write_end)
+            self.readers[read_end] = lambda: self.read_output(node_log, read_end)
         node.pid = node.pgid = pid
         node.state = "running"
         node.started_at = time.monotonic()
@@ -154,6 +173,11 @@ class Supervisor:
         self.guard.track(pid)
         log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
         self.readiness.on_launch(node, node.started_at)
+
+    def read_output(self, node_log, fd):
+        if not node_log.read(fd):
+            del self.readers[fd]
+            os.close(fd)
 
     def reap(self):
         self.abandoned_since = None
@@ -200,7 +224,7 @@ class Supervisor:
         self.outcome.on_node_exit(node.spec, code)
         if code != 0:  # it may not have removed its shared-memory segments
             self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
-        if self.stopping:
+        if self.stopping or node.stop_requested:
             node.state = "stopping" if node.alive() else "stopped"
             return
         if group_alive(node.pgid):
@@ -323,6 +347,8 @@ class Supervisor:
             return True
         if not self.stopping and any(node.state in ("running", "backoff", "pending") for node in self.nodes):
             return False
+        if not self.stopping and any(node.stop_requested for node in self.nodes):
+            return False  # stopped over the control socket: it may be started again
         if not any(node.alive() for node in self.nodes) and not self.leftover_children():
             return True
         if not self.stopping:
@@ -331,6 +357,7 @@ class Supervisor:
 
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
+        moments.append(self.control.deadline() if self.control is not None else None)
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
         moments = [moment for moment in moments if moment is not None]
         now = time.monotonic()
@@ -353,6 +380,8 @@ class Supervisor:
                 pass
 
     def on_timers(self):
+        if self.control is not None:
+            self.control.poll()
         now = time.monotonic()
         if self.duration_end is not None and now >= self.duration_end:
             self.duration_end = None

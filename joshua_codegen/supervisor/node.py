@@ -32,6 +32,7 @@ class Node:
         self.ready = False  # it said READY=1 since its last start (a CUSTOM node: it started); see notify.py
         self.ready_deadline = None  # when it is warned about for not being ready
         self.status_text = ""  # its last STATUS= notification
+        self.stop_requested = False  # stopped over the control socket: no restart until started again
         self.environment = self.make_environment()
 
     def make_environment(self):

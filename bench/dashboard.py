@@ -1,0 +1,285 @@
+"""Dashboard figures: ROS publish -> browser DOM latency, server CPU per client, 10 clients, a stalled client.
+
+    .venv/bin/python bench/dashboard.py [--quick]
+
+This process publishes 30 Hz JointState and 15 fps 640x480 rgb8 Image messages stamped with the wall
+clock; the dashboard server (python -m joshua_runtime.dashboard, on a joshuac build of a description
+naming those topics) streams them. Latency: headless Chromium (Debian's, under Playwright) notes the
+wall clock when the page's DOM shows a message's stamp. CPU: the server's utime+stime from /proc with
+0, 1 and 10 SSE clients. Stalled: a client that sends its request and never reads; the server's RSS
+is sampled while frames keep coming.
+"""
+
+import argparse
+import http.client
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
+from testsupport.joshuac_cli import joshuac
+
+JOINT_HZ, IMAGE_FPS, WIDTH, HEIGHT = 30.0, 15.0, 640, 480
+JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
+DESCRIPTION = f"""robot_config {{
+  name: "bench_dashboard"
+  mode: MODE_TELEOPERATION
+  node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/bench/joint_states" rate_hz: {JOINT_HZ} }}
+  node {{ name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/bench/image_raw" width: {WIDTH} height: {HEIGHT}
+          rate_hz: {IMAGE_FPS} }}
+}}
+"""
+CHROMIUM = "/usr/bin/chromium-headless-shell"
+CHROMIUM_FLAGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
+                  "--disable-sync", "--no-first-run"]
+WARMUP_S = 3.0
+SERVER_START_TIMEOUT_S = 60.0
+CLK_TCK = os.sysconf("SC_CLK_TCK")
+DOM_PROBE = """
+window.__latency = {joints: [], image: []};
+new MutationObserver((mutations) => {
+  const now = Date.now();
+  for (const m of mutations) {
+    const el = m.target;
+    if (m.type !== "attributes" || !el.dataset || !el.dataset.stampNs) continue;
+    const kind = (el.dataset.testid || "").startsWith("camera-") ? "image" : "joints";
+    window.__latency[kind].push(now - Number(BigInt(el.dataset.stampNs) / 1000000n));
+  }
+}).observe(document, {subtree: true, attributes: true, attributeFilter: ["data-stamp-ns"]});
+"""
+
+
+class Publisher:
+    """Publishes the joint states and images from a thread, each stamped with time.time_ns()."""
+
+    def __init__(self):
+        import rclpy
+        from sensor_msgs.msg import Image, JointState
+
+        self.rclpy, self.Image, self.JointState = rclpy, Image, JointState
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node("bench_dashboard_publisher", context=self.context)
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+        # The mock nodes' default QoS: reliable joint states, best-effort camera frames.
+        reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+        best_effort = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
+        self.joints = self.node.create_publisher(JointState, "/bench/joint_states", reliable)
+        self.images = self.node.create_publisher(Image, "/bench/image_raw", best_effort)
+        gradient = np.linspace(0, 255, WIDTH, dtype=np.uint8)
+        self.frames = [np.ascontiguousarray(np.dstack([np.roll(gradient, 40 * i)[None, :].repeat(HEIGHT, 0)] * 3)).tobytes()
+                       for i in range(8)]
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _stamp(self, message) -> None:
+        now = time.time_ns()
+        message.header.stamp.sec, message.header.stamp.nanosec = divmod(now, 1_000_000_000)
+
+    def _run(self) -> None:
+        start = time.monotonic()
+        joint_n = image_n = 0
+        while not self.stop.is_set():
+            now = time.monotonic() - start
+            if now >= joint_n / JOINT_HZ:
+                t = joint_n / JOINT_HZ
+                message = self.JointState(name=JOINTS, position=[np.sin(t + j) for j in range(6)],
+                                          velocity=[np.cos(t + j) for j in range(6)], effort=[0.1 * j for j in range(6)])
+                self._stamp(message)
+                self.joints.publish(message)
+                joint_n += 1
+            if now >= image_n / IMAGE_FPS:
+                image = self.Image(height=HEIGHT, width=WIDTH, encoding="rgb8", step=WIDTH * 3,
+                                   data=self.frames[image_n % len(self.frames)])
+                self._stamp(image)
+                self.images.publish(image)
+                image_n += 1
+            time.sleep(0.002)
+
+    def close(self) -> None:
+        self.stop.set()
+        self.thread.join()
+        self.node.destroy_node()
+        self.rclpy.try_shutdown(context=self.context)
+
+
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / CLK_TCK
+
+
+def rss_mib(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def server_cpu_percent(pid: int, seconds: float) -> float:
+    before = cpu_seconds(pid)
+    time.sleep(seconds)
+    return 100.0 * (cpu_seconds(pid) - before) / seconds
+
+
+def percentile(values, q) -> float:
+    return float(np.percentile(values, q)) if values else float("nan")
+
+
+class SseReader(threading.Thread):
+    """A plain HTTP client of /api/events that counts events and notes joint latency (receive - stamp)."""
+
+    def __init__(self, port: int):
+        super().__init__(daemon=True)
+        self.port, self.events, self.joint_latency_ms = port, 0, []
+        self.stop = threading.Event()
+
+    def run(self) -> None:
+        connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=10)
+        connection.request("GET", "/api/events")
+        response = connection.getresponse()
+        kind = ""
+        while not self.stop.is_set():
+            line = response.fp.readline()
+            if not line:
+                break
+            if line.startswith(b"event: "):
+                kind = line[7:].strip().decode()
+            elif line.startswith(b"data: "):
+                self.events += 1
+                if kind == "joints":
+                    start = line.index(b'"stamp_ns":') + 11
+                    stamp = int(line[start:line.index(b",", start)])
+                    self.joint_latency_ms.append((time.time_ns() - stamp) / 1e6)
+        connection.close()
+
+
+def measure_browser(port: int, seconds: float) -> dict:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_FLAGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.add_init_script(DOM_PROBE)
+        page.goto(f"http://127.0.0.1:{port}/")
+        page.wait_for_selector("[data-testid^='camera-']", timeout=30_000)
+        time.sleep(WARMUP_S)
+        page.evaluate("window.__latency = {joints: [], image: []}")
+        cpu = server_cpu_percent_of_run(page, seconds)
+        latency = page.evaluate("window.__latency")
+        browser.close()
+    return {"latency": latency, "server_cpu": cpu}
+
+
+def server_cpu_percent_of_run(page, seconds: float) -> float:
+    pid = SERVER_PID[0]
+    before = cpu_seconds(pid)
+    page.wait_for_timeout(seconds * 1000)
+    return 100.0 * (cpu_seconds(pid) - before) / seconds
+
+
+SERVER_PID = [0]
+
+
+def stalled_client(port: int, pid: int, seconds: float) -> list[float]:
+    """RSS samples (MiB) of the server, once a second, while one client never reads its stream."""
+    sock = socket.create_connection(("127.0.0.1", port))
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    sock.sendall(b"GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+    samples = []
+    for _ in range(int(seconds)):
+        time.sleep(1.0)
+        samples.append(rss_mib(pid))
+    sock.close()
+    return samples
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="short runs (about 40 s in all)")
+    args = parser.parse_args()
+    run_s = 5.0 if args.quick else 20.0
+    with tempfile.TemporaryDirectory(prefix="bench-dashboard-") as directory:
+        source = Path(directory) / "bench_dashboard.pbtxt"
+        source.write_text(DESCRIPTION)
+        built = joshuac("build", source, "-o", Path(directory) / "out")
+        if built.returncode != 0:
+            raise SystemExit(built.stderr)
+        out = Path(directory) / "out"
+        os.environ.update(ROS_DOMAIN_ID=str(100 + os.getpid() % 100), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+                          FASTRTPS_DEFAULT_PROFILES_FILE=str(out / IMAGES_PROFILE_PATH))
+        with socket.socket() as probe:
+            probe.bind(("127.0.0.1", 0))
+            port = probe.getsockname()[1]
+        server = subprocess.Popen([sys.executable, "-m", "joshua_runtime.dashboard", "--manifest", str(out / "manifest.json"),
+                                   "--control-socket", str(Path(directory) / "none.sock"), "--port", str(port)],
+                                  stdout=subprocess.DEVNULL)
+        SERVER_PID[0] = server.pid
+        publisher = Publisher()
+        try:
+            deadline = time.monotonic() + SERVER_START_TIMEOUT_S
+            while True:
+                try:
+                    socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                    break
+                except OSError:
+                    if time.monotonic() > deadline or server.poll() is not None:
+                        raise SystemExit("the dashboard server did not start")
+                    time.sleep(0.2)
+            time.sleep(WARMUP_S)
+            report(port, server.pid, run_s)
+        finally:
+            publisher.close()
+            server.terminate()
+            server.wait(10)
+    return 0
+
+
+def report(port: int, pid: int, run_s: float) -> None:
+    idle = server_cpu_percent(pid, run_s)
+    print(f"publishing {JOINT_HZ:g} Hz JointState (6 joints) and {IMAGE_FPS:g} fps {WIDTH}x{HEIGHT} rgb8 Image; "
+          f"{run_s:g} s per measurement")
+    print(f"server CPU with no client: {idle:.1f} %")
+
+    browser = measure_browser(port, run_s)
+    for kind in ("joints", "image"):
+        values = browser["latency"][kind]
+        print(f"publish -> DOM latency, {kind:6s}: p50 {percentile(values, 50):6.1f} ms  p99 "
+              f"{percentile(values, 99):6.1f} ms  ({len(values)} updates, {len(values) / run_s:.1f}/s)")
+    print(f"server CPU with 1 browser: {browser['server_cpu']:.1f} % "
+          f"(+{browser['server_cpu'] - idle:.1f} % for the client)")
+
+    for count in (1, 10):
+        readers = [SseReader(port) for _ in range(count)]
+        for reader in readers:
+            reader.start()
+        time.sleep(WARMUP_S)
+        for reader in readers:
+            reader.events, reader.joint_latency_ms = 0, []
+        cpu = server_cpu_percent(pid, run_s)
+        for reader in readers:
+            reader.stop.set()
+        rates = [reader.events / run_s for reader in readers]
+        latency = [v for reader in readers for v in reader.joint_latency_ms]
+        print(f"{count:2d} SSE clients: server CPU {cpu:5.1f} % ({(cpu - idle) / count:.1f} % per client), "
+              f"events/s per client min {min(rates):.1f} max {max(rates):.1f}, "
+              f"joints latency p50 {percentile(latency, 50):.1f} ms p99 {percentile(latency, 99):.1f} ms")
+        time.sleep(1.0)
+
+    samples = stalled_client(port, pid, run_s * 2)
+    print(f"stalled client for {len(samples)} s: server RSS {samples[0]:.1f} -> {samples[-1]:.1f} MiB "
+          f"(max {max(samples):.1f}, growth over the second half {samples[-1] - samples[len(samples) // 2]:+.1f} MiB)")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

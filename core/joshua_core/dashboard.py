@@ -1,0 +1,50 @@
+"""Facts of the web dashboard both sides agree on: its process name, defaults, and what a bind address
+and a zenoh endpoint look like."""
+
+import ipaddress
+import re
+
+PROCESS_NAME = "dashboard"
+PROCESS_TYPE = "DASHBOARD"
+DEFAULT_PORT = 8640
+DEFAULT_BIND = "127.0.0.1"
+LOOPBACK_NAMES = ("localhost",)
+ZENOH_ENDPOINT_EXAMPLE = "tcp/127.0.0.1:7447"
+_ZENOH_ENDPOINT = re.compile(r"^(tcp|udp|tls|quic)/(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]+):(\d{1,5})$")
+
+
+def bind_problem(bind: str) -> str | None:
+    """Why `bind` is not an address to listen on (an IP address or localhost), or None."""
+    if bind in LOOPBACK_NAMES:
+        return None
+    try:
+        ipaddress.ip_address(bind)
+    except ValueError:
+        return f'bind "{bind}" is not an IP address (e.g. 127.0.0.1, 0.0.0.0, ::1) or localhost'
+    return None
+
+
+def is_loopback(bind: str) -> bool:
+    """True for 127.0.0.0/8, ::1 and localhost: only this machine can connect."""
+    if bind in LOOPBACK_NAMES:
+        return True
+    try:
+        return ipaddress.ip_address(bind).is_loopback
+    except ValueError:
+        return False
+
+
+def zenoh_endpoint_problem(endpoint: str) -> str | None:
+    """Why `endpoint` is not a zenoh endpoint PROTOCOL/HOST:PORT with a port from 1 to 65535, or None."""
+    match = _ZENOH_ENDPOINT.match(endpoint)
+    if match is None or not 0 < int(match.group(3)) < 65536:
+        return f'zenoh endpoint "{endpoint}" is not PROTOCOL/HOST:PORT with a port from 1 to 65535 (e.g. {ZENOH_ENDPOINT_EXAMPLE})'
+    return None
+
+
+def page_url(bind: str, port: int) -> str:
+    """The address of the dashboard's page: the bind address, or this machine's name when bound to all."""
+    import socket
+
+    host = socket.gethostname() if bind in ("0.0.0.0", "::") else bind
+    return f"http://{f'[{host}]' if ':' in host else host}:{port}/"

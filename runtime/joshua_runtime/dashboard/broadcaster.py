@@ -1,0 +1,102 @@
+"""Fan-out of events to browser clients, each through a bounded mailbox that keeps only the newest event per key.
+
+A key names one stream (`joints:/leader/joint_states`, `image:/camera/image_raw`, `status`): a client
+that reads slower than a stream publishes gets the newest frame and skips the ones in between, so a
+stalled browser holds at most one event per key and never slows the publisher or grows memory.
+"""
+
+import asyncio
+import json
+from collections import OrderedDict
+from typing import NamedTuple
+
+
+class Mailbox:
+    """One client's pending events: at most one per key, oldest key first. Used from the event loop only."""
+
+    def __init__(self):
+        self._pending: OrderedDict[str, Event] = OrderedDict()
+        self._ready = asyncio.Event()
+        self.dropped = 0
+
+    def put(self, key: str, payload: "Event") -> None:
+        if key in self._pending:
+            self.dropped += 1
+            del self._pending[key]
+        self._pending[key] = payload
+        self._ready.set()
+
+    async def get(self) -> "Event":
+        """The oldest pending event (waits for one)."""
+        return (await self.get_with_key())[1]
+
+    async def get_with_key(self) -> tuple[str, "Event"]:
+        """The oldest pending event with its key (waits for one)."""
+        while not self._pending:
+            self._ready.clear()
+            await self._ready.wait()
+        return self._pending.popitem(last=False)
+
+    def pending_bytes(self) -> int:
+        return sum(len(event.data) for event in self._pending.values())
+
+
+class Event(NamedTuple):
+    """One event: its kind (the SSE event name) and its data as JSON text."""
+
+    kind: str
+    data: str
+
+    def sse(self) -> bytes:
+        """The event as Server-Sent Event bytes: `event: KIND` and the JSON data on one line."""
+        return f"event: {self.kind}\ndata: {self.data}\n\n".encode()
+
+
+class Broadcaster:
+    """Owns the clients' mailboxes; `publish` may be called from any thread once the server's loop is attached."""
+
+    def __init__(self):
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self.mailboxes: set[Mailbox] = set()
+        self.viewers: set[Mailbox] = set()
+        # The newest event per key, replayed to a client when it connects (the page can reload any time).
+        self.latest: dict[str, Event] = {}
+
+    @property
+    def client_count(self) -> int:
+        """How many browsers are connected (mailboxes of forwarders such as the fleet link do not count)."""
+        return len(self.viewers)
+
+    def subscribe(self, viewer: bool = True) -> Mailbox:
+        """A new mailbox, primed with the newest event of every key; `viewer`: it serves a browser."""
+        mailbox = Mailbox()
+        for key, payload in self.latest.items():
+            mailbox.put(key, payload)
+        self.mailboxes.add(mailbox)
+        if viewer:
+            self.viewers.add(mailbox)
+        return mailbox
+
+    def unsubscribe(self, mailbox: Mailbox) -> None:
+        self.mailboxes.discard(mailbox)
+        self.viewers.discard(mailbox)
+
+    def attach(self, loop: asyncio.AbstractEventLoop) -> None:
+        """Deliver events in `loop` (the server's) from now on; events published before are dropped."""
+        self.loop = loop
+
+    def publish(self, key: str, kind: str, data: dict) -> None:
+        """Queue an event for every client (thread-safe); it replaces an unsent event of the same key."""
+        loop = self.loop
+        if loop is None or loop.is_closed():
+            return
+        payload = Event(kind, json.dumps(data, separators=(",", ":"), allow_nan=False))
+        try:
+            loop.call_soon_threadsafe(self._deliver, key, payload)
+        except RuntimeError:  # the server is shutting down
+            pass
+
+    def _deliver(self, key: str, payload: Event) -> None:
+        self.latest[key] = payload
+        for mailbox in self.mailboxes:
+            mailbox.put(key, payload)

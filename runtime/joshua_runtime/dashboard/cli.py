@@ -1,0 +1,133 @@
+"""`python -m joshua_runtime.dashboard --manifest OUT/manifest.json [...]`: serve a robot's dashboard until SIGINT/SIGTERM."""
+
+import argparse
+import asyncio
+import os
+import socket
+import sys
+from pathlib import Path
+
+from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
+
+from joshua_runtime.errors import JoshuaError
+from joshua_runtime.notify import Notifier
+
+TOKEN_VARIABLE = "JOSHUA_DASHBOARD_TOKEN"
+# The built page: web/dist of the checkout this package lives in (built by `make setup`).
+DEFAULT_WEB_DIR = Path(__file__).resolve().parents[3] / "web" / "dist"
+SHUTDOWN_GRACE_S = 1
+NOTIFY_POLL_S = 0.05  # how often the start of the server is checked, then the watchdog pinged (it waits its half)
+
+
+def port_number(text: str) -> int:
+    try:
+        port = int(text)
+    except ValueError:
+        port = -1
+    if not 0 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"must be a port number from 0 to 65535: {text}")
+    return port
+
+
+def parse_arguments(argv):
+    parser = argparse.ArgumentParser(prog="python -m joshua_runtime.dashboard",
+                                     description="Serve a robot's web dashboard (page, status, live data, control).")
+    parser.add_argument("--manifest", type=Path, required=True, help="OUT/manifest.json of the robot's build")
+    parser.add_argument("--control-socket", type=Path, metavar="PATH",
+                        help="the supervisor's control socket (default: $JOSHUA_CONTROL_SOCKET, else "
+                             "$XDG_RUNTIME_DIR/joshua/ROBOT.sock, else /tmp/joshua-UID/ROBOT.sock)")
+    parser.add_argument("--port", type=port_number, default=DEFAULT_PORT, help=f"TCP port (default {DEFAULT_PORT})")
+    parser.add_argument("--bind", default=DEFAULT_BIND, metavar="ADDR",
+                        help=f"address to listen on (default {DEFAULT_BIND}); any non-loopback address requires a token")
+    parser.add_argument("--token", default=os.environ.get(TOKEN_VARIABLE) or None,
+                        help=f"bearer token the API requires (default: ${TOKEN_VARIABLE}; generated and printed once "
+                             "when bound beyond loopback without one)")
+    parser.add_argument("--zenoh-connect", metavar="ENDPOINT",
+                        help="also publish status and telemetry over zenoh to this endpoint (tcp/HOST:PORT)")
+    parser.add_argument("--public-url", metavar="URL", help="the page's address as the fleet view links to it")
+    parser.add_argument("--web-dir", type=Path, default=DEFAULT_WEB_DIR, help="the built page (default: web/dist)")
+    return parser.parse_args(argv)
+
+
+def listening_socket(bind: str, port: int) -> socket.socket:
+    """A bound, listening TCP socket; a clear error when the address is taken or unknown."""
+    try:
+        family = socket.getaddrinfo(bind, port, type=socket.SOCK_STREAM)[0][0]
+        sock = socket.socket(family, socket.SOCK_STREAM)
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind((bind, port))
+        sock.listen(128)
+    except OSError as exc:
+        raise JoshuaError(f"cannot listen on {bind}:{port}: {exc.strerror or exc}") from exc
+    sock.setblocking(False)
+    return sock
+
+
+async def serve(args) -> None:
+    import uvicorn
+
+    from joshua_runtime.dashboard.app import Dashboard
+    from joshua_runtime.dashboard.broadcaster import Broadcaster
+    from joshua_runtime.dashboard.control_client import (
+        ControlClient,
+        default_socket_path,
+    )
+    from joshua_runtime.dashboard.robot_view import load_robot_view
+    from joshua_runtime.dashboard.security import required_token
+    from joshua_runtime.dashboard.telemetry import Telemetry
+    from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint
+
+    view = load_robot_view(args.manifest)
+    if args.zenoh_connect:
+        check_endpoint(args.zenoh_connect)
+    token, generated = required_token(args.bind, args.token)
+    sock = listening_socket(args.bind, args.port)
+    port = sock.getsockname()[1]
+    url = args.public_url or page_url(args.bind, port)
+    broadcaster = Broadcaster()
+    telemetry = Telemetry(view, broadcaster)
+    control = ControlClient(args.control_socket or default_socket_path(view.robot))
+    dashboard = Dashboard(view, control, broadcaster, telemetry, args.web_dir, token)
+    link = FleetLink(view.robot, args.zenoh_connect, url, broadcaster) if args.zenoh_connect else None
+    print(f"dashboard of {view.robot}: {url}" + (f"#token={token}" if generated else ""), flush=True)
+    if generated:
+        print(f"dashboard: API token (shown once): {token}", flush=True)
+    telemetry.start()
+    link_task = asyncio.create_task(link.run()) if link else None
+    config = uvicorn.Config(dashboard.app, log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S,
+                            lifespan="on")
+    server = uvicorn.Server(config)
+    notifier = Notifier.from_environment()
+    notify_task = asyncio.create_task(notify_manager(server, notifier, url))
+    try:
+        await server.serve(sockets=[sock])
+    finally:
+        notify_task.cancel()
+        notifier.stopping()
+        if link_task:
+            link_task.cancel()
+            link.close()
+        telemetry.close()
+
+
+async def notify_manager(server, notifier, url: str) -> None:
+    """READY=1 to the process manager (supervisor.py, systemd) once the server listens, then the
+    watchdog's pings while the event loop runs."""
+    while not server.started:
+        await asyncio.sleep(NOTIFY_POLL_S)
+    notifier.ready(f"serving {url}")
+    while True:
+        notifier.watchdog()
+        await asyncio.sleep(NOTIFY_POLL_S)
+
+
+def main(argv=None) -> int:
+    args = parse_arguments(sys.argv[1:] if argv is None else argv)
+    try:
+        asyncio.run(serve(args))
+    except JoshuaError as exc:
+        print(f"dashboard: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        pass
+    return 0

@@ -1,0 +1,153 @@
+"""The dashboard's ROS side: subscribes to the robot's topics in a thread of its own and feeds the broadcaster.
+
+Subscriptions are BEST_EFFORT with a short queue, so the dashboard never holds a publisher back;
+camera frames are JPEG-encoded only while a browser is connected, at most IMAGE_MAX_FPS per topic.
+It also sends the recorder's episode commands and follows its answers (see ai/episode_protocol.py).
+"""
+
+import json
+import threading
+import time
+from pathlib import Path
+
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from joshua_runtime.ai import episode_protocol
+from joshua_runtime.dashboard import frames
+from joshua_runtime.dashboard.robot_view import RobotView
+from joshua_runtime.messages import message_class
+
+REPORT_PERIOD_S = 1.0
+IMAGE_MAX_FPS = 30.0
+JOINTS_MAX_HZ = 60.0
+# An inference input older than this counts as stale (the inference node's own threshold).
+INPUT_STALE_AFTER_S = 0.5
+SPIN_SLICE_S = 0.05
+SENSOR_QOS = QoSProfile(depth=2, reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+COMMAND_QOS = QoSProfile(depth=episode_protocol.COMMAND_QOS_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)
+_EVENT_MAKERS = {"joints": frames.joint_state_event, "image": frames.image_event, "scan": frames.scan_event}
+_MIN_PERIOD_S = {"joints": 1.0 / JOINTS_MAX_HZ, "image": 1.0 / IMAGE_MAX_FPS, "scan": 0.0}
+
+
+def saved_episodes(output_directory: str) -> int | None:
+    """How many episodes the dataset at `output_directory` holds (None when it has none yet)."""
+    try:
+        info = json.loads((Path(output_directory).expanduser() / "meta" / "info.json").read_text())
+        return int(info.get("total_episodes", 0))
+    except (OSError, ValueError, TypeError):
+        return None
+
+
+class Telemetry:
+    """An rclpy node in a context of its own, spun by a daemon thread until `close()`."""
+
+    def __init__(self, view: RobotView, broadcaster, node_name: str = "dashboard"):
+        self.view = view
+        self.broadcaster = broadcaster
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node(node_name, context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.counts = {stream.topic: 0 for stream in view.streams}
+        self.last_received: dict[str, float] = {}
+        self.last_sent: dict[str, float] = {}
+        self.recorder_status: dict[str, dict] = {}
+        self.subscriptions = [self._subscribe(stream) for stream in view.streams]
+        from std_msgs.msg import String
+
+        self.command_publishers = {r.node: self.node.create_publisher(String, r.command_topic, COMMAND_QOS)
+                                   for r in view.recorders}
+        self.status_subscriptions = [
+            self.node.create_subscription(String, r.status_topic, self._recorder_callback(r.node),
+                                          episode_protocol.state_qos())
+            for r in view.recorders
+        ]
+        self.timer = self.node.create_timer(REPORT_PERIOD_S, self._report)
+        self._last_report = time.monotonic()
+        self._stop = threading.Event()
+        self.thread = threading.Thread(target=self._spin, name="dashboard-ros", daemon=True)
+
+    def start(self) -> None:
+        self.thread.start()
+
+    def close(self) -> None:
+        self._stop.set()
+        if self.thread.is_alive():
+            self.thread.join()
+        self.executor.shutdown(timeout_sec=0)
+        self.node.destroy_node()
+        rclpy.try_shutdown(context=self.context)
+
+    def send_episode_command(self, recorder: str, command: str) -> None:
+        """Publish `start TASK`, `stop` or `discard` to a recorder node."""
+        from std_msgs.msg import String
+
+        self.command_publishers[recorder].publish(String(data=command))
+
+    def _spin(self) -> None:
+        while not self._stop.is_set() and self.context.ok():
+            self.executor.spin_once(timeout_sec=SPIN_SLICE_S)
+
+    def _subscribe(self, stream):
+        make_event = _EVENT_MAKERS.get(stream.kind)
+        min_period = _MIN_PERIOD_S.get(stream.kind, 0.0)
+
+        def receive(message) -> None:
+            now = time.monotonic()
+            self.counts[stream.topic] += 1
+            self.last_received[stream.topic] = now
+            if make_event is None or now - self.last_sent.get(stream.topic, 0.0) < min_period:
+                return
+            if stream.kind == "image" and self.broadcaster.client_count == 0:
+                return
+            self.last_sent[stream.topic] = now
+            try:
+                data = make_event(stream.topic, message)
+            except ValueError as exc:
+                self.node.get_logger().warning(f"{stream.topic}: {exc}", throttle_duration_sec=5.0)
+                return
+            self.broadcaster.publish(f"{stream.kind}:{stream.topic}", stream.kind, data)
+
+        return self.node.create_subscription(message_class(stream.message_type), stream.topic, receive, SENSOR_QOS)
+
+    def _recorder_callback(self, recorder: str):
+        def receive(message) -> None:
+            state = episode_protocol.decode(message.data)
+            if state is not None:
+                self.recorder_status[recorder] = state
+                self._publish_recorder(recorder)
+
+        return receive
+
+    def _publish_recorder(self, recorder: str) -> None:
+        spec = next(r for r in self.view.recorders if r.node == recorder)
+        status = self.recorder_status.get(recorder, {})
+        self.broadcaster.publish(f"recorder:{recorder}", "recorder", {
+            "node": recorder,
+            "known": bool(status),
+            "recording": bool(status.get("recording")),
+            "event": status.get("event", ""),
+            "message": status.get("message", ""),
+            "episodes_saved": saved_episodes(spec.output_directory) or 0,
+        })
+
+    def _report(self) -> None:
+        now = time.monotonic()
+        elapsed = max(now - self._last_report, 1e-3)
+        self._last_report = now
+        rates = {topic: round(count / elapsed, 1) for topic, count in self.counts.items()}
+        for topic in self.counts:
+            self.counts[topic] = 0
+        self.broadcaster.publish("rates", "rates", {"rates": rates})
+        for inference in self.view.inferences:
+            stale = [t for t in inference.inputs if now - self.last_received.get(t, float("-inf")) > INPUT_STALE_AFTER_S]
+            self.broadcaster.publish(f"inference:{inference.node}", "inference", {
+                "node": inference.node, "model": inference.model, "configured_rate_hz": inference.rate_hz,
+                "rate_hz": rates.get(inference.output, 0.0), "stale_inputs": stale,
+            })
+        for recorder in self.view.recorders:
+            self._publish_recorder(recorder.node)

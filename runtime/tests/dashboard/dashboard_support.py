@@ -1,0 +1,126 @@
+"""A running robot for the dashboard tests: a build by joshuac, its nodes under a control-socket peer,
+the dashboard server, and Debian's headless Chromium driven by Playwright."""
+
+import json
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from contextlib import contextmanager
+from pathlib import Path
+
+from testsupport.joshuac_cli import joshuac
+
+CHROMIUM = "/usr/bin/chromium-headless-shell"
+CHROMIUM_FLAGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
+                  "--disable-sync", "--no-first-run"]
+SERVER_START_TIMEOUT_S = 60.0
+ARTIFACTS = Path(__file__).resolve().parents[3] / "test-artifacts" / "dashboard"
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+def build(description: str, directory: Path) -> Path:
+    """Build a description text with joshuac into `directory`/out; return the manifest's path."""
+    source = directory / "robot.pbtxt"
+    source.write_text(description)
+    result = joshuac("build", source, "-o", directory / "out")
+    assert result.returncode == 0, result.stderr
+    return directory / "out" / "manifest.json"
+
+
+def get_json(url: str, token: str | None = None):
+    request = urllib.request.Request(url, headers={"Authorization": f"Bearer {token}"} if token else {})
+    with urllib.request.urlopen(request, timeout=10) as response:
+        return json.loads(response.read())
+
+
+def wait_for_server(url: str, process: subprocess.Popen, output: Path) -> None:
+    """Wait until `url` answers; `output` is where the process writes (shown when it fails)."""
+    deadline = time.monotonic() + SERVER_START_TIMEOUT_S
+    while time.monotonic() < deadline:
+        if process.poll() is not None:
+            raise AssertionError(f"{process.args[1]} exited with {process.returncode}:\n{output.read_text()}")
+        try:
+            get_json(url)
+            return
+        except OSError:
+            time.sleep(0.2)
+    raise AssertionError(f"{url} did not answer within {SERVER_START_TIMEOUT_S:g} s:\n{output.read_text()}")
+
+
+def stop(process: subprocess.Popen) -> None:
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+        try:
+            process.wait(10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
+def control_request(control_socket: Path, request: dict) -> dict:
+    """One request to a supervisor's control socket, and its reply."""
+    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as connection:
+        connection.settimeout(30)
+        connection.connect(str(control_socket))
+        connection.sendall(json.dumps(request).encode() + b"\n")
+        return json.loads(connection.makefile("rb").readline())
+
+
+def node_pid(control_socket: Path, name: str) -> int | None:
+    nodes = control_request(control_socket, {"command": "status"})["nodes"]
+    return next(node["pid"] for node in nodes if node["name"] == name)
+
+
+@contextmanager
+def running_robot(description: str, directory: Path, env: dict, dashboard_port: int | None = None):
+    """The robot's generated supervisor.py, run with a control socket in `directory`; waits for its
+    dashboard at `dashboard_port` when given. Yields the control socket's path."""
+    manifest = build(description, directory)
+    control_socket = directory / "run" / "robot.sock"
+    output = directory / "supervisor.log"
+    with open(output, "w") as log:
+        supervisor = subprocess.Popen(
+            [sys.executable, str(manifest.parent / "supervisor.py"), "--python", sys.executable,
+             "--control-socket", str(control_socket), "--log-dir", str(directory / "logs")],
+            env=env, stdout=log, stderr=subprocess.STDOUT,
+        )
+    try:
+        if dashboard_port is not None:
+            wait_for_server(f"http://127.0.0.1:{dashboard_port}/api/robot", supervisor, output)
+        else:
+            deadline = time.monotonic() + SERVER_START_TIMEOUT_S
+            while not control_socket.exists():
+                assert supervisor.poll() is None and time.monotonic() < deadline, "the supervisor did not start"
+                time.sleep(0.05)
+        yield control_socket
+    finally:
+        stop(supervisor)
+
+
+@contextmanager
+def browser():
+    """Debian's headless Chromium under Playwright (never a downloaded browser)."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        instance = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_FLAGS)
+        try:
+            yield instance
+        finally:
+            instance.close()
+
+
+def screenshot(page, name: str) -> Path:
+    """Write a full-page screenshot as a test artifact under test-artifacts/dashboard/."""
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    path = ARTIFACTS / f"{name}.png"
+    page.screenshot(path=str(path), full_page=True)
+    return path

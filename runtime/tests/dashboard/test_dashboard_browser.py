@@ -1,0 +1,124 @@
+"""The dashboard page in Debian's headless Chromium, against a robot run by its generated supervisor.py.
+
+The robot: a mock leader arm (restarted from the page), a recorder (episodes started and stopped from
+the page, saved by LeRobot), a probe arm stopped from the page so that this test publishes its topic
+with values it knows, and the dashboard process the description's `dashboard { }` block adds.
+"""
+
+
+import pandas
+import pytest
+from dashboard_support import (
+    browser,
+    control_request,
+    free_port,
+    get_json,
+    node_pid,
+    running_robot,
+    screenshot,
+)
+from sensor_msgs.msg import JointState
+
+PAGE_TIMEOUT_MS = 30_000
+RECORDER_START_TIMEOUT_MS = 120_000  # LeRobot's import in a cold process on a busy machine
+PROBE_JOINTS = ["shoulder_pan", "gripper"]
+PROBE = {"position": [0.125, -1.5], "velocity": [2.25, 0.0], "effort": [-0.375, 3.0]}
+TASK = "pick the red cube"
+RECORDING_S = 1.5  # long enough for frames at the recorder's 10 fps on a busy machine
+
+
+def description(output_directory, port: int) -> str:
+    return f"""robot_config {{
+  name: "dash_robot"
+  mode: MODE_DATA_COLLECTION
+  node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 30 }}
+  node {{ name: "probe" type: MOCK_ENCODER_PUBLISHER topic_name: "/probe/joint_states" rate_hz: 10
+          joint_names: ["shoulder_pan", "gripper"] device_ids: [1, 2] }}
+  node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "/leader/joint_states" rate_hz: 10
+          input_topics: ["/leader/joint_states"]
+          output_directory: "{output_directory}" output_format: "parquet" }}
+  dashboard {{ port: {port} }}
+}}
+"""
+
+
+@pytest.fixture
+def robot(tmp_path, ros_env):
+    port = free_port()
+    env = dict(ros_env, HF_HUB_OFFLINE="1", HF_DATASETS_OFFLINE="1")
+    with running_robot(description(tmp_path / "dataset", port), tmp_path, env, port) as control_socket:
+        yield f"http://127.0.0.1:{port}", control_socket, tmp_path / "dataset"
+
+
+@pytest.fixture
+def page():
+    with browser() as chromium:
+        page = chromium.new_page(viewport={"width": 1400, "height": 1000})
+        page.set_default_timeout(PAGE_TIMEOUT_MS)
+        yield page
+
+
+def probe_message() -> JointState:
+    return JointState(name=PROBE_JOINTS, **PROBE)
+
+
+def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robot, page, ros_client):
+    url, control_socket, dataset = robot
+    probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
+    page.goto(url + "/")
+    page.get_by_test_id("node-stop-probe").click()
+    page.get_by_test_id("node-row-probe").get_by_text("stopped").wait_for()
+    assert node_pid(control_socket, "probe") is None
+    nodes = {node["name"]: node for node in control_request(control_socket, {"command": "status"})["nodes"]}
+    assert nodes["dashboard"]["ready"]  # it told the supervisor (sd_notify) once it served
+    ros_client.node.create_timer(0.05, lambda: probe.publish(probe_message()))
+    page.get_by_role("tab", name="/probe/joint_states").click()
+
+    for quantity, values in PROBE.items():
+        for joint, value in zip(PROBE_JOINTS, values):
+            cell = page.get_by_test_id(f"joint-/probe/joint_states-{joint}-{quantity}")
+            expected = f"{value:g}"
+            ros_client.spin_until(lambda cell=cell, expected=expected: cell.count() == 1
+                                  and cell.inner_text() == expected, PAGE_TIMEOUT_MS / 1000)
+            assert cell.inner_text() == expected, f"{joint} {quantity}"
+
+    old_pid = node_pid(control_socket, "leader")
+    assert page.get_by_test_id("node-pid-leader").inner_text() == str(old_pid)
+    page.get_by_test_id("node-restart-leader").click()
+    _wait(page, ros_client, lambda: node_pid(control_socket, "leader") not in (None, old_pid))
+    new_pid = node_pid(control_socket, "leader")
+    page.get_by_test_id("node-pid-leader").filter(has_text=str(new_pid)).wait_for()
+    assert {node["name"]: node["pid"] for node in get_json(url + "/api/status")["nodes"]}["leader"] == new_pid
+    screenshot(page, "robot_page")
+
+    # The recorder starts an episode by itself; stop it, then record one started from the page.
+    state = page.get_by_test_id("recording-state-recorder")
+    message = page.get_by_test_id("recorder-message-recorder")
+    _wait(page, ros_client, lambda: state.inner_text() == "recording", RECORDER_START_TIMEOUT_MS)
+    ros_client.spin_until(lambda: False, RECORDING_S)
+    page.get_by_test_id("episode-stop-recorder").click()
+    _wait(page, ros_client, lambda: state.inner_text() == "idle" and "saved episode 0" in message.inner_text())
+    page.get_by_test_id("episode-task-recorder").fill(TASK)
+    page.get_by_test_id("episode-start-recorder").click()
+    _wait(page, ros_client, lambda: state.inner_text() == "recording")
+    ros_client.spin_until(lambda: False, RECORDING_S)
+    screenshot(page, "robot_page_recording")
+    page.get_by_test_id("episode-stop-recorder").click()
+    saved = page.get_by_test_id("episodes-saved-recorder")
+    _wait(page, ros_client, lambda: saved.inner_text() == "2 episodes saved", RECORDER_START_TIMEOUT_MS)
+    assert "saved episode 1" in message.inner_text()
+
+    page.get_by_test_id("node-logs-recorder").click()
+    page.get_by_test_id("log-lines").filter(has_text="episode 1 saved").wait_for()
+    screenshot(page, "robot_page_log_tail")
+
+    tasks = pandas.read_parquet(dataset / "meta" / "tasks.parquet")
+    assert TASK in set(tasks.index) | set(tasks.get("task", []))
+
+
+def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> None:
+    """Spin the test's ROS client (it publishes the probe) until `condition()` holds."""
+    if not ros_client.spin_until(condition, timeout_ms / 1000, every=None):
+        screenshot(page, "robot_page_timeout")
+        pytest.fail(f"the page did not reach the expected state within {timeout_ms / 1000:g} s "
+                    "(test-artifacts/dashboard/robot_page_timeout.png shows it)")

@@ -1,0 +1,67 @@
+"""The fleet view: two robots in different ROS domains publish over zenoh, the fleet page lists both."""
+
+import subprocess
+import sys
+from contextlib import ExitStack
+
+from dashboard_support import (
+    browser,
+    free_port,
+    get_json,
+    running_robot,
+    screenshot,
+    stop,
+    wait_for_server,
+)
+
+PAGE_TIMEOUT_MS = 30_000
+ROBOTS = ("fleet_alpha", "fleet_beta")
+
+
+def description(robot: str, port: int, endpoint: str) -> str:
+    return f"""robot_config {{
+  name: "{robot}"
+  mode: MODE_TELEOPERATION
+  node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 10 }}
+  dashboard {{ port: {port} zenoh_connect: "{endpoint}" }}
+}}
+"""
+
+
+def test_fleet_page_lists_every_publishing_robot_and_links_to_its_page(tmp_path, ros_env):
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    fleet_port = free_port()
+    output = tmp_path / "fleet.log"
+    with open(output, "w") as log:
+        fleet = subprocess.Popen([sys.executable, "-m", "joshua_runtime.dashboard.fleet", "--listen", endpoint,
+                                  "--port", str(fleet_port)], stdout=log, stderr=subprocess.STDOUT)
+    fleet_url = f"http://127.0.0.1:{fleet_port}"
+    with ExitStack() as robots:
+        robots.callback(stop, fleet)
+        wait_for_server(f"{fleet_url}/api/robots", fleet, output)
+        urls = {}
+        for offset, robot in enumerate(ROBOTS):
+            workdir = tmp_path / robot
+            workdir.mkdir()
+            env = dict(ros_env, ROS_DOMAIN_ID=str(int(ros_env["ROS_DOMAIN_ID"]) + offset))
+            port = free_port()
+            robots.enter_context(running_robot(description(robot, port, endpoint), workdir, env, port))
+            urls[robot] = f"http://127.0.0.1:{port}/"
+
+        with browser() as chromium:
+            page = chromium.new_page(viewport={"width": 1200, "height": 700})
+            page.set_default_timeout(PAGE_TIMEOUT_MS)
+            page.goto(fleet_url + "/")
+            for robot in ROBOTS:
+                card = page.get_by_test_id(f"robot-{robot}")
+                card.get_by_text("2 / 2 processes running").wait_for()
+                assert card.get_by_role("link").get_attribute("href") == urls[robot]
+            screenshot(page, "fleet_page")
+            page.get_by_test_id(f"robot-{ROBOTS[1]}").get_by_role("link").click()
+            page.get_by_test_id("robot-name").filter(has_text=ROBOTS[1]).wait_for()
+
+        listed = {entry["name"]: entry for entry in get_json(f"{fleet_url}/api/robots")}
+        assert set(listed) == set(ROBOTS)
+        for robot in ROBOTS:
+            assert [node["name"] for node in listed[robot]["nodes"]] == ["leader", "dashboard"]
+            assert listed[robot]["last_seen_s"] < 5

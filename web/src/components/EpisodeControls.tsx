@@ -1,0 +1,55 @@
+import { useState } from "react";
+import { postJson } from "../api";
+import { useRecorder } from "../hooks/streams";
+import { Panel } from "./Panel";
+
+/** A recorder's episodes: start with a task text, stop (save), discard, and how many are saved. */
+export function EpisodeControls({ node }: { node: string }) {
+  const recorder = useRecorder(node);
+  const [task, setTask] = useState("");
+  const [error, setError] = useState<string | null>(null);
+
+  async function send(action: "start" | "stop" | "discard") {
+    setError(null);
+    try {
+      await postJson(`/api/recorders/${encodeURIComponent(node)}/episode/${action}`, action === "start" ? { task } : undefined);
+    } catch (e) {
+      setError((e as Error).message);
+    }
+  }
+
+  const recording = recorder?.recording ?? false;
+  return (
+    <Panel title={`Recording · ${node}`} aside={
+      <span data-testid={`episodes-saved-${node}`}>{recorder?.episodes_saved ?? 0} episodes saved</span>
+    }>
+      <div className="mb-3 flex items-center gap-2 text-sm">
+        <span className={`h-2.5 w-2.5 rounded-full ${recording ? "animate-pulse bg-rose-500" : "bg-slate-600"}`} />
+        <span className="text-slate-200" data-testid={`recording-state-${node}`}>
+          {recorder === null || !recorder.known ? "waiting for the recorder" : recording ? "recording" : "idle"}
+        </span>
+      </div>
+      {recorder?.message && (
+        <p className="mb-3 truncate text-xs text-slate-400" data-testid={`recorder-message-${node}`}>{recorder.message}</p>
+      )}
+      <div className="flex flex-wrap gap-2">
+        <input value={task} onChange={(e) => setTask(e.target.value)} placeholder="Task, e.g. pick the red cube"
+               aria-label="task" data-testid={`episode-task-${node}`}
+               className="min-w-48 flex-1 rounded-md border border-slate-700 bg-slate-950 px-3 py-1.5 text-sm text-slate-100 placeholder:text-slate-600 focus:border-indigo-500 focus:outline-none" />
+        <button type="button" onClick={() => send("start")} disabled={recording} data-testid={`episode-start-${node}`}
+                className="rounded-md bg-rose-600 px-3 py-1.5 text-sm font-medium text-white hover:bg-rose-500 disabled:opacity-40">
+          Start
+        </button>
+        <button type="button" onClick={() => send("stop")} disabled={!recording} data-testid={`episode-stop-${node}`}
+                className="rounded-md bg-slate-700 px-3 py-1.5 text-sm text-slate-100 hover:bg-slate-600 disabled:opacity-40">
+          Stop &amp; save
+        </button>
+        <button type="button" onClick={() => send("discard")} disabled={!recording} data-testid={`episode-discard-${node}`}
+                className="rounded-md border border-slate-700 px-3 py-1.5 text-sm text-slate-300 hover:bg-slate-800 disabled:opacity-40">
+          Discard
+        </button>
+      </div>
+      {error && <p className="mt-2 text-sm text-rose-300" role="alert">{error}</p>}
+    </Panel>
+  );
+}

@@ -1,0 +1,29 @@
+import type { RobotStatus } from "../types";
+
+/** The robot's name, whether the live stream is connected, and how many nodes run. */
+export function Header({ robot, status, connected }: { robot: string; status: RobotStatus | null; connected: boolean }) {
+  const nodes = status?.nodes ?? [];
+  const running = nodes.filter((node) => node.state === "running").length;
+  return (
+    <header className="flex flex-wrap items-center justify-between gap-3 border-b border-slate-800 bg-slate-900/80 px-6 py-3">
+      <div className="flex items-center gap-3">
+        <div className="grid h-8 w-8 place-items-center rounded-lg bg-indigo-500/20 font-bold text-indigo-300">J</div>
+        <div>
+          <h1 className="text-lg font-semibold text-slate-100" data-testid="robot-name">{robot}</h1>
+          <p className="text-xs text-slate-400">Robot dashboard</p>
+        </div>
+      </div>
+      <div className="flex items-center gap-4 text-sm">
+        {status?.error ? (
+          <span className="text-rose-300" data-testid="status-error">supervisor: {status.error}</span>
+        ) : (
+          <span className="text-slate-300">{running} / {nodes.length} processes running</span>
+        )}
+        <span className="flex items-center gap-1.5 text-slate-400" data-testid="connection">
+          <span className={`h-2 w-2 rounded-full ${connected ? "bg-emerald-400" : "bg-rose-500"}`} />
+          {connected ? "live" : "reconnecting"}
+        </span>
+      </div>
+    </header>
+  );
+}

@@ -1,0 +1,51 @@
+// The one SSE connection of the page, shared by the stream hooks through React context.
+import { createContext, useContext, useEffect, useState, type ReactNode } from "react";
+import { authHeaders } from "../api";
+import { EventHub, type Listener } from "../sse";
+
+const HubContext = createContext<EventHub | null>(null);
+
+export function EventHubProvider({ hub, children }: { hub?: EventHub; children: ReactNode }) {
+  const [value] = useState(() => hub ?? new EventHub("/api/events", authHeaders));
+  useEffect(() => {
+    if (hub) return;
+    value.start();
+    return () => value.stop();
+  }, [hub, value]);
+  return <HubContext.Provider value={value}>{children}</HubContext.Provider>;
+}
+
+/** Calls `listener` with every event of `kind` while the component is mounted. */
+export function useEventListener(kind: string, listener: Listener): void {
+  const hub = useContext(HubContext);
+  useEffect(() => (hub ? hub.on(kind, listener) : undefined), [hub, kind, listener]);
+}
+
+/** Whether the event stream is connected. */
+export function useConnected(): boolean {
+  const hub = useContext(HubContext);
+  const [connected, setConnected] = useState(hub?.connected ?? false);
+  useEffect(() => {
+    if (!hub) return;
+    hub.onConnection = setConnected;
+    return () => { hub.onConnection = null; };
+  }, [hub]);
+  return connected;
+}
+
+/** The latest event of `kind` whose `key` field equals `value` (or the latest of all when no key). */
+export function useLatest<T extends object>(kind: string, key?: keyof T, value?: unknown): T | null {
+  const [latest, setLatest] = useState<T | null>(null);
+  const listener = useKeyedListener<T>(key, value, setLatest);
+  useEventListener(kind, listener);
+  return latest;
+}
+
+function useKeyedListener<T>(key: keyof T | undefined, value: unknown, set: (event: T) => void): Listener {
+  const [listener] = useState<{ current: Listener }>(() => ({ current: () => {} }));
+  listener.current = (data) => {
+    if (key === undefined || (data as T)[key] === value) set(data as T);
+  };
+  const [stable] = useState<Listener>(() => (data: unknown) => listener.current(data));
+  return stable;
+}
