@@ -25,8 +25,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
-from testsupport.joshuac_cli import joshuac
+from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
+from testsupport.joshuac_cli import joshuac  # noqa: E402
 
 JOINT_HZ, IMAGE_FPS, WIDTH, HEIGHT = 30.0, 15.0, 640, 480
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
@@ -39,8 +39,14 @@ DESCRIPTION = f"""robot_config {{
 }}
 """
 CHROMIUM = "/usr/bin/chromium-headless-shell"
-CHROMIUM_FLAGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-                  "--disable-sync", "--no-first-run"]
+CHROMIUM_FLAGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 WARMUP_S = 3.0
 SERVER_START_TIMEOUT_S = 60.0
 CLK_TCK = os.sysconf("SC_CLK_TCK")
@@ -77,8 +83,10 @@ class Publisher:
         self.joints = self.node.create_publisher(JointState, "/bench/joint_states", reliable)
         self.images = self.node.create_publisher(Image, "/bench/image_raw", best_effort)
         gradient = np.linspace(0, 255, WIDTH, dtype=np.uint8)
-        self.frames = [np.ascontiguousarray(np.dstack([np.roll(gradient, 40 * i)[None, :].repeat(HEIGHT, 0)] * 3)).tobytes()
-                       for i in range(8)]
+        self.frames = [
+            np.ascontiguousarray(np.dstack([np.roll(gradient, 40 * i)[None, :].repeat(HEIGHT, 0)] * 3)).tobytes()
+            for i in range(8)
+        ]
         self.stop = threading.Event()
         self.thread = threading.Thread(target=self._run, daemon=True)
         self.thread.start()
@@ -94,14 +102,23 @@ class Publisher:
             now = time.monotonic() - start
             if now >= joint_n / JOINT_HZ:
                 t = joint_n / JOINT_HZ
-                message = self.JointState(name=JOINTS, position=[np.sin(t + j) for j in range(6)],
-                                          velocity=[np.cos(t + j) for j in range(6)], effort=[0.1 * j for j in range(6)])
+                message = self.JointState(
+                    name=JOINTS,
+                    position=[np.sin(t + j) for j in range(6)],
+                    velocity=[np.cos(t + j) for j in range(6)],
+                    effort=[0.1 * j for j in range(6)],
+                )
                 self._stamp(message)
                 self.joints.publish(message)
                 joint_n += 1
             if now >= image_n / IMAGE_FPS:
-                image = self.Image(height=HEIGHT, width=WIDTH, encoding="rgb8", step=WIDTH * 3,
-                                   data=self.frames[image_n % len(self.frames)])
+                image = self.Image(
+                    height=HEIGHT,
+                    width=WIDTH,
+                    encoding="rgb8",
+                    step=WIDTH * 3,
+                    data=self.frames[image_n % len(self.frames)],
+                )
                 self._stamp(image)
                 self.images.publish(image)
                 image_n += 1
@@ -159,7 +176,7 @@ class SseReader(threading.Thread):
                 self.events += 1
                 if kind == "joints":
                     start = line.index(b'"stamp_ns":') + 11
-                    stamp = int(line[start:line.index(b",", start)])
+                    stamp = int(line[start : line.index(b",", start)])
                     self.joint_latency_ms.append((time.time_ns() - stamp) / 1e6)
         connection.close()
 
@@ -216,14 +233,28 @@ def main() -> int:
         if built.returncode != 0:
             raise SystemExit(built.stderr)
         out = Path(directory) / "out"
-        os.environ.update(ROS_DOMAIN_ID=str(100 + os.getpid() % 100), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-                          FASTRTPS_DEFAULT_PROFILES_FILE=str(out / IMAGES_PROFILE_PATH))
+        os.environ.update(
+            ROS_DOMAIN_ID=str(100 + os.getpid() % 100),
+            ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+            FASTRTPS_DEFAULT_PROFILES_FILE=str(out / IMAGES_PROFILE_PATH),
+        )
         with socket.socket() as probe:
             probe.bind(("127.0.0.1", 0))
             port = probe.getsockname()[1]
-        server = subprocess.Popen([sys.executable, "-m", "joshua_runtime.dashboard", "--manifest", str(out / "manifest.json"),
-                                   "--control-socket", str(Path(directory) / "none.sock"), "--port", str(port)],
-                                  stdout=subprocess.DEVNULL)
+        server = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "joshua_runtime.dashboard",
+                "--manifest",
+                str(out / "manifest.json"),
+                "--control-socket",
+                str(Path(directory) / "none.sock"),
+                "--port",
+                str(port),
+            ],
+            stdout=subprocess.DEVNULL,
+        )
         SERVER_PID[0] = server.pid
         publisher = Publisher()
         try:
@@ -234,7 +265,7 @@ def main() -> int:
                     break
                 except OSError:
                     if time.monotonic() > deadline or server.poll() is not None:
-                        raise SystemExit("the dashboard server did not start")
+                        raise SystemExit("the dashboard server did not start") from None
                     time.sleep(0.2)
             time.sleep(WARMUP_S)
             report(port, server.pid, run_s)
@@ -247,17 +278,23 @@ def main() -> int:
 
 def report(port: int, pid: int, run_s: float) -> None:
     idle = server_cpu_percent(pid, run_s)
-    print(f"publishing {JOINT_HZ:g} Hz JointState (6 joints) and {IMAGE_FPS:g} fps {WIDTH}x{HEIGHT} rgb8 Image; "
-          f"{run_s:g} s per measurement")
+    print(
+        f"publishing {JOINT_HZ:g} Hz JointState (6 joints) and {IMAGE_FPS:g} fps {WIDTH}x{HEIGHT} rgb8 Image; "
+        f"{run_s:g} s per measurement"
+    )
     print(f"server CPU with no client: {idle:.1f} %")
 
     browser = measure_browser(port, run_s)
     for kind in ("joints", "image"):
         values = browser["latency"][kind]
-        print(f"publish -> DOM latency, {kind:6s}: p50 {percentile(values, 50):6.1f} ms  p99 "
-              f"{percentile(values, 99):6.1f} ms  ({len(values)} updates, {len(values) / run_s:.1f}/s)")
-    print(f"server CPU with 1 browser: {browser['server_cpu']:.1f} % "
-          f"(+{browser['server_cpu'] - idle:.1f} % for the client)")
+        print(
+            f"publish -> DOM latency, {kind:6s}: p50 {percentile(values, 50):6.1f} ms  p99 "
+            f"{percentile(values, 99):6.1f} ms  ({len(values)} updates, {len(values) / run_s:.1f}/s)"
+        )
+    print(
+        f"server CPU with 1 browser: {browser['server_cpu']:.1f} % "
+        f"(+{browser['server_cpu'] - idle:.1f} % for the client)"
+    )
 
     for count in (1, 10):
         readers = [SseReader(port) for _ in range(count)]
@@ -271,14 +308,18 @@ def report(port: int, pid: int, run_s: float) -> None:
             reader.stop.set()
         rates = [reader.events / run_s for reader in readers]
         latency = [v for reader in readers for v in reader.joint_latency_ms]
-        print(f"{count:2d} SSE clients: server CPU {cpu:5.1f} % ({(cpu - idle) / count:.1f} % per client), "
-              f"events/s per client min {min(rates):.1f} max {max(rates):.1f}, "
-              f"joints latency p50 {percentile(latency, 50):.1f} ms p99 {percentile(latency, 99):.1f} ms")
+        print(
+            f"{count:2d} SSE clients: server CPU {cpu:5.1f} % ({(cpu - idle) / count:.1f} % per client), "
+            f"events/s per client min {min(rates):.1f} max {max(rates):.1f}, "
+            f"joints latency p50 {percentile(latency, 50):.1f} ms p99 {percentile(latency, 99):.1f} ms"
+        )
         time.sleep(1.0)
 
     samples = stalled_client(port, pid, run_s * 2)
-    print(f"stalled client for {len(samples)} s: server RSS {samples[0]:.1f} -> {samples[-1]:.1f} MiB "
-          f"(max {max(samples):.1f}, growth over the second half {samples[-1] - samples[len(samples) // 2]:+.1f} MiB)")
+    print(
+        f"stalled client for {len(samples)} s: server RSS {samples[0]:.1f} -> {samples[-1]:.1f} MiB "
+        f"(max {max(samples):.1f}, growth over the second half {samples[-1] - samples[len(samples) // 2]:+.1f} MiB)"
+    )
 
 
 if __name__ == "__main__":

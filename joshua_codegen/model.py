@@ -136,8 +136,9 @@ class Robot:
         """The settings of a python process (a node's, or the simulation engine's); the dashboard's
         name only its process (its entrypoint holds command-line arguments instead)."""
         if process.node_type == DASHBOARD_TYPE:
-            return NodeSettings(format_version=FORMAT_VERSION, robot=self.name, mode=self.mode, name=process.name,
-                                type=DASHBOARD_TYPE)
+            return NodeSettings(
+                format_version=FORMAT_VERSION, robot=self.name, mode=self.mode, name=process.name, type=DASHBOARD_TYPE
+            )
         if process.node_type == SIMULATION_ENGINE.name:
             return self.simulation
         if process.node_type == FOXGLOVE_BRIDGE.name:

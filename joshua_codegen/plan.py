@@ -256,9 +256,19 @@ def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
         args += ["--zenoh-connect", dashboard.zenoh_connect]
     name = dashboard_facts.PROCESS_NAME
     return Process(
-        name=name, node_type=dashboard_facts.PROCESS_TYPE, kind="python", entrypoint=f"nodes/{name}.py",
-        executable="", args=tuple(args), cpp_binary="", cpp_args=(), restart="RESTART_ON_FAILURE",
-        max_restarts=defaults.MAX_RESTARTS, critical=False, env=tuple(sorted(config.env.items())), devices=(),
+        name=name,
+        node_type=dashboard_facts.PROCESS_TYPE,
+        kind="python",
+        entrypoint=f"nodes/{name}.py",
+        executable="",
+        args=tuple(args),
+        cpp_binary="",
+        cpp_args=(),
+        restart="RESTART_ON_FAILURE",
+        max_restarts=defaults.MAX_RESTARTS,
+        critical=False,
+        env=tuple(sorted(config.env.items())),
+        devices=(),
         carries_images=carries_images,
     )
 

@@ -4,11 +4,11 @@ import ast
 import json
 
 from google.protobuf import text_format
-from joshua_core.schema import RobotDescription
 
 from joshua_codegen.check import check_text
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
+from joshua_core.schema import RobotDescription
 
 ROBOT = """robot_config {{ name: "r" mode: MODE_TELEOPERATION
   node {{ name: "{node}" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" }}
@@ -32,7 +32,9 @@ def test_a_dashboard_block_adds_one_process_to_every_process_manager():
     assert arguments(files) == ["--port", "9000", "--bind", "0.0.0.0", "--zenoh-connect", "tcp/10.0.0.5:7447"]
     processes = json.loads(files["manifest.json"])["processes"]
     assert [(p["name"], p["type"], p["entrypoint"]) for p in processes] == [
-        ("leader", "MOCK_ENCODER_PUBLISHER", "nodes/leader.py"), ("dashboard", "DASHBOARD", "nodes/dashboard.py")]
+        ("leader", "MOCK_ENCODER_PUBLISHER", "nodes/leader.py"),
+        ("dashboard", "DASHBOARD", "nodes/dashboard.py"),
+    ]
     assert "systemd/joshua-r-dashboard.service" in files
     assert "[program:dashboard]" in files["supervisord.conf"]
     assert '"name": "dashboard"' in files["supervisor.py"] or "'name': 'dashboard'" in files["supervisor.py"]
@@ -51,5 +53,6 @@ def test_without_a_block_there_is_no_dashboard():
 def test_the_name_dashboard_is_reserved_when_a_dashboard_runs():
     result = check_text("r.pbtxt", ROBOT.format(dashboard="dashboard { }", node="dashboard"))
     assert [(d.code, d.message) for d in result.diagnostics if d.severity == "error"] == [
-        ("E205", 'node name "dashboard" is reserved for the dashboard process')]
+        ("E205", 'node name "dashboard" is reserved for the dashboard process')
+    ]
     assert not check_text("r.pbtxt", ROBOT.format(dashboard="", node="dashboard")).has_errors

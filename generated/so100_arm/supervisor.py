@@ -155,9 +155,11 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
 
 # Names the fix: the binaries are built by `make cpp` of the joshuac repository; cpp_bin_dir selects them.
-CPP_FALLBACK_WARNING = ("warning: C++ binary {binary} is missing or not executable; running the Python entrypoint "
-                        "(make cpp in the joshuac repository builds the binaries into build/bin; "
-                        "set cpp_bin_dir in the description to the directory holding them)")
+CPP_FALLBACK_WARNING = (
+    "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint "
+    "(make cpp in the joshuac repository builds the binaries into build/bin; "
+    "set cpp_bin_dir in the description to the directory holding them)"
+)
 
 
 # What every part of supervisor.py uses: the log line, prctl, exit-status text, process groups, paths.
@@ -546,7 +548,7 @@ def locked_inodes(device: int) -> set[int]:
             for line in locks:
                 for field in line.split():
                     if field.startswith(wanted):
-                        inodes.add(int(field[len(wanted):]))
+                        inodes.add(int(field[len(wanted) :]))
     except OSError:
         pass
     return inodes
@@ -654,8 +656,10 @@ class Node:
 
     def status_line(self, now):
         if self.state == "running":
-            return (f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
-                    f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts")
+            return (
+                f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
+                f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts"
+            )
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
@@ -762,16 +766,20 @@ class Readiness:
         """Log the robot's ready line when every running node is ready and none waits to start."""
         if self.all_ready:
             return
-        if any(node.state in ("pending", "backoff") or (node.state == "running" and not node.ready)
-               for node in self.nodes):
+        if any(
+            node.state in ("pending", "backoff") or (node.state == "running" and not node.ready) for node in self.nodes
+        ):
             return
         ready = sum(node.ready for node in self.nodes)
         if not ready:
             return
         self.all_ready = True
         others = len(self.nodes) - ready
-        log("supervisor", f"ready: {ready} of {len(self.nodes)} nodes ready ({now - START:.2f} s after start)"
-                          + (f"; {others} not running" if others else ""))
+        log(
+            "supervisor",
+            f"ready: {ready} of {len(self.nodes)} nodes ready ({now - START:.2f} s after start)"
+            + (f"; {others} not running" if others else ""),
+        )
         if self.upstream:
             notify_upstream(self.upstream, f"READY=1\nSTATUS={ready} of {len(self.nodes)} nodes ready")
 
@@ -786,8 +794,11 @@ class Readiness:
             if node.ready_deadline is not None and now >= node.ready_deadline:
                 node.ready_deadline = None
                 if node.state == "running" and not node.ready:
-                    log(node.name, f"warning: not ready {READY_TIMEOUT_S:g} s after its start (no READY=1 "
-                                   "yet); it keeps running and the robot is not ready")
+                    log(
+                        node.name,
+                        f"warning: not ready {READY_TIMEOUT_S:g} s after its start (no READY=1 "
+                        "yet); it keeps running and the robot is not ready",
+                    )
 
 
 # Preflight: every reason the robot cannot start, found before anything starts.
@@ -803,16 +814,24 @@ def runtime_fix(python: str) -> str:
     script = under_script_dir(INSTALL_SCRIPT)
     if os.path.isfile(script):
         return f"install it: sh {script} (then run supervisor.py with that environment's python)"
-    return (f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
-            f"or install this repository's core/ and runtime/ for {python}")
+    return (
+        f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
+        f"or install this repository's core/ and runtime/ for {python}"
+    )
 
 
 def runtime_problem(python: str, env: dict[str, str]) -> str | None:
     """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
     expected = ROBOT["settings_format_version"]
     try:
-        probe = subprocess.run([python, "-c", RUNTIME_PROBE], env=env, capture_output=True, text=True,
-                               timeout=RUNTIME_PROBE_TIMEOUT_S, stdin=subprocess.DEVNULL)
+        probe = subprocess.run(
+            [python, "-c", RUNTIME_PROBE],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=RUNTIME_PROBE_TIMEOUT_S,
+            stdin=subprocess.DEVNULL,
+        )
     except subprocess.TimeoutExpired:
         return f"{python} did not report its joshua_runtime within {RUNTIME_PROBE_TIMEOUT_S:g} s"
     except OSError as exc:
@@ -822,8 +841,10 @@ def runtime_problem(python: str, env: dict[str, str]) -> str | None:
         reason = (probe.stderr.strip().splitlines() or [f"exit code {probe.returncode}"])[-1]
         return f"{python} cannot import the runtime ({reason}); {runtime_fix(python)}"
     if int(lines[-1]) != expected:
-        return (f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
-                f"format {expected}; {runtime_fix(python)}")
+        return (
+            f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
+            f"format {expected}; {runtime_fix(python)}"
+        )
     return None
 
 
@@ -831,7 +852,7 @@ def registry_problem(reference: str, env: dict[str, str]) -> str | None:
     """Why `registry:NAME[@REVISION]` names no entry of the model registry the node will see, or None."""
     registry = ROBOT["model_registry"]
     root = os.path.expanduser(env.get(registry["variable"]) or registry["default_root"])
-    name, _, revision = reference[len(registry["prefix"]):].partition("@")
+    name, _, revision = reference[len(registry["prefix"]) :].partition("@")
     if name and "/" not in name + revision and name not in (".", "..") and revision not in (".", ".."):
         try:
             revisions = [revision] if revision else os.listdir(os.path.join(root, name))
@@ -883,7 +904,11 @@ def preflight(nodes, python):
             if problem:
                 problems.append(f"{node.name}: {problem}")
         binary = node.cpp_binary()
-        if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        if (
+            binary is not None
+            and os.path.lexists(binary)
+            and not (os.path.isfile(binary) and os.access(binary, os.X_OK))
+        ):
             problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
         if spec["kind"] == "custom":
             program = node.custom_program()
@@ -934,8 +959,10 @@ class Outcome:
         lines = []
         for spec in self.data_lost:
             where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
-            lines.append(f"data lost: node {spec['name']} could not save data it had taken in{where} "
-                         f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)")
+            lines.append(
+                f"data lost: node {spec['name']} could not save data it had taken in{where} "
+                f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)"
+            )
         return lines
 
 
@@ -1208,8 +1235,12 @@ class ControlPlane:
                 return self.action_reply(node)
             self.start(node)
             return self.action_reply(node)
-        self.pending[node.name] = {"stage": "SIGINT", "deadline": time.monotonic() + SIGINT_GRACE_S,
-                                   "then_start": command == "restart", "waiters": [client]}
+        self.pending[node.name] = {
+            "stage": "SIGINT",
+            "deadline": time.monotonic() + SIGINT_GRACE_S,
+            "then_start": command == "restart",
+            "waiters": [client],
+        }
         node.stop_requested = True
         node.state = "stopping"
         log(node.name, f"{command} requested over the control socket: sending SIGINT")
@@ -1227,11 +1258,20 @@ class ControlPlane:
     def status(self) -> dict:
         now = time.monotonic()
         self.note_states(now)
-        return {"robot": ROBOT["name"], "nodes": [
-            {"name": node.name, "state": node.state, "pid": node.pid, "restarts": node.restarts,
-             "ready": node.ready, "since_s": round(now - self.since[node.name][1], 3)}
-            for node in self.supervisor.nodes
-        ]}
+        return {
+            "robot": ROBOT["name"],
+            "nodes": [
+                {
+                    "name": node.name,
+                    "state": node.state,
+                    "pid": node.pid,
+                    "restarts": node.restarts,
+                    "ready": node.ready,
+                    "since_s": round(now - self.since[node.name][1], 3),
+                }
+                for node in self.supervisor.nodes
+            ],
+        }
 
     def logs(self, client, node, request) -> dict | None:
         try:
@@ -1241,6 +1281,7 @@ class ControlPlane:
         node_log = self.supervisor.logs[node.name]
         client.send({"ok": True, "lines": node_log.tail(count)})
         if request.get("follow"):
+
             def listener(line, client=client):
                 client.send({"line": line})
 
@@ -1275,8 +1316,11 @@ class ControlPlane:
                 for client in item["waiters"]:
                     client.send(self.action_reply(node))
             elif now >= item["deadline"]:
-                stage, number, grace = ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S) if item["stage"] == "SIGINT" \
+                stage, number, grace = (
+                    ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
+                    if item["stage"] == "SIGINT"
                     else ("SIGKILL", signal.SIGKILL, SIGTERM_GRACE_S)
+                )
                 log(node.name, f"still running: escalating to {stage}")
                 item.update(stage=stage, deadline=now + grace)
                 self.supervisor.signal_node(node, number)
@@ -1342,8 +1386,11 @@ class Supervisor:
                 break  # asked to stop while starting: the rest stay pending
             self.launch(node)
         running = sum(node.state == "running" for node in self.nodes)
-        log("supervisor", f"started: {running} of {len(self.nodes)} nodes running "
-                          f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready")
+        log(
+            "supervisor",
+            f"started: {running} of {len(self.nodes)} nodes running "
+            f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
+        )
         while not self.finished():
             self.wait(self.timeout())
             self.reap()
@@ -1374,8 +1421,11 @@ class Supervisor:
                     return path
                 remove_cgroup(path)
                 reason = f"a process cannot join {path}"
-        log("supervisor", f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
-                          f"/proc every {TRACKING_POLL_S} s")
+        log(
+            "supervisor",
+            f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
+            f"/proc every {TRACKING_POLL_S} s",
+        )
         return None
 
     # Launching and reaping
@@ -1429,8 +1479,10 @@ class Supervisor:
             node = self.by_pid.pop(pid, None)
             if pid == self.guard.pid:
                 self.guard.pid = None
-                log("supervisor", f"warning: guard process {pid} {exit_text(status)}; "
-                                  "nodes will outlive a killed supervisor")
+                log(
+                    "supervisor",
+                    f"warning: guard process {pid} {exit_text(status)}; nodes will outlive a killed supervisor",
+                )
             elif node is None:
                 log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
             else:
@@ -1438,8 +1490,11 @@ class Supervisor:
         if self.abandoned_since is not None:
             files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
             if files:
-                log("supervisor", f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
-                                  "that dead processes left in /dev/shm")
+                log(
+                    "supervisor",
+                    f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                    "that dead processes left in /dev/shm",
+                )
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -1508,8 +1563,11 @@ class Supervisor:
                 self.escalate()
             return
         self.stopping = True
-        log("supervisor", f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
-                          f"SIGKILL after {SIGTERM_GRACE_S} s more)")
+        log(
+            "supervisor",
+            f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
+            f"SIGKILL after {SIGTERM_GRACE_S} s more)",
+        )
         for node in self.nodes:
             if node.state == "backoff":
                 node.state = "stopped"
@@ -1542,7 +1600,9 @@ class Supervisor:
                 if node.alive():
                     log(node.name, f"still present {KILL_WAIT_S} s after SIGKILL; giving up on it")
             for pid in self.leftover_children():
-                log("supervisor", f"leftover process {pid} still present {KILL_WAIT_S} s after SIGKILL; giving up on it")
+                log(
+                    "supervisor", f"leftover process {pid} still present {KILL_WAIT_S} s after SIGKILL; giving up on it"
+                )
 
     def signal_node(self, node, number):
         try:
@@ -1657,9 +1717,14 @@ def supervisord_listener():
         spec = critical.get(fields.get("processname")) if fields.get("groupname") == group else None
         never_restarted = spec is not None and (spec["restart"] == "RESTART_NEVER" or spec["max_restarts"] == 0)
         event = header.get("eventname")
-        if spec is not None and (event == "PROCESS_STATE_FATAL" or
-                                 (event == "PROCESS_STATE_EXITED" and fields.get("expected") == "0" and never_restarted)):
-            log(spec["name"], f"{event[len('PROCESS_STATE_'):].lower()}: critical node failed for good; stopping the robot")
+        if spec is not None and (
+            event == "PROCESS_STATE_FATAL"
+            or (event == "PROCESS_STATE_EXITED" and fields.get("expected") == "0" and never_restarted)
+        ):
+            log(
+                spec["name"],
+                f"{event[len('PROCESS_STATE_') :].lower()}: critical node failed for good; stopping the robot",
+            )
             os.kill(os.getppid(), signal.SIGTERM)
         stdout.write(b"RESULT 2\nOK")
         stdout.flush()
@@ -1673,9 +1738,15 @@ CTL_EXIT_FAILED = 1
 
 
 def ctl_arguments(argv):
-    parser = argparse.ArgumentParser(prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}.")
-    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
-                        help="the supervisor's socket (default: %(default)s)")
+    parser = argparse.ArgumentParser(
+        prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}."
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(ROBOT["name"]),
+        metavar="PATH",
+        help="the supervisor's socket (default: %(default)s)",
+    )
     commands = parser.add_subparsers(dest="command", required=True)
     status = commands.add_parser("status", help="every node's state")
     status.add_argument("--json", action="store_true", help="print the status as one JSON object")
@@ -1712,8 +1783,9 @@ def ctl(argv) -> int:
             for line in replies:
                 print(json.loads(line).get("line", ""), flush=True)
     except OSError as exc:
-        print(f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}",
-              file=sys.stderr)
+        print(
+            f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
+        )
         return CTL_EXIT_FAILED
     except KeyboardInterrupt:
         pass
@@ -1748,21 +1820,42 @@ def positive_seconds(text):
 
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
-    parser.add_argument("--skip-preflight", action="store_true",
-                        help="start even when devices, models or programs are missing")
-    parser.add_argument("--duration", type=positive_seconds, metavar="SECONDS",
-                        help="stop with the shutdown cascade after this many seconds")
-    parser.add_argument("--status-interval", type=positive_seconds, metavar="SECONDS",
-                        help="print one status line per node this often")
-    parser.add_argument("--python", default=sys.executable or "python3", metavar="PATH",
-                        help="interpreter of Python entrypoints (default: the one running this script)")
-    parser.add_argument("--no-cgroup", action="store_true",
-                        help="track the nodes' descendants through /proc even where a cgroup could hold them")
-    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
-                        help="serve the control socket here (default: %(default)s; `ctl` is its client)")
+    parser.add_argument(
+        "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
+    )
+    parser.add_argument(
+        "--duration",
+        type=positive_seconds,
+        metavar="SECONDS",
+        help="stop with the shutdown cascade after this many seconds",
+    )
+    parser.add_argument(
+        "--status-interval", type=positive_seconds, metavar="SECONDS", help="print one status line per node this often"
+    )
+    parser.add_argument(
+        "--python",
+        default=sys.executable or "python3",
+        metavar="PATH",
+        help="interpreter of Python entrypoints (default: the one running this script)",
+    )
+    parser.add_argument(
+        "--no-cgroup",
+        action="store_true",
+        help="track the nodes' descendants through /proc even where a cgroup could hold them",
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(ROBOT["name"]),
+        metavar="PATH",
+        help="serve the control socket here (default: %(default)s; `ctl` is its client)",
+    )
     parser.add_argument("--no-control", action="store_true", help="serve no control socket")
-    parser.add_argument("--log-dir", default=default_log_dir(ROBOT["name"]), metavar="DIR",
-                        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)")
+    parser.add_argument(
+        "--log-dir",
+        default=default_log_dir(ROBOT["name"]),
+        metavar="DIR",
+        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)",
+    )
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:
@@ -1784,8 +1877,10 @@ def main(argv):
     if not options.skip_preflight:
         problems = preflight(supervisor.nodes, options.python)
         if problems:
-            log("supervisor", f"preflight found {len(problems)} problem(s); nothing was started "
-                              "(--skip-preflight starts anyway):")
+            log(
+                "supervisor",
+                f"preflight found {len(problems)} problem(s); nothing was started (--skip-preflight starts anyway):",
+            )
             for problem in problems:
                 print(f"  - {problem}", file=sys.stderr, flush=True)
             return EXIT_PREFLIGHT

@@ -13,6 +13,9 @@ from joshua_codegen.supervisor.policy import (  # the backoff the three process 
     RESTART_DELAY_FACTOR,
     RESTART_DELAY_INITIAL_S,
 )
+from joshua_codegen.supervisor.policy import (
+    RESTART_RESET_AFTER_S as RESTART_RESET_AFTER_S,  # re-exported for the systemd emitter
+)
 
 FASTDDS_PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
 ENVIRONMENT_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")  # what Environment= and environment= accept as a key

@@ -15,7 +15,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import SYNTAX_ERROR
 
+CODE = SYNTAX_ERROR
 NAME = "syntax-error"
 SEVERITY = ERROR
 STAGE = "load"

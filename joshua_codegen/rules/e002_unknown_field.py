@@ -15,7 +15,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import UNKNOWN_FIELD
 
+CODE = UNKNOWN_FIELD
 NAME = "unknown-field"
 SEVERITY = ERROR
 STAGE = "load"

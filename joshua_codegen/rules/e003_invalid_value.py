@@ -16,7 +16,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import INVALID_VALUE
 
+CODE = INVALID_VALUE
 NAME = "invalid-value"
 SEVERITY = ERROR
 STAGE = "load"

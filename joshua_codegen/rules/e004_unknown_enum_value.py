@@ -15,7 +15,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import UNKNOWN_ENUM_VALUE
 
+CODE = UNKNOWN_ENUM_VALUE
 NAME = "unknown-enum-value"
 SEVERITY = ERROR
 STAGE = "load"

@@ -15,7 +15,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import DUPLICATE_FIELD
 
+CODE = DUPLICATE_FIELD
 NAME = "duplicate-field"
 SEVERITY = ERROR
 STAGE = "load"

@@ -13,7 +13,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import MISSING_ROBOT_CONFIG
 
+CODE = MISSING_ROBOT_CONFIG
 NAME = "missing-robot-config"
 SEVERITY = ERROR
 STAGE = "load"

@@ -11,7 +11,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import UNREADABLE_FILE
 
+CODE = UNREADABLE_FILE
 NAME = "unreadable-file"
 SEVERITY = ERROR
 STAGE = "load"

@@ -11,7 +11,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import NOT_TEXT
 
+CODE = NOT_TEXT
 NAME = "not-text"
 SEVERITY = ERROR
 STAGE = "load"

@@ -13,7 +13,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.load import NOT_REGULAR_FILE
 
+CODE = NOT_REGULAR_FILE
 NAME = "not-regular-or-too-large"
 SEVERITY = ERROR
 STAGE = "load"

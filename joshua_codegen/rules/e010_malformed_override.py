@@ -14,7 +14,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.overrides import MALFORMED_OVERRIDE
 
+CODE = MALFORMED_OVERRIDE
 NAME = "malformed-override"
 SEVERITY = ERROR
 STAGE = "override"

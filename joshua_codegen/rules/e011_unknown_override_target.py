@@ -14,7 +14,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.overrides import UNKNOWN_OVERRIDE_TARGET
 
+CODE = UNKNOWN_OVERRIDE_TARGET
 NAME = "unknown-override-target"
 SEVERITY = ERROR
 STAGE = "override"

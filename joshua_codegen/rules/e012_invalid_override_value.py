@@ -14,7 +14,9 @@ Example:
 """
 
 from joshua_codegen.diagnostics import ERROR
+from joshua_codegen.overrides import INVALID_OVERRIDE_VALUE
 
+CODE = INVALID_OVERRIDE_VALUE
 NAME = "invalid-override-value"
 SEVERITY = ERROR
 STAGE = "override"

@@ -16,12 +16,11 @@ Example:
     node { type: CAMERA_PUBLISHER topic_name: "/b" }    # error: derived name "camera_publisher" is taken
 """
 
-from joshua_core.dashboard import PROCESS_NAME as DASHBOARD_NAME
-from joshua_core.schema import robot_config_pb2 as pb
-
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.dashboard import PROCESS_NAME as DASHBOARD_NAME
+from joshua_core.schema import robot_config_pb2 as pb
 
 CODE = "E205"
 NAME = "duplicate-node-name"

@@ -18,11 +18,10 @@ Example:
     }
 """
 
-from joshua_core.dashboard import bind_problem
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
+from joshua_core.dashboard import bind_problem
 
 CODE = "E508"
 NAME = "invalid-dashboard-address"

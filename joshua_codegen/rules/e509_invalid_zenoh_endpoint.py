@@ -16,11 +16,10 @@ Example:
     }
 """
 
-from joshua_core.dashboard import zenoh_endpoint_problem
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
+from joshua_core.dashboard import zenoh_endpoint_problem
 
 CODE = "E509"
 NAME = "invalid-zenoh-endpoint"

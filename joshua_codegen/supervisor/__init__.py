@@ -11,5 +11,22 @@ Conventions that let `joshua_codegen/emitters/supervisor.py` concatenate these m
 
 # The order the modules are joined in (after the robot's data); each uses only names defined earlier
 # at import time.
-MODULES = ("policy", "common", "containment", "children", "guard", "shm", "node", "notify", "preflight", "outcome", "node_log", "control", "loop", "supervisord_listener", "ctl", "cli")
+MODULES = (
+    "policy",
+    "common",
+    "containment",
+    "children",
+    "guard",
+    "shm",
+    "node",
+    "notify",
+    "preflight",
+    "outcome",
+    "node_log",
+    "control",
+    "loop",
+    "supervisord_listener",
+    "ctl",
+    "cli",
+)
 ROBOT_MODULE = "robot"

@@ -28,21 +28,42 @@ def positive_seconds(text):
 
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
-    parser.add_argument("--skip-preflight", action="store_true",
-                        help="start even when devices, models or programs are missing")
-    parser.add_argument("--duration", type=positive_seconds, metavar="SECONDS",
-                        help="stop with the shutdown cascade after this many seconds")
-    parser.add_argument("--status-interval", type=positive_seconds, metavar="SECONDS",
-                        help="print one status line per node this often")
-    parser.add_argument("--python", default=sys.executable or "python3", metavar="PATH",
-                        help="interpreter of Python entrypoints (default: the one running this script)")
-    parser.add_argument("--no-cgroup", action="store_true",
-                        help="track the nodes' descendants through /proc even where a cgroup could hold them")
-    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
-                        help="serve the control socket here (default: %(default)s; `ctl` is its client)")
+    parser.add_argument(
+        "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
+    )
+    parser.add_argument(
+        "--duration",
+        type=positive_seconds,
+        metavar="SECONDS",
+        help="stop with the shutdown cascade after this many seconds",
+    )
+    parser.add_argument(
+        "--status-interval", type=positive_seconds, metavar="SECONDS", help="print one status line per node this often"
+    )
+    parser.add_argument(
+        "--python",
+        default=sys.executable or "python3",
+        metavar="PATH",
+        help="interpreter of Python entrypoints (default: the one running this script)",
+    )
+    parser.add_argument(
+        "--no-cgroup",
+        action="store_true",
+        help="track the nodes' descendants through /proc even where a cgroup could hold them",
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(ROBOT["name"]),
+        metavar="PATH",
+        help="serve the control socket here (default: %(default)s; `ctl` is its client)",
+    )
     parser.add_argument("--no-control", action="store_true", help="serve no control socket")
-    parser.add_argument("--log-dir", default=default_log_dir(ROBOT["name"]), metavar="DIR",
-                        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)")
+    parser.add_argument(
+        "--log-dir",
+        default=default_log_dir(ROBOT["name"]),
+        metavar="DIR",
+        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)",
+    )
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:

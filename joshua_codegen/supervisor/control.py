@@ -173,8 +173,12 @@ class ControlPlane:
                 return self.action_reply(node)
             self.start(node)
             return self.action_reply(node)
-        self.pending[node.name] = {"stage": "SIGINT", "deadline": time.monotonic() + SIGINT_GRACE_S,
-                                   "then_start": command == "restart", "waiters": [client]}
+        self.pending[node.name] = {
+            "stage": "SIGINT",
+            "deadline": time.monotonic() + SIGINT_GRACE_S,
+            "then_start": command == "restart",
+            "waiters": [client],
+        }
         node.stop_requested = True
         node.state = "stopping"
         log(node.name, f"{command} requested over the control socket: sending SIGINT")
@@ -192,11 +196,20 @@ class ControlPlane:
     def status(self) -> dict:
         now = time.monotonic()
         self.note_states(now)
-        return {"robot": ROBOT["name"], "nodes": [
-            {"name": node.name, "state": node.state, "pid": node.pid, "restarts": node.restarts,
-             "ready": node.ready, "since_s": round(now - self.since[node.name][1], 3)}
-            for node in self.supervisor.nodes
-        ]}
+        return {
+            "robot": ROBOT["name"],
+            "nodes": [
+                {
+                    "name": node.name,
+                    "state": node.state,
+                    "pid": node.pid,
+                    "restarts": node.restarts,
+                    "ready": node.ready,
+                    "since_s": round(now - self.since[node.name][1], 3),
+                }
+                for node in self.supervisor.nodes
+            ],
+        }
 
     def logs(self, client, node, request) -> dict | None:
         try:
@@ -206,6 +219,7 @@ class ControlPlane:
         node_log = self.supervisor.logs[node.name]
         client.send({"ok": True, "lines": node_log.tail(count)})
         if request.get("follow"):
+
             def listener(line, client=client):
                 client.send({"line": line})
 
@@ -240,8 +254,11 @@ class ControlPlane:
                 for client in item["waiters"]:
                     client.send(self.action_reply(node))
             elif now >= item["deadline"]:
-                stage, number, grace = ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S) if item["stage"] == "SIGINT" \
+                stage, number, grace = (
+                    ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
+                    if item["stage"] == "SIGINT"
                     else ("SIGKILL", signal.SIGKILL, SIGTERM_GRACE_S)
+                )
                 log(node.name, f"still running: escalating to {stage}")
                 item.update(stage=stage, deadline=now + grace)
                 self.supervisor.signal_node(node, number)

@@ -13,9 +13,15 @@ CTL_EXIT_FAILED = 1
 
 
 def ctl_arguments(argv):
-    parser = argparse.ArgumentParser(prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}.")
-    parser.add_argument("--control-socket", default=default_control_socket(ROBOT["name"]), metavar="PATH",
-                        help="the supervisor's socket (default: %(default)s)")
+    parser = argparse.ArgumentParser(
+        prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}."
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(ROBOT["name"]),
+        metavar="PATH",
+        help="the supervisor's socket (default: %(default)s)",
+    )
     commands = parser.add_subparsers(dest="command", required=True)
     status = commands.add_parser("status", help="every node's state")
     status.add_argument("--json", action="store_true", help="print the status as one JSON object")
@@ -52,8 +58,9 @@ def ctl(argv) -> int:
             for line in replies:
                 print(json.loads(line).get("line", ""), flush=True)
     except OSError as exc:
-        print(f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}",
-              file=sys.stderr)
+        print(
+            f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
+        )
         return CTL_EXIT_FAILED
     except KeyboardInterrupt:
         pass

@@ -20,8 +20,10 @@ from supervisor_harness import (
 from joshua_codegen.supervisor import node_log
 
 # A node that prints a numbered line to stdout every 50 ms.
-TALKER = ("import itertools, sys, time\nfor n in itertools.count():\n    print(f'line {n}', flush=True)\n"
-          "    time.sleep(0.05)\n")
+TALKER = (
+    "import itertools, sys, time\nfor n in itertools.count():\n    print(f'line {n}', flush=True)\n"
+    "    time.sleep(0.05)\n"
+)
 
 
 def talker_node() -> str:
@@ -29,8 +31,13 @@ def talker_node() -> str:
 
 
 def ctl(out, sock, *args, timeout=30) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, str(out / "supervisor.py"), "ctl", "--control-socket", str(sock), *args],
-                          capture_output=True, text=True, timeout=timeout, check=False)
+    return subprocess.run(
+        [sys.executable, str(out / "supervisor.py"), "ctl", "--control-socket", str(sock), *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
 
 
 def status(out, sock) -> dict:
@@ -79,12 +86,16 @@ def test_restart_stop_and_start_a_node_while_the_others_run(tmp_path):
 
 
 def test_a_node_that_ignores_sigint_is_stopped_with_sigterm_after_the_grace(tmp_path):
-    out, sock, _, log, supervisor = start_robot(tmp_path, custom_node("stubborn", tmp_path / "events.log",
-                                                                      "SIGINT=ignore"))
+    out, sock, _, log, supervisor = start_robot(
+        tmp_path, custom_node("stubborn", tmp_path / "events.log", "SIGINT=ignore")
+    )
     try:
         assert ctl(out, sock, "stop", "stubborn").stdout == "stubborn: stopped\n"
         assert [text for name, _, text in events(log) if name == "stubborn"] == [
-            "start", "got SIGINT ignore", "got SIGTERM exit"]
+            "start",
+            "got SIGINT ignore",
+            "got SIGTERM exit",
+        ]
         supervisor.wait_log(r"stubborn: still running: escalating to SIGTERM")
     finally:
         supervisor.signal()
@@ -94,12 +105,32 @@ def test_a_node_that_ignores_sigint_is_stopped_with_sigterm_after_the_grace(tmp_
 def test_logs_shows_and_follows_a_nodes_output_kept_in_its_log_file(tmp_path):
     out, sock, logs, _, supervisor = start_robot(tmp_path, talker_node())
     try:
-        wait_until(lambda: "line 3" in (logs / "talker.log").read_text(errors="replace")
-                   if (logs / "talker.log").exists() else False, "the talker's log file")
+        wait_until(
+            lambda: (
+                "line 3" in (logs / "talker.log").read_text(errors="replace")
+                if (logs / "talker.log").exists()
+                else False
+            ),
+            "the talker's log file",
+        )
         tail = ctl(out, sock, "logs", "talker", "-n", "2").stdout.splitlines()
         assert len(tail) == 2 and all(line.startswith("line ") for line in tail)
-        follower = subprocess.Popen([sys.executable, str(out / "supervisor.py"), "ctl", "--control-socket", str(sock),
-                                     "logs", "talker", "-n", "0", "-f"], stdout=subprocess.PIPE, text=True)
+        follower = subprocess.Popen(
+            [
+                sys.executable,
+                str(out / "supervisor.py"),
+                "ctl",
+                "--control-socket",
+                str(sock),
+                "logs",
+                "talker",
+                "-n",
+                "0",
+                "-f",
+            ],
+            stdout=subprocess.PIPE,
+            text=True,
+        )
         try:
             first = int(follower.stdout.readline().split()[1])
             second = int(follower.stdout.readline().split()[1])

@@ -195,6 +195,19 @@ def test_generated_supervisor_is_standard_library_python_3_10_with_a_header(tmp_
         alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names
     }
     imported |= {node.module.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
-    assert imported <= {"argparse", "ctypes", "json", "os", "select", "shlex", "shutil", "signal", "socket", "struct",
-                        "subprocess", "sys", "time"}
+    assert imported <= {
+        "argparse",
+        "ctypes",
+        "json",
+        "os",
+        "select",
+        "shlex",
+        "shutil",
+        "signal",
+        "socket",
+        "struct",
+        "subprocess",
+        "sys",
+        "time",
+    }
     assert os.access(out / "supervisor.py", os.X_OK)

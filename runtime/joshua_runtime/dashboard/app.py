@@ -111,8 +111,9 @@ class Dashboard:
             finally:
                 self.broadcaster.unsubscribe(mailbox)
 
-        return StreamingResponse(stream(), media_type="text/event-stream",
-                                 headers={"Cache-Control": "no-store", "X-Accel-Buffering": "no"})
+        return StreamingResponse(
+            stream(), media_type="text/event-stream", headers={"Cache-Control": "no-store", "X-Accel-Buffering": "no"}
+        )
 
     async def logs(self, request):
         try:
@@ -127,7 +128,9 @@ class Dashboard:
     async def node_action(self, request):
         action = request.path_params["action"]
         if action not in NODE_ACTIONS:
-            return JSONResponse({"error": f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})"}, status_code=404)
+            return JSONResponse(
+                {"error": f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})"}, status_code=404
+            )
         try:
             reply = await self.control.node_action(action, request.path_params["name"])
         except ControlError as exc:
@@ -139,14 +142,20 @@ class Dashboard:
         if node not in {r.node for r in self.view.recorders}:
             return JSONResponse({"error": f"no recorder node named {node!r}"}, status_code=404)
         if action not in EPISODE_ACTIONS:
-            return JSONResponse({"error": f"unknown episode action {action!r} (use {', '.join(EPISODE_ACTIONS)})"},
-                                status_code=404)
+            return JSONResponse(
+                {"error": f"unknown episode action {action!r} (use {', '.join(EPISODE_ACTIONS)})"}, status_code=404
+            )
         command = action
         if action == "start":
             task = await _task_text(request)
             if task is None:
-                return JSONResponse({"error": f"the body must be JSON {{\"task\": TEXT}} of at most {MAX_TASK_CHARS} "
-                                              "characters on one line"}, status_code=400)
+                return JSONResponse(
+                    {
+                        "error": f'the body must be JSON {{"task": TEXT}} of at most {MAX_TASK_CHARS} '
+                        "characters on one line"
+                    },
+                    status_code=400,
+                )
             command = f"start {task}".strip()
         self.telemetry.send_episode_command(node, command)
         return JSONResponse({"node": node, "command": command})

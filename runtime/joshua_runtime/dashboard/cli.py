@@ -8,7 +8,6 @@ import sys
 from pathlib import Path
 
 from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
-
 from joshua_runtime.errors import JoshuaError
 from joshua_runtime.notify import Notifier
 
@@ -30,20 +29,36 @@ def port_number(text: str) -> int:
 
 
 def parse_arguments(argv):
-    parser = argparse.ArgumentParser(prog="python -m joshua_runtime.dashboard",
-                                     description="Serve a robot's web dashboard (page, status, live data, control).")
+    parser = argparse.ArgumentParser(
+        prog="python -m joshua_runtime.dashboard",
+        description="Serve a robot's web dashboard (page, status, live data, control).",
+    )
     parser.add_argument("--manifest", type=Path, required=True, help="OUT/manifest.json of the robot's build")
-    parser.add_argument("--control-socket", type=Path, metavar="PATH",
-                        help="the supervisor's control socket (default: $JOSHUA_CONTROL_SOCKET, else "
-                             "$XDG_RUNTIME_DIR/joshua/ROBOT.sock, else /tmp/joshua-UID/ROBOT.sock)")
+    parser.add_argument(
+        "--control-socket",
+        type=Path,
+        metavar="PATH",
+        help="the supervisor's control socket (default: $JOSHUA_CONTROL_SOCKET, else "
+        "$XDG_RUNTIME_DIR/joshua/ROBOT.sock, else /tmp/joshua-UID/ROBOT.sock)",
+    )
     parser.add_argument("--port", type=port_number, default=DEFAULT_PORT, help=f"TCP port (default {DEFAULT_PORT})")
-    parser.add_argument("--bind", default=DEFAULT_BIND, metavar="ADDR",
-                        help=f"address to listen on (default {DEFAULT_BIND}); any non-loopback address requires a token")
-    parser.add_argument("--token", default=os.environ.get(TOKEN_VARIABLE) or None,
-                        help=f"bearer token the API requires (default: ${TOKEN_VARIABLE}; generated and printed once "
-                             "when bound beyond loopback without one)")
-    parser.add_argument("--zenoh-connect", metavar="ENDPOINT",
-                        help="also publish status and telemetry over zenoh to this endpoint (tcp/HOST:PORT)")
+    parser.add_argument(
+        "--bind",
+        default=DEFAULT_BIND,
+        metavar="ADDR",
+        help=f"address to listen on (default {DEFAULT_BIND}); any non-loopback address requires a token",
+    )
+    parser.add_argument(
+        "--token",
+        default=os.environ.get(TOKEN_VARIABLE) or None,
+        help=f"bearer token the API requires (default: ${TOKEN_VARIABLE}; generated and printed once "
+        "when bound beyond loopback without one)",
+    )
+    parser.add_argument(
+        "--zenoh-connect",
+        metavar="ENDPOINT",
+        help="also publish status and telemetry over zenoh to this endpoint (tcp/HOST:PORT)",
+    )
     parser.add_argument("--public-url", metavar="URL", help="the page's address as the fleet view links to it")
     parser.add_argument("--web-dir", type=Path, default=DEFAULT_WEB_DIR, help="the built page (default: web/dist)")
     return parser.parse_args(argv)
@@ -94,8 +109,9 @@ async def serve(args) -> None:
         print(f"dashboard: API token (shown once): {token}", flush=True)
     telemetry.start()
     link_task = asyncio.create_task(link.run()) if link else None
-    config = uvicorn.Config(dashboard.app, log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S,
-                            lifespan="on")
+    config = uvicorn.Config(
+        dashboard.app, log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S, lifespan="on"
+    )
     server = uvicorn.Server(config)
     notifier = Notifier.from_environment()
     notify_task = asyncio.create_task(notify_manager(server, notifier, url))

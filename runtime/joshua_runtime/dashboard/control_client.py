@@ -43,7 +43,9 @@ class ControlClient:
         try:
             return await asyncio.wait_for(self._exchange(message), REQUEST_TIMEOUT_S)
         except TimeoutError as exc:
-            raise ControlError(f"the supervisor did not answer {message['command']!r} within {REQUEST_TIMEOUT_S:g} s") from exc
+            raise ControlError(
+                f"the supervisor did not answer {message['command']!r} within {REQUEST_TIMEOUT_S:g} s"
+            ) from exc
 
     async def _exchange(self, message: dict) -> dict:
         try:

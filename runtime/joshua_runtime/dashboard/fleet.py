@@ -54,8 +54,13 @@ class Fleet:
         with self._lock:
             entries = sorted(self._robots.items())
         return [
-            {"name": name, "nodes": status.get("nodes") or [], "last_seen_s": round(now - seen, 3),
-             "url": status.get("url"), "error": status.get("error")}
+            {
+                "name": name,
+                "nodes": status.get("nodes") or [],
+                "last_seen_s": round(now - seen, 3),
+                "url": status.get("url"),
+                "error": status.get("error"),
+            }
             for name, (status, seen) in entries
         ]
 
@@ -79,8 +84,12 @@ def fleet_app(fleet: Fleet, web_dir: Path, token: str | None) -> Starlette:
 
 
 def parse_arguments(argv):
-    parser = argparse.ArgumentParser(prog="joshua-fleet", description="Serve the fleet view of every robot publishing over zenoh.")
-    parser.add_argument("--listen", required=True, metavar="ENDPOINT", help="zenoh endpoint robots connect to (tcp/HOST:PORT)")
+    parser = argparse.ArgumentParser(
+        prog="joshua-fleet", description="Serve the fleet view of every robot publishing over zenoh."
+    )
+    parser.add_argument(
+        "--listen", required=True, metavar="ENDPOINT", help="zenoh endpoint robots connect to (tcp/HOST:PORT)"
+    )
     parser.add_argument("--port", type=port_number, default=DEFAULT_PORT, help=f"HTTP port (default {DEFAULT_PORT})")
     parser.add_argument("--bind", default=DEFAULT_BIND, metavar="ADDR", help=f"HTTP address (default {DEFAULT_BIND})")
     parser.add_argument("--token", help="bearer token for /api/ (generated and printed once beyond loopback)")
@@ -103,12 +112,15 @@ def main(argv=None) -> int:
         session = open_session("router", listen=[args.listen])
         subscriber = session.declare_subscriber(STATUS_KEYS, fleet.receive)
         url = f"http://{args.bind}:{sock.getsockname()[1]}/"
-        print(f"fleet: {url}" + (f"#token={token}" if generated else "") + f" (robots connect to {args.listen})",
-              flush=True)
+        print(
+            f"fleet: {url}" + (f"#token={token}" if generated else "") + f" (robots connect to {args.listen})",
+            flush=True,
+        )
         if generated:
             print(f"fleet: API token (shown once): {token}", flush=True)
-        config = uvicorn.Config(fleet_app(fleet, args.web_dir, token), log_level="warning",
-                                timeout_graceful_shutdown=SHUTDOWN_GRACE_S)
+        config = uvicorn.Config(
+            fleet_app(fleet, args.web_dir, token), log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S
+        )
         asyncio.run(uvicorn.Server(config).serve(sockets=[sock]))
         subscriber.undeclare()
     except JoshuaError as exc:

@@ -6,7 +6,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
-
 from joshua_runtime.errors import SettingsError
 
 JOINT_STATE = "sensor_msgs/msg/JointState"
@@ -91,31 +90,39 @@ def load_robot_view(manifest_path: Path) -> RobotView:
             continue
         settings = _entrypoint_settings(manifest_path.parent, entrypoints.get(node["name"]))
         if node["type"] == RECORDER_TYPE:
-            recorders.append(Recorder(node["name"], settings.get("output_directory") or "",
-                                      f"/{node['name']}/episode", f"/{node['name']}/episode_state"))
+            recorders.append(
+                Recorder(
+                    node["name"],
+                    settings.get("output_directory") or "",
+                    f"/{node['name']}/episode",
+                    f"/{node['name']}/episode_state",
+                )
+            )
         else:
-            inferences.append(Inference(
-                node["name"], settings.get("model_path") or "", float(settings.get("rate_hz") or 0),
-                tuple(node["subscribes"]), (node["publishes"] or [""])[0],
-            ))
+            inferences.append(
+                Inference(
+                    node["name"],
+                    settings.get("model_path") or "",
+                    float(settings.get("rate_hz") or 0),
+                    tuple(node["subscribes"]),
+                    (node["publishes"] or [""])[0],
+                )
+            )
     return RobotView(robot, topology(nodes, processes, topics), streams, tuple(recorders), tuple(inferences))
 
 
 def topology(nodes: list[dict], processes: list[dict], topics: list[dict]) -> dict:
     """Nodes, topics and edges of the graph the page draws (node -> topic for publishers, topic -> node for subscribers)."""
     return {
-        "nodes": [
-            {"name": n["name"], "type": n["type"], "process": n["simulated_by"] or n["name"]} for n in nodes
-        ] + [
+        "nodes": [{"name": n["name"], "type": n["type"], "process": n["simulated_by"] or n["name"]} for n in nodes]
+        + [
             {"name": p["name"], "type": p["type"], "process": p["name"]}
-            for p in processes if p["name"] not in {n["name"] for n in nodes} and p["type"] != DASHBOARD_TYPE
+            for p in processes
+            if p["name"] not in {n["name"] for n in nodes} and p["type"] != DASHBOARD_TYPE
         ],
         "topics": [{"name": t["name"], "message_type": t["message_type"]} for t in topics],
-        "edges": [
-            {"from": n["name"], "to": topic} for n in nodes for topic in n["publishes"]
-        ] + [
-            {"from": topic, "to": n["name"]} for n in nodes for topic in n["subscribes"]
-        ],
+        "edges": [{"from": n["name"], "to": topic} for n in nodes for topic in n["publishes"]]
+        + [{"from": topic, "to": n["name"]} for n in nodes for topic in n["subscribes"]],
     }
 
 

@@ -3,8 +3,9 @@
 import hmac
 import secrets
 
-from joshua_core.dashboard import is_loopback
 from starlette.responses import JSONResponse
+
+from joshua_core.dashboard import is_loopback
 
 TOKEN_BYTES = 24
 
@@ -31,8 +32,9 @@ class ApiGuard:
             return await self.app(scope, receive, send)
         headers = dict(scope["headers"])
         if self.expected is not None and not hmac.compare_digest(headers.get(b"authorization", b""), self.expected):
-            response = JSONResponse({"error": "missing or wrong bearer token"}, status_code=401,
-                                    headers={"WWW-Authenticate": "Bearer"})
+            response = JSONResponse(
+                {"error": "missing or wrong bearer token"}, status_code=401, headers={"WWW-Authenticate": "Bearer"}
+            )
             return await response(scope, receive, send)
         if scope["method"] != "GET" and not _same_origin(headers):
             return await JSONResponse({"error": "cross-origin request refused"}, status_code=403)(scope, receive, send)

@@ -26,8 +26,11 @@ JOINTS_MAX_HZ = 60.0
 INPUT_STALE_AFTER_S = 0.5
 SPIN_SLICE_S = 0.05
 SENSOR_QOS = QoSProfile(depth=2, reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
-COMMAND_QOS = QoSProfile(depth=episode_protocol.COMMAND_QOS_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
-                         durability=DurabilityPolicy.VOLATILE)
+COMMAND_QOS = QoSProfile(
+    depth=episode_protocol.COMMAND_QOS_DEPTH,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.VOLATILE,
+)
 _EVENT_MAKERS = {"joints": frames.joint_state_event, "image": frames.image_event, "scan": frames.scan_event}
 _MIN_PERIOD_S = {"joints": 1.0 / JOINTS_MAX_HZ, "image": 1.0 / IMAGE_MAX_FPS, "scan": 0.0}
 
@@ -59,11 +62,13 @@ class Telemetry:
         self.subscriptions = [self._subscribe(stream) for stream in view.streams]
         from std_msgs.msg import String
 
-        self.command_publishers = {r.node: self.node.create_publisher(String, r.command_topic, COMMAND_QOS)
-                                   for r in view.recorders}
+        self.command_publishers = {
+            r.node: self.node.create_publisher(String, r.command_topic, COMMAND_QOS) for r in view.recorders
+        }
         self.status_subscriptions = [
-            self.node.create_subscription(String, r.status_topic, self._recorder_callback(r.node),
-                                          episode_protocol.state_qos())
+            self.node.create_subscription(
+                String, r.status_topic, self._recorder_callback(r.node), episode_protocol.state_qos()
+            )
             for r in view.recorders
         ]
         self.timer = self.node.create_timer(REPORT_PERIOD_S, self._report)
@@ -126,14 +131,18 @@ class Telemetry:
     def _publish_recorder(self, recorder: str) -> None:
         spec = next(r for r in self.view.recorders if r.node == recorder)
         status = self.recorder_status.get(recorder, {})
-        self.broadcaster.publish(f"recorder:{recorder}", "recorder", {
-            "node": recorder,
-            "known": bool(status),
-            "recording": bool(status.get("recording")),
-            "event": status.get("event", ""),
-            "message": status.get("message", ""),
-            "episodes_saved": saved_episodes(spec.output_directory) or 0,
-        })
+        self.broadcaster.publish(
+            f"recorder:{recorder}",
+            "recorder",
+            {
+                "node": recorder,
+                "known": bool(status),
+                "recording": bool(status.get("recording")),
+                "event": status.get("event", ""),
+                "message": status.get("message", ""),
+                "episodes_saved": saved_episodes(spec.output_directory) or 0,
+            },
+        )
 
     def _report(self) -> None:
         now = time.monotonic()
@@ -144,10 +153,19 @@ class Telemetry:
             self.counts[topic] = 0
         self.broadcaster.publish("rates", "rates", {"rates": rates})
         for inference in self.view.inferences:
-            stale = [t for t in inference.inputs if now - self.last_received.get(t, float("-inf")) > INPUT_STALE_AFTER_S]
-            self.broadcaster.publish(f"inference:{inference.node}", "inference", {
-                "node": inference.node, "model": inference.model, "configured_rate_hz": inference.rate_hz,
-                "rate_hz": rates.get(inference.output, 0.0), "stale_inputs": stale,
-            })
+            stale = [
+                t for t in inference.inputs if now - self.last_received.get(t, float("-inf")) > INPUT_STALE_AFTER_S
+            ]
+            self.broadcaster.publish(
+                f"inference:{inference.node}",
+                "inference",
+                {
+                    "node": inference.node,
+                    "model": inference.model,
+                    "configured_rate_hz": inference.rate_hz,
+                    "rate_hz": rates.get(inference.output, 0.0),
+                    "stale_inputs": stale,
+                },
+            )
         for recorder in self.view.recorders:
             self._publish_recorder(recorder.node)

@@ -10,7 +10,6 @@ import asyncio
 import json
 
 from joshua_core.dashboard import zenoh_endpoint_problem
-
 from joshua_runtime.errors import SettingsError
 
 KEY_ROOT = "joshua"

@@ -14,8 +14,14 @@ from pathlib import Path
 from testsupport.joshuac_cli import joshuac
 
 CHROMIUM = "/usr/bin/chromium-headless-shell"
-CHROMIUM_FLAGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-                  "--disable-sync", "--no-first-run"]
+CHROMIUM_FLAGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 SERVER_START_TIMEOUT_S = 60.0
 ARTIFACTS = Path(__file__).resolve().parents[3] / "test-artifacts" / "dashboard"
 
@@ -88,9 +94,19 @@ def running_robot(description: str, directory: Path, env: dict, dashboard_port: 
     output = directory / "supervisor.log"
     with open(output, "w") as log:
         supervisor = subprocess.Popen(
-            [sys.executable, str(manifest.parent / "supervisor.py"), "--python", sys.executable,
-             "--control-socket", str(control_socket), "--log-dir", str(directory / "logs")],
-            env=env, stdout=log, stderr=subprocess.STDOUT,
+            [
+                sys.executable,
+                str(manifest.parent / "supervisor.py"),
+                "--python",
+                sys.executable,
+                "--control-socket",
+                str(control_socket),
+                "--log-dir",
+                str(directory / "logs"),
+            ],
+            env=env,
+            stdout=log,
+            stderr=subprocess.STDOUT,
         )
     try:
         if dashboard_port is not None:

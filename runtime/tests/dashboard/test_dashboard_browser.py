@@ -5,7 +5,6 @@ the page, saved by LeRobot), a probe arm stopped from the page so that this test
 with values it knows, and the dashboard process the description's `dashboard { }` block adds.
 """
 
-
 import pandas
 import pytest
 from dashboard_support import (
@@ -78,8 +77,10 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
         for joint, value in zip(PROBE_JOINTS, values):
             cell = page.get_by_test_id(f"joint-/probe/joint_states-{joint}-{quantity}")
             expected = f"{value:g}"
-            ros_client.spin_until(lambda cell=cell, expected=expected: cell.count() == 1
-                                  and cell.inner_text() == expected, PAGE_TIMEOUT_MS / 1000)
+            ros_client.spin_until(
+                lambda cell=cell, expected=expected: cell.count() == 1 and cell.inner_text() == expected,
+                PAGE_TIMEOUT_MS / 1000,
+            )
             assert cell.inner_text() == expected, f"{joint} {quantity}"
 
     old_pid = node_pid(control_socket, "leader")
@@ -120,5 +121,7 @@ def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> Non
     """Spin the test's ROS client (it publishes the probe) until `condition()` holds."""
     if not ros_client.spin_until(condition, timeout_ms / 1000, every=None):
         screenshot(page, "robot_page_timeout")
-        pytest.fail(f"the page did not reach the expected state within {timeout_ms / 1000:g} s "
-                    "(test-artifacts/dashboard/robot_page_timeout.png shows it)")
+        pytest.fail(
+            f"the page did not reach the expected state within {timeout_ms / 1000:g} s "
+            "(test-artifacts/dashboard/robot_page_timeout.png shows it)"
+        )

@@ -8,13 +8,14 @@ from pathlib import Path
 
 import pytest
 from dashboard_support import free_port, node_pid, running_robot
+from starlette.testclient import TestClient
+
 from joshua_core.dashboard import is_loopback
 from joshua_runtime.dashboard.app import Dashboard
 from joshua_runtime.dashboard.broadcaster import Broadcaster, Mailbox
 from joshua_runtime.dashboard.control_client import ControlClient
 from joshua_runtime.dashboard.robot_view import load_robot_view
 from joshua_runtime.dashboard.security import required_token
-from starlette.testclient import TestClient
 
 ROOT = Path(__file__).resolve().parents[3]
 MOCK_ARM = ROOT / "generated" / "mock_arm" / "manifest.json"
@@ -36,8 +37,14 @@ def supervised(tmp_path):
 
 
 def client_for(control_socket, tmp_path, token=None) -> TestClient:
-    dashboard = Dashboard(load_robot_view(MOCK_ARM), ControlClient(control_socket), Broadcaster(),
-                          telemetry=None, web_dir=tmp_path / "no-page", token=token)
+    dashboard = Dashboard(
+        load_robot_view(MOCK_ARM),
+        ControlClient(control_socket),
+        Broadcaster(),
+        telemetry=None,
+        web_dir=tmp_path / "no-page",
+        token=token,
+    )
     return TestClient(dashboard.app)
 
 
@@ -46,7 +53,9 @@ def test_status_is_the_supervisor_status(supervised, tmp_path):
         status = client.get("/api/status").json()
     assert status["robot"] == "sleepers"
     assert [(n["name"], n["state"], n["pid"]) for n in status["nodes"]] == [
-        ("leader", "running", node_pid(supervised, "leader")), ("camera", "running", node_pid(supervised, "camera"))]
+        ("leader", "running", node_pid(supervised, "leader")),
+        ("camera", "running", node_pid(supervised, "camera")),
+    ]
 
 
 def test_restart_replaces_the_process_and_get_changes_nothing(supervised, tmp_path):
@@ -68,8 +77,14 @@ def test_errors_are_one_line_json(supervised, tmp_path):
 
 
 def test_unreachable_supervisor_answers_503(tmp_path):
-    dashboard = Dashboard(load_robot_view(MOCK_ARM), ControlClient(tmp_path / "missing.sock"), Broadcaster(),
-                          telemetry=None, web_dir=tmp_path, token=None)
+    dashboard = Dashboard(
+        load_robot_view(MOCK_ARM),
+        ControlClient(tmp_path / "missing.sock"),
+        Broadcaster(),
+        telemetry=None,
+        web_dir=tmp_path,
+        token=None,
+    )
     with TestClient(dashboard.app) as client:
         reply = client.get("/api/status")
     assert reply.status_code == 503
@@ -79,9 +94,15 @@ def test_unreachable_supervisor_answers_503(tmp_path):
 def test_without_the_token_every_api_route_answers_401_and_nothing_runs(supervised, tmp_path):
     old = node_pid(supervised, "leader")
     with client_for(supervised, tmp_path, token=TOKEN) as client:
-        for method, path in [("GET", "/api/status"), ("GET", "/api/robot"), ("GET", "/api/events"),
-                             ("GET", "/api/nodes/leader/logs"), ("POST", "/api/nodes/leader/restart"),
-                             ("POST", "/api/nodes/leader/stop"), ("POST", "/api/recorders/r/episode/start")]:
+        for method, path in [
+            ("GET", "/api/status"),
+            ("GET", "/api/robot"),
+            ("GET", "/api/events"),
+            ("GET", "/api/nodes/leader/logs"),
+            ("POST", "/api/nodes/leader/restart"),
+            ("POST", "/api/nodes/leader/stop"),
+            ("POST", "/api/recorders/r/episode/start"),
+        ]:
             assert client.request(method, path).status_code == 401, path
             wrong = client.request(method, path, headers={"Authorization": "Bearer wrong"})
             assert wrong.status_code == 401, path
@@ -125,14 +146,23 @@ def test_a_stalled_client_holds_one_event_per_stream():
 def test_robot_view_reads_topology_and_streams():
     view = load_robot_view(MOCK_ARM)
     kinds = {s.topic: s.kind for s in view.streams}
-    assert kinds == {"/camera/image_raw": "image", "/follower/joint_states": "joints",
-                     "/leader/joint_states": "joints", "/scan": "scan"}
+    assert kinds == {
+        "/camera/image_raw": "image",
+        "/follower/joint_states": "joints",
+        "/leader/joint_states": "joints",
+        "/scan": "scan",
+    }
     assert {"from": "leader", "to": "/leader/joint_states"} in view.topology["edges"]
 
 
 def run_cli(*args) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "joshua_runtime.dashboard", *args], capture_output=True, text=True,
-                          timeout=60, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "joshua_runtime.dashboard", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
 
 
 def test_cli_reports_a_bad_manifest_in_one_line(tmp_path):

@@ -33,8 +33,11 @@ def test_fleet_page_lists_every_publishing_robot_and_links_to_its_page(tmp_path,
     fleet_port = free_port()
     output = tmp_path / "fleet.log"
     with open(output, "w") as log:
-        fleet = subprocess.Popen([sys.executable, "-m", "joshua_runtime.dashboard.fleet", "--listen", endpoint,
-                                  "--port", str(fleet_port)], stdout=log, stderr=subprocess.STDOUT)
+        fleet = subprocess.Popen(
+            [sys.executable, "-m", "joshua_runtime.dashboard.fleet", "--listen", endpoint, "--port", str(fleet_port)],
+            stdout=log,
+            stderr=subprocess.STDOUT,
+        )
     fleet_url = f"http://127.0.0.1:{fleet_port}"
     with ExitStack() as robots:
         robots.callback(stop, fleet)

@@ -11,6 +11,12 @@ VITEST_TIMEOUT_S = 180
 def test_page_components_pass_their_vitest_tests():
     assert shutil.which("npx"), "npm is missing: run `make setup`"
     assert (WEB / "node_modules").is_dir(), "web/node_modules is missing: run `make setup`"
-    result = subprocess.run(["npx", "--no-install", "vitest", "run", "--reporter=dot"], cwd=WEB, capture_output=True,
-                            text=True, timeout=VITEST_TIMEOUT_S, check=False)
+    result = subprocess.run(
+        ["npx", "--no-install", "vitest", "run", "--reporter=dot"],
+        cwd=WEB,
+        capture_output=True,
+        text=True,
+        timeout=VITEST_TIMEOUT_S,
+        check=False,
+    )
     assert result.returncode == 0, result.stdout + result.stderr
