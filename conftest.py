@@ -10,6 +10,11 @@ import pytest
 
 from testsupport.node_process import NodeProcess
 
+# MuJoCo reads MUJOCO_GL once, at its first import in a process; tests that render in this process (the
+# training demonstrations) need EGL, as there is no display. Node processes choose their own.
+os.environ.setdefault("MUJOCO_GL", "egl")
+os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
+
 
 @pytest.fixture(autouse=True)
 def private_state_dirs(tmp_path_factory, monkeypatch) -> None:

