@@ -197,23 +197,29 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
     return tuple(args)
 
 
-def _engine_process(name: str, carries_images: bool) -> Process:
+def _service_process(name: str, node_type: str, critical: bool, carries_images: bool, args=(), env=()) -> Process:
+    """A Python process joshuac adds beside the described nodes, restarted on failure."""
     return Process(
         name=name,
-        node_type=SIMULATION_ENGINE.name,
+        node_type=node_type,
         kind="python",
         entrypoint=f"nodes/{name}.py",
         executable="",
-        args=(),
+        args=tuple(args),
         cpp_binary="",
         cpp_args=(),
         restart="RESTART_ON_FAILURE",
         max_restarts=defaults.MAX_RESTARTS,
-        critical=True,
-        env=(),
+        critical=critical,
+        env=tuple(env),
         devices=(),
         carries_images=carries_images,
     )
+
+
+def _engine_process(name: str, carries_images: bool) -> Process:
+    """The simulation engine: critical, as the simulated robot is nothing without it."""
+    return _service_process(name, SIMULATION_ENGINE.name, True, carries_images)
 
 
 def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):
@@ -227,23 +233,8 @@ def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):
 
 
 def _foxglove_process(name: str, carries_images: bool) -> Process:
-    """The bridge process: restarted on failure, and not critical (a viewer must not stop the robot)."""
-    return Process(
-        name=name,
-        node_type=FOXGLOVE_BRIDGE.name,
-        kind="python",
-        entrypoint=f"nodes/{name}.py",
-        executable="",
-        args=(),
-        cpp_binary="",
-        cpp_args=(),
-        restart="RESTART_ON_FAILURE",
-        max_restarts=defaults.MAX_RESTARTS,
-        critical=False,
-        env=(),
-        devices=(),
-        carries_images=carries_images,
-    )
+    """The bridge process: not critical (a viewer must not stop the robot)."""
+    return _service_process(name, FOXGLOVE_BRIDGE.name, False, carries_images)
 
 
 def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
@@ -254,22 +245,13 @@ def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
     args = ["--port", str(port), "--bind", dashboard.bind or dashboard_facts.DEFAULT_BIND]
     if dashboard.zenoh_connect:
         args += ["--zenoh-connect", dashboard.zenoh_connect]
-    name = dashboard_facts.PROCESS_NAME
-    return Process(
-        name=name,
-        node_type=dashboard_facts.PROCESS_TYPE,
-        kind="python",
-        entrypoint=f"nodes/{name}.py",
-        executable="",
-        args=tuple(args),
-        cpp_binary="",
-        cpp_args=(),
-        restart="RESTART_ON_FAILURE",
-        max_restarts=defaults.MAX_RESTARTS,
-        critical=False,
-        env=tuple(sorted(config.env.items())),
-        devices=(),
-        carries_images=carries_images,
+    return _service_process(
+        dashboard_facts.PROCESS_NAME,
+        dashboard_facts.PROCESS_TYPE,
+        False,
+        carries_images,
+        args,
+        sorted(config.env.items()),
     )
 
 

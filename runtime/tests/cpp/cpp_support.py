@@ -12,7 +12,7 @@ import pytest
 
 from joshua_codegen.compile import DescriptionError
 from joshua_codegen.compile import cpp_commands as compiled_cpp_commands
-from testsupport.node_process import stop_process
+from testsupport.node_process import NodeProcess
 
 ROOT = Path(__file__).resolve().parents[3]
 BIN_DIR = ROOT / "build" / "bin"
@@ -30,29 +30,14 @@ def cpp_commands(description_text: str, overrides: Sequence[str] = (),
         pytest.fail(f"the test description does not compile:\n{exc}", pytrace=False)
 
 
-class CppNodeProcess:
-    """A C++ node binary run with `argv` and `env`; the same interface as testsupport's NodeProcess."""
+class CppNodeProcess(NodeProcess):
+    """A C++ node binary run with `argv` and `env`; otherwise testsupport's NodeProcess."""
 
     def __init__(self, argv: list[str], env: dict):
         self.process = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
-    def stop(self, signum) -> tuple[int, float, str]:
-        """Send `signum`; return (exit code, seconds until exit, stderr)."""
-        return stop_process(self.process, signum)
-
     def wait(self, timeout: float = NODE_START_TIMEOUT_S) -> tuple[int, str]:
-        _, stderr = self.process.communicate(timeout=timeout)
-        return self.process.returncode, stderr
-
-    def failure(self) -> str:
-        if self.process.poll() is None:
-            return "process still running"
-        return f"exit code {self.process.returncode}: {self.process.communicate()[1]}"
-
-    def kill(self) -> None:
-        if self.process.poll() is None:
-            self.process.kill()
-        self.process.communicate()
+        return super().wait(timeout)
 
 
 def error_line(stderr: str) -> str:
