@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from joshua_codegen.check import decode
 from joshua_codegen.diagnostics import ERROR, Diagnostic
-from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, SYNTAX_ERROR, load_text
+from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, load_text, syntax_diagnostic
 from joshua_codegen.source_file import SourceProblem, read_description
 from joshua_codegen.syntax import Block, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, parse_syntax
 from joshua_codegen.values import ValueProblem, unquote
@@ -180,18 +180,7 @@ def format_description(text: str, path: str) -> tuple[str | None, list[Diagnosti
     try:
         document = parse_syntax(text)
     except SyntaxProblem as problem:
-        return None, [
-            Diagnostic(
-                path,
-                problem.line,
-                problem.column,
-                SYNTAX_ERROR,
-                ERROR,
-                problem.message,
-                problem.line,
-                problem.end_column,
-            )
-        ]
+        return None, [syntax_diagnostic(path, problem)]
     problems: list[Diagnostic] = []
     _check_strings(document.fields, path, problems)
     if problems:

@@ -290,7 +290,8 @@ def _wrong_root(binder: _Binder, fields: list[Field]) -> list[Field]:
     return kept
 
 
-def _syntax_diagnostic(path: str, problem: SyntaxProblem) -> Diagnostic:
+def syntax_diagnostic(path: str, problem: SyntaxProblem) -> Diagnostic:
+    """The E001 diagnostic of a syntax problem, with its notes."""
     related = tuple(Related(path, line, column, message) for line, column, message in problem.notes)
     return Diagnostic(
         path,
@@ -309,7 +310,7 @@ def load_text(path: str, text: str) -> LoadResult:
     """Parse and bind one description; never raises for any input text."""
     binder = _Binder(path)
     document, problems = parse_recovering(text)
-    binder.diagnostics += [_syntax_diagnostic(path, problem) for problem in problems]
+    binder.diagnostics += [syntax_diagnostic(path, problem) for problem in problems]
     if document is None:
         return LoadResult(None, binder.source, binder.diagnostics)
     description = RobotDescription()
