@@ -43,10 +43,14 @@ def _staging_directory(out: Path) -> tuple[Path, int]:
     """A fresh, locked staging directory next to `out` (retried when a cleanup took it first)."""
     while True:
         staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
-        fd = os.open(staging, os.O_RDONLY | os.O_DIRECTORY)
+        # Until the lock is held, a concurrent build may take the empty directory for a killed build's.
+        try:
+            fd = os.open(staging, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+        except FileNotFoundError:
+            continue
         fcntl.flock(fd, fcntl.LOCK_EX)
         try:
-            if os.stat(staging).st_ino == os.fstat(fd).st_ino:
+            if os.stat(staging, follow_symlinks=False).st_ino == os.fstat(fd).st_ino:
                 return staging, fd
         except FileNotFoundError:
             pass

@@ -169,3 +169,24 @@ def test_concurrent_builds_of_one_output_all_succeed_and_leave_one_tree(tmp_path
     assert failures == []
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
     assert joshuac("build", CONFIG, "-o", out, "--check").returncode == 0
+
+
+def test_a_staging_directory_taken_by_a_concurrent_cleanup_before_its_lock_is_replaced(tmp_path, monkeypatch):
+    """Between mkdtemp and flock the new directory is empty and unlocked, so another build may remove it."""
+    import tempfile
+
+    from joshua_codegen import write
+
+    made, mkdtemp = [], tempfile.mkdtemp
+
+    def mkdtemp_then_lose_the_first(**kwargs):
+        path = mkdtemp(**kwargs)
+        made.append(path)
+        if len(made) == 1:
+            write.remove_stale_staging(tmp_path / "out")  # what a concurrent build does at that moment
+        return path
+
+    monkeypatch.setattr(write.tempfile, "mkdtemp", mkdtemp_then_lose_the_first)
+    write.write_tree({"a.txt": "a\n"}, tmp_path / "out")
+    assert len(made) == 2 and (tmp_path / "out/a.txt").read_text() == "a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]

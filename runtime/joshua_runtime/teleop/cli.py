@@ -23,6 +23,8 @@ QUIT_KEYS = ("\x1b", "\x03", "\x04")
 READ_SIZE = 16
 # Longest the loop waits for DDS before it looks at the keyboard again.
 SPIN_SLICE_S = 0.02
+# Longest an exit waits for subscribers to acknowledge the final zero Twist.
+STOP_ACK_TIMEOUT_S = 2.0
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -65,6 +67,7 @@ def main(argv: list[str] | None = None) -> int:
 
     import rclpy
     from geometry_msgs.msg import Twist
+    from rclpy.duration import Duration
     from rclpy.qos import QoSProfile, ReliabilityPolicy
     from rclpy.signals import SignalHandlerOptions
     from sensor_msgs.msg import Joy
@@ -118,6 +121,9 @@ def main(argv: list[str] | None = None) -> int:
             termios.tcsetattr(keyboard, termios.TCSADRAIN, saved)
         state["velocity"] = (0.0, 0.0)
         publish()
+        # A reliable sample still in the writer's queue dies with the process: wait for its acknowledgement.
+        if not publisher.wait_for_all_acked(Duration(seconds=STOP_ACK_TIMEOUT_S)):
+            print("joshua-teleop: warning: the zero Twist was not acknowledged by every subscriber", file=sys.stderr)
         node.destroy_node()
         rclpy.try_shutdown()
     return 0
