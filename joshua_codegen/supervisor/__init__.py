@@ -24,6 +24,7 @@ MODULES = (
     "outcome",
     "node_log",
     "control",
+    "stop_cascade",
     "loop",
     "supervisord_listener",
     "ctl",

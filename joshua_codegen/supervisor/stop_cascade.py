@@ -1,0 +1,85 @@
+"""The stop cascade: SIGINT to every node, SIGTERM after its grace, SIGKILL after that, leftovers included."""
+
+import os
+import signal
+import time
+
+from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.policy import KILL_WAIT_S
+from joshua_codegen.supervisor.robot import SIGINT_GRACE_S, SIGTERM_GRACE_S
+
+
+class StopCascade:
+    """The Supervisor's stopping half: uses its nodes, by_pid, guard, pid, outcome and stage fields."""
+
+    def request_stop(self, reason):
+        if self.stopping:
+            if self.stage in ("SIGINT", "SIGTERM"):
+                log("supervisor", f"{reason} again: escalating now")
+                self.escalate()
+            return
+        self.stopping = True
+        log(
+            "supervisor",
+            f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
+            f"SIGKILL after {SIGTERM_GRACE_S} s more)",
+        )
+        for node in self.nodes:
+            if node.state == "backoff":
+                node.state = "stopped"
+        self.enter_stage("SIGINT", signal.SIGINT, SIGINT_GRACE_S)
+
+    def enter_stage(self, stage, number, grace):
+        self.stage = stage
+        self.stage_deadline = time.monotonic() + grace
+        for node in self.nodes:
+            if node.alive():
+                node.state = "stopping"
+                if stage != "SIGINT":
+                    self.outcome.escalated = True
+                    log(node.name, f"still running: escalating to {stage}")
+                self.signal_node(node, number)
+        for pid in self.leftover_children():
+            self.outcome.escalated = self.outcome.escalated or stage != "SIGINT"
+            log("supervisor", f"sending {stage} to leftover process {pid}")
+            self.signal_pid(pid, number)
+
+    def escalate(self):
+        if self.stage == "SIGINT":
+            self.enter_stage("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
+        elif self.stage == "SIGTERM":
+            self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
+        else:
+            self.stage_deadline = None
+            self.gave_up = True
+            for node in self.nodes:
+                if node.alive():
+                    log(node.name, f"still present {KILL_WAIT_S} s after SIGKILL; giving up on it")
+            for pid in self.leftover_children():
+                log(
+                    "supervisor", f"leftover process {pid} still present {KILL_WAIT_S} s after SIGKILL; giving up on it"
+                )
+
+    def signal_node(self, node, number):
+        try:
+            os.killpg(node.pgid, number)
+        except ProcessLookupError:
+            if node.pid is not None:  # not yet in its own group (between fork and setsid)
+                self.signal_pid(node.pid, number)
+
+    @staticmethod
+    def signal_pid(pid, number):
+        try:
+            os.kill(pid, number)
+        except ProcessLookupError:
+            pass
+
+    def leftover_children(self):
+        """Children of the supervisor that belong to no node: orphans that left their group."""
+        known = set(self.by_pid) | {self.guard.pid}
+        try:
+            with open(f"/proc/{self.pid}/task/{self.pid}/children") as listing:
+                children = [int(pid) for pid in listing.read().split()]
+        except OSError:
+            children = []
+        return [pid for pid in children if pid not in known]
