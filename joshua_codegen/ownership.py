@@ -185,5 +185,7 @@ def remove_stale_staging(out: Path) -> None:
         try:
             if _is_stale_staging(path):
                 shutil.rmtree(path, ignore_errors=True)
+        except OSError:  # emptied under our eyes: the build that replaced it is removing the old tree
+            pass
         finally:
             os.close(fd)

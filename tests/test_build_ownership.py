@@ -190,3 +190,27 @@ def test_a_staging_directory_taken_by_a_concurrent_cleanup_before_its_lock_is_re
     write.write_tree({"a.txt": "a\n"}, tmp_path / "out")
     assert len(made) == 2 and (tmp_path / "out/a.txt").read_text() == "a\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_previous_tree_removed_while_a_cleanup_inspects_it_is_skipped(tmp_path, monkeypatch):
+    """After an exchange, a build removes the previous tree unlocked; another build's cleanup may be reading it."""
+    import shutil
+
+    from joshua_codegen import ownership
+
+    previous = tmp_path / ".out.abcdefgh"
+    previous.mkdir()
+    (previous / "a.txt").write_text("a\n")
+    (previous / "b.txt").write_text("b\n")
+    (previous / ownership.STAMP).write_text(ownership.stamp_text({"a.txt": "a\n", "b.txt": "b\n"}))
+    entries = ownership._entries
+
+    def entries_while_its_owner_removes_it(directory):
+        for number, entry in enumerate(entries(directory)):
+            if number == 0:
+                shutil.rmtree(directory)
+            yield entry
+
+    monkeypatch.setattr(ownership, "_entries", entries_while_its_owner_removes_it)
+    ownership.remove_stale_staging(tmp_path / "out")
+    assert not previous.exists()
