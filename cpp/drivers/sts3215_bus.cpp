@@ -201,16 +201,28 @@ void Sts3215Bus::write_goals(const std::vector<double>& radians) {
   sync_write(GOAL_POSITION, goals);
 }
 
-void Sts3215Bus::enable_torque() {
+void Sts3215Bus::hold_present_pose() {
   ensure_open();
   const std::vector<Packet> packets = sync_read_block(PRESENT_POSITION.address, PRESENT_POSITION.size);
-  std::vector<std::pair<uint8_t, int>> present, on;
+  std::vector<std::pair<uint8_t, int>> present;
   for (const Packet& packet : packets) {
     present.emplace_back(packet.servo_id, decode_value(PRESENT_POSITION, packet.params.data()));
-    on.emplace_back(packet.servo_id, 1);
   }
   sync_write(GOAL_POSITION, present);
+}
+
+void Sts3215Bus::enable_torque() {
+  hold_present_pose();
+  std::vector<std::pair<uint8_t, int>> on;
+  for (uint8_t servo_id : ids_) on.emplace_back(servo_id, 1);
   sync_write(TORQUE_ENABLE, on);
+}
+
+std::vector<Bytes> Sts3215Bus::read_blocks(uint8_t address, uint8_t size) {
+  ensure_open();
+  std::vector<Bytes> blocks;
+  for (Packet& packet : sync_read_block(address, size)) blocks.push_back(std::move(packet.params));
+  return blocks;
 }
 
 void Sts3215Bus::disable_torque() {

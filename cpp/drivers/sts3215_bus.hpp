@@ -38,9 +38,15 @@ class Sts3215Bus {
   std::vector<JointReading> read_state();
   // One SYNC_WRITE of Goal_Position (rad, clamped to the calibrated range; NaN leaves a joint alone).
   void write_goals(const std::vector<double>& radians);
-  // Holds the present pose (goal = present position), then switches torque on.
+  // Goal_Position = Present_Position on every servo (torque unchanged).
+  void hold_present_pose();
+  // Holds the present pose, then switches torque on.
   void enable_torque();
   void disable_torque();
+  // One SYNC_READ of `size` raw bytes from `address` of every servo, in bus order.
+  std::vector<sts3215::Bytes> read_blocks(uint8_t address, uint8_t size);
+  const std::vector<MotorCalibration>& calibration() const { return calibration_; }
+  const std::vector<uint8_t>& ids() const { return ids_; }
 
  private:
   struct Expected {

@@ -35,12 +35,29 @@ constexpr Register LOCK{55, 1, -1};
 constexpr Register PRESENT_POSITION{56, 2, 15};
 constexpr Register PRESENT_VELOCITY{58, 2, 15};
 constexpr Register PRESENT_LOAD{60, 2, 10};
+constexpr Register PRESENT_VOLTAGE{62, 1, -1};
+constexpr Register PRESENT_TEMPERATURE{63, 1, -1};
+constexpr Register STATUS{65, 1, -1};
+constexpr Register MOVING{66, 1, -1};
+constexpr Register PRESENT_CURRENT{69, 2, -1};
+// Factory protection settings (control table defaults) the health of a servo is judged against.
+constexpr int DEFAULT_MAX_TEMPERATURE_C = 70;
+constexpr int DEFAULT_MAX_VOLTAGE = 140;  // 0.1 V
+constexpr int DEFAULT_MIN_VOLTAGE = 40;   // 0.1 V
+constexpr int DEFAULT_MAX_TORQUE = 1000;  // 0.1 %
+constexpr int DEFAULT_OVERLOAD_TORQUE = 80;  // %
+// Bits of the status ERR byte and of the Status register, with their names, in bit order.
+constexpr std::pair<uint8_t, const char*> ERROR_NAMES[] = {
+    {0x01, "input voltage"}, {0x02, "angle sensor"}, {0x04, "overheat"}, {0x08, "over-current"}, {0x20, "overload"}};
 // Model_Number .. Response_Status_Level in one READ.
 constexpr uint8_t IDENTITY_ADDRESS = 3;
 constexpr uint8_t IDENTITY_SIZE = 6;
 // Present_Position, Present_Velocity, Present_Load in one SYNC_READ.
 constexpr uint8_t STATE_ADDRESS = 56;
 constexpr uint8_t STATE_SIZE = 6;
+// Present_Position .. Present_Current (the telemetry a servo's health is judged by) in one SYNC_READ.
+constexpr uint8_t TELEMETRY_ADDRESS = 56;
+constexpr uint8_t TELEMETRY_SIZE = 15;
 
 struct Packet {
   uint8_t servo_id;

@@ -42,4 +42,13 @@ rmw_qos_profile_t qos_from_parameters(const Parameters& parameters) {
   return qos;
 }
 
+rmw_qos_profile_t fixed_qos() {
+  rmw_qos_profile_t qos = rmw_qos_profile_default;
+  qos.reliability = RMW_QOS_POLICY_RELIABILITY_RELIABLE;
+  qos.durability = RMW_QOS_POLICY_DURABILITY_VOLATILE;
+  qos.history = RMW_QOS_POLICY_HISTORY_KEEP_LAST;
+  qos.depth = DEFAULT_DEPTH;
+  return qos;
+}
+
 }  // namespace joshua

@@ -51,13 +51,19 @@ double period_s(const Parameters& parameters) {
   return 1.0 / rate;
 }
 
+builtin_interfaces::msg::Time wall_clock_stamp() {
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  const int64_t nanoseconds = std::chrono::duration_cast<std::chrono::nanoseconds>(now).count();
+  builtin_interfaces::msg::Time stamp;
+  stamp.sec = static_cast<int32_t>(nanoseconds / 1000000000);
+  stamp.nanosec = static_cast<uint32_t>(nanoseconds % 1000000000);
+  return stamp;
+}
+
 sensor_msgs::msg::JointState joint_state(const std::vector<std::string>& joint_names,
                                          const std::vector<JointReading>& readings, const std::string& frame_id) {
   sensor_msgs::msg::JointState message;
-  const auto now = std::chrono::system_clock::now().time_since_epoch();
-  const int64_t nanoseconds = std::chrono::duration_cast<std::chrono::nanoseconds>(now).count();
-  message.header.stamp.sec = static_cast<int32_t>(nanoseconds / 1000000000);
-  message.header.stamp.nanosec = static_cast<uint32_t>(nanoseconds % 1000000000);
+  message.header.stamp = wall_clock_stamp();
   message.header.frame_id = frame_id;
   message.name = joint_names;
   for (const JointReading& reading : readings) {

@@ -22,6 +22,9 @@ std::unique_ptr<Sts3215Bus> bus_from_parameters(const Parameters& parameters, st
 // 1 / rate_hz; SettingsError unless rate_hz is positive.
 double period_s(const Parameters& parameters);
 
+// Now on the wall clock (what a node's ROS clock gives), for message headers.
+builtin_interfaces::msg::Time wall_clock_stamp();
+
 // A JointState of the bus's readings, stamped now (wall clock) with `frame_id`.
 sensor_msgs::msg::JointState joint_state(const std::vector<std::string>& joint_names,
                                          const std::vector<JointReading>& readings, const std::string& frame_id);
@@ -35,6 +38,8 @@ class BusGuard {
   BusGuard(Sts3215Bus& bus, const Node& node, std::function<void()> on_reconnect);
   // Runs `operation`; false while the bus is failing (DeviceError once past the grace period).
   bool call(const std::function<void()>& operation);
+  // Why the last failing operation failed ("" when none has failed).
+  const std::string& last_error() const { return last_error_; }
 
  private:
   void failed(Clock::time_point now, const DeviceError& error);
