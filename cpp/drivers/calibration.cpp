@@ -24,8 +24,12 @@ double MotorCalibration::to_radians(double ticks) const { return sign() * (ticks
 
 double MotorCalibration::speed_to_radians(double ticks_per_s) const { return sign() * ticks_per_s * RADIANS_PER_TICK; }
 
+long MotorCalibration::unclamped_ticks(double radians) const {
+  return round_half_even(middle() + sign() * radians / RADIANS_PER_TICK);
+}
+
 int MotorCalibration::to_ticks(double radians) const {
-  const long ticks = round_half_even(middle() + sign() * radians / RADIANS_PER_TICK);
+  const long ticks = unclamped_ticks(radians);
   return static_cast<int>(std::min<long>(std::max<long>(ticks, range_min), range_max));
 }
 

@@ -23,6 +23,8 @@ struct MotorCalibration {
   int sign() const { return drive_mode ? -1 : 1; }
   double to_radians(double ticks) const;
   double speed_to_radians(double ticks_per_s) const;
+  // The raw position of a joint angle, in or out of the calibrated range.
+  long unclamped_ticks(double radians) const;
   // The goal for a joint angle, clamped to the calibrated range.
   int to_ticks(double radians) const;
 };
