@@ -1,5 +1,6 @@
 """Turn a checked RobotDescription into the frozen Robot model (pure; no I/O)."""
 
+import json
 import os
 
 from joshua_codegen import defaults, escape, node_settings, topology
@@ -185,6 +186,7 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
         "qos_durability": settings.qos.durability,
         "qos_history": settings.qos.history,
         "state_topic": settings.state_topic.name,
+        "preset": json.dumps({p.name: dict(p.positions) for p in settings.preset}) if settings.preset else "",
     }
     args = ["--ros-args", "-r", f"__node:={model.name}"]
     for key in NODE_TYPES[model.type].cpp_parameters:

@@ -73,7 +73,8 @@ class NodeTypeSpec:
     hardware       it touches a device; MODE_SIMULATION replaces it with the simulation engine
     mock_of        the hardware type a MOCK_* stands in for (it reads the same fields)
     python_only    it always runs its Python implementation, whatever preferred_backend says
-    cpp_parameters the `-p` parameters of its C++ binary, in order; None when it has no binary
+    cpp_parameters the `-p` parameters of its C++ binary, in order; None when it has no binary (`preset`
+                   is one JSON string: {"name": {"joint": rad}})
     fields         node fields it reads besides the common ones (W101 warns about the others)
     required       fields it cannot run without (each has its rule: E105 serial_port, ...)
     claims         devices it needs present before start: serial_port, camera, video_file, model_path
@@ -172,7 +173,7 @@ ENCODER_PUBLISHER = NodeTypeSpec(
     topic="publishes",
     message_types=(JOINT_STATE,),
     hardware=True,
-    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id",),
+    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id", "diagnostics_rate_hz"),
     fields=_SERVO_BUS_FIELDS,
     required=("serial_port",),
     claims=("serial_port",),
@@ -203,7 +204,10 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     message_types=(JOINT_STATE,),
     state_topic=True,
     hardware=True,
-    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("state_topic", "frame_id", "keep_torque_on_exit"),
+    cpp_parameters=_CPP_TOPIC_PARAMETERS
+    + _CPP_BUS_PARAMETERS
+    + ("state_topic", "frame_id", "keep_torque_on_exit", "diagnostics_rate_hz")
+    + ("command_timeout_s", "on_command_timeout", "preset"),
     fields=_SERVO_BUS_FIELDS | _ACTUATOR_FIELDS,
     required=("serial_port",),
     claims=("serial_port",),
