@@ -1,9 +1,10 @@
 """Fixtures of the C++ node tests: the binaries built once per session, C++ node processes, emulators."""
 
+import json
 import subprocess
 
 import pytest
-from cpp_support import BIN_DIR, ROOT, CppNodeProcess
+from cpp_support import BIN_DIR, CALIBRATION, ROOT, CppNodeProcess
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
@@ -64,3 +65,11 @@ def lidars(tmp_path):
     yield make
     for emulator in started:
         emulator.stop()
+
+
+@pytest.fixture
+def calibration_file(tmp_path):
+    """A calibration file of the SO-100 joints (cpp_support.CALIBRATION)."""
+    path = tmp_path / "so100.json"
+    path.write_text(json.dumps(CALIBRATION))
+    return path

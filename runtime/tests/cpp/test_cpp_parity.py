@@ -5,48 +5,25 @@ emulated device and topic), runs both over real DDS, and compares what they publ
 leave on the bus. The C++ binary gets the command line the generated supervisor gives it.
 """
 
-import json
 import signal
 
 import pytest
 from cpp_support import (
+    CALIBRATION,
+    IDS,
+    JOINTS,
     MESSAGE_TIMEOUT_S,
     NODE_START_TIMEOUT_S,
+    POSES,
+    READER_QOS,
     STOP_BOUND_S,
-    cpp_commands,
+    twins,
 )
-from joshua_core import so100
 from joshua_runtime.drivers.calibration import MotorCalibration
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState, LaserScan
 
-from testsupport.compiled_settings import compiled_settings
-
-JOINTS = list(so100.SO100_JOINTS)
-IDS = [1, 2, 3, 4, 5, 6]
-POSES = ([1200, 1800, 2600, 3000, 900, 2300], [2900, 2200, 1500, 1100, 3600, 1700])
-# Offsets, a reversed joint and narrow ranges, so a difference in applying the file shows.
-CALIBRATION = {
-    name: {"id": servo_id, "drive_mode": 1 if name == "elbow_flex" else 0, "homing_offset": 10 * servo_id - 30,
-           "range_min": 600 + 10 * servo_id, "range_max": 3400 - 20 * servo_id}
-    for servo_id, name in zip(IDS, JOINTS)
-}
-TWINS = """
-robot_config {{
-  name: "parity"
-  mode: MODE_TELEOPERATION
-  node {{ name: "py_{kind}" type: {type} preferred_backend: PYTHON {fields} topic_name: "/py/{topic}" }}
-  node {{ name: "cpp_{kind}" type: {type} preferred_backend: CPP {fields} topic_name: "/cpp/{topic}" }}
-}}
-"""
-READER_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
-
-
-def twins(kind: str, node_type: str, topic: str, fields: str, overrides: list[str]):
-    """(Python settings, C++ argv) of the twin nodes `py_<kind>` and `cpp_<kind>`."""
-    text = TWINS.format(kind=kind, type=node_type, topic=topic, fields=fields)
-    return compiled_settings(text, overrides)[f"py_{kind}"], cpp_commands(text, overrides)[f"cpp_{kind}"]
 
 
 def endpoint_qos(infos) -> list:
@@ -76,13 +53,6 @@ def stop_both(python, cpp, signum) -> None:
         code, seconds, stderr = node.stop(signum)
         assert code == 0, stderr
         assert seconds < STOP_BOUND_S
-
-
-@pytest.fixture
-def calibration_file(tmp_path):
-    path = tmp_path / "so100.json"
-    path.write_text(json.dumps(CALIBRATION))
-    return path
 
 
 def test_encoders_publish_the_same_calibrated_joint_states(buses, calibration_file, start_node, start_cpp,
