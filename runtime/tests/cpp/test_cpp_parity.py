@@ -7,6 +7,7 @@ leave on the bus. The C++ binary gets the command line the generated supervisor 
 
 import signal
 
+import numpy as np
 import pytest
 from cpp_support import (
     CALIBRATION,
@@ -21,7 +22,7 @@ from cpp_support import (
 )
 from joshua_runtime.drivers.calibration import MotorCalibration
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from sensor_msgs.msg import JointState, LaserScan
+from sensor_msgs.msg import JointState, LaserScan, PointCloud2
 
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 
@@ -164,4 +165,31 @@ def test_lidars_publish_the_same_scans(lidars, start_node, start_cpp, ros_client
     cpp_info = ros_client.publishers_info("/cpp/scan", MESSAGE_TIMEOUT_S)
     assert endpoint_qos(cpp_info) == endpoint_qos(python_info) == [
         ("sensor_msgs/msg/LaserScan", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)]
+    stop_both(python, cpp, signal.SIGINT)
+
+
+def test_lidars_publish_the_same_point_clouds(lidars, start_node, start_cpp, ros_client):
+    python_lidar, cpp_lidar = lidars("ttyPY"), lidars("ttyCPP")
+    fields = 'frame_id: "base_scan" message_type: "sensor_msgs/msg/PointCloud2"'
+    settings, argv = twins("lidar", "LIDAR_PUBLISHER", "points", fields, [
+        f"py_lidar.serial_port={python_lidar.link}", f"cpp_lidar.serial_port={cpp_lidar.link}"])
+    python, cpp = start_node(settings), start_cpp(argv)
+    ros_client.listen("/py/points", PointCloud2, SENSOR_QOS)
+    ros_client.listen("/cpp/points", PointCloud2, SENSOR_QOS)
+    assert ros_client.spin_until(lambda: ros_client.last("/cpp/points") and ros_client.last("/py/points"),
+                                 NODE_START_TIMEOUT_S), (python.failure(), cpp.failure())
+    python_cloud, cpp_cloud = ros_client.last("/py/points"), ros_client.last("/cpp/points")
+    assert cpp_cloud.header.frame_id == python_cloud.header.frame_id == "base_scan"
+    for field in ("height", "width", "is_bigendian", "point_step", "row_step", "is_dense"):
+        assert getattr(cpp_cloud, field) == getattr(python_cloud, field), field
+    assert [(f.name, f.offset, f.datatype, f.count) for f in cpp_cloud.fields] == [
+        (f.name, f.offset, f.datatype, f.count) for f in python_cloud.fields]
+    assert cpp_cloud.width > 0
+    # The emulators turn the same room: the same points, to float32 rounding of cos/sin.
+    points = [np.frombuffer(bytes(c.data), dtype="<f4").reshape(-1, 4) for c in (python_cloud, cpp_cloud)]
+    assert np.allclose(points[0], points[1], rtol=0, atol=1e-6)
+    python_info = ros_client.publishers_info("/py/points", MESSAGE_TIMEOUT_S)
+    cpp_info = ros_client.publishers_info("/cpp/points", MESSAGE_TIMEOUT_S)
+    assert endpoint_qos(cpp_info) == endpoint_qos(python_info) == [
+        ("sensor_msgs/msg/PointCloud2", ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE)]
     stop_both(python, cpp, signal.SIGINT)
