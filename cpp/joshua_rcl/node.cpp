@@ -6,8 +6,11 @@
 #include <cstdio>
 #include <ctime>
 #include <iostream>
+#include <set>
+#include <sstream>
 #include <thread>
 
+#include "joshua_rcl/notify.hpp"
 #include "joshua_rcl/signals.hpp"
 #include "rcl/arguments.h"
 #include "rcl/init.h"
@@ -45,7 +48,8 @@ void check_rcl(rcl_ret_t ret, const std::string& what) {
   if (ret != RCL_RET_OK) throw JoshuaError(what + ": " + take_rcl_error());
 }
 
-Node::Node(int argc, char** argv, const std::string& default_name) : name_(default_name) {
+Node::Node(int argc, char** argv, const std::string& default_name)
+    : name_(default_name), notifier_(std::make_unique<Notifier>(Notifier::from_environment())) {
   rcl_allocator_t allocator = rcl_get_default_allocator();
   check_arguments(argc, argv, allocator);
   rcl_init_options_t options = rcl_get_zero_initialized_init_options();
@@ -91,12 +95,46 @@ void Node::spin() {
               "cannot create a wait set");
   }
   while (!stop_requested()) {
+    notifier_->watchdog(Clock::now());
     Clock::duration timeout = SHUTDOWN_POLL;
     const Clock::time_point now = Clock::now();
     for (const Timer& timer : timers_) timeout = std::min(timeout, timer.next - now);
     wait_for_work(std::max(timeout, Clock::duration::zero()));
     run_due_timers();
   }
+  notifier_->stopping();
+}
+
+void Node::announce_ready(const std::string& detail) {
+  if (ready_) return;
+  ready_ = true;
+  const std::string summary = (detail.empty() ? "" : detail + "; ") + serving();
+  info("ready: " + summary);
+  notifier_->ready(summary);
+}
+
+std::string Node::serving() const {
+  std::vector<std::string> parts;
+  const auto listed = [](const std::vector<std::string>& topics) {
+    std::string text;
+    for (const std::string& topic : std::set<std::string>(topics.begin(), topics.end())) {
+      text += (text.empty() ? "" : ", ") + topic;
+    }
+    return text;
+  };
+  if (!published_.empty()) parts.push_back("publishing " + listed(published_));
+  if (!subscribed_.empty()) parts.push_back("subscribing " + listed(subscribed_));
+  const double rate = parameters_->get_double("rate_hz");
+  if (rate != 0) {
+    std::ostringstream text;
+    text << "at " << rate << " Hz";  // 6 significant digits, as Python's :g
+    parts.push_back(text.str());
+  }
+  const std::string device = parameters_->get_string("serial_port");
+  if (!device.empty()) parts.push_back("on " + device);
+  std::string summary;
+  for (const std::string& part : parts) summary += (summary.empty() ? "" : " ") + part;
+  return summary.empty() ? "no topics" : summary;
 }
 
 void Node::wait_for_work(Clock::duration timeout) {
@@ -151,6 +189,7 @@ void run(int argc, char** argv, const std::string& default_name, Application& ap
     node = std::make_unique<Node>(argc, argv, default_name);
     name = node->name();
     application.start(*node);
+    if (!application.ready_later()) node->announce_ready();
     node->spin();
   } catch (const StopRequested&) {
   } catch (const JoshuaError& error) {

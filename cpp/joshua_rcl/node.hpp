@@ -5,8 +5,9 @@
 //       joshua::run(argc, argv, "my_node", app);
 //     }
 //
-// run() installs the SIGINT/SIGTERM handlers, starts the node, spins until a signal arrives (noticed
-// within SHUTDOWN_POLL), calls close(), destroys the node and ends the process with the exit code of
+// run() installs the SIGINT/SIGTERM handlers, starts the node, announces it ready (one "ready: ..." line
+// and READY=1 to the process manager, see notify.hpp; an Application with ready_later() announces itself),
+// spins until a signal arrives (noticed within SHUTDOWN_POLL; pinging the manager's watchdog), calls close(), destroys the node and ends the process with the exit code of
 // the Python runtime: 0 after a signal (also during start-up), else the JoshuaError's code with one
 // line `NAME: error: ...` on stderr. It does not return.
 #pragma once
@@ -25,6 +26,7 @@
 
 namespace joshua {
 
+class Notifier;
 using Clock = std::chrono::steady_clock;
 constexpr std::chrono::milliseconds SHUTDOWN_POLL{50};
 
@@ -43,6 +45,7 @@ class Node {
   Publisher<Message>& publisher(const std::string& topic, const rmw_qos_profile_t& qos) {
     auto owned = std::make_unique<Publisher<Message>>(&node_, topic, qos);
     Publisher<Message>& publisher = *owned;
+    published_.push_back(topic);
     entities_.push_back(std::move(owned));
     return publisher;
   }
@@ -51,6 +54,7 @@ class Node {
   void subscribe(const std::string& topic, const rmw_qos_profile_t& qos,
                  typename Subscription<Message>::Callback callback) {
     auto owned = std::make_unique<Subscription<Message>>(&node_, topic, qos, std::move(callback));
+    subscribed_.push_back(topic);
     subscriptions_.push_back(owned.get());
     entities_.push_back(std::move(owned));
   }
@@ -60,6 +64,11 @@ class Node {
 
   // Runs timers and subscription callbacks until SIGINT or SIGTERM.
   void spin();
+
+  // Logs "ready: [detail; ]<what it serves>" and sends READY=1; later calls do nothing.
+  void announce_ready(const std::string& detail = "");
+  // "publishing /a, /b subscribing /c at 100 Hz on /dev/ttyUSB0", as the Python runtime says it.
+  std::string serving() const;
 
   void info(const std::string& message) const;
   void warn(const std::string& message) const;
@@ -82,6 +91,9 @@ class Node {
   std::vector<std::unique_ptr<Entity>> entities_;
   std::vector<SubscriptionBase*> subscriptions_;
   std::vector<Timer> timers_;
+  std::vector<std::string> published_, subscribed_;
+  std::unique_ptr<Notifier> notifier_;
+  bool ready_ = false;
 };
 
 // What a node binary does on top of a Node: open devices and create endpoints, then release them.
@@ -89,6 +101,8 @@ class Application {
  public:
   virtual ~Application() = default;
   virtual void start(Node& node) = 0;
+  // True when the node announces itself ready later (Node::announce_ready), e.g. on its first message.
+  virtual bool ready_later() const { return false; }
   // Called once after spinning stops, also after a failed start.
   virtual void close() {}
 };

@@ -2,6 +2,7 @@
 // message_type), one per turn, 5 Hz.
 //
 // The serial port is polled every POLL_PERIOD from the wait loop, so a stop signal is noticed at once.
+// The node is ready once its first whole turn is published: a silent device is never ready.
 // A silent or vanished device ends the node with exit code 3. Same messages as the Python node
 // (joshua_runtime.nodes.lidar_publisher).
 #include <cmath>
@@ -28,7 +29,10 @@ constexpr uint32_t POINT_STEP = 4 * sizeof(float);
 
 class LidarPublisher : public Application {
  public:
+  bool ready_later() const override { return true; }
+
   void start(Node& node) override {
+    node_ = &node;
     const Parameters& parameters = node.parameters();
     const std::string topic = parameters.get_string("topic_name");
     if (topic.empty()) throw SettingsError("LIDAR_PUBLISHER needs a topic_name");
@@ -61,6 +65,7 @@ class LidarPublisher : public Application {
       } else {
         scans_->publish(scan_message(*turn));
       }
+      node_->announce_ready("first scan published");
     }
   }
 
@@ -114,6 +119,7 @@ class LidarPublisher : public Application {
     return message;
   }
 
+  Node* node_ = nullptr;
   std::unique_ptr<Lds01> lidar_;
   std::string frame_id_;
   Publisher<LaserScan>* scans_ = nullptr;
