@@ -35,10 +35,10 @@ def restart(process: Process) -> str:
 
 
 def notifies(process: Process) -> bool:
-    """The node sends READY=1 and WATCHDOG=1: a runtime node always running its Python entrypoint.
+    """The node sends READY=1 and WATCHDOG=1: a runtime node, Python or the C++ binary chosen at start.
 
-    CUSTOM programs may not speak the protocol, and a C++ binary chosen at start need not either."""
-    return process.kind == "python" and not process.cpp_binary
+    CUSTOM programs may not speak the protocol."""
+    return process.kind == "python"
 
 
 def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], list[tuple[str, str]]]:

@@ -2,7 +2,7 @@
 
 With `cpp_bin_dir` pointing at build/bin, the encoder and the actuator run as C++ processes on two
 emulated buses and the follower tracks the leader; only the camera, which has no C++ binary, falls back
-to Python with a warning.
+to Python with a warning. The binaries tell the supervisor they are ready over sd_notify.
 """
 
 import re
@@ -78,6 +78,9 @@ def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_clie
         assert re.search(rf"^\[ *[0-9.]+\] {node}: started pid [0-9]+ \(C\+\+\): {binary} --ros-args", output,
                          re.MULTILINE), output
         assert re.search(rf"^\[ *[0-9.]+\] {node}: pid [0-9]+ exited with code 0 ", output, re.MULTILINE), output
+        # Ready when the binary says so (sd_notify), with what it serves.
+        assert re.search(rf"^\[ *[0-9.]+\] {node}: ready after [0-9.]+ s: publishing /diagnostics", output,
+                         re.MULTILINE), output
     warnings = re.findall(r"^\[ *[0-9.]+\] (\S+): warning: C\+\+ binary", output, re.MULTILINE)
     assert warnings == ["camera_publisher"], output  # the only node whose binary is really absent
     assert [follower_bus.read_register(i, "Torque_Enable") for i in range(1, 7)] == [0] * 6  # released at exit
