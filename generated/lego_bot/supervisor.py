@@ -13,7 +13,7 @@ the directory can move. Nodes run in the directory the supervisor was started fr
   joshua_runtime of this build's node-settings format; all problems are listed and the supervisor
   exits with EXIT_PREFLIGHT.
 - Readiness: every node gets NOTIFY_SOCKET (sd_notify); a node is ready once its main process sends
-  READY=1 (a CUSTOM program or a C++ binary: once it starts). "ready: N of N nodes ready" is logged when every running
+  READY=1 (the C++ binaries send it too; a CUSTOM program: once it starts). "ready: N of N nodes ready" is logged when every running
   node is; a node not ready READY_TIMEOUT_S after its start is warned about, not stopped.
 - Each node is fork()+execv()ed in its own session (process group); it gets SIGKILL through
   PR_SET_PDEATHSIG if the supervisor dies, and a small guard process kills every descendant if the
@@ -671,8 +671,8 @@ class Readiness:
     One Unix datagram socket in the abstract namespace (`@joshua-notify-<robot>-<supervisor pid>`),
     handed to every node as NOTIFY_SOCKET. SO_PASSCRED makes the kernel attach the sender's pid to each
     datagram, so a message counts only when it comes from a node's main process (systemd's
-    NotifyAccess=main). A node is ready when it sends READY=1; a CUSTOM program or a C++ binary when it
-    starts (neither need speak the protocol). A node not ready READY_TIMEOUT_S after its start gets one warning and keeps
+    NotifyAccess=main). A node is ready when it sends READY=1 (the Python runtime and the C++ binaries
+    do); a CUSTOM program when it starts (it need not speak the protocol). A node not ready READY_TIMEOUT_S after its start gets one warning and keeps
     running. When every running node is ready, the supervisor logs "ready: N of N nodes ready" and,
     when it runs under systemd itself (Type=notify), passes READY=1 on to its own NOTIFY_SOCKET.
     WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that).
@@ -696,9 +696,9 @@ class Readiness:
         return self.socket.fileno()
 
     def on_launch(self, node, now):
-        """A node just started: runtime nodes are ready once they say so; programs that may not speak
-        sd_notify (CUSTOM programs, C++ binaries) are ready now."""
-        silent = {"custom": "a CUSTOM program", "C++": "a C++ binary"}.get(node.backend)
+        """A node just started: runtime nodes (Python or C++) are ready once they say so; a CUSTOM
+        program, which may not speak sd_notify, is ready now."""
+        silent = {"custom": "a CUSTOM program"}.get(node.backend)
         node.ready = silent is not None
         node.ready_deadline = None if node.ready else now + READY_TIMEOUT_S
         if node.ready:
