@@ -5,6 +5,7 @@ import subprocess
 
 import pytest
 from cpp_support import BIN_DIR, CALIBRATION, ROOT, CppNodeProcess
+
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 

@@ -42,8 +42,10 @@ def notified(ros_env, argv, name: str, **variables) -> tuple[socket.socket, CppN
 
 def test_an_encoder_says_ready_with_what_it_serves_feeds_the_watchdog_and_says_stopping(ros_env, cpp_bin_dir, buses):
     bus = buses("ttyNOTIFY")
-    argv = cpp_argv(f'type: ENCODER_PUBLISHER preferred_backend: CPP topic_name: "/cpp/joint_states" rate_hz: 40 '
-                    f'serial_port: "{bus.link}"')
+    argv = cpp_argv(
+        f'type: ENCODER_PUBLISHER preferred_backend: CPP topic_name: "/cpp/joint_states" rate_hz: 40 '
+        f'serial_port: "{bus.link}"'
+    )
     listener, node = notified(ros_env, argv, f"joshua-test-cpp-notify-{os.getpid()}", WATCHDOG_USEC=str(WATCHDOG_USEC))
     try:
         ready = receive_until(listener, "READY")[-1]

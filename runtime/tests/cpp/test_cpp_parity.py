@@ -20,9 +20,10 @@ from cpp_support import (
     STOP_BOUND_S,
     twins,
 )
-from joshua_runtime.drivers.calibration import MotorCalibration
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState, LaserScan, PointCloud2
+
+from joshua_runtime.drivers.calibration import MotorCalibration
 
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 

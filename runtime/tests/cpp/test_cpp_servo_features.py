@@ -12,11 +12,12 @@ import time
 import pytest
 from cpp_support import CALIBRATION, IDS, JOINTS, MESSAGE_TIMEOUT_S, NODE_START_TIMEOUT_S, READER_QOS, twins
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from joshua_runtime.drivers import sts3215_protocol as proto
-from joshua_runtime.drivers.calibration import MotorCalibration
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
+
+from joshua_runtime.drivers import sts3215_protocol as proto
+from joshua_runtime.drivers.calibration import MotorCalibration
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 KEPT_DIAGNOSTICS = 200
@@ -27,8 +28,14 @@ TROUBLE = {
     4: [("set_sensor", "Present_Voltage", 44)],
     5: [("set_sensor", "Present_Temperature", 75), ("inject_error", proto.ERROR_OVERCURRENT | proto.ERROR_OVERLOAD)],
 }
-EXPECTED_LEVELS = {"shoulder_pan": OK, "shoulder_lift": WARN, "elbow_flex": ERROR, "wrist_flex": WARN,
-                   "wrist_roll": ERROR, "gripper": OK}
+EXPECTED_LEVELS = {
+    "shoulder_pan": OK,
+    "shoulder_lift": WARN,
+    "elbow_flex": ERROR,
+    "wrist_flex": WARN,
+    "wrist_roll": ERROR,
+    "gripper": OK,
+}
 
 
 def statuses_of(ros_client, node: str, accept=lambda statuses: True) -> dict[str, DiagnosticStatus] | None:
@@ -42,8 +49,12 @@ def statuses_of(ros_client, node: str, accept=lambda statuses: True) -> dict[str
 
 def comparable(status: DiagnosticStatus) -> tuple:
     """What a status says, without the node name and port that differ between the twins."""
-    return (status.level, status.message, status.hardware_id.rsplit(" id ", 1)[1],
-            [(item.key, item.value) for item in status.values])
+    return (
+        status.level,
+        status.message,
+        status.hardware_id.rsplit(" id ", 1)[1],
+        [(item.key, item.value) for item in status.values],
+    )
 
 
 def stop(node) -> str:
@@ -54,8 +65,13 @@ def stop(node) -> str:
 
 def test_encoders_report_the_same_diagnostics(buses, start_node, start_cpp, ros_client):
     python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
-    settings, argv = twins("leader", "ENCODER_PUBLISHER", "joint_states", "diagnostics_rate_hz: 10",
-                           [f"py_leader.serial_port={python_bus.link}", f"cpp_leader.serial_port={cpp_bus.link}"])
+    settings, argv = twins(
+        "leader",
+        "ENCODER_PUBLISHER",
+        "joint_states",
+        "diagnostics_rate_hz: 10",
+        [f"py_leader.serial_port={python_bus.link}", f"cpp_leader.serial_port={cpp_bus.link}"],
+    )
     assert "diagnostics_rate_hz:=10.0" in argv
     python, cpp = start_node(settings), start_cpp(argv)
     ros_client.listen("/diagnostics", DiagnosticArray, READER_QOS, keep=KEPT_DIAGNOSTICS)
@@ -76,24 +92,30 @@ def test_encoders_report_the_same_diagnostics(buses, start_node, start_cpp, ros_
     cpp_statuses = statuses_of(ros_client, "cpp_leader", judged)
     assert list(cpp_statuses) == JOINTS
     assert {joint: comparable(s) for joint, s in cpp_statuses.items()} == {
-        joint: comparable(s) for joint, s in python_statuses.items()}
+        joint: comparable(s) for joint, s in python_statuses.items()
+    }
     assert cpp_statuses["wrist_roll"].message == (
-        "servo reports overheat; servo reports over-current; servo reports overload; temperature 75 C at or above 70 C")
+        "servo reports overheat; servo reports over-current; servo reports overload; temperature 75 C at or above 70 C"
+    )
     assert cpp_statuses["shoulder_pan"].hardware_id == f"{cpp_bus.link} id 1"
     assert ("position_ticks", "1234") in [(i.key, i.value) for i in cpp_statuses["shoulder_pan"].values]
     publishers = {info.node_name: info for info in ros_client.publishers_info("/diagnostics", MESSAGE_TIMEOUT_S)}
     assert sorted(publishers) == ["cpp_leader", "py_leader"]
-    assert {(info.topic_type, info.qos_profile.reliability, info.qos_profile.durability)
-            for info in publishers.values()} == {
-        ("diagnostic_msgs/msg/DiagnosticArray", ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE)}
+    assert {
+        (info.topic_type, info.qos_profile.reliability, info.qos_profile.durability) for info in publishers.values()
+    } == {("diagnostic_msgs/msg/DiagnosticArray", ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE)}
     stop(python), stop(cpp)
 
 
 def start_follower_twins(buses, start_node, start_cpp, ros_client, fields: str, calibration_file):
     """Python and C++ actuators on their own buses, both following /command; started and subscribed."""
     python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
-    overrides = [f"py_follower.serial_port={python_bus.link}", f"cpp_follower.serial_port={cpp_bus.link}",
-                 f"py_follower.calibration_file={calibration_file}", f"cpp_follower.calibration_file={calibration_file}"]
+    overrides = [
+        f"py_follower.serial_port={python_bus.link}",
+        f"cpp_follower.serial_port={cpp_bus.link}",
+        f"py_follower.calibration_file={calibration_file}",
+        f"cpp_follower.calibration_file={calibration_file}",
+    ]
     settings, argv = twins("follower", "ACTUATOR_SUBSCRIBER", "command", fields, overrides)
     settings["topic"]["name"] = "/command"
     argv = [("topic_name:='/command'" if arg.startswith("topic_name:=") else arg) for arg in argv]
@@ -107,7 +129,8 @@ def start_follower_twins(buses, start_node, start_cpp, ros_client, fields: str, 
         assert ros_client.spin_until(both_follow, NODE_START_TIMEOUT_S), (python.failure(), cpp.failure())
     presets = ros_client.subscriptions_info("/command/preset", MESSAGE_TIMEOUT_S)
     assert {(info.topic_type, info.qos_profile.reliability, info.qos_profile.durability) for info in presets} == {
-        ("std_msgs/msg/String", ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE)}
+        ("std_msgs/msg/String", ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE)
+    }
     return (python_bus, cpp_bus), (python, cpp)
 
 
@@ -121,7 +144,8 @@ def torque(bus) -> list[int]:
 
 def test_actuators_report_clamped_goals_alike(buses, calibration_file, start_node, start_cpp, ros_client):
     (python_bus, cpp_bus), (python, cpp) = start_follower_twins(
-        buses, start_node, start_cpp, ros_client, "diagnostics_rate_hz: 20 keep_torque_on_exit: true", calibration_file)
+        buses, start_node, start_cpp, ros_client, "diagnostics_rate_hz: 20 keep_torque_on_exit: true", calibration_file
+    )
     ros_client.listen("/diagnostics", DiagnosticArray, READER_QOS, keep=KEPT_DIAGNOSTICS)
     commands = ros_client.publisher("/command", JointState, READER_QOS)
     commands.publish(JointState(name=["shoulder_pan", "gripper"], position=[9.0, 0.1]))
@@ -133,7 +157,8 @@ def test_actuators_report_clamped_goals_alike(buses, calibration_file, start_nod
 
     assert ros_client.spin_until(
         lambda: statuses_of(ros_client, "py_follower", noted) and statuses_of(ros_client, "cpp_follower", noted),
-        MESSAGE_TIMEOUT_S), (python.failure(), cpp.failure())
+        MESSAGE_TIMEOUT_S,
+    ), (python.failure(), cpp.failure())
     for node in ("py_follower", "cpp_follower"):
         statuses = statuses_of(ros_client, node, noted)
         assert statuses["shoulder_pan"].level >= WARN
@@ -144,7 +169,8 @@ def test_actuators_report_clamped_goals_alike(buses, calibration_file, start_nod
     def note_gone_counter_kept() -> bool:  # the note is for one publication; the counter stays
         newest = statuses_of(ros_client, "cpp_follower")
         return note not in newest["shoulder_pan"].message and ("goals_clamped", "1") in [
-            (i.key, i.value) for i in newest["shoulder_pan"].values]
+            (i.key, i.value) for i in newest["shoulder_pan"].values
+        ]
 
     assert ros_client.spin_until(note_gone_counter_kept, MESSAGE_TIMEOUT_S)
     stop(python)
@@ -152,8 +178,7 @@ def test_actuators_report_clamped_goals_alike(buses, calibration_file, start_nod
 
 
 @pytest.mark.parametrize("action", ["RELEASE_TORQUE", "HOLD_POSITION"])
-def test_the_watchdog_stops_the_arm_when_goals_stop(action, buses, calibration_file, start_node, start_cpp,
-                                                    ros_client):
+def test_the_watchdog_stops_the_arm_when_goals_stop(action, buses, calibration_file, start_node, start_cpp, ros_client):
     timeout_s = 0.4
     fields = f"command_timeout_s: {timeout_s} on_command_timeout: {action} diagnostics_rate_hz: 10"
     buses_, nodes = start_follower_twins(buses, start_node, start_cpp, ros_client, fields, calibration_file)
@@ -184,14 +209,17 @@ def test_the_watchdog_stops_the_arm_when_goals_stop(action, buses, calibration_f
         held = goals(cpp_bus)
         assert all(min(a, b) < ticks < max(a, b) for ticks, a, b in zip(held, start, commanded)), (start, held)
         assert cpp_bus.wait_until(lambda: [cpp_bus.position(i) for i in IDS] == held, MESSAGE_TIMEOUT_S)
-    condition = f"no goal for {timeout_s:g} s: " + ("torque released" if action == "RELEASE_TORQUE"
-                                                   else "holding position")
+    condition = f"no goal for {timeout_s:g} s: " + (
+        "torque released" if action == "RELEASE_TORQUE" else "holding position"
+    )
 
     def reported(statuses) -> bool:
         return all(condition in status.message for status in statuses.values())
 
-    assert ros_client.spin_until(lambda: statuses_of(ros_client, "py_follower", reported)
-                                 and statuses_of(ros_client, "cpp_follower", reported), MESSAGE_TIMEOUT_S)
+    assert ros_client.spin_until(
+        lambda: statuses_of(ros_client, "py_follower", reported) and statuses_of(ros_client, "cpp_follower", reported),
+        MESSAGE_TIMEOUT_S,
+    )
     # The next goal resumes: torque back on, the goal taken, the condition gone.
     commands.publish(JointState(name=JOINTS, position=[0.2] * len(JOINTS)))
     resumed = [MotorCalibration(**CALIBRATION[name]).to_ticks(0.2) for name in JOINTS]
@@ -202,24 +230,37 @@ def test_the_watchdog_stops_the_arm_when_goals_stop(action, buses, calibration_f
 
 
 def test_presets_switch_torque_and_move_to_named_poses(buses, calibration_file, start_node, start_cpp, ros_client):
-    fields = ('preset { name: "wave" joint { name: "elbow_flex" position: 0.5 } joint { name: "gripper" '
-              'position: 1.0 } } keep_torque_on_exit: true')
+    fields = (
+        'preset { name: "wave" joint { name: "elbow_flex" position: 0.5 } joint { name: "gripper" '
+        "position: 1.0 } } keep_torque_on_exit: true"
+    )
     buses_, nodes = start_follower_twins(buses, start_node, start_cpp, ros_client, fields, calibration_file)
     presets = ros_client.publisher("/command/preset", String, READER_QOS)
     motors = {name: MotorCalibration(**CALIBRATION[name]) for name in JOINTS}
 
     def send(name: str, done) -> None:
-        assert ros_client.spin_until(lambda: all(done(bus) for bus in buses_), MESSAGE_TIMEOUT_S,
-                                     every=lambda: presets.publish(String(data=name))), (name, nodes[1].failure())
+        assert ros_client.spin_until(
+            lambda: all(done(bus) for bus in buses_),
+            MESSAGE_TIMEOUT_S,
+            every=lambda: presets.publish(String(data=name)),
+        ), (name, nodes[1].failure())
 
     send("torque_off", lambda bus: torque(bus) == [0] * 6)
     send("torque_on", lambda bus: torque(bus) == [1] * 6)
-    rest = {"shoulder_pan": 0.0, "shoulder_lift": -1.65, "elbow_flex": 1.55, "wrist_flex": 0.7, "wrist_roll": 0.0,
-            "gripper": 0.0}
+    rest = {
+        "shoulder_pan": 0.0,
+        "shoulder_lift": -1.65,
+        "elbow_flex": 1.55,
+        "wrist_flex": 0.7,
+        "wrist_roll": 0.0,
+        "gripper": 0.0,
+    }
     rest_ticks = [motors[name].to_ticks(rest[name]) for name in JOINTS]
     send(" rest ", lambda bus: goals(bus) == rest_ticks)
-    wave_ticks = [motors[name].to_ticks({"elbow_flex": 0.5, "gripper": 1.0}[name])
-                  if name in ("elbow_flex", "gripper") else ticks for name, ticks in zip(JOINTS, rest_ticks)]
+    wave_ticks = [
+        motors[name].to_ticks({"elbow_flex": 0.5, "gripper": 1.0}[name]) if name in ("elbow_flex", "gripper") else ticks
+        for name, ticks in zip(JOINTS, rest_ticks)
+    ]
     send("wave", lambda bus: goals(bus) == wave_ticks)
     presets.publish(String(data="dance"))
     ros_client.spin_until(lambda: False, 0.5)
