@@ -267,3 +267,37 @@ def test_presets_switch_torque_and_move_to_named_poses(buses, calibration_file, 
     assert goals(buses_[1]) == wave_ticks and not math.isnan(wave_ticks[0])
     stop(nodes[0])
     assert "unknown preset 'dance': known are torque_on, torque_off, home, rest, grip_open, wave" in stop(nodes[1])
+
+
+def test_encoders_report_a_lost_bus_alike(buses, start_node, start_cpp, ros_client):
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
+    settings, argv = twins(
+        "leader",
+        "ENCODER_PUBLISHER",
+        "joint_states",
+        "diagnostics_rate_hz: 10",
+        [f"py_leader.serial_port={python_bus.link}", f"cpp_leader.serial_port={cpp_bus.link}"],
+    )
+    python, cpp = start_node(settings), start_cpp(argv)
+    ros_client.listen("/diagnostics", DiagnosticArray, READER_QOS, keep=KEPT_DIAGNOSTICS)
+
+    def all_at(level):
+        return lambda statuses: all(status.level == level for status in statuses.values())
+
+    def both(accept) -> bool:
+        return bool(statuses_of(ros_client, "py_leader", accept) and statuses_of(ros_client, "cpp_leader", accept))
+
+    assert ros_client.spin_until(lambda: both(all_at(OK)), NODE_START_TIMEOUT_S), (python.failure(), cpp.failure())
+    python_bus.stop(), cpp_bus.stop()
+    assert ros_client.spin_until(lambda: both(all_at(ERROR)), MESSAGE_TIMEOUT_S)
+    for node, bus in (("py_leader", python_bus), ("cpp_leader", cpp_bus)):
+        statuses = statuses_of(ros_client, node, all_at(ERROR))
+        for index, (joint, status) in enumerate(statuses.items()):
+            servo_id = index + 1
+            # The port vanished ("disconnected: <why>"), then is not found on a retry.
+            reason = status.message.removeprefix(f"servo id {servo_id} unreadable: serial port {bus.link} ")
+            assert reason.startswith("disconnected: ") or reason == "not found", (node, status.message)
+            values = dict((item.key, item.value) for item in status.values)
+            assert list(values) == ["servo_id", "read_failures"] and int(values["read_failures"]) >= 1, (node, joint)
+    # Past the grace period both end with the device's exit code.
+    assert python.wait()[0] == cpp.wait()[0] == 3
