@@ -4,6 +4,7 @@ import fcntl
 import time
 
 from joshua_codegen.supervisor import shm
+from joshua_codegen.supervisor.policy import SHM_CLOCK_SLACK_S
 
 
 def segment(directory, name: str) -> None:
@@ -14,8 +15,10 @@ def segment(directory, name: str) -> None:
 def test_only_unlocked_segments_created_since_the_moment_are_removed(tmp_path, monkeypatch):
     monkeypatch.setattr(shm, "SHM_DIR", str(tmp_path))
     segment(tmp_path, "fastrtps_old")  # abandoned too, but before the moment
-    time.sleep(0.05)
-    since = time.time()
+    time.sleep(4 * SHM_CLOCK_SLACK_S)
+    # File times come from the kernel's coarse clock, up to a tick behind time.time(): the slack the
+    # supervisor allows for it, or a file created right after `since` may seem older.
+    since = time.time() - SHM_CLOCK_SLACK_S
     segment(tmp_path, "fastrtps_dead")
     segment(tmp_path, "fastrtps_port7411")
     (tmp_path / "sem.fastrtps_port7411_mutex").write_bytes(b"\0" * 32)
