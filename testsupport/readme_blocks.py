@@ -1,0 +1,54 @@
+"""The runnable command blocks of a README (marked `<!-- test: run -->`), run in order as written in a fresh home.
+
+A block is runnable when the line before its ```sh fence is the marker. The blocks of one README run
+in file order, each with `bash -e` (a login shell by default), sharing one temporary HOME, so a
+later block sees what an earlier one left there, as a new terminal would. The home gets only the uv
+the machine already has, and uv's cache is shared, so nothing is downloaded.
+"""
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+MARKER = "<!-- test: run -->"
+RUNNABLE = re.compile(r"^" + re.escape(MARKER) + r"\n```sh\n(.*?)^```$", re.MULTILINE | re.DOTALL)
+BLOCK_TIMEOUT_S = 300
+
+
+def runnable_blocks(readme: Path) -> list[str]:
+    return RUNNABLE.findall(Path(readme).read_text())
+
+
+def fresh_home(tmp_path: Path) -> Path:
+    home = tmp_path / "home"
+    (home / ".local" / "bin").mkdir(parents=True)
+    uv = shutil.which("uv", path=f"{Path.home() / '.local' / 'bin'}:{os.environ.get('PATH', '')}")
+    assert uv, "uv is not installed (make setup installs it)"
+    (home / ".local" / "bin" / "uv").symlink_to(uv)
+    return home
+
+
+def home_env(home: Path, **extra: str) -> dict:
+    """A minimal environment of a user whose home is `home` (uv's cache shared with this machine's)."""
+    return {
+        "HOME": str(home),
+        "USER": os.environ.get("USER", "root"),
+        "LANG": "C.UTF-8",
+        "UV_CACHE_DIR": os.environ.get("UV_CACHE_DIR", str(Path.home() / ".cache" / "uv")),
+        **extra,
+    }
+
+
+def run_blocks(readme: Path, cwd: Path, env: dict, login: bool = True) -> list[subprocess.CompletedProcess]:
+    """Run every runnable block of `readme` in order; fail the test at the first that fails."""
+    shell = ["bash", "-l", "-e", "-c"] if login else ["bash", "-e", "-c"]
+    results = []
+    for block in runnable_blocks(readme):
+        result = subprocess.run(
+            [*shell, block], check=False, cwd=cwd, env=env, capture_output=True, text=True, timeout=BLOCK_TIMEOUT_S
+        )
+        assert result.returncode == 0, f"README block failed:\n{block}\n{result.stdout}\n{result.stderr}"
+        results.append(result)
+    return results
