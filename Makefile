@@ -8,7 +8,7 @@ RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 PYTEST_ARGS ?=
 
-.PHONY: setup install uninstall run test generate proto bench check cpp
+.PHONY: setup install uninstall run test generate proto bench check cpp demo-train
 
 setup:
 	@bash scripts/setup.sh
@@ -26,6 +26,18 @@ uninstall:
 run: setup
 	$(VENV)/joshuac run $(RUN_CONFIG) --set "cpp_bin_dir=$(CURDIR)/build/bin" --status-interval 2 \
 		$(if $(DURATION),--duration $(DURATION))
+
+## demo-train: scripted demonstrations in simulation -> a small ACT -> the registry -> the simulated arm driven
+## by it through a generated supervisor (scripts/demo_train.py). Outputs go to DEMO_DIR (new or empty; default
+## a fresh out/demo-train/<UTC time>); the registry is DEMO_DIR/registry unless JOSHUA_MODEL_REGISTRY is set.
+DEMO_DIR ?= out/demo-train/$(shell date -u +%Y%m%dT%H%M%SZ)
+DEMO_EPISODES ?= 10
+DEMO_STEPS ?= 200
+DEMO_EVAL_EPISODES ?= 10
+DEMO_SECONDS ?= 20
+demo-train: setup
+	$(VENV)/python scripts/demo_train.py --output "$(DEMO_DIR)" --episodes $(DEMO_EPISODES) --steps $(DEMO_STEPS) \
+		--eval-episodes $(DEMO_EVAL_EPISODES) --seconds $(DEMO_SECONDS)
 
 test: setup
 	$(VENV)/pytest $(PYTEST_ARGS)
