@@ -11,7 +11,7 @@ Every step is a command a user could type (each is printed before it runs), all 
 
 The evidence printed at the end: how many commands the policy sent, and how far the grasp point
 was from the demonstrated goal when the policy started and when the run stopped.
-Exit codes: 0 success, 1 a step failed or the policy sent nothing, 2 bad arguments.
+Exit codes: 0 success, 1 a step failed or the policy sent nothing, 2 bad arguments, 130 interrupted.
 """
 
 import argparse
@@ -100,15 +100,19 @@ def run_in_simulation(args, output: Path, env: dict) -> dict:
     )
     robot = output / "robot"
     run(BIN / "joshuac", "build", description, "-o", robot, env=env)
-    from arm_watch import ArmWatch
+    from arm_watch import ArmWatch  # beside this script (rclpy, MuJoCo: imported only now)
 
     with ArmWatch(STATE_TOPIC, COMMAND_TOPIC) as watch:
         supervisor = [sys.executable, robot / "supervisor.py", "--duration", args.seconds]
         supervisor += ["--no-control", "--log-dir", output / "logs"]
         print("$ " + shlex.join(str(part) for part in supervisor), flush=True)
         process = subprocess.Popen([str(part) for part in supervisor], env=env)
-        while process.poll() is None:
-            watch.spin(0.1)
+        try:
+            while process.poll() is None:
+                watch.spin(0.1)
+        except KeyboardInterrupt:  # Ctrl-C reached the supervisor too: let its cascade stop the nodes
+            process.wait()
+            raise
         if process.returncode != 0:
             raise StepFailed(f"supervisor.py exited with {process.returncode} (node logs in {output / 'logs'})")
         return watch.summary()
@@ -129,6 +133,9 @@ def main(argv=None) -> int:
     except StepFailed as exc:
         print(f"demo-train: error: {exc}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print(f"demo-train: interrupted; what was written so far is in {output}", file=sys.stderr)
+        return 130
     if evidence["commands"] == 0 or evidence["start_m"] is None:
         print("demo-train: error: the policy sent no command to the arm", file=sys.stderr)
         return 1
@@ -141,5 +148,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
     sys.exit(main())
