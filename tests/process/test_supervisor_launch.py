@@ -3,7 +3,6 @@
 import ast
 import json
 import os
-import re
 import shutil
 import signal
 
@@ -102,7 +101,8 @@ def test_an_executable_cpp_binary_runs_with_its_ros_arguments(tmp_path):
     [process] = plan(describe(config), "robot.pbtxt").processes
     assert argv == [str(binary), *process.cpp_args]
     assert "arm: started pid" in supervisor.log() and "(C++)" in supervisor.log()
-    assert re.search(r"arm: ready after [\d.]+ s: a C\+\+ binary: ready when started", supervisor.log())
+    # A C++ node is ready when it says so (READY=1), like a Python one; this stand-in never does.
+    assert "arm: ready" not in supervisor.log()
     assert "warning" not in supervisor.log()
 
 
