@@ -8,7 +8,7 @@ independent of other load), "wall" the elapsed time; each the minimum of the run
 """
 
 import argparse
-import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -82,12 +82,12 @@ def timed(command: list[str], runs: int) -> tuple[float, float]:
     """(min cpu s, min wall s) of `command`, which must succeed."""
     cpu, wall = [], []
     for _ in range(runs):
-        before = os.times()
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         result = subprocess.run(command, capture_output=True, text=True)
         wall.append(time.perf_counter() - start)
-        after = os.times()
-        cpu.append(after.children_user - before.children_user + after.children_system - before.children_system)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
         if result.returncode != 0:
             sys.exit(f"{' '.join(command)} failed:\n{result.stderr}{result.stdout}")
     return min(cpu), min(wall)

@@ -22,13 +22,16 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     engine = defaults.SIMULATION_NAME if simulating and hardware else ""  # a reserved name there (E205)
     declared = topology.declarations(config, names)
     publishers = _publishers(declared)
+    by_node: dict[int, list[topology.Declaration]] = {}
+    for item in declared:
+        by_node.setdefault(item.index, []).append(item)
     nodes = tuple(
         _node(
             config,
             node,
             name,
             index,
-            [d for d in declared if d.index == index],
+            by_node.get(index, []),
             publishers,
             engine if node.type in defaults.HARDWARE else "",
         )
