@@ -13,7 +13,7 @@ PYTEST_ARGS ?=
 setup:
 	@bash scripts/setup.sh
 
-## install: set up, then put joshuac, joshua-emulate, joshua-registry, joshua-episode and joshua-train on PATH for new shells
+## install: set up, then put joshuac and every joshua-* command on PATH for new shells
 ## (wrappers in BINDIR, default ~/.local/bin, running this checkout's .venv; see scripts/install.sh).
 install: setup
 	@bash scripts/install.sh install

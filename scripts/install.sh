@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `make install`: puts joshuac, joshua-emulate, joshua-registry, joshua-episode and joshua-train on PATH for new shells.
+# `make install`: puts joshuac and the runtime's console scripts on PATH for new shells.
 #
 # Each command gets a small wrapper in BINDIR (default ~/.local/bin) that runs this checkout's
 # .venv/bin/<command> by its absolute path, so a rebuilt environment (`make setup`) is picked up as
@@ -10,7 +10,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 REPO="$PWD"
 BINDIR="${BINDIR:-$HOME/.local/bin}"
-COMMANDS=(joshuac joshua-emulate joshua-registry joshua-episode joshua-train)
+# Every console script of pyproject.toml and runtime/pyproject.toml (tests/test_readme_commands.py checks it).
+COMMANDS=(joshuac joshua-emulate joshua-teleop joshua-registry joshua-servo joshua-desktop joshua-episode
+  joshua-topic joshua-train joshua-fleet)
 MARK="# joshuac make install"
 
 login_file() {

@@ -4,7 +4,9 @@ The blocks (marked `<!-- test: run -->`, see testsupport/readme_blocks.py) run i
 the repository root, sharing one temporary HOME.
 """
 
+import re
 import subprocess
+import tomllib
 
 from testsupport.joshuac_cli import ROOT
 from testsupport.readme_blocks import fresh_home, home_env, run_blocks, runnable_blocks
@@ -25,3 +27,11 @@ def test_every_runnable_readme_block_succeeds_in_a_new_login_shell(tmp_path):
     subprocess.run(["bash", "-l", "-c", "make -s uninstall"], cwd=ROOT, env=env, check=True, capture_output=True)
     assert not wrapper.exists()
     assert "joshuac make install" not in (home / ".profile").read_text()
+
+
+def test_make_install_wraps_every_console_script():
+    scripts = set()
+    for pyproject in (ROOT / "pyproject.toml", ROOT / "runtime" / "pyproject.toml"):
+        scripts |= set(tomllib.loads(pyproject.read_text())["project"]["scripts"])
+    listed = re.search(r"^COMMANDS=\(([^)]*)\)", (ROOT / "scripts" / "install.sh").read_text(), re.M)
+    assert set(listed.group(1).split()) == scripts
