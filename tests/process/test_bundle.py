@@ -2,8 +2,10 @@
 
 The build goes to a directory outside the repository; install.sh makes a new environment from the
 robot's own interpreter (not this test's environment) and installs the bundle's wheels and pinned
-requirements into it. uv installs the third-party wheels from its local cache (UV_OFFLINE=1): the
-test proves the bundle is complete without downloading rclpy and OpenCV from PyPI at every run.
+requirements into it, reaching PyPI as a robot does: uv asks the index which versions exist (it
+cannot resolve offline on a machine whose cache holds only the wheels `make setup` fetched from
+uv.lock's URLs) and takes the wheels themselves from its cache, so rclpy and OpenCV are not
+downloaded again at every run.
 The supervisor then runs from that environment, outside the repository, with a minimal environment.
 """
 
@@ -20,6 +22,20 @@ JOSHUAC = Path(sys.executable).parent / "joshuac"
 BASE_PYTHON = sys._base_executable  # the machine's python3.11, without this project's packages
 INSTALL_TIMEOUT_S = 300
 RUN_S = 8
+NETWORK_VARIABLES = {
+    "SSL_CERT_FILE",
+    "SSL_CERT_DIR",
+    "HTTP_PROXY",
+    "HTTPS_PROXY",
+    "NO_PROXY",
+    "http_proxy",
+    "https_proxy",
+    "no_proxy",
+    "UV_INDEX_URL",
+    "UV_DEFAULT_INDEX",
+    "UV_NATIVE_TLS",
+    "UV_CACHE_DIR",
+}
 
 
 @pytest.fixture(scope="module")
@@ -37,12 +53,15 @@ def bundle(tmp_path_factory) -> Path:
 
 
 def clean_environment(tmp_path: Path, ros_env: dict, **extra) -> dict:
-    """Only what a robot's shell would have: no PYTHONPATH, no virtual environment, no repository."""
+    """Only what a robot's shell would have: no PYTHONPATH, no virtual environment, no repository;
+    its way to PyPI (certificates, proxies) as this machine's."""
     tools = tmp_path / "tools"
     tools.mkdir(exist_ok=True)
     if not (tools / "uv").exists():
         (tools / "uv").symlink_to(find_uv_bin())
+    network = {name: value for name, value in os.environ.items() if name in NETWORK_VARIABLES}
     return {
+        **network,
         "PATH": f"{tools}:/usr/bin:/bin",
         "HOME": os.environ["HOME"],
         "ROS_DOMAIN_ID": ros_env["ROS_DOMAIN_ID"],
@@ -62,7 +81,7 @@ def test_a_fresh_environment_made_only_from_the_bundle_runs_the_robot(bundle, tm
     assert subprocess.run(["sha256sum", "--quiet", "-c", ".joshuac-stamp"], cwd=out).returncode == 0  # stamp covers it
 
     venv = tmp_path / "venv"
-    env = clean_environment(tmp_path, ros_env, UV_OFFLINE="1", PYTHON=BASE_PYTHON)
+    env = clean_environment(tmp_path, ros_env, PYTHON=BASE_PYTHON)
     installed = subprocess.run(
         ["sh", str(out / "install.sh"), str(venv)],
         cwd=tmp_path,
