@@ -10,10 +10,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 REPO="$PWD"
 BINDIR="${BINDIR:-$HOME/.local/bin}"
-# Every console script of pyproject.toml and runtime/pyproject.toml (tests/test_readme_commands.py checks it).
-COMMANDS=(joshuac joshua-emulate joshua-teleop joshua-registry joshua-servo joshua-desktop joshua-episode
-  joshua-topic joshua-train joshua-fleet)
 MARK="# joshuac make install"
+
+commands() {
+  # The console scripts of this checkout's packages, as installed in .venv (their pyproject files list them).
+  "$REPO/.venv/bin/python" -c 'from importlib.metadata import entry_points
+print(*sorted(e.name for e in entry_points(group="console_scripts") if e.dist.name in ("joshuac", "joshua-runtime")))'
+}
 
 login_file() {
   # The file a bash login shell reads: the first of these that exists, else ~/.profile.
@@ -29,9 +32,10 @@ path_line() {
 }
 
 uninstall() {
-  for command in "${COMMANDS[@]}"; do
-    if [ -f "$BINDIR/$command" ] && grep -qF "$MARK" "$BINDIR/$command"; then
-      rm -f "$BINDIR/$command" && echo "install: removed $BINDIR/$command"
+  # Every wrapper make install wrote carries the mark on its second line, whatever command it runs.
+  for wrapper in "$BINDIR"/joshua*; do
+    if [ -f "$wrapper" ] && sed -n 2p "$wrapper" | grep -qF "$MARK"; then
+      rm -f "$wrapper" && echo "install: removed $wrapper"
     fi
   done
   for file in "$(login_file)" "$HOME/.bashrc"; do
@@ -44,6 +48,9 @@ uninstall() {
 }
 
 install() {
+  local names
+  names="$(commands)"
+  read -r -a COMMANDS <<< "$names"
   mkdir -p "$BINDIR"
   for command in "${COMMANDS[@]}"; do
     target="$BINDIR/$command"

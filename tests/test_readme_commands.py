@@ -4,12 +4,13 @@ The blocks (marked `<!-- test: run -->`, see testsupport/readme_blocks.py) run i
 the repository root, sharing one temporary HOME.
 """
 
-import re
 import subprocess
 import tomllib
 
 from testsupport.joshuac_cli import ROOT
 from testsupport.readme_blocks import fresh_home, home_env, run_blocks, runnable_blocks
+
+MARK = "# joshuac make install"  # on every wrapper and PATH line scripts/install.sh writes
 
 
 def test_the_marker_finds_the_set_up_blocks():
@@ -22,16 +23,19 @@ def test_every_runnable_readme_block_succeeds_in_a_new_login_shell(tmp_path):
     home = fresh_home(tmp_path)
     env = home_env(home)
     run_blocks(ROOT / "README.md", ROOT, env)
-    wrapper = home / ".local" / "bin" / "joshuac"
+    bindir = home / ".local" / "bin"
+    wrapper = bindir / "joshuac"
     assert str(ROOT / ".venv" / "bin" / "joshuac") in wrapper.read_text()
+    assert {path.name for path in bindir.iterdir() if MARK in path.read_text(errors="replace")} == console_scripts()
     subprocess.run(["bash", "-l", "-c", "make -s uninstall"], cwd=ROOT, env=env, check=True, capture_output=True)
     assert not wrapper.exists()
-    assert "joshuac make install" not in (home / ".profile").read_text()
+    assert not console_scripts() & {path.name for path in bindir.iterdir()}
+    assert MARK not in (home / ".profile").read_text()
 
 
-def test_make_install_wraps_every_console_script():
+def console_scripts() -> set[str]:
+    """The commands the project's packages declare."""
     scripts = set()
     for pyproject in (ROOT / "pyproject.toml", ROOT / "runtime" / "pyproject.toml"):
         scripts |= set(tomllib.loads(pyproject.read_text())["project"]["scripts"])
-    listed = re.search(r"^COMMANDS=\(([^)]*)\)", (ROOT / "scripts" / "install.sh").read_text(), re.M)
-    assert set(listed.group(1).split()) == scripts
+    return scripts

@@ -22,7 +22,8 @@ JOSHUAC = Path(sys.executable).parent / "joshuac"
 BASE_PYTHON = sys._base_executable  # the machine's python3.11, without this project's packages
 INSTALL_TIMEOUT_S = 300
 RUN_S = 8
-NETWORK_VARIABLES = {
+# How this machine reaches PyPI (certificates, proxies, index) and where uv keeps its cache.
+PYPI_ACCESS_VARIABLES = {
     "SSL_CERT_FILE",
     "SSL_CERT_DIR",
     "HTTP_PROXY",
@@ -59,9 +60,9 @@ def clean_environment(tmp_path: Path, ros_env: dict, **extra) -> dict:
     tools.mkdir(exist_ok=True)
     if not (tools / "uv").exists():
         (tools / "uv").symlink_to(find_uv_bin())
-    network = {name: value for name, value in os.environ.items() if name in NETWORK_VARIABLES}
+    pypi_access = {name: value for name, value in os.environ.items() if name in PYPI_ACCESS_VARIABLES}
     return {
-        **network,
+        **pypi_access,
         "PATH": f"{tools}:/usr/bin:/bin",
         "HOME": os.environ["HOME"],
         "ROS_DOMAIN_ID": ros_env["ROS_DOMAIN_ID"],
