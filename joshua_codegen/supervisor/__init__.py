@@ -17,6 +17,7 @@ MODULES = (
     "containment",
     "children",
     "guard",
+    "node_processes",
     "shm",
     "node",
     "notify",

@@ -1,6 +1,7 @@
 """Keeping every descendant of the supervisor killable: a cgroup where writable, else /proc tracking."""
 
 import os
+import select
 import signal
 import time
 
@@ -43,7 +44,8 @@ def own_cgroup() -> str | None:
 def create_cgroup(name: str) -> str:
     """A new, empty cgroup `name` below this process's own one; raises OSError where that is not possible.
 
-    No existing process is moved: only the nodes' children join it, each on its own before exec.
+    No existing process is moved: only the nodes' children join it (each the cgroup of its node below
+    it), each on its own before exec.
     """
     mount, own = cgroup2_mount(), own_cgroup()
     if mount is None or own is None:
@@ -93,11 +95,32 @@ def kill_cgroup(path: str) -> None:
         pass
 
 
+def cgroup_pids(path: str) -> list[int]:
+    """The processes in the cgroup at `path` and in the cgroups below it; none when it is gone."""
+    found = []
+    for directory, _, _ in os.walk(path):
+        try:
+            with open(os.path.join(directory, "cgroup.procs")) as procs:
+                found.extend(int(pid) for pid in procs.read().split())
+        except OSError:
+            continue
+    return found
+
+
 def remove_cgroup(path: str) -> bool:
-    """Remove the cgroup once its processes are gone (waiting up to KILL_WAIT_S); whether it is gone."""
+    """Remove the cgroup and the cgroups below it once their processes are gone (waiting up to
+    KILL_WAIT_S); whether it is gone."""
     deadline = time.monotonic() + KILL_WAIT_S
     while cgroup_populated(path) and time.monotonic() < deadline:
         time.sleep(CGROUP_EMPTY_POLL_S)
+    try:
+        below = [entry.path for entry in os.scandir(path) if entry.is_dir(follow_symlinks=False)]
+    except FileNotFoundError:
+        return True
+    except OSError:
+        below = []
+    for child in below:
+        remove_cgroup(child)
     try:
         os.rmdir(path)
     except FileNotFoundError:
@@ -138,17 +161,33 @@ def send_signal(pidfd: int, number: int) -> None:
         pass
 
 
-class DescendantTracker:
-    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
-    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+def exited(pidfds: list[int]) -> set[int]:
+    """Those of `pidfds` whose process has ended (a pidfd is readable from then on; a zombie has ended)."""
+    poller = select.poll()
+    for pidfd in pidfds:
+        poller.register(pidfd, select.POLLIN)
+    return {pidfd for pidfd, _ in poller.poll(0)}
 
-    def __init__(self, root: int, exclude: int):
-        self.root = root
-        self.exclude = exclude  # the tracker's own process (a child of the root)
+
+def process_group(pid: int) -> int | None:
+    """The process group of `pid`, None when it is gone or a zombie."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            fields = stat.read().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+    return None if fields[0] == "Z" else int(fields[2])
+
+
+class TrackedProcesses:
+    """Processes held by pidfd (so a signal never reaches a reused PID), killed as one with kill_all."""
+
+    def __init__(self, exclude: tuple[int, ...] = ()):
+        self.exclude = set(exclude)  # never tracked (the tracker's own process, the supervisor)
         self.known: dict[int, int] = {}  # pid -> pidfd
 
     def add(self, pid: int) -> bool:
-        if pid in self.known or pid in (self.exclude, self.root):
+        if pid in self.known or pid in self.exclude:
             return False
         pidfd = open_pidfd(pid)
         if pidfd is None:
@@ -156,27 +195,16 @@ class DescendantTracker:
         self.known[pid] = pidfd
         return True
 
-    def update(self) -> None:
-        """One poll while the root lives: find new descendants, forget the ones that are gone."""
-        current = set(self.descendants_of(self.root))
-        for pid in list(self.known):
-            if pid not in current:
-                os.close(self.known.pop(pid))
-        for pid in current:
-            self.add(pid)
+    def forget(self, pid: int) -> None:
+        os.close(self.known.pop(pid))
 
-    def descendants_of(self, root: int) -> list[int]:
-        found, frontier, seen = [], [root], {root, self.exclude}
-        while frontier:
-            for child in children_of(frontier.pop()):
-                if child not in seen:
-                    seen.add(child)
-                    found.append(child)
-                    frontier.append(child)
-        return found
+    def forget_exited(self) -> None:
+        ended = exited(list(self.known.values()))
+        for pid in [pid for pid, pidfd in self.known.items() if pidfd in ended]:
+            self.forget(pid)
 
     def kill_all(self) -> None:
-        """Stop every known descendant (a stopped process cannot fork), add their children until a pass
+        """Stop every known process (a stopped process cannot fork), add their children until a pass
         finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
         stopped: set[int] = set()
         settled = False
@@ -189,7 +217,36 @@ class DescendantTracker:
                     break
                 settled = True
                 time.sleep(STOP_SETTLE_S)
-        for pidfd in self.known.values():
+        for pid, pidfd in list(self.known.items()):
             send_signal(pidfd, signal.SIGKILL)
-            os.close(pidfd)
-        self.known.clear()
+            self.forget(pid)
+
+
+def descendants_of(root: int, exclude: set[int]) -> list[int]:
+    """Every process below `root` in the process tree now, except `exclude` and what is below those."""
+    found, frontier, seen = [], [root], {root, *exclude}
+    while frontier:
+        for child in children_of(frontier.pop()):
+            if child not in seen:
+                seen.add(child)
+                found.append(child)
+                frontier.append(child)
+    return found
+
+
+class DescendantTracker(TrackedProcesses):
+    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
+    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+
+    def __init__(self, root: int, exclude: int):
+        super().__init__((root, exclude))  # exclude: the tracker's own process (a child of the root)
+        self.root = root
+
+    def update(self) -> None:
+        """One poll while the root lives: find new descendants, forget the ones that are gone."""
+        current = set(descendants_of(self.root, self.exclude))
+        for pid in list(self.known):
+            if pid not in current:
+                self.forget(pid)
+        for pid in current:
+            self.add(pid)

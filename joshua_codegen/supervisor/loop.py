@@ -16,15 +16,11 @@ from joshua_codegen.supervisor.common import (
     log,
     signal_name,
 )
-from joshua_codegen.supervisor.containment import (
-    cgroup_usable,
-    create_cgroup,
-    remove_cgroup,
-)
 from joshua_codegen.supervisor.control import ControlPlane
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.node_log import open_node_logs
+from joshua_codegen.supervisor.node_processes import contain_nodes
 from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
@@ -35,7 +31,6 @@ from joshua_codegen.supervisor.policy import (
     RESTART_RESET_AFTER_S,
     SHM_CLOCK_SLACK_S,
     STOP_SIGNALS,
-    TRACKING_POLL_S,
 )
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.shm import remove_abandoned_segments
@@ -48,6 +43,7 @@ class Supervisor(StopCascade):
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
         self.guard = Guard(None)
+        self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
         self.pid = os.getpid()
         self.wakeup = None
         self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
@@ -83,7 +79,8 @@ class Supervisor(StopCascade):
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
-        self.guard = Guard(self.contain())
+        self.containment = contain_nodes(self.nodes, self.pid, self.options.no_cgroup)
+        self.guard = Guard(self.containment.cgroup)
         self.guard.start()
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
@@ -110,6 +107,7 @@ class Supervisor(StopCascade):
                 self.request_stop(f"received {signal_name(self.requests.pop(0))}")
             self.on_timers()
         self.guard.stop()
+        self.containment.close()
         if self.control is not None:
             self.control.close()
         for node in self.nodes:
@@ -117,28 +115,6 @@ class Supervisor(StopCascade):
         for line in self.outcome.last_lines():
             log("supervisor", line)
         return self.outcome.exit_code()
-
-    def contain(self):
-        """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
-        guard tracks descendants through /proc."""
-        reason = "--no-cgroup"
-        if not self.options.no_cgroup:
-            try:
-                path = create_cgroup(f"joshua-{ROBOT['name']}-{self.pid}")
-            except OSError as exc:
-                reason = str(exc)
-            else:
-                if cgroup_usable(path):
-                    log("supervisor", f"nodes run in cgroup {path}")
-                    return path
-                remove_cgroup(path)
-                reason = f"a process cannot join {path}"
-        log(
-            "supervisor",
-            f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
-            f"/proc every {TRACKING_POLL_S} s",
-        )
-        return None
 
     # Launching and reaping
 
@@ -151,7 +127,7 @@ class Supervisor(StopCascade):
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid, self.guard.cgroup, write_end)
+                child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
         except OSError as exc:
             if node_log is not None:
                 os.close(read_end)
@@ -211,8 +187,8 @@ class Supervisor(StopCascade):
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
                 node.pgid = None
-                if node.state == "stopping":
-                    node.state = "stopped"
+            if node.state == "stopping" and not node.alive():
+                node.state = "stopped"
 
     def on_exit(self, node, pid, status):
         node.pid = None
@@ -227,8 +203,8 @@ class Supervisor(StopCascade):
         if self.stopping or node.stop_requested:
             node.state = "stopping" if node.alive() else "stopped"
             return
-        if group_alive(node.pgid):
-            log(node.name, "killing what is left of its process group")
+        if node.alive():
+            log(node.name, "killing what it left behind")
             self.signal_node(node, signal.SIGKILL)
         if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
             self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
@@ -284,11 +260,12 @@ class Supervisor(StopCascade):
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
         moments.append(self.control.deadline() if self.control is not None else None)
+        moments.append(self.containment.before_sleep())
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
         moments = [moment for moment in moments if moment is not None]
         now = time.monotonic()
         timeout = max(0.0, min(moments) - now) if moments else None
-        if self.stopping and any(node.pid is None and node.alive() for node in self.nodes):
+        if any(node.state == "stopping" and node.pid is None for node in self.nodes):  # what it left is dying
             timeout = LEFTOVER_POLL_S if timeout is None else min(timeout, LEFTOVER_POLL_S)
         return timeout
 
@@ -309,6 +286,7 @@ class Supervisor(StopCascade):
         if self.control is not None:
             self.control.poll()
         now = time.monotonic()
+        self.containment.poll(now)
         if self.duration_end is not None and now >= self.duration_end:
             self.duration_end = None
             self.request_stop(f"duration of {self.options.duration} s elapsed")
@@ -317,6 +295,10 @@ class Supervisor(StopCascade):
         self.readiness.on_timer(now, self.stopping)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
+                if node.alive():  # what it left behind (killed when it ended) is not gone yet
+                    node.processes.kill()
+                    node.restart_at = now + LEFTOVER_POLL_S
+                    continue
                 node.restart_at = None
                 self.launch(node)
         if self.next_status is not None and now >= self.next_status:

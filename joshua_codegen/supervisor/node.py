@@ -4,6 +4,7 @@ import os
 import shutil
 
 from joshua_codegen.supervisor.common import group_alive, log, under_script_dir
+from joshua_codegen.supervisor.node_processes import NODE_MARK_VARIABLE, node_mark
 from joshua_codegen.supervisor.policy import (
     CPP_FALLBACK_WARNING,
     RESTART_DELAY_INITIAL_S,
@@ -20,6 +21,7 @@ class Node:
         self.python = python
         self.pid = None  # the node's main process while it runs
         self.pgid = None  # its process group while any member may be alive
+        self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
         self.state = "pending"  # pending, running, backoff, finished, failed, stopping, stopped
         self.restarts = 0
         self.delay = RESTART_DELAY_INITIAL_S
@@ -40,6 +42,7 @@ class Node:
         env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
         env.update(ROBOT["env"])
         env.update(self.spec["env"])
+        env[NODE_MARK_VARIABLE] = node_mark(os.getpid(), self.name)
         return env
 
     def cpp_binary(self):
@@ -67,7 +70,11 @@ class Node:
         return [self.python, under_script_dir(self.spec["entrypoint"])], "Python"
 
     def alive(self):
-        return self.pid is not None or (self.pgid is not None and group_alive(self.pgid))
+        """Whether anything it started may still run: its process, its process group, its cgroup's or
+        tracked processes. A node is stopped only once this is False."""
+        if self.pid is not None or (self.pgid is not None and group_alive(self.pgid)):
+            return True
+        return self.processes is not None and self.processes.alive()
 
     def status_line(self, now):
         if self.state == "running":

@@ -4,13 +4,14 @@ import os
 import signal
 import time
 
-from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.common import log, signal_name
+from joshua_codegen.supervisor.containment import process_group
 from joshua_codegen.supervisor.policy import KILL_WAIT_S
 from joshua_codegen.supervisor.robot import SIGINT_GRACE_S, SIGTERM_GRACE_S
 
 
 class StopCascade:
-    """The Supervisor's stopping half: uses its nodes, by_pid, guard, pid, outcome and stage fields."""
+    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome and stage fields."""
 
     def request_stop(self, reason):
         if self.stopping:
@@ -61,11 +62,25 @@ class StopCascade:
                 )
 
     def signal_node(self, node, number):
-        try:
-            os.killpg(node.pgid, number)
-        except ProcessLookupError:
-            if node.pid is not None:  # not yet in its own group (between fork and setsid)
-                self.signal_pid(node.pid, number)
+        """`number` to the node's process group and, once each, to every other process it started (in its
+        cgroup, or tracked for it); SIGKILL ends all of them at once (cgroup.kill, or stopped then killed)."""
+        if node.pgid is not None:
+            try:
+                os.killpg(node.pgid, number)
+            except ProcessLookupError:
+                if node.pid is not None:  # not yet in its own group (between fork and setsid)
+                    self.signal_pid(node.pid, number)
+        outside = [pid for pid in node.processes.pids() if process_group(pid) not in (None, node.pgid)]
+        if outside:
+            count = f"{len(outside)} process{'es' if len(outside) > 1 else ''}"
+            log(
+                node.name,
+                f"{signal_name(number)} also to {count} it started outside its group: {' '.join(map(str, outside))}",
+            )
+        if number == signal.SIGKILL:
+            node.processes.kill()
+        else:
+            node.processes.signal(outside, number)
 
     @staticmethod
     def signal_pid(pid, number):
@@ -75,8 +90,9 @@ class StopCascade:
             pass
 
     def leftover_children(self):
-        """Children of the supervisor that belong to no node: orphans that left their group."""
-        known = set(self.by_pid) | {self.guard.pid}
+        """Children of the supervisor that belong to no node: orphans that left their group and that
+        neither a cgroup nor the tracking attributes to a node."""
+        known = set(self.by_pid) | {self.guard.pid} | set(self.containment.pids())
         try:
             with open(f"/proc/{self.pid}/task/{self.pid}/children") as listing:
                 children = [int(pid) for pid in listing.read().split()]

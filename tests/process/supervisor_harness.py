@@ -63,6 +63,60 @@ while True:
     time.sleep(1)
 """
 
+# A node program whose child escapes its process group: argv PIDS_FILE MODE [EXIT_CODE], MODE daemon
+# (double fork, setsid), setsid or setpgid (one child that leaves the node's session or group). The node
+# writes its pid to PIDS_FILE, then the escaped process writes its own; once it has, the node exits with
+# EXIT_CODE when given, else sleeps. Every process is deaf to SIGINT, SIGTERM and SIGHUP.
+ESCAPE = r"""
+import os, signal, sys, time
+pids_file, mode = sys.argv[1], sys.argv[2]
+for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+    signal.signal(number, signal.SIG_IGN)
+
+def note():
+    with open(pids_file, "a") as out:
+        out.write(f"{os.getpid()}\n")
+
+note()
+read_end, write_end = os.pipe()
+if os.fork() == 0:
+    if mode == "daemon":
+        os.setsid()
+        if os.fork() != 0:
+            os._exit(0)
+    elif mode == "setsid":
+        os.setsid()
+    else:
+        os.setpgid(0, 0)
+    note()
+    os.write(write_end, b"x")
+    while True:
+        time.sleep(1)
+os.read(read_end, 1)
+if len(sys.argv) > 3:
+    os._exit(int(sys.argv[3]))
+while True:
+    time.sleep(1)
+"""
+ESCAPE_MODES = ("daemon", "setsid", "setpgid")
+
+
+def escaping_node(directory: Path, mode: str, *args: str, name: str | None = None, fields: str = "") -> str:
+    """A CUSTOM node named `name` (default: `mode`) running ESCAPE; its pids go to DIRECTORY/NAME.pids."""
+    script = directory / "escape.py"
+    script.write_text(ESCAPE)
+    name = name or mode
+    argv = ", ".join(quoted(a) for a in ["-I", "-S", str(script), str(directory / f"{name}.pids"), mode, *args])
+    return f'node {{ name: "{name}" type: CUSTOM executable: "{PYTHON}" args: [{argv}] {fields} }}'
+
+
+def escaped_launches(directory: Path, name: str) -> list[tuple[int, int]]:
+    """(node pid, escaped pid) of every launch of the ESCAPE node `name` whose escaped process has started."""
+    path = directory / f"{name}.pids"
+    pids = [int(line) for line in path.read_text().split()] if path.exists() else []
+    return list(zip(pids[0::2], pids[1::2]))
+
+
 CPP_STAND_IN = r"""#!/bin/sh
 printf '%s\n' "$0" "$@" > "$(dirname "$0")/argv.txt"
 trap 'exit 0' INT TERM
@@ -150,6 +204,20 @@ def zombies_of(parent: int) -> list[int]:
     return found
 
 
+def children_of(pid: int) -> list[int]:
+    try:
+        return [int(child) for child in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+    except OSError:
+        return []
+
+
+def command_line(pid: int) -> list[str]:
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace").split("\0")
+    except OSError:
+        return []
+
+
 def alive(pid: int) -> bool:
     return process_state(pid) not in (None, "Z")
 
@@ -191,6 +259,17 @@ class Supervisor:
             self.process.kill()
             self.process.wait()
         self.log_file.close()
+
+
+def ctl(out: Path, sock: Path, *args: str, timeout: float = 30) -> subprocess.CompletedProcess:
+    """`supervisor.py ctl --control-socket SOCK ARGS...`, its output as text."""
+    return subprocess.run(
+        [PYTHON, str(out / "supervisor.py"), "ctl", "--control-socket", str(sock), *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
 
 
 def log_times(text: str, pattern: str) -> list[float]:

@@ -101,13 +101,14 @@ def test_grandchildren_in_the_node_group_get_the_cascade_too(tmp_path):
     assert "parent: still running: escalating to SIGKILL" in text
 
 
-def test_a_grandchild_that_left_its_group_is_stopped_as_a_leftover(tmp_path):
+def test_a_grandchild_that_left_its_group_is_stopped_with_its_node(tmp_path):
     log = tmp_path / "events.log"
     code, text = stop_after_start(tmp_path, [custom_node("parent", log, "grandchild=escape")], starts=2)
     assert code == 1
     [grandchild] = [pid for name, pid, text in events(log) if name == "parent/grandchild"]
     assert not alive(grandchild)
-    assert f"sending SIGKILL to leftover process {grandchild}" in text
+    for stage in ("SIGINT", "SIGTERM", "SIGKILL"):
+        assert f"parent: {stage} also to 1 process it started outside its group: {grandchild}" in text
 
 
 def test_duration_runs_the_robot_then_stops_it_cleanly(tmp_path):
