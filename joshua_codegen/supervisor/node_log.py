@@ -1,4 +1,4 @@
-"""Each node's output: passed on to the supervisor's own stderr and kept in `<log dir>/<node>.log`, rotated."""
+"""Each node's output: overlong lines cut, passed on to the supervisor's stderr and kept in `<log dir>/<node>.log`."""
 
 import os
 import sys
@@ -9,7 +9,16 @@ from joshua_codegen.supervisor.common import log
 # .1 becomes .2, ... and the oldest of LOG_BACKUPS is dropped; at most (1 + LOG_BACKUPS) x 10 MiB a node.
 LOG_MAX_BYTES = 10 * 1024 * 1024
 LOG_BACKUPS = 3
-LOG_READ_BYTES = 65536
+LOG_READ_BYTES = 65536  # at most this much is read from a node's pipe at once
+# A line longer than LINE_MAX_BYTES is cut into lines of that many bytes (a few more or fewer rather than
+# inside a UTF-8 character), each but the last ending in LINE_CUT_MARK, as journald's LineMax cuts lines
+# (marking them _LINE_BREAK=line-max). Since a read is no longer than a line may be, only the line running
+# on from earlier reads can grow past the cap: each read costs time in proportion to its length, and a
+# node's unfinished line takes at most LINE_MAX_BYTES of memory.
+LINE_MAX_BYTES = 65536
+LINE_CUT_MARK = f" [line cut at {LINE_MAX_BYTES} bytes, continued below]".encode()
+UTF8_CONTINUATION = range(0x80, 0xC0)  # the bytes that continue a UTF-8 character, never start one
+TAIL_BLOCK_BYTES = 65536  # log files are read backwards in blocks of this size to find their last lines
 
 
 def default_log_dir(robot: str) -> str:
@@ -30,12 +39,28 @@ def open_node_logs(directory: str | None, names: list[str]) -> dict:
     return {name: NodeLog(directory, name) for name in names}
 
 
+def character_start(data: bytes, cut: int, start: int, end: int) -> int:
+    """`cut` moved to the start of a UTF-8 character: back (by up to three bytes, staying after `start`)
+    where it can, else forward (by up to three, staying before `end`); unmoved in data that is not UTF-8."""
+    if data[cut] not in UTF8_CONTINUATION:
+        return cut
+    for back in range(cut - 1, max(start, cut - 4), -1):
+        if data[back] not in UTF8_CONTINUATION:
+            return back
+    for forward in range(cut + 1, min(end, cut + 4)):
+        if data[forward] not in UTF8_CONTINUATION:
+            return forward
+    return cut
+
+
 class NodeLog:
-    """The log file of one node; `feed` takes what the node's output pipe gave and hands complete lines on."""
+    """The output of one node: `feed` takes what its pipe gave, cuts overlong lines, and passes the result
+    to the supervisor's stderr, the log file and the listeners (which get complete lines)."""
 
     def __init__(self, directory: str, name: str):
         self.path = os.path.join(directory, f"{name}.log")
-        self.partial = b""
+        self.line_length = 0  # bytes of the unfinished line passed on so far
+        self.partial = bytearray()  # the unfinished line, for the listeners (at most LINE_MAX_BYTES)
         self.listeners = []  # callables taking one decoded line, e.g. `ctl logs -f` clients
 
     def open_pipe(self):
@@ -53,25 +78,47 @@ class NodeLog:
         except OSError:
             data = b""
         if not data:
-            if self.partial:
+            if self.line_length:
                 self.feed(b"\n")
             return False
         self.feed(data)
         return True
 
     def feed(self, data: bytes) -> None:
+        data = self.cut_long_lines(data)
         try:
             sys.stderr.buffer.write(data)
             sys.stderr.flush()
         except (OSError, ValueError):
             pass
         self.append(data)
-        lines = (self.partial + data).split(b"\n")
-        self.partial = lines.pop()
-        for line in lines:
-            text = line.decode(errors="replace")
-            for listener in list(self.listeners):
-                listener(text)
+        end = data.rfind(b"\n")
+        if end < 0:
+            self.partial += data
+            return
+        if self.listeners:
+            lines = (bytes(self.partial) + data[:end]).split(b"\n")
+            for line in lines:
+                text = line.decode(errors="replace")
+                for listener in list(self.listeners):
+                    listener(text)
+        self.partial = bytearray(data[end + 1 :])
+
+    def cut_long_lines(self, data: bytes) -> bytes:
+        """`data` with LINE_CUT_MARK and a newline put in wherever the line it continues would grow past
+        LINE_MAX_BYTES; every later line in `data` is shorter than a read, so within the cap."""
+        first = data.find(b"\n")
+        head = len(data) if first < 0 else first  # where the line running on ends in `data`
+        pieces, start = [], 0
+        while head - start > LINE_MAX_BYTES - self.line_length:
+            cut = character_start(data, start + LINE_MAX_BYTES - self.line_length, start, head)
+            pieces += (data[start:cut], LINE_CUT_MARK, b"\n")
+            start, self.line_length = cut, 0
+        self.line_length = self.line_length + len(data) - start if first < 0 else len(data) - data.rfind(b"\n") - 1
+        if not pieces:
+            return data
+        pieces.append(data[start:])
+        return b"".join(pieces)
 
     def append(self, data: bytes) -> None:
         try:
@@ -91,14 +138,31 @@ class NodeLog:
 
     def tail(self, count: int) -> list[str]:
         """The last `count` lines, from the rotated files too when the current one holds fewer."""
-        lines = []
+        lines: list[bytes] = []
         for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
             if len(lines) >= count:
                 break
-            try:
-                with open(path, "rb") as log_file:
-                    older = log_file.read().decode(errors="replace").splitlines()
-            except OSError:
-                continue
-            lines = older + lines
-        return lines[-count:] if count > 0 else []
+            lines = last_lines(path, count - len(lines)) + lines
+        return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
+
+
+def last_lines(path: str, count: int) -> list[bytes]:
+    """The last `count` lines of the file at `path` (fewer when it holds fewer; none when it is absent),
+    read backwards in blocks of TAIL_BLOCK_BYTES."""
+    try:
+        with open(path, "rb") as log_file:
+            position = log_file.seek(0, os.SEEK_END)
+            blocks: list[bytes] = []
+            newlines = 0
+            while position > 0 and newlines <= count:
+                size = min(TAIL_BLOCK_BYTES, position)
+                position -= size
+                log_file.seek(position)
+                blocks.insert(0, log_file.read(size))
+                newlines += blocks[0].count(b"\n")
+    except OSError:
+        return []
+    lines = b"".join(blocks).splitlines()
+    if position > 0:
+        lines = lines[1:]  # the first may have begun in a block not read
+    return lines[-count:] if count > 0 else []
