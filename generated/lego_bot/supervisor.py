@@ -223,7 +223,8 @@ def own_cgroup() -> str | None:
 def create_cgroup(name: str) -> str:
     """A new, empty cgroup `name` below this process's own one; raises OSError where that is not possible.
 
-    No existing process is moved: only the nodes' children join it, each on its own before exec.
+    No existing process is moved: only the nodes' children join it (each the cgroup of its node below
+    it), each on its own before exec.
     """
     mount, own = cgroup2_mount(), own_cgroup()
     if mount is None or own is None:
@@ -273,11 +274,32 @@ def kill_cgroup(path: str) -> None:
         pass
 
 
+def cgroup_pids(path: str) -> list[int]:
+    """The processes in the cgroup at `path` and in the cgroups below it; none when it is gone."""
+    found = []
+    for directory, _, _ in os.walk(path):
+        try:
+            with open(os.path.join(directory, "cgroup.procs")) as procs:
+                found.extend(int(pid) for pid in procs.read().split())
+        except OSError:
+            continue
+    return found
+
+
 def remove_cgroup(path: str) -> bool:
-    """Remove the cgroup once its processes are gone (waiting up to KILL_WAIT_S); whether it is gone."""
+    """Remove the cgroup and the cgroups below it once their processes are gone (waiting up to
+    KILL_WAIT_S); whether it is gone."""
     deadline = time.monotonic() + KILL_WAIT_S
     while cgroup_populated(path) and time.monotonic() < deadline:
         time.sleep(CGROUP_EMPTY_POLL_S)
+    try:
+        below = [entry.path for entry in os.scandir(path) if entry.is_dir(follow_symlinks=False)]
+    except FileNotFoundError:
+        return True
+    except OSError:
+        below = []
+    for child in below:
+        remove_cgroup(child)
     try:
         os.rmdir(path)
     except FileNotFoundError:
@@ -318,17 +340,33 @@ def send_signal(pidfd: int, number: int) -> None:
         pass
 
 
-class DescendantTracker:
-    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
-    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+def exited(pidfds: list[int]) -> set[int]:
+    """Those of `pidfds` whose process has ended (a pidfd is readable from then on; a zombie has ended)."""
+    poller = select.poll()
+    for pidfd in pidfds:
+        poller.register(pidfd, select.POLLIN)
+    return {pidfd for pidfd, _ in poller.poll(0)}
 
-    def __init__(self, root: int, exclude: int):
-        self.root = root
-        self.exclude = exclude  # the tracker's own process (a child of the root)
+
+def process_group(pid: int) -> int | None:
+    """The process group of `pid`, None when it is gone or a zombie."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            fields = stat.read().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+    return None if fields[0] == "Z" else int(fields[2])
+
+
+class TrackedProcesses:
+    """Processes held by pidfd (so a signal never reaches a reused PID), killed as one with kill_all."""
+
+    def __init__(self, exclude: tuple[int, ...] = ()):
+        self.exclude = set(exclude)  # never tracked (the tracker's own process, the supervisor)
         self.known: dict[int, int] = {}  # pid -> pidfd
 
     def add(self, pid: int) -> bool:
-        if pid in self.known or pid in (self.exclude, self.root):
+        if pid in self.known or pid in self.exclude:
             return False
         pidfd = open_pidfd(pid)
         if pidfd is None:
@@ -336,27 +374,16 @@ class DescendantTracker:
         self.known[pid] = pidfd
         return True
 
-    def update(self) -> None:
-        """One poll while the root lives: find new descendants, forget the ones that are gone."""
-        current = set(self.descendants_of(self.root))
-        for pid in list(self.known):
-            if pid not in current:
-                os.close(self.known.pop(pid))
-        for pid in current:
-            self.add(pid)
+    def forget(self, pid: int) -> None:
+        os.close(self.known.pop(pid))
 
-    def descendants_of(self, root: int) -> list[int]:
-        found, frontier, seen = [], [root], {root, self.exclude}
-        while frontier:
-            for child in children_of(frontier.pop()):
-                if child not in seen:
-                    seen.add(child)
-                    found.append(child)
-                    frontier.append(child)
-        return found
+    def forget_exited(self) -> None:
+        ended = exited(list(self.known.values()))
+        for pid in [pid for pid, pidfd in self.known.items() if pidfd in ended]:
+            self.forget(pid)
 
     def kill_all(self) -> None:
-        """Stop every known descendant (a stopped process cannot fork), add their children until a pass
+        """Stop every known process (a stopped process cannot fork), add their children until a pass
         finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
         stopped: set[int] = set()
         settled = False
@@ -369,10 +396,39 @@ class DescendantTracker:
                     break
                 settled = True
                 time.sleep(STOP_SETTLE_S)
-        for pidfd in self.known.values():
+        for pid, pidfd in list(self.known.items()):
             send_signal(pidfd, signal.SIGKILL)
-            os.close(pidfd)
-        self.known.clear()
+            self.forget(pid)
+
+
+def descendants_of(root: int, exclude: set[int]) -> list[int]:
+    """Every process below `root` in the process tree now, except `exclude` and what is below those."""
+    found, frontier, seen = [], [root], {root, *exclude}
+    while frontier:
+        for child in children_of(frontier.pop()):
+            if child not in seen:
+                seen.add(child)
+                found.append(child)
+                frontier.append(child)
+    return found
+
+
+class DescendantTracker(TrackedProcesses):
+    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
+    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+
+    def __init__(self, root: int, exclude: int):
+        super().__init__((root, exclude))  # exclude: the tracker's own process (a child of the root)
+        self.root = root
+
+    def update(self) -> None:
+        """One poll while the root lives: find new descendants, forget the ones that are gone."""
+        current = set(descendants_of(self.root, self.exclude))
+        for pid in list(self.known):
+            if pid not in current:
+                self.forget(pid)
+        for pid in current:
+            self.add(pid)
 
 
 # The forked child of a node: own session, death signal, default signals, then exec.
@@ -498,6 +554,210 @@ class Guard:
             self.pid = None
 
 
+# What each node started, kept apart per node: in the node's own cgroup, else tracked through /proc.
+
+
+# Every node's environment holds "<supervisor pid>:<node name>" in NODE_MARK_VARIABLE: without a cgroup,
+# a process orphaned before the supervisor saw it is recognised by it.
+NODE_MARK_VARIABLE = "JOSHUA_SUPERVISOR_NODE"
+
+
+def node_mark(supervisor: int, name: str) -> str:
+    return f"{supervisor}:{name}"
+
+
+def environment_mark(pid: int) -> str | None:
+    """The NODE_MARK_VARIABLE value `pid` was started with, None when it has none or cannot be read."""
+    prefix = f"{NODE_MARK_VARIABLE}=".encode()
+    try:
+        with open(f"/proc/{pid}/environ", "rb") as environ:
+            entries = environ.read().split(b"\0")
+    except OSError:
+        return None
+    return next((entry[len(prefix) :].decode(errors="replace") for entry in entries if entry.startswith(prefix)), None)
+
+
+class NodeCgroup:
+    """A node's own cgroup: every process it started stays in it, whatever session, group or parent it
+    moves to (only a write to the cgroup tree moves a process out)."""
+
+    def __init__(self, path: str):
+        self.join = path  # the cgroup each of the node's processes joins before exec
+
+    def pids(self) -> list[int]:
+        return cgroup_pids(self.join)
+
+    def alive(self) -> bool:
+        return cgroup_populated(self.join)
+
+    def signal(self, pids: list[int], number: int) -> None:
+        for pid in pids:
+            try:
+                os.kill(pid, number)
+            except ProcessLookupError:
+                pass
+
+    def kill(self) -> None:
+        kill_cgroup(self.join)
+
+
+class CgroupContainment:
+    """A new cgroup of the supervisor's, holding one cgroup per node and no process of its own."""
+
+    def __init__(self, path: str, nodes):
+        self.cgroup = path  # the guard kills and removes it with everything below
+        for node in nodes:
+            node.processes = NodeCgroup(os.path.join(path, node.name))
+
+    def pids(self) -> list[int]:
+        """The processes of every node."""
+        return cgroup_pids(self.cgroup)
+
+    def before_sleep(self):
+        return None
+
+    def poll(self, now: float) -> None:
+        pass
+
+    def close(self) -> None:
+        """At the supervisor's exit, after its guard's: what the guard does, in case the guard is gone."""
+        kill_cgroup(self.cgroup)
+        remove_cgroup(self.cgroup)
+
+
+class NodeDescendants(TrackedProcesses):
+    """Without a cgroup: the processes of one node, as its NodeTracker found them (refreshed on each use)."""
+
+    def __init__(self, tracker):
+        super().__init__()
+        self.tracker = tracker
+        self.join = None
+
+    def pids(self) -> list[int]:
+        self.tracker.update()
+        return list(self.known)
+
+    def alive(self) -> bool:
+        self.tracker.refresh()
+        self.forget_exited()
+        return bool(self.known)
+
+    def signal(self, pids: list[int], number: int) -> None:
+        for pid in pids:
+            if pid in self.known:
+                send_signal(self.known[pid], number)
+
+    def kill(self) -> None:
+        self.tracker.update()
+        self.kill_all()
+
+
+class NodeTracker:
+    """Without a cgroup: every descendant of the supervisor, attributed to the node that started it.
+
+    A process below a node's running process is that node's. The supervisor is a child subreaper, so a
+    process whose parent died becomes its child: it stays with the node it was seen with, else it is the
+    node's its environment names (NODE_MARK_VARIABLE); a process that is neither belongs to no node. Known
+    processes are held by pidfd and looked for again every TRACKING_POLL_S while any node may run."""
+
+    cgroup = None
+
+    def __init__(self, supervisor: int, nodes):
+        self.supervisor = supervisor
+        self.nodes = nodes
+        self.strangers: set[int] = set()  # children of the supervisor that belong to no node
+        self.next_poll = 0.0
+        self.stale = True  # processes may have come or gone since the last update (see before_sleep)
+        for node in nodes:
+            node.processes = NodeDescendants(self)
+
+    def owner(self, pid: int):
+        """The NodeDescendants an orphan `pid` belongs to, or None."""
+        for node in self.nodes:
+            if pid in node.processes.known:
+                return node.processes
+        mark = environment_mark(pid)
+        return next((n.processes for n in self.nodes if mark == node_mark(self.supervisor, n.name)), None)
+
+    def refresh(self) -> None:
+        if self.stale:
+            self.update()
+
+    def update(self) -> None:
+        """Walk /proc from every node's running process and every orphan belonging to a node."""
+        self.stale = False
+        roots = {node.pid: node.processes for node in self.nodes if node.pid is not None}
+        children = children_of(self.supervisor)
+        self.strangers &= set(children)
+        for child in children:
+            if child not in roots and child not in self.strangers:
+                owner = self.owner(child)
+                if owner is None:
+                    self.strangers.add(child)
+                else:
+                    roots[child] = owner
+        for root, owner in roots.items():
+            for pid in [root, *descendants_of(root, {self.supervisor})]:
+                owner.add(pid)
+        for node in self.nodes:
+            node.processes.forget_exited()
+
+    def pids(self) -> list[int]:
+        """The processes of every node."""
+        self.update()
+        return [pid for node in self.nodes for pid in node.processes.known]
+
+    def busy(self) -> bool:
+        return any(node.pid is not None or node.processes.known for node in self.nodes)
+
+    def before_sleep(self):
+        """Told by the supervisor's loop as it goes to sleep: the first question about a node after it
+        walks /proc again (the ones after that, in the same instant, do not). The moment the next poll is
+        due, None while no node has a process."""
+        self.stale = True
+        return self.next_poll if self.busy() else None
+
+    def poll(self, now: float) -> None:
+        if now >= self.next_poll and self.busy():
+            self.update()
+            self.next_poll = now + TRACKING_POLL_S
+
+    def close(self) -> None:
+        for node in self.nodes:
+            for pid in list(node.processes.known):
+                node.processes.forget(pid)
+
+
+def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
+    """A CgroupContainment in a new cgroup `joshua-<robot>-<pid>` where one can be made (so that the
+    guard and each node's stop can kill what the nodes leave behind), else a NodeTracker."""
+    reason = "--no-cgroup"
+    if not no_cgroup:
+        try:
+            path = create_cgroup(f"joshua-{ROBOT['name']}-{supervisor}")
+        except OSError as exc:
+            reason = str(exc)
+        else:
+            try:
+                for node in nodes:
+                    os.mkdir(os.path.join(path, node.name))
+            except OSError as exc:
+                reason = f"cannot create a cgroup per node in {path}: {exc}"
+            else:
+                probe = os.path.join(path, nodes[0].name) if nodes else path
+                if cgroup_usable(probe):
+                    log("supervisor", f"nodes run in cgroup {path}")
+                    return CgroupContainment(path, nodes)
+                reason = f"a process cannot join {probe}"
+            remove_cgroup(path)
+    log(
+        "supervisor",
+        f"no cgroup for the nodes ({reason}); the guard tracks their descendants through /proc every "
+        f"{TRACKING_POLL_S} s, and the supervisor which node started each",
+    )
+    return NodeTracker(supervisor, nodes)
+
+
 # Fast DDS shared-memory files a dead node left in /dev/shm, found by their free lock and removed.
 
 
@@ -577,6 +837,7 @@ class Node:
         self.python = python
         self.pid = None  # the node's main process while it runs
         self.pgid = None  # its process group while any member may be alive
+        self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
         self.state = "pending"  # pending, running, backoff, finished, failed, stopping, stopped
         self.restarts = 0
         self.delay = RESTART_DELAY_INITIAL_S
@@ -597,6 +858,7 @@ class Node:
         env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
         env.update(ROBOT["env"])
         env.update(self.spec["env"])
+        env[NODE_MARK_VARIABLE] = node_mark(os.getpid(), self.name)
         return env
 
     def cpp_binary(self):
@@ -624,7 +886,11 @@ class Node:
         return [self.python, under_script_dir(self.spec["entrypoint"])], "Python"
 
     def alive(self):
-        return self.pid is not None or (self.pgid is not None and group_alive(self.pgid))
+        """Whether anything it started may still run: its process, its process group, its cgroup's or
+        tracked processes. A node is stopped only once this is False."""
+        if self.pid is not None or (self.pgid is not None and group_alive(self.pgid)):
+            return True
+        return self.processes is not None and self.processes.alive()
 
     def status_line(self, now):
         if self.state == "running":
@@ -938,14 +1204,23 @@ class Outcome:
         return lines
 
 
-# Each node's output: passed on to the supervisor's own stderr and kept in `<log dir>/<node>.log`, rotated.
+# Each node's output: overlong lines cut, passed on to the supervisor's stderr and kept in `<log dir>/<node>.log`.
 
 
 # A node's log file is rotated when it would grow past LOG_MAX_BYTES: <node>.log becomes <node>.log.1,
 # .1 becomes .2, ... and the oldest of LOG_BACKUPS is dropped; at most (1 + LOG_BACKUPS) x 10 MiB a node.
 LOG_MAX_BYTES = 10 * 1024 * 1024
 LOG_BACKUPS = 3
-LOG_READ_BYTES = 65536
+LOG_READ_BYTES = 65536  # at most this much is read from a node's pipe at once
+# A line longer than LINE_MAX_BYTES is cut into lines of that many bytes (a few more or fewer rather than
+# inside a UTF-8 character), each but the last ending in LINE_CUT_MARK, as journald's LineMax cuts lines
+# (marking them _LINE_BREAK=line-max). Since a read is no longer than a line may be, only the line running
+# on from earlier reads can grow past the cap: each read costs time in proportion to its length, and a
+# node's unfinished line takes at most LINE_MAX_BYTES of memory.
+LINE_MAX_BYTES = 65536
+LINE_CUT_MARK = f" [line cut at {LINE_MAX_BYTES} bytes, continued below]".encode()
+UTF8_CONTINUATION = range(0x80, 0xC0)  # the bytes that continue a UTF-8 character, never start one
+TAIL_BLOCK_BYTES = 65536  # log files are read backwards in blocks of this size to find their last lines
 
 
 def default_log_dir(robot: str) -> str:
@@ -966,12 +1241,28 @@ def open_node_logs(directory: str | None, names: list[str]) -> dict:
     return {name: NodeLog(directory, name) for name in names}
 
 
+def character_start(data: bytes, cut: int, start: int, end: int) -> int:
+    """`cut` moved to the start of a UTF-8 character: back (by up to three bytes, staying after `start`)
+    where it can, else forward (by up to three, staying before `end`); unmoved in data that is not UTF-8."""
+    if data[cut] not in UTF8_CONTINUATION:
+        return cut
+    for back in range(cut - 1, max(start, cut - 4), -1):
+        if data[back] not in UTF8_CONTINUATION:
+            return back
+    for forward in range(cut + 1, min(end, cut + 4)):
+        if data[forward] not in UTF8_CONTINUATION:
+            return forward
+    return cut
+
+
 class NodeLog:
-    """The log file of one node; `feed` takes what the node's output pipe gave and hands complete lines on."""
+    """The output of one node: `feed` takes what its pipe gave, cuts overlong lines, and passes the result
+    to the supervisor's stderr, the log file and the listeners (which get complete lines)."""
 
     def __init__(self, directory: str, name: str):
         self.path = os.path.join(directory, f"{name}.log")
-        self.partial = b""
+        self.line_length = 0  # bytes of the unfinished line passed on so far
+        self.partial = bytearray()  # the unfinished line, for the listeners (at most LINE_MAX_BYTES)
         self.listeners = []  # callables taking one decoded line, e.g. `ctl logs -f` clients
 
     def open_pipe(self):
@@ -989,25 +1280,47 @@ class NodeLog:
         except OSError:
             data = b""
         if not data:
-            if self.partial:
+            if self.line_length:
                 self.feed(b"\n")
             return False
         self.feed(data)
         return True
 
     def feed(self, data: bytes) -> None:
+        data = self.cut_long_lines(data)
         try:
             sys.stderr.buffer.write(data)
             sys.stderr.flush()
         except (OSError, ValueError):
             pass
         self.append(data)
-        lines = (self.partial + data).split(b"\n")
-        self.partial = lines.pop()
-        for line in lines:
-            text = line.decode(errors="replace")
-            for listener in list(self.listeners):
-                listener(text)
+        end = data.rfind(b"\n")
+        if end < 0:
+            self.partial += data
+            return
+        if self.listeners:
+            lines = (bytes(self.partial) + data[:end]).split(b"\n")
+            for line in lines:
+                text = line.decode(errors="replace")
+                for listener in list(self.listeners):
+                    listener(text)
+        self.partial = bytearray(data[end + 1 :])
+
+    def cut_long_lines(self, data: bytes) -> bytes:
+        """`data` with LINE_CUT_MARK and a newline put in wherever the line it continues would grow past
+        LINE_MAX_BYTES; every later line in `data` is shorter than a read, so within the cap."""
+        first = data.find(b"\n")
+        head = len(data) if first < 0 else first  # where the line running on ends in `data`
+        pieces, start = [], 0
+        while head - start > LINE_MAX_BYTES - self.line_length:
+            cut = character_start(data, start + LINE_MAX_BYTES - self.line_length, start, head)
+            pieces += (data[start:cut], LINE_CUT_MARK, b"\n")
+            start, self.line_length = cut, 0
+        self.line_length = self.line_length + len(data) - start if first < 0 else len(data) - data.rfind(b"\n") - 1
+        if not pieces:
+            return data
+        pieces.append(data[start:])
+        return b"".join(pieces)
 
     def append(self, data: bytes) -> None:
         try:
@@ -1027,17 +1340,34 @@ class NodeLog:
 
     def tail(self, count: int) -> list[str]:
         """The last `count` lines, from the rotated files too when the current one holds fewer."""
-        lines = []
+        lines: list[bytes] = []
         for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
             if len(lines) >= count:
                 break
-            try:
-                with open(path, "rb") as log_file:
-                    older = log_file.read().decode(errors="replace").splitlines()
-            except OSError:
-                continue
-            lines = older + lines
-        return lines[-count:] if count > 0 else []
+            lines = last_lines(path, count - len(lines)) + lines
+        return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
+
+
+def last_lines(path: str, count: int) -> list[bytes]:
+    """The last `count` lines of the file at `path` (fewer when it holds fewer; none when it is absent),
+    read backwards in blocks of TAIL_BLOCK_BYTES."""
+    try:
+        with open(path, "rb") as log_file:
+            position = log_file.seek(0, os.SEEK_END)
+            blocks: list[bytes] = []
+            newlines = 0
+            while position > 0 and newlines <= count:
+                size = min(TAIL_BLOCK_BYTES, position)
+                position -= size
+                log_file.seek(position)
+                blocks.insert(0, log_file.read(size))
+                newlines += blocks[0].count(b"\n")
+    except OSError:
+        return []
+    lines = b"".join(blocks).splitlines()
+    if position > 0:
+        lines = lines[1:]  # the first may have begun in a block not read
+    return lines[-count:] if count > 0 else []
 
 
 # The control socket: status, restart / stop / start of one node and its log, one JSON line each way.
@@ -1303,7 +1633,7 @@ class ControlPlane:
 
 
 class StopCascade:
-    """The Supervisor's stopping half: uses its nodes, by_pid, guard, pid, outcome and stage fields."""
+    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome and stage fields."""
 
     def request_stop(self, reason):
         if self.stopping:
@@ -1354,11 +1684,25 @@ class StopCascade:
                 )
 
     def signal_node(self, node, number):
-        try:
-            os.killpg(node.pgid, number)
-        except ProcessLookupError:
-            if node.pid is not None:  # not yet in its own group (between fork and setsid)
-                self.signal_pid(node.pid, number)
+        """`number` to the node's process group and, once each, to every other process it started (in its
+        cgroup, or tracked for it); SIGKILL ends all of them at once (cgroup.kill, or stopped then killed)."""
+        if node.pgid is not None:
+            try:
+                os.killpg(node.pgid, number)
+            except ProcessLookupError:
+                if node.pid is not None:  # not yet in its own group (between fork and setsid)
+                    self.signal_pid(node.pid, number)
+        outside = [pid for pid in node.processes.pids() if process_group(pid) not in (None, node.pgid)]
+        if outside:
+            count = f"{len(outside)} process{'es' if len(outside) > 1 else ''}"
+            log(
+                node.name,
+                f"{signal_name(number)} also to {count} it started outside its group: {' '.join(map(str, outside))}",
+            )
+        if number == signal.SIGKILL:
+            node.processes.kill()
+        else:
+            node.processes.signal(outside, number)
 
     @staticmethod
     def signal_pid(pid, number):
@@ -1368,8 +1712,9 @@ class StopCascade:
             pass
 
     def leftover_children(self):
-        """Children of the supervisor that belong to no node: orphans that left their group."""
-        known = set(self.by_pid) | {self.guard.pid}
+        """Children of the supervisor that belong to no node: orphans that left their group and that
+        neither a cgroup nor the tracking attributes to a node."""
+        known = set(self.by_pid) | {self.guard.pid} | set(self.containment.pids())
         try:
             with open(f"/proc/{self.pid}/task/{self.pid}/children") as listing:
                 children = [int(pid) for pid in listing.read().split()]
@@ -1387,6 +1732,7 @@ class Supervisor(StopCascade):
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
         self.guard = Guard(None)
+        self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
         self.pid = os.getpid()
         self.wakeup = None
         self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
@@ -1422,7 +1768,8 @@ class Supervisor(StopCascade):
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
-        self.guard = Guard(self.contain())
+        self.containment = contain_nodes(self.nodes, self.pid, self.options.no_cgroup)
+        self.guard = Guard(self.containment.cgroup)
         self.guard.start()
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
@@ -1449,6 +1796,7 @@ class Supervisor(StopCascade):
                 self.request_stop(f"received {signal_name(self.requests.pop(0))}")
             self.on_timers()
         self.guard.stop()
+        self.containment.close()
         if self.control is not None:
             self.control.close()
         for node in self.nodes:
@@ -1456,28 +1804,6 @@ class Supervisor(StopCascade):
         for line in self.outcome.last_lines():
             log("supervisor", line)
         return self.outcome.exit_code()
-
-    def contain(self):
-        """A new cgroup every node joins (so the guard can kill all they leave behind), or None: then the
-        guard tracks descendants through /proc."""
-        reason = "--no-cgroup"
-        if not self.options.no_cgroup:
-            try:
-                path = create_cgroup(f"joshua-{ROBOT['name']}-{self.pid}")
-            except OSError as exc:
-                reason = str(exc)
-            else:
-                if cgroup_usable(path):
-                    log("supervisor", f"nodes run in cgroup {path}")
-                    return path
-                remove_cgroup(path)
-                reason = f"a process cannot join {path}"
-        log(
-            "supervisor",
-            f"no cgroup for the nodes ({reason}); the guard tracks their descendants through "
-            f"/proc every {TRACKING_POLL_S} s",
-        )
-        return None
 
     # Launching and reaping
 
@@ -1490,7 +1816,7 @@ class Supervisor(StopCascade):
         try:
             pid = os.fork()
             if pid == 0:
-                child_exec(argv, node.environment, self.pid, self.guard.cgroup, write_end)
+                child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
         except OSError as exc:
             if node_log is not None:
                 os.close(read_end)
@@ -1550,8 +1876,8 @@ class Supervisor(StopCascade):
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
                 node.pgid = None
-                if node.state == "stopping":
-                    node.state = "stopped"
+            if node.state == "stopping" and not node.alive():
+                node.state = "stopped"
 
     def on_exit(self, node, pid, status):
         node.pid = None
@@ -1566,8 +1892,8 @@ class Supervisor(StopCascade):
         if self.stopping or node.stop_requested:
             node.state = "stopping" if node.alive() else "stopped"
             return
-        if group_alive(node.pgid):
-            log(node.name, "killing what is left of its process group")
+        if node.alive():
+            log(node.name, "killing what it left behind")
             self.signal_node(node, signal.SIGKILL)
         if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
             self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
@@ -1623,11 +1949,12 @@ class Supervisor(StopCascade):
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
         moments.append(self.control.deadline() if self.control is not None else None)
+        moments.append(self.containment.before_sleep())
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
         moments = [moment for moment in moments if moment is not None]
         now = time.monotonic()
         timeout = max(0.0, min(moments) - now) if moments else None
-        if self.stopping and any(node.pid is None and node.alive() for node in self.nodes):
+        if any(node.state == "stopping" and node.pid is None for node in self.nodes):  # what it left is dying
             timeout = LEFTOVER_POLL_S if timeout is None else min(timeout, LEFTOVER_POLL_S)
         return timeout
 
@@ -1648,6 +1975,7 @@ class Supervisor(StopCascade):
         if self.control is not None:
             self.control.poll()
         now = time.monotonic()
+        self.containment.poll(now)
         if self.duration_end is not None and now >= self.duration_end:
             self.duration_end = None
             self.request_stop(f"duration of {self.options.duration} s elapsed")
@@ -1656,6 +1984,10 @@ class Supervisor(StopCascade):
         self.readiness.on_timer(now, self.stopping)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
+                if node.alive():  # what it left behind (killed when it ended) is not gone yet
+                    node.processes.kill()
+                    node.restart_at = now + LEFTOVER_POLL_S
+                    continue
                 node.restart_at = None
                 self.launch(node)
         if self.next_status is not None and now >= self.next_status:
