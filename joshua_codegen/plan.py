@@ -250,6 +250,8 @@ def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
     args = ["--port", str(port), "--bind", dashboard.bind or dashboard_facts.DEFAULT_BIND]
     if dashboard.zenoh_connect:
         args += ["--zenoh-connect", dashboard.zenoh_connect]
+    for name in dashboard.allowed_host:
+        args += ["--allowed-host", name]
     return _service_process(
         dashboard_facts.PROCESS_NAME,
         dashboard_facts.PROCESS_TYPE,

@@ -44,6 +44,13 @@ def test_an_empty_block_listens_on_loopback_port_8640_without_fleet():
     assert arguments(build("dashboard { }")) == ["--port", "8640", "--bind", "127.0.0.1"]
 
 
+def test_allowed_host_names_reach_the_dashboard_as_arguments():
+    files = build('dashboard { allowed_host: "robot.example.org" allowed_host: "10.0.0.7" }')
+    assert arguments(files) == [
+        "--port", "8640", "--bind", "127.0.0.1", "--allowed-host", "robot.example.org", "--allowed-host", "10.0.0.7",
+    ]  # fmt: skip
+
+
 def test_without_a_block_there_is_no_dashboard():
     files = build("")
     assert "nodes/dashboard.py" not in files

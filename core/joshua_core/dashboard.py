@@ -9,7 +9,10 @@ PROCESS_TYPE = "DASHBOARD"
 DEFAULT_PORT = 8640
 DEFAULT_BIND = "127.0.0.1"
 LOOPBACK_NAMES = ("localhost",)
+WILDCARD_BINDS = ("0.0.0.0", "::")  # every address of the machine
 ZENOH_ENDPOINT_EXAMPLE = "tcp/127.0.0.1:7447"
+MAX_HOST_NAME_CHARS = 253
+_HOST_LABEL = re.compile(r"^(?!-)[A-Za-z0-9-]{1,63}(?<!-)$")
 _ZENOH_ENDPOINT = re.compile(r"^(tcp|udp|tls|quic)/(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]+):(\d{1,5})$")
 
 
@@ -34,6 +37,22 @@ def is_loopback(bind: str) -> bool:
         return False
 
 
+def allowed_host_problem(name: str) -> str | None:
+    """Why `name` is not a host name (`robot.example.org`) or IP address the page may be reached by, or None."""
+    try:
+        ipaddress.ip_address(name)
+        return None
+    except ValueError:
+        pass
+    labels = name.removesuffix(".").split(".")
+    if len(name) > MAX_HOST_NAME_CHARS or not all(_HOST_LABEL.match(label) for label in labels):
+        return (
+            f'allowed_host "{name}" is not a host name (letters, digits and hyphens, dot-separated, '
+            "e.g. robot.example.org) or an IP address; give it without scheme or port"
+        )
+    return None
+
+
 def zenoh_endpoint_problem(endpoint: str) -> str | None:
     """Why `endpoint` is not a zenoh endpoint PROTOCOL/HOST:PORT with a port from 1 to 65535, or None."""
     match = _ZENOH_ENDPOINT.match(endpoint)
@@ -46,5 +65,5 @@ def page_url(bind: str, port: int) -> str:
     """The address of the dashboard's page: the bind address, or this machine's name when bound to all."""
     import socket
 
-    host = socket.gethostname() if bind in ("0.0.0.0", "::") else bind
+    host = socket.gethostname() if bind in WILDCARD_BINDS else bind
     return f"http://{f'[{host}]' if ':' in host else host}:{port}/"
