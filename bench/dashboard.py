@@ -26,6 +26,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
+from joshua_core.dashboard_token import token_path  # noqa: E402
 from testsupport.joshuac_cli import joshuac  # noqa: E402
 
 JOINT_HZ, IMAGE_FPS, WIDTH, HEIGHT = 30.0, 15.0, 640, 480
@@ -156,14 +157,14 @@ def percentile(values, q) -> float:
 class SseReader(threading.Thread):
     """A plain HTTP client of /api/events that counts events and notes joint latency (receive - stamp)."""
 
-    def __init__(self, port: int):
+    def __init__(self, port: int, token: str):
         super().__init__(daemon=True)
-        self.port, self.events, self.joint_latency_ms = port, 0, []
+        self.port, self.token, self.events, self.joint_latency_ms = port, token, 0, []
         self.stop = threading.Event()
 
     def run(self) -> None:
         connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=10)
-        connection.request("GET", "/api/events")
+        connection.request("GET", "/api/events", headers={"Authorization": f"Bearer {self.token}"})
         response = connection.getresponse()
         kind = ""
         while not self.stop.is_set():
@@ -181,14 +182,14 @@ class SseReader(threading.Thread):
         connection.close()
 
 
-def measure_browser(port: int, seconds: float) -> dict:
+def measure_browser(port: int, token: str, seconds: float) -> dict:
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_FLAGS)
         page = browser.new_page(viewport={"width": 1400, "height": 1000})
         page.add_init_script(DOM_PROBE)
-        page.goto(f"http://127.0.0.1:{port}/")
+        page.goto(f"http://127.0.0.1:{port}/#token={token}")
         page.wait_for_selector("[data-testid^='camera-']", timeout=30_000)
         time.sleep(WARMUP_S)
         page.evaluate("window.__latency = {joints: [], image: []}")
@@ -208,11 +209,11 @@ def server_cpu_percent_of_run(page, seconds: float) -> float:
 SERVER_PID = [0]
 
 
-def stalled_client(port: int, pid: int, seconds: float) -> list[float]:
+def stalled_client(port: int, token: str, pid: int, seconds: float) -> list[float]:
     """RSS samples (MiB) of the server, once a second, while one client never reads its stream."""
     sock = socket.create_connection(("127.0.0.1", port))
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-    sock.sendall(b"GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+    sock.sendall(f"GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer {token}\r\n\r\n".encode())
     samples = []
     for _ in range(int(seconds)):
         time.sleep(1.0)
@@ -268,7 +269,8 @@ def main() -> int:
                         raise SystemExit("the dashboard server did not start") from None
                     time.sleep(0.2)
             time.sleep(WARMUP_S)
-            report(port, server.pid, run_s)
+            token = token_path(Path(directory) / "none.sock").read_text().strip()
+            report(port, token, server.pid, run_s)
         finally:
             publisher.close()
             server.terminate()
@@ -276,7 +278,7 @@ def main() -> int:
     return 0
 
 
-def report(port: int, pid: int, run_s: float) -> None:
+def report(port: int, token: str, pid: int, run_s: float) -> None:
     idle = server_cpu_percent(pid, run_s)
     print(
         f"publishing {JOINT_HZ:g} Hz JointState (6 joints) and {IMAGE_FPS:g} fps {WIDTH}x{HEIGHT} rgb8 Image; "
@@ -284,7 +286,7 @@ def report(port: int, pid: int, run_s: float) -> None:
     )
     print(f"server CPU with no client: {idle:.1f} %")
 
-    browser = measure_browser(port, run_s)
+    browser = measure_browser(port, token, run_s)
     for kind in ("joints", "image"):
         values = browser["latency"][kind]
         print(
@@ -297,7 +299,7 @@ def report(port: int, pid: int, run_s: float) -> None:
     )
 
     for count in (1, 10):
-        readers = [SseReader(port) for _ in range(count)]
+        readers = [SseReader(port, token) for _ in range(count)]
         for reader in readers:
             reader.start()
         time.sleep(WARMUP_S)
@@ -315,7 +317,7 @@ def report(port: int, pid: int, run_s: float) -> None:
         )
         time.sleep(1.0)
 
-    samples = stalled_client(port, pid, run_s * 2)
+    samples = stalled_client(port, token, pid, run_s * 2)
     print(
         f"stalled client for {len(samples)} s: server RSS {samples[0]:.1f} -> {samples[-1]:.1f} MiB "
         f"(max {max(samples):.1f}, growth over the second half {samples[-1] - samples[len(samples) // 2]:+.1f} MiB)"

@@ -249,13 +249,18 @@ def run(config, overrides, duration, skip_preflight, status_interval) -> None:
 
 
 def _print_dashboard_url(compilation) -> None:
-    from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
+    """The dashboard's address with its token, on this command's own output: never in a node's log."""
+    from joshua_codegen.run import dashboard_address
+    from joshua_core.dashboard_token import TokenFileError
 
     config = compilation.check.description.robot_config
-    if config.HasField("dashboard"):
-        dashboard = config.dashboard
-        port = dashboard.port if dashboard.HasField("port") else DEFAULT_PORT
-        click.echo(f"joshuac: dashboard of {config.name}: {page_url(dashboard.bind or DEFAULT_BIND, port)}")
+    try:
+        address = dashboard_address(config)
+    except TokenFileError as exc:
+        click.echo(f"joshuac: error: {exc}", err=True)
+        sys.exit(EXIT_ERRORS)
+    if address:
+        click.echo(f"joshuac: dashboard of {config.name}: {address}")
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""Run a built robot's supervisor.py in the foreground, for `joshuac run`."""
+"""Run a built robot's supervisor.py in the foreground, for `joshuac run`, and tell the dashboard's address."""
 
 import ctypes
 import signal
@@ -40,3 +40,19 @@ def run_supervisor(out_dir: Path, extra_args: list[str]) -> int:
         for number, handler in previous.items():
             signal.signal(number, handler)
     return EXIT_SIGNALED_BASE - code if code < 0 else code
+
+
+def dashboard_address(config) -> str | None:
+    """The address of the robot's dashboard page carrying its access token (the token file is created
+    now when absent, where the supervisor's dashboard will read it), or None without a dashboard block.
+    Raises joshua_core.dashboard_token.TokenFileError."""
+    from joshua_codegen.supervisor.control import default_control_socket
+    from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
+    from joshua_core.dashboard_token import load_or_create_token, token_path
+
+    if not config.HasField("dashboard"):
+        return None
+    dashboard = config.dashboard
+    port = dashboard.port if dashboard.HasField("port") else DEFAULT_PORT
+    token = load_or_create_token(token_path(Path(default_control_socket(config.name))))
+    return f"{page_url(dashboard.bind or DEFAULT_BIND, port)}#token={token}"

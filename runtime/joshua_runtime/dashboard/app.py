@@ -1,6 +1,7 @@
 """The dashboard's HTTP routes (Starlette): the page, the robot's status, the SSE stream and the control actions.
 
-Routes (all under /api/ answer 401 without the bearer token when one is required):
+Routes (all under /api/ answer 401 without the owner's bearer token; any route answers 403 to a Host
+header outside the allow-list, see security.py):
 - `GET /`: the page (web/dist, built by set-up); `GET /api/robot`: topology, streams, recorders, inference nodes;
 - `GET /api/status`: the supervisor's status (the JSON of `ctl status --json`); 503 when unreachable;
 - `GET /api/events`: Server-Sent Events `status`, `rates`, `joints`, `image`, `scan`, `recorder`, `inference`;
@@ -24,7 +25,7 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from joshua_runtime.dashboard.control_client import NODE_ACTIONS, ControlError
-from joshua_runtime.dashboard.security import ApiGuard
+from joshua_runtime.dashboard.security import ApiGuard, HostAllowList, HostGuard
 
 STATUS_POLL_S = 1.0
 SSE_KEEPALIVE_S = 15.0
@@ -37,7 +38,7 @@ MAX_TASK_CHARS = 500
 class Dashboard:
     """Holds the robot's parts (view, control client, telemetry, broadcaster) and serves them."""
 
-    def __init__(self, view, control, broadcaster, telemetry, web_dir: Path, token: str | None):
+    def __init__(self, view, control, broadcaster, telemetry, web_dir: Path, token: str, allowed: HostAllowList):
         self.view = view
         self.control = control
         self.broadcaster = broadcaster
@@ -57,6 +58,7 @@ class Dashboard:
             routes.append(Mount("/assets", StaticFiles(directory=web_dir / "assets")))
         self.app = Starlette(routes=routes, lifespan=self._lifespan)
         self.app.add_middleware(ApiGuard, token=token)
+        self.app.add_middleware(HostGuard, allowed=allowed)  # added last: it runs first
 
     def _lifespan(self, _app):
         dashboard = self

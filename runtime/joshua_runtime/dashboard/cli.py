@@ -2,16 +2,15 @@
 
 import argparse
 import asyncio
-import os
 import socket
 import sys
 from pathlib import Path
 
 from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
-from joshua_runtime.errors import JoshuaError
+from joshua_core.dashboard_token import TOKEN_SUFFIX, TokenFileError, load_or_create_token, token_path
+from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.notify import Notifier
 
-TOKEN_VARIABLE = "JOSHUA_DASHBOARD_TOKEN"
 # The built page: web/dist of the checkout this package lives in (built by `make setup`).
 DEFAULT_WEB_DIR = Path(__file__).resolve().parents[3] / "web" / "dist"
 SHUTDOWN_GRACE_S = 1
@@ -43,16 +42,22 @@ def parse_arguments(argv):
     )
     parser.add_argument("--port", type=port_number, default=DEFAULT_PORT, help=f"TCP port (default {DEFAULT_PORT})")
     parser.add_argument(
-        "--bind",
-        default=DEFAULT_BIND,
-        metavar="ADDR",
-        help=f"address to listen on (default {DEFAULT_BIND}); any non-loopback address requires a token",
+        "--bind", default=DEFAULT_BIND, metavar="ADDR", help=f"address to listen on (default {DEFAULT_BIND})"
     )
     parser.add_argument(
-        "--token",
-        default=os.environ.get(TOKEN_VARIABLE) or None,
-        help=f"bearer token the API requires (default: ${TOKEN_VARIABLE}; generated and printed once "
-        "when bound beyond loopback without one)",
+        "--allowed-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="one more name the page may be reached by (the Host header), besides the bind address and "
+        "localhost; repeatable",
+    )
+    parser.add_argument(
+        "--token-file",
+        type=Path,
+        metavar="PATH",
+        help=f"file holding the bearer token the API requires, created (mode 0600) when absent "
+        f"(default: beside the control socket, ROBOT{TOKEN_SUFFIX})",
     )
     parser.add_argument(
         "--zenoh-connect",
@@ -83,30 +88,32 @@ async def serve(args) -> None:
 
     from joshua_runtime.dashboard.app import Dashboard
     from joshua_runtime.dashboard.broadcaster import Broadcaster
-    from joshua_runtime.dashboard.control_client import (
-        ControlClient,
-        default_socket_path,
-    )
+    from joshua_runtime.dashboard.control_client import ControlClient, default_socket_path
     from joshua_runtime.dashboard.robot_view import load_robot_view
-    from joshua_runtime.dashboard.security import required_token
+    from joshua_runtime.dashboard.security import HostAllowList
     from joshua_runtime.dashboard.telemetry import Telemetry
     from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint
 
     view = load_robot_view(args.manifest)
     if args.zenoh_connect:
         check_endpoint(args.zenoh_connect)
-    token, generated = required_token(args.bind, args.token)
+    control_socket = args.control_socket or default_socket_path(view.robot)
+    token_file = args.token_file or token_path(control_socket)
+    try:
+        token = load_or_create_token(token_file)
+    except TokenFileError as exc:
+        raise SettingsError(str(exc)) from exc
     sock = listening_socket(args.bind, args.port)
     port = sock.getsockname()[1]
     url = args.public_url or page_url(args.bind, port)
     broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
-    control = ControlClient(args.control_socket or default_socket_path(view.robot))
-    dashboard = Dashboard(view, control, broadcaster, telemetry, args.web_dir, token)
+    control = ControlClient(control_socket)
+    allowed = HostAllowList(args.bind, args.allowed_host)
+    dashboard = Dashboard(view, control, broadcaster, telemetry, args.web_dir, token, allowed)
     link = FleetLink(view.robot, args.zenoh_connect, url, broadcaster) if args.zenoh_connect else None
-    print(f"dashboard of {view.robot}: {url}" + (f"#token={token}" if generated else ""), flush=True)
-    if generated:
-        print(f"dashboard: API token (shown once): {token}", flush=True)
+    # The address without the token: this line ends up in the node's log (`joshuac run` prints it with).
+    print(f"dashboard of {view.robot}: {url} (its access token is in {token_file})", flush=True)
     telemetry.start()
     link_task = asyncio.create_task(link.run()) if link else None
     config = uvicorn.Config(

@@ -7,10 +7,12 @@ import socket
 import subprocess
 import sys
 import time
+import urllib.error
 import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
 
+from joshua_core.dashboard_token import token_path
 from testsupport.joshuac_cli import joshuac
 
 CHROMIUM = "/usr/bin/chromium-headless-shell"
@@ -47,14 +49,22 @@ def get_json(url: str, token: str | None = None):
         return json.loads(response.read())
 
 
+def dashboard_token(control_socket: Path) -> str:
+    """The access token of the dashboard of the robot whose supervisor serves `control_socket`."""
+    return token_path(control_socket).read_text().strip()
+
+
 def wait_for_server(url: str, process: subprocess.Popen, output: Path) -> None:
-    """Wait until `url` answers; `output` is where the process writes (shown when it fails)."""
+    """Wait until `url` answers, whatever the status (401 without a token too); `output` is where the
+    process writes (shown when it fails)."""
     deadline = time.monotonic() + SERVER_START_TIMEOUT_S
     while time.monotonic() < deadline:
         if process.poll() is not None:
             raise AssertionError(f"{process.args[1]} exited with {process.returncode}:\n{output.read_text()}")
         try:
             get_json(url)
+            return
+        except urllib.error.HTTPError:
             return
         except OSError:
             time.sleep(0.2)
@@ -87,8 +97,9 @@ def node_pid(control_socket: Path, name: str) -> int | None:
 
 @contextmanager
 def running_robot(description: str, directory: Path, env: dict, dashboard_port: int | None = None):
-    """The robot's generated supervisor.py, run with a control socket in `directory`; waits for its
-    dashboard at `dashboard_port` when given. Yields the control socket's path."""
+    """The robot's generated supervisor.py, run with a control socket in `directory` (the dashboard's
+    token file beside it); waits for its dashboard at `dashboard_port` when given. Yields the control
+    socket's path."""
     manifest = build(description, directory)
     control_socket = directory / "run" / "robot.sock"
     output = directory / "supervisor.log"

@@ -15,11 +15,12 @@ from joshua_runtime.dashboard.app import Dashboard
 from joshua_runtime.dashboard.broadcaster import Broadcaster, Mailbox
 from joshua_runtime.dashboard.control_client import ControlClient
 from joshua_runtime.dashboard.robot_view import load_robot_view
-from joshua_runtime.dashboard.security import required_token
+from joshua_runtime.dashboard.security import HostAllowList, required_token
 
 ROOT = Path(__file__).resolve().parents[3]
 MOCK_ARM = ROOT / "generated" / "mock_arm" / "manifest.json"
-TOKEN = "s3cret-token"
+TOKEN = "s3cret-token-of-the-owner"
+AUTHORIZED = {"Authorization": f"Bearer {TOKEN}"}
 
 
 SLEEPERS = """robot_config { name: "sleepers" mode: MODE_TELEOPERATION
@@ -36,16 +37,18 @@ def supervised(tmp_path):
         yield control_socket
 
 
-def client_for(control_socket, tmp_path, token=None) -> TestClient:
+def client_for(control_socket, tmp_path, authorized=True) -> TestClient:
+    """A client of a dashboard on 127.0.0.1; it sends the owner's token unless `authorized` is False."""
     dashboard = Dashboard(
         load_robot_view(MOCK_ARM),
         ControlClient(control_socket),
         Broadcaster(),
         telemetry=None,
         web_dir=tmp_path / "no-page",
-        token=token,
+        token=TOKEN,
+        allowed=HostAllowList("127.0.0.1"),
     )
-    return TestClient(dashboard.app)
+    return TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED if authorized else None)
 
 
 def test_status_is_the_supervisor_status(supervised, tmp_path):
@@ -83,9 +86,10 @@ def test_unreachable_supervisor_answers_503(tmp_path):
         Broadcaster(),
         telemetry=None,
         web_dir=tmp_path,
-        token=None,
+        token=TOKEN,
+        allowed=HostAllowList("127.0.0.1"),
     )
-    with TestClient(dashboard.app) as client:
+    with TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED) as client:
         reply = client.get("/api/status")
     assert reply.status_code == 503
     assert "missing.sock" in reply.json()["error"]
@@ -93,7 +97,7 @@ def test_unreachable_supervisor_answers_503(tmp_path):
 
 def test_without_the_token_every_api_route_answers_401_and_nothing_runs(supervised, tmp_path):
     old = node_pid(supervised, "leader")
-    with client_for(supervised, tmp_path, token=TOKEN) as client:
+    with client_for(supervised, tmp_path, authorized=False) as client:
         for method, path in [
             ("GET", "/api/status"),
             ("GET", "/api/robot"),
@@ -107,7 +111,7 @@ def test_without_the_token_every_api_route_answers_401_and_nothing_runs(supervis
             wrong = client.request(method, path, headers={"Authorization": "Bearer wrong"})
             assert wrong.status_code == 401, path
         assert node_pid(supervised, "leader") == old
-        authorized = client.get("/api/status", headers={"Authorization": f"Bearer {TOKEN}"})
+        authorized = client.get("/api/status", headers=AUTHORIZED)
         assert authorized.status_code == 200
         assert client.get("/").status_code == 503  # the page itself needs no token (here: not built)
 
@@ -120,7 +124,7 @@ def test_a_page_of_another_origin_cannot_post(supervised, tmp_path):
     assert node_pid(supervised, "leader") == old
 
 
-def test_token_is_required_beyond_loopback_only():
+def test_the_fleet_view_requires_a_token_beyond_loopback_only():
     assert is_loopback("127.0.0.1") and is_loopback("::1") and is_loopback("localhost")
     assert not is_loopback("0.0.0.0") and not is_loopback("192.168.1.20")
     assert required_token("127.0.0.1", None) == (None, False)
@@ -184,3 +188,12 @@ def test_cli_reports_a_taken_port_and_a_bad_endpoint(tmp_path):
     assert result.returncode == 1 and "cannot listen on 127.0.0.1" in result.stderr
     bad = run_cli("--manifest", str(MOCK_ARM), "--zenoh-connect", "127.0.0.1:7447")
     assert bad.returncode == 2 and "is not PROTOCOL/HOST:PORT" in bad.stderr
+
+
+def test_cli_refuses_a_token_file_others_may_read_in_one_line(tmp_path):
+    token_file = tmp_path / "robot.dashboard-token"
+    token_file.write_text("a-token-everyone-can-read-0123")
+    token_file.chmod(0o644)
+    result = run_cli("--manifest", str(MOCK_ARM), "--port", "0", "--token-file", str(token_file))
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert result.stderr.startswith(f"dashboard: error: the dashboard token file {token_file} must be a file of user")
