@@ -71,12 +71,14 @@ def parse_arguments(argv):
 
 def listening_socket(bind: str, port: int) -> socket.socket:
     """A bound, listening TCP socket; a clear error when the address is taken or unknown."""
+    from joshua_runtime.dashboard.connections import ACCEPT_BACKLOG
+
     try:
         family = socket.getaddrinfo(bind, port, type=socket.SOCK_STREAM)[0][0]
         sock = socket.socket(family, socket.SOCK_STREAM)
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         sock.bind((bind, port))
-        sock.listen(128)
+        sock.listen(ACCEPT_BACKLOG)
     except OSError as exc:
         raise JoshuaError(f"cannot listen on {bind}:{port}: {exc.strerror or exc}") from exc
     sock.setblocking(False)
@@ -88,7 +90,9 @@ async def serve(args) -> None:
 
     from joshua_runtime.dashboard.app import Dashboard
     from joshua_runtime.dashboard.broadcaster import Broadcaster
+    from joshua_runtime.dashboard.connections import ACCEPT_BACKLOG, KEEP_ALIVE_S, connection_limit, guarded_protocol
     from joshua_runtime.dashboard.control_client import ControlClient, default_socket_path
+    from joshua_runtime.dashboard.log_limit import configure_logging
     from joshua_runtime.dashboard.robot_view import load_robot_view
     from joshua_runtime.dashboard.security import HostAllowList
     from joshua_runtime.dashboard.telemetry import Telemetry
@@ -114,10 +118,18 @@ async def serve(args) -> None:
     link = FleetLink(view.robot, args.zenoh_connect, url, broadcaster) if args.zenoh_connect else None
     # The address without the token: this line ends up in the node's log (`joshuac run` prints it with).
     print(f"dashboard of {view.robot}: {url} (its access token is in {token_file})", flush=True)
+    rate_limit = configure_logging()
     telemetry.start()
     link_task = asyncio.create_task(link.run()) if link else None
     config = uvicorn.Config(
-        dashboard.app, log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S, lifespan="on"
+        dashboard.app,
+        log_config=None,
+        access_log=False,
+        timeout_graceful_shutdown=SHUTDOWN_GRACE_S,
+        lifespan="on",
+        http=guarded_protocol(connection_limit()),
+        timeout_keep_alive=KEEP_ALIVE_S,
+        backlog=ACCEPT_BACKLOG,
     )
     server = uvicorn.Server(config)
     notifier = Notifier.from_environment()
@@ -131,6 +143,8 @@ async def serve(args) -> None:
             link_task.cancel()
             link.close()
         telemetry.close()
+        for line in rate_limit.pending():
+            print(f"dashboard: {line}", file=sys.stderr, flush=True)
 
 
 async def notify_manager(server, notifier, url: str) -> None:

@@ -1,5 +1,5 @@
-"""The dashboard is its owner's alone, on loopback too: another local user and a page of another site (DNS
-rebinding) get nothing, and the token never leaks.
+"""The dashboard is its owner's alone, on loopback too: another local user, a page of another site (DNS
+rebinding) and clients that hold connections open get nothing, and the token never leaks.
 
 Each test runs a real robot: its generated supervisor.py (or `joshuac run`) with the dashboard process.
 """
@@ -8,12 +8,16 @@ import http.client
 import json
 import os
 import re
+import resource
 import shutil
+import socket
 import stat
 import subprocess
 import sys
 import tempfile
 import time
+import urllib.request
+from contextlib import ExitStack
 from pathlib import Path
 
 import pytest
@@ -26,6 +30,11 @@ NOBODY = 65534
 SYSTEM_PYTHON = "/usr/bin/python3"  # the other user's interpreter: it may not read this checkout's .venv
 REQUEST_TIMEOUT_S = 30.0
 URL_TIMEOUT_S = 120.0  # until `joshuac run` printed the address (it builds first)
+# A user session's or a systemd service's usual soft limit on open files (systemd's DefaultLimitNOFILE).
+USER_DEFAULT_NOFILE = 1024
+IDLE_CONNECTIONS = 3000  # half of them send part of a request head, half nothing at all
+ATTACK_HOLD_S = 25.0  # longer than the server's head deadline (10 s), with room for a busy machine
+MAX_OUTPUT_GROWTH_BYTES = 16 * 1024
 TOKEN_IN_ADDRESS = re.compile(r"#token=([A-Za-z0-9._~-]+)")
 
 
@@ -217,3 +226,53 @@ def test_joshuac_run_stops_with_one_line_when_others_may_write_to_the_token_dire
         f"joshuac: error: {shared} must be a directory of user {os.geteuid()} that no one else may write"
     )
     assert not (shared / "guarded.dashboard-token").exists()
+
+
+def test_thousands_of_idle_connections_neither_stop_a_client_nor_flood_the_output(tmp_path, ros_env):
+    port = free_port()
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    assert hard >= IDLE_CONNECTIONS + 200, f"this test needs {IDLE_CONNECTIONS + 200} open files; the limit is {hard}"
+    with ExitStack() as stack:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (USER_DEFAULT_NOFILE, hard))  # inherited by the robot
+        try:
+            control_socket = stack.enter_context(running_robot(robot_description(port), tmp_path, ros_env, port))
+        finally:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (max(soft, IDLE_CONNECTIONS + 200), hard))
+        stack.callback(resource.setrlimit, resource.RLIMIT_NOFILE, (soft, hard))
+        output = tmp_path / "supervisor.log"
+        size_before = output.stat().st_size
+        attackers = []
+        stack.callback(lambda: [attacker.close() for attacker in attackers])
+        for index in range(IDLE_CONNECTIONS):
+            attacker = socket.socket()
+            attacker.settimeout(5)
+            attackers.append(attacker)
+            try:
+                attacker.connect(("127.0.0.1", port))
+                if index % 2:
+                    attacker.sendall(b"GET /api/status HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ")
+            except OSError:
+                pass  # refused or reset: the server had no room, as it may
+
+        page = urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=REQUEST_TIMEOUT_S)
+        assert page.status == 200 and b'<div id="root">' in page.read()
+        token = dashboard_token(control_socket)
+        status = get_json(f"http://127.0.0.1:{port}/api/status", token)
+        assert [node["name"] for node in status["nodes"]] == ["leader", "dashboard"]
+
+        time.sleep(ATTACK_HOLD_S)
+        still_open = [attacker for attacker in attackers if _open(attacker)]
+        assert not still_open, f"{len(still_open)} of {IDLE_CONNECTIONS} idle connections were never closed"
+        assert get_json(f"http://127.0.0.1:{port}/api/status", token)["robot"] == "guarded"
+        growth = output.stat().st_size - size_before
+        assert growth < MAX_OUTPUT_GROWTH_BYTES, output.read_text()[-3000:]
+
+
+def _open(connection: socket.socket) -> bool:
+    """Whether the server still holds this connection open (it neither closed nor reset it)."""
+    try:
+        return connection.recv(1, socket.MSG_DONTWAIT) != b""
+    except BlockingIOError:
+        return True
+    except OSError:
+        return False
