@@ -1,15 +1,31 @@
-// The page's only way to the robot: the documented routes, with the bearer token when one was given.
+// The page's only way to the robot: the documented routes, with the owner's bearer token.
 
 const TOKEN_KEY = "joshua-dashboard-token";
+const TOKEN_PARAMETER = "token";
 
-/** The token from `#token=...` in the address (kept for this tab), or null. */
+/** Moves a token given in the address (`#token=...` as printed, or `?token=...`) into this tab's storage
+ * and out of the address bar, so that it stays out of the history, bookmarks and screenshots. */
+export function adoptTokenFromAddress(location: Location = window.location): void {
+  const fragment = new URLSearchParams(location.hash.slice(1));
+  const query = new URLSearchParams(location.search);
+  const token = fragment.get(TOKEN_PARAMETER) ?? query.get(TOKEN_PARAMETER);
+  if (token === null) return;
+  fragment.delete(TOKEN_PARAMETER);
+  query.delete(TOKEN_PARAMETER);
+  storeApiToken(token);
+  const search = query.toString();
+  const hash = fragment.toString();
+  history.replaceState(null, "", location.pathname + (search ? `?${search}` : "") + (hash ? `#${hash}` : ""));
+}
+
+/** The token of this tab (taken from the address first when it carries one), or null. */
 export function apiToken(): string | null {
-  const match = window.location.hash.match(/token=([^&]+)/);
-  if (match) {
-    sessionStorage.setItem(TOKEN_KEY, decodeURIComponent(match[1]));
-    history.replaceState(null, "", window.location.pathname + window.location.search);
-  }
+  adoptTokenFromAddress();
   return sessionStorage.getItem(TOKEN_KEY);
+}
+
+export function storeApiToken(token: string): void {
+  sessionStorage.setItem(TOKEN_KEY, token.trim());
 }
 
 export function authHeaders(): Record<string, string> {
@@ -17,11 +33,20 @@ export function authHeaders(): Record<string, string> {
   return token ? { Authorization: `Bearer ${token}` } : {};
 }
 
-export class ApiError extends Error {}
+export class ApiError extends Error {
+  constructor(message: string, readonly status: number) {
+    super(message);
+  }
+}
+
+/** The server refused the request for want of the right token. */
+export function isUnauthorized(error: unknown): boolean {
+  return error instanceof ApiError && error.status === 401;
+}
 
 async function reply<T>(response: Response): Promise<T> {
   const body = await response.json().catch(() => ({}));
-  if (!response.ok) throw new ApiError(body.error ?? `${response.status} ${response.statusText}`);
+  if (!response.ok) throw new ApiError(body.error ?? `${response.status} ${response.statusText}`, response.status);
   return body as T;
 }
 

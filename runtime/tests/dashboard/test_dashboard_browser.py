@@ -10,6 +10,7 @@ import pytest
 from dashboard_support import (
     browser,
     control_request,
+    dashboard_token,
     free_port,
     get_json,
     node_pid,
@@ -63,8 +64,9 @@ def probe_message() -> JointState:
 
 def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robot, page, ros_client):
     url, control_socket, dataset = robot
+    token = dashboard_token(control_socket)
     probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
-    page.goto(url + "/")
+    page.goto(f"{url}/#token={token}")
     page.get_by_test_id("node-stop-probe").click()
     page.get_by_test_id("node-row-probe").get_by_text("stopped").wait_for()
     assert node_pid(control_socket, "probe") is None
@@ -89,7 +91,7 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     _wait(page, ros_client, lambda: node_pid(control_socket, "leader") not in (None, old_pid))
     new_pid = node_pid(control_socket, "leader")
     page.get_by_test_id("node-pid-leader").filter(has_text=str(new_pid)).wait_for()
-    assert {node["name"]: node["pid"] for node in get_json(url + "/api/status")["nodes"]}["leader"] == new_pid
+    assert {node["name"]: node["pid"] for node in get_json(url + "/api/status", token)["nodes"]}["leader"] == new_pid
     screenshot(page, "robot_page")
 
     # The recorder starts an episode by itself; stop it, then record one started from the page.
@@ -115,6 +117,45 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
 
     tasks = pandas.read_parquet(dataset / "meta" / "tasks.parquet")
     assert TASK in set(tasks.index) | set(tasks.get("task", []))
+
+
+def test_the_address_with_the_token_opens_the_page_which_drops_it_and_keeps_working(tmp_path, ros_env, page):
+    port = free_port()
+    description = f"""robot_config {{ name: "token_robot" mode: MODE_TELEOPERATION
+  node {{ name: "leader" type: CUSTOM executable: "/bin/sleep" args: ["600"] }}
+  dashboard {{ port: {port} }}
+}}
+"""
+    errors = []
+    page.on("pageerror", lambda error: errors.append(error))
+    with running_robot(description, tmp_path, ros_env, port) as control_socket:
+        token = dashboard_token(control_socket)
+        url = f"http://127.0.0.1:{port}/"
+        page.goto(f"{url}#token={token}")
+        page.get_by_test_id("robot-name").filter(has_text="token_robot").wait_for()
+        assert page.url == url  # the token left the address bar (and the history)
+        page.reload()
+        page.get_by_test_id("node-row-leader").get_by_text("running").wait_for()
+        assert page.url == url
+        page.get_by_test_id("node-stop-leader").click()
+        page.get_by_test_id("node-row-leader").get_by_text("stopped").wait_for()
+        assert node_pid(control_socket, "leader") is None
+
+        # Another browser without the token (a bookmark, the fleet view's link) is asked for it.
+        other = page.context.browser.new_page()
+        other.on("pageerror", lambda error: errors.append(error))
+        other.goto(url)
+        other.get_by_test_id("token-input").fill("not-the-token-of-this-robot")
+        other.get_by_test_id("token-submit").click()
+        other.get_by_text("The token this tab had was refused.").wait_for()
+        screenshot(other, "token_prompt")
+        other.get_by_test_id("token-input").fill(token)
+        other.get_by_test_id("token-submit").click()
+        other.get_by_test_id("node-start-leader").click()
+        other.get_by_test_id("node-row-leader").get_by_text("running").wait_for()
+        assert node_pid(control_socket, "leader") is not None
+        screenshot(other, "robot_page_after_token_prompt")
+    assert not errors
 
 
 def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> None:

@@ -6,6 +6,7 @@ from contextlib import ExitStack
 
 from dashboard_support import (
     browser,
+    dashboard_token,
     free_port,
     get_json,
     running_robot,
@@ -42,14 +43,15 @@ def test_fleet_page_lists_every_publishing_robot_and_links_to_its_page(tmp_path,
     with ExitStack() as robots:
         robots.callback(stop, fleet)
         wait_for_server(f"{fleet_url}/api/robots", fleet, output)
-        urls = {}
+        urls, tokens = {}, {}
         for offset, robot in enumerate(ROBOTS):
             workdir = tmp_path / robot
             workdir.mkdir()
             env = dict(ros_env, ROS_DOMAIN_ID=str(int(ros_env["ROS_DOMAIN_ID"]) + offset))
             port = free_port()
-            robots.enter_context(running_robot(description(robot, port, endpoint), workdir, env, port))
+            control_socket = robots.enter_context(running_robot(description(robot, port, endpoint), workdir, env, port))
             urls[robot] = f"http://127.0.0.1:{port}/"
+            tokens[robot] = dashboard_token(control_socket)
 
         with browser() as chromium:
             page = chromium.new_page(viewport={"width": 1200, "height": 700})
@@ -61,6 +63,8 @@ def test_fleet_page_lists_every_publishing_robot_and_links_to_its_page(tmp_path,
                 assert card.get_by_role("link").get_attribute("href") == urls[robot]
             screenshot(page, "fleet_page")
             page.get_by_test_id(f"robot-{ROBOTS[1]}").get_by_role("link").click()
+            page.get_by_test_id("token-input").fill(tokens[ROBOTS[1]])  # the link does not carry the robot's token
+            page.get_by_test_id("token-submit").click()
             page.get_by_test_id("robot-name").filter(has_text=ROBOTS[1]).wait_for()
 
         listed = {entry["name"]: entry for entry in get_json(f"{fleet_url}/api/robots")}

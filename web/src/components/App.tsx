@@ -8,14 +8,16 @@ import { JointStatePanel } from "./JointStatePanel";
 import { LidarScanView } from "./LidarScanView";
 import { NodeTable } from "./NodeTable";
 import { EmptyNote, Panel } from "./Panel";
+import { TokenPrompt } from "./TokenPrompt";
 import { TopologyGraph } from "./TopologyGraph";
 
 /** The robot's page: topology, processes, live sensors, recording and inference. */
 export function App() {
-  const { robot, error } = useRobotSummary();
+  const { robot, error, unauthorized, retry } = useRobotSummary();
   const status = useNodeStatus();
   const rates = useTopicRates();
   const connected = useConnected();
+  if (unauthorized) return <TokenPrompt onToken={retry} />;
   if (error) return <p className="p-8 text-rose-300" role="alert">Cannot load the robot: {error}</p>;
   if (!robot) return <p className="p-8 text-slate-400">Loading…</p>;
   const topicsOf = (kind: string) => robot.streams.filter((s) => s.kind === kind).map((s) => s.topic);

@@ -1,6 +1,6 @@
 // One hook per stream of /api/events (and per documented GET route).
 import { useCallback, useEffect, useRef, useState } from "react";
-import { getJson } from "../api";
+import { getJson, isUnauthorized } from "../api";
 import type {
   ImageEvent, InferenceEvent, JointStateEvent, RecorderEvent, RobotStatus, RobotSummary, ScanEvent,
 } from "../types";
@@ -8,13 +8,21 @@ import { useEventListener, useLatest } from "./EventHubContext";
 
 export const HISTORY_LENGTH = 150;
 
-export function useRobotSummary(): { robot: RobotSummary | null; error: string | null } {
+/** The robot's static summary; `unauthorized` when the robot refused this tab's token (or it has none).
+ * `retry` asks again (after a token was entered). */
+export function useRobotSummary(): {
+  robot: RobotSummary | null; error: string | null; unauthorized: boolean; retry: () => void;
+} {
   const [robot, setRobot] = useState<RobotSummary | null>(null);
-  const [error, setError] = useState<string | null>(null);
+  const [error, setError] = useState<{ message: string; unauthorized: boolean } | null>(null);
+  const [attempt, setAttempt] = useState(0);
   useEffect(() => {
-    getJson<RobotSummary>("/api/robot").then(setRobot, (e: Error) => setError(e.message));
-  }, []);
-  return { robot, error };
+    setError(null);
+    getJson<RobotSummary>("/api/robot").then(setRobot,
+      (e: Error) => setError({ message: e.message, unauthorized: isUnauthorized(e) }));
+  }, [attempt]);
+  const retry = useCallback(() => setAttempt((n) => n + 1), []);
+  return { robot, error: error?.message ?? null, unauthorized: error?.unauthorized ?? false, retry };
 }
 
 export function useNodeStatus(): RobotStatus | null {
