@@ -15,8 +15,9 @@ PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"
 
 @dataclass(frozen=True)
 class Declaration:
-    """One topic a node declares: its topic_name, state_topic, odom_topic, one of its input_topics, or
-    (CUSTOM) one of its `publishes` / `subscribes` entries.
+    """One topic a node declares: its topic_name, state_topic, odom_topic, one of its input_topics,
+    (CUSTOM) one of its `publishes` / `subscribes` entries, or one its type publishes by itself (/tf,
+    /diagnostics: `implied`, located at the node's `type`).
 
     `message_type` is the declared or default type ("" for a reader: it takes its publishers' type);
     `qos` the node's resolved QoS (None for a reader: it matches its publishers).
@@ -29,7 +30,7 @@ class Declaration:
     message_type: str
     qos: dict | None
     at: Path  # the field that declares the topic (its qos_* fields are its siblings)
-    implied: bool = False  # declared by the node type itself (/diagnostics, a preset channel), not by a field
+    implied: bool = False  # declared by the node type itself (/tf, /diagnostics, a preset channel), not by a field
 
 
 def declarations(config: pb.RobotConfig, names: list[str]) -> list[Declaration]:
@@ -80,6 +81,8 @@ def _declared(node: pb.Node):
                     (field, k, "topic_name"),
                     False,
                 )
+    for fixed in entry.fixed_topics:
+        yield fixed.name, PUBLISHER, fixed.message_type, fixed.qos, ("type",), True
     if entry.diagnostics:
         yield (
             servo_topics.DIAGNOSTICS_TOPIC,

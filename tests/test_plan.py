@@ -102,6 +102,43 @@ def test_topics_a_custom_node_declares_reach_the_manifest_and_the_graph():
     assert 't1 -> n0 [label="best_effort, volatile, depth 10"];' in dot  # t1: /camera
 
 
+def test_topics_a_node_type_publishes_by_itself_reach_the_manifest_the_graph_and_its_readers():
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+        foxglove { port: 8765 }
+        node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" }
+        node { name: "state" type: ROBOT_STATE_PUBLISHER topic_name: "/joints" }
+        node { name: "rec" type: DATA_SUBSCRIBER output_format: "mcap" topic_name: "/joints"
+               input_topics: ["/tf", "/tf_static"] output_directory: "/data" } }"""),
+        "r.pbtxt",
+    )
+    document = manifest(robot, Context(prefix="/opt/joshua/r"))
+    state = next(n for n in document["nodes"] if n["name"] == "state")
+    assert state["publishes"] == ["/tf", "/tf_static", "/robot_description"]
+    topics = {t["name"]: t for t in document["topics"]}
+    latched = {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
+    for name, message_type, qos in (
+        ("/tf", "tf2_msgs/msg/TFMessage", dict(latched, depth=100, durability="VOLATILE")),
+        ("/tf_static", "tf2_msgs/msg/TFMessage", latched),
+        ("/robot_description", "std_msgs/msg/String", latched),
+    ):
+        assert topics[name]["message_type"] == message_type
+        assert [(p["node"], p["qos"]) for p in topics[name]["publishers"]] == [("state", qos)]
+    # The recorder reads them with their publisher's type and a QoS it serves: transient local for /tf_static.
+    inputs = {i["name"]: i for i in to_literal(robot.node("rec").settings)["inputs"]}
+    assert inputs["/tf"]["message_type"] == "tf2_msgs/msg/TFMessage"
+    assert inputs["/tf_static"]["qos"] == latched
+    served = {i["name"]: i["qos"]["durability"] for i in to_literal(robot.foxglove)["inputs"]}
+    assert served["/tf_static"] == served["/robot_description"] == "TRANSIENT_LOCAL"
+    mermaid = render(robot, "/opt/joshua/r")["topology.mmd"]
+    assert 't2(["/tf : tf2_msgs/msg/TFMessage"])' in mermaid
+    assert (
+        'n1 -->|"reliable, volatile, depth 100"| t2' in mermaid
+        and 't2 -->|"reliable, volatile, depth 100"| n2' in mermaid
+    )
+    assert 'n1 -->|"reliable, transient_local, depth 1"| t3' in mermaid  # t3: /tf_static
+
+
 def _endpoints(document: dict) -> list:
     return [
         (
@@ -225,6 +262,7 @@ def test_the_simulated_lego_car_serves_the_real_base_topics_types_and_qos():
     assert [(t["name"], t["message_type"]) for t in real["topics"]] == [
         ("/cmd_vel", "geometry_msgs/msg/Twist"),
         ("/odom", "nav_msgs/msg/Odometry"),
+        ("/tf", "tf2_msgs/msg/TFMessage"),  # odom -> base_link, broadcast by every base
         ("/wheel_states", "sensor_msgs/msg/JointState"),
     ]
     assert [p["name"] for p in simulated["processes"]] == ["simulation"]

@@ -8,6 +8,8 @@ it touches hardware, and its tests (tests/test_node_type_registry.py checks that
 
 from dataclasses import dataclass, field
 
+from joshua_core.fixed_topics import ROBOT_DESCRIPTION, TF, TF_STATIC, FixedTopic
+
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
 _SERVO_BUS_FIELDS = frozenset(
     {
@@ -70,6 +72,7 @@ class NodeTypeSpec:
     input_types    the message types its input_topics may carry (empty: it reads none)
     state_topic    it also publishes present joint states on state_topic when set
     odom_topic     it also publishes nav_msgs/msg/Odometry on odom_topic (default /odom)
+    fixed_topics   topics it publishes whatever its fields say (/tf, /tf_static, ...), with type and QoS
     hardware       it touches a device; MODE_SIMULATION replaces it with the simulation engine
     mock_of        the hardware type a MOCK_* stands in for (it reads the same fields)
     python_only    it always runs its Python implementation, whatever preferred_backend says
@@ -94,6 +97,7 @@ class NodeTypeSpec:
     input_types: tuple[str, ...] = ()
     state_topic: bool = False
     odom_topic: bool = False
+    fixed_topics: tuple[FixedTopic, ...] = ()
     hardware: bool = False
     mock_of: str = ""
     python_only: bool = False
@@ -140,6 +144,7 @@ def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
         message_types=real.message_types,
         state_topic=real.state_topic,
         odom_topic=real.odom_topic,
+        fixed_topics=real.fixed_topics,
         mock_of=real.name,
         python_only=True,
         fields=real.fields - _HARDWARE_ONLY_FIELDS - (_ARM_WATCHDOG if real.family == "actuator" else frozenset()),
@@ -266,6 +271,7 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
     message_types=(TWIST,),
     state_topic=True,
     odom_topic=True,
+    fixed_topics=(TF,),  # odom -> base_link, the pose of its odometry
     hardware=True,
     python_only=True,
     fields=_BASE_FIELDS,
@@ -280,6 +286,7 @@ ROBOT_STATE_PUBLISHER = NodeTypeSpec(
     family="state_publisher",
     topic="subscribes",
     message_types=(JOINT_STATE,),
+    fixed_topics=(TF, TF_STATIC, ROBOT_DESCRIPTION),
     python_only=True,
     fields=frozenset({"robot_description"}),
     runtime_class=f"{_NODES}.robot_state_publisher:RobotStatePublisher",

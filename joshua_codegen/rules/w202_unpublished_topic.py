@@ -3,9 +3,11 @@
 What it checks:
     Each subscription (topic_name of ACTUATOR_SUBSCRIBER and DATA_SUBSCRIBER, and every
     input_topics entry of INFERENCE and DATA_SUBSCRIBER, and every topic a CUSTOM node declares in
-    `subscribes`) has a publisher in the description; processes outside it are not known. When a
-    published topic is spelt alike, the message suggests it. An actuator's preset channel
-    (`<topic_name>/preset`) is left out: it is published by hand or by joshua-desktop when needed.
+    `subscribes`) has a publisher in the description; processes outside it are not known. Topics a
+    node publishes by its type alone count too (its registry entry's fixed_topics, e.g. /tf,
+    /tf_static and /robot_description). When a published topic is spelt alike, the message suggests
+    it. An actuator's preset channel (`<topic_name>/preset`) is left out: it is published by hand or
+    by joshua-desktop when needed.
 
 Why it matters:
     Unless something outside the description publishes it, the node waits forever for data. An

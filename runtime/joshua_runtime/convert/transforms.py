@@ -1,10 +1,13 @@
 """The /tf topic every node that broadcasts transforms shares, and Odometry -> TransformStamped."""
 
 from geometry_msgs.msg import TransformStamped
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-TF_TOPIC = "/tf"
-TF_QOS = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+from joshua_core.fixed_topics import TF
+from joshua_core.settings import QosSettings
+from joshua_runtime.qos import qos_profile
+
+TF_TOPIC = TF.name
+TF_QOS = qos_profile(QosSettings(**TF.qos))
 
 
 def odometry_transform(odometry) -> TransformStamped:
