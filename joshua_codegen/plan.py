@@ -11,6 +11,8 @@ from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
 
+SUBSCRIBE_DEPTH = 10  # history of a subscription whose publishers state none (or are outside the description)
+
 
 def plan(description: pb.RobotDescription, source: str) -> Robot:
     """Build the model of a description the rules accepted. `source` is the description's path."""
@@ -89,12 +91,16 @@ def _publishers(declared: list[topology.Declaration]) -> dict[str, list[Endpoint
 
 
 def _matching_qos(publishers: list[Endpoint]) -> QoS:
-    """A subscription QoS every publisher of a topic can serve, with the deepest publisher history."""
+    """A subscription QoS every publisher of a topic can serve, with the deepest publisher history; when
+    all of them keep messages for late subscribers, room for what every one of them keeps."""
     if not publishers:  # published outside the description: best effort, volatile accepts any publisher
-        return QoS("KEEP_LAST", 10, "BEST_EFFORT", "VOLATILE")
+        return QoS("KEEP_LAST", SUBSCRIBE_DEPTH, "BEST_EFFORT", "VOLATILE")
     reliable = all(p.qos.reliability == "RELIABLE" for p in publishers)
     durable = all(p.qos.durability == "TRANSIENT_LOCAL" for p in publishers)
-    depth = max(p.qos.depth for p in publishers) or 10
+    if durable:  # KEEP_ALL publishers (depth 0) count as the default depth
+        depth = sum(p.qos.depth or SUBSCRIBE_DEPTH for p in publishers)
+    else:
+        depth = max(p.qos.depth for p in publishers) or SUBSCRIBE_DEPTH
     return QoS(
         "KEEP_LAST", depth, "RELIABLE" if reliable else "BEST_EFFORT", "TRANSIENT_LOCAL" if durable else "VOLATILE"
     )

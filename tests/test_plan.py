@@ -139,6 +139,23 @@ def test_topics_a_node_type_publishes_by_itself_reach_the_manifest_the_graph_and
     assert 'n1 -->|"reliable, transient_local, depth 1"| t3' in mermaid  # t3: /tf_static
 
 
+def test_a_reader_of_a_latched_topic_has_room_for_what_every_publisher_keeps():
+    """Two arms' static frames arrive at once when a reader joins: a history of 1 would drop one of them."""
+    robot = plan(
+        describe("""robot_config { name: "r" mode: MODE_TELEOPERATION
+        node { name: "left" type: MOCK_ENCODER_PUBLISHER topic_name: "/left/joints" }
+        node { name: "right" type: MOCK_ENCODER_PUBLISHER topic_name: "/right/joints" }
+        node { name: "left_state" type: ROBOT_STATE_PUBLISHER topic_name: "/left/joints" }
+        node { name: "right_state" type: ROBOT_STATE_PUBLISHER topic_name: "/right/joints" }
+        node { name: "rec" type: DATA_SUBSCRIBER output_format: "mcap" topic_name: "/left/joints"
+               input_topics: ["/tf_static", "/tf"] output_directory: "/data" } }"""),
+        "r.pbtxt",
+    )
+    inputs = {i["name"]: i["qos"] for i in to_literal(robot.node("rec").settings)["inputs"]}
+    assert (inputs["/tf_static"]["durability"], inputs["/tf_static"]["depth"]) == ("TRANSIENT_LOCAL", 2)
+    assert (inputs["/tf"]["durability"], inputs["/tf"]["depth"]) == ("VOLATILE", 100)  # the deepest, as before
+
+
 def _endpoints(document: dict) -> list:
     return [
         (
