@@ -1,13 +1,17 @@
 """`joshua-topic`: look at and talk to a robot's ROS topics (list, info, echo, hz, pub).
 
     joshua-topic list [-t]                           topics in the domain (with their types)
-    joshua-topic info TOPIC                          types, publishers and subscriptions with their QoS
-    joshua-topic echo TOPIC [--once | --count N]     print messages as YAML
+    joshua-topic info TOPIC [-v]                     types, publishers and subscriptions with their QoS
+    joshua-topic echo TOPIC [--once | --count N] [--timeout S]   print messages as YAML
     joshua-topic hz TOPIC [--window N] [--duration S]   print the publishing rate every second
     joshua-topic pub TOPIC TYPE [YAML] [--rate HZ | --once | --times N]   publish a message
 
 `--robot OUT` takes the ROS domain from a build's OUT/manifest.json; otherwise ROS_DOMAIN_ID applies.
-Exit codes: 0 success (also when stopped with Ctrl-C), 1 topic not found or failure, 2 usage error.
+echo and hz wait for a publisher of the topic and subscribe with a QoS all its publishers serve:
+reliable if all of them are, transient local (the messages they keep for late subscribers, such as
+/tf_static, arrive at once) if all of them are. echo gives up when no message came within --timeout.
+Exit codes: 0 success (also when stopped with Ctrl-C), 1 topic or publisher not found, or failure,
+2 usage error, 3 echo received no message within --timeout.
 """
 
 from __future__ import annotations
@@ -23,9 +27,11 @@ import time
 from collections import deque
 
 EXIT_USAGE = 2
+EXIT_NO_MESSAGE = 3
 DISCOVERY_S = 2.0  # how long `list` lets announcements arrive (no daemon holds the graph)
 INFO_SETTLE_S = 1.0  # how long `info` keeps discovering once the topic has appeared, to find every endpoint
-TOPIC_TIMEOUT_S = 10.0  # how long echo and hz wait for the topic to appear
+TOPIC_TIMEOUT_S = 10.0  # how long info and hz wait for the topic (and hz for a publisher) to appear
+FIRST_MESSAGE_TIMEOUT_S = 10.0  # how long echo waits for its first message, the topic's discovery included
 HZ_REPORT_EVERY_S = 1.0
 HZ_WINDOW = 10000
 PUB_MATCH_WAIT_S = 5.0  # how long a counted pub (--once, --times) waits for a subscription to match
@@ -43,18 +49,31 @@ def _parser() -> argparse.ArgumentParser:
     listing.add_argument("--wait", type=float, default=DISCOVERY_S, help="seconds of discovery (default %(default)s)")
     info = sub.add_parser("info", help="types, publishers and subscriptions of a topic with their QoS")
     info.add_argument("topic")
-    info.add_argument("--timeout", type=float, default=TOPIC_TIMEOUT_S, help="seconds to wait for the topic")
+    info.add_argument(
+        "--timeout", type=float, default=TOPIC_TIMEOUT_S, help="seconds to wait for the topic (0: forever)"
+    )
+    info.add_argument(
+        "-v", "--verbose", action="store_true", help="also each endpoint's GID and timing QoS, and echo's QoS"
+    )
     echo = sub.add_parser("echo", help="print the messages of a topic as YAML")
     echo.add_argument("topic")
     echo.add_argument("--once", action="store_true", help="print one message, then exit")
     echo.add_argument("--count", type=int, help="print this many messages, then exit")
     echo.add_argument("--full-arrays", action="store_true", help="print long arrays in full")
-    echo.add_argument("--timeout", type=float, default=TOPIC_TIMEOUT_S, help="seconds to wait for the topic")
+    echo.add_argument(
+        "--timeout",
+        type=float,
+        default=FIRST_MESSAGE_TIMEOUT_S,
+        metavar="S",
+        help="seconds to wait for the first message, then exit 3 (0: forever; default %(default)s)",
+    )
     hz = sub.add_parser("hz", help="print the publishing rate of a topic")
     hz.add_argument("topic")
     hz.add_argument("--window", type=int, default=HZ_WINDOW, help="messages the statistics cover")
     hz.add_argument("--duration", type=float, help="stop after this many seconds")
-    hz.add_argument("--timeout", type=float, default=TOPIC_TIMEOUT_S, help="seconds to wait for the topic")
+    hz.add_argument(
+        "--timeout", type=float, default=TOPIC_TIMEOUT_S, help="seconds to wait for a publisher (0: forever)"
+    )
     pub = sub.add_parser("pub", help="publish a message given as YAML")
     pub.add_argument("topic")
     pub.add_argument("type", help="message type, e.g. std_msgs/msg/String")
@@ -85,12 +104,16 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "rate", 1.0) <= 0:
         print("joshua-topic: --rate must be above 0", file=sys.stderr)
         return EXIT_USAGE
+    if getattr(args, "timeout", 0.0) < 0:
+        print("joshua-topic: --timeout must be 0 (wait forever) or more", file=sys.stderr)
+        return EXIT_USAGE
 
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
 
     from joshua_runtime.errors import JoshuaError
+    from joshua_runtime.tools.topic_graph import NoMessage
 
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=domain, signal_handler_options=SignalHandlerOptions.NO)
@@ -103,6 +126,9 @@ def main(argv: list[str] | None = None) -> int:
         return COMMANDS[args.command](node, executor, args) or 0
     except KeyboardInterrupt:
         return 0
+    except NoMessage as exc:
+        print(f"joshua-topic: {exc}", file=sys.stderr)
+        return EXIT_NO_MESSAGE
     except JoshuaError as exc:
         print(f"joshua-topic: {exc}", file=sys.stderr)
         return EXIT_USAGE if exc.exit_code == EXIT_USAGE else 1
@@ -146,7 +172,9 @@ def _list(node, executor, args) -> None:
 def _info(node, executor, args) -> int:
     from joshua_runtime.tools.topic_graph import (
         describe_endpoint,
+        describe_qos,
         discover,
+        subscription_qos,
         wait_for_topic,
     )
 
@@ -160,25 +188,32 @@ def _info(node, executor, args) -> int:
     print(f"Type: {', '.join(types)}")
     print(f"Publisher count: {len(publishers)}")
     for info in publishers:
-        print("\n" + describe_endpoint(info))
+        print("\n" + describe_endpoint(info, args.verbose))
     print(f"\nSubscription count: {len(subscriptions)}")
     for info in subscriptions:
-        print("\n" + describe_endpoint(info))
+        print("\n" + describe_endpoint(info, args.verbose))
+    if args.verbose and publishers:
+        print(f"\necho and hz subscribe with: {describe_qos(subscription_qos(publishers))}")
     return 0
 
 
 def _subscribe(node, executor, args, callback):
+    """Subscribe to args.topic once a publisher of it is known, with a QoS all the known publishers
+    serve; that QoS."""
     from joshua_runtime.messages import message_class
-    from joshua_runtime.tools.topic_graph import subscription_qos, wait_for_topic
+    from joshua_runtime.tools.topic_graph import subscription_qos, wait_for_publishers
 
-    types = wait_for_topic(node, executor, args.topic, args.timeout)
-    qos = subscription_qos(node.get_publishers_info_by_topic(args.topic))
-    return node.create_subscription(message_class(types[0]), args.topic, callback, qos)
+    types, publishers = wait_for_publishers(node, executor, args.topic, args.timeout)
+    qos = subscription_qos(publishers)
+    node.create_subscription(message_class(types[0]), args.topic, callback, qos)
+    return qos
 
 
 def _echo(node, executor, args) -> None:
     from joshua_runtime.tools.message_text import to_yaml
+    from joshua_runtime.tools.topic_graph import NoMessage, deadline_after, describe_qos, passed
 
+    deadline = deadline_after(args.timeout)  # for the first message; discovering the topic counts
     wanted = 1 if args.once else args.count
     printed = 0
 
@@ -189,9 +224,16 @@ def _echo(node, executor, args) -> None:
             sys.stdout.flush()
             printed += 1
 
-    _subscribe(node, executor, args, show)
+    qos = _subscribe(node, executor, args, show)
     while wanted is None or printed < wanted:
         executor.spin_once(timeout_sec=0.1)
+        if not printed and passed(deadline):
+            # named now: discovery may learn an endpoint before the name of its node
+            names = ", ".join(sorted({info.node_name for info in node.get_publishers_info_by_topic(args.topic)}))
+            raise NoMessage(
+                f"no message on {args.topic} within {args.timeout:g} s from its publishers ({names}), "
+                f"subscribed {describe_qos(qos)}; --timeout S waits longer, 0 forever"
+            )
 
 
 def _hz(node, executor, args) -> None:

@@ -3,28 +3,19 @@
 import re
 import subprocess
 import sys
+import time
 
 import pytest
 from sensor_msgs.msg import JointState
 
 from testsupport.compiled_settings import compiled_node
 from testsupport.joshuac_cli import joshuac
+from testsupport.topic_cli import CLI_TIMEOUT_S, topic_cli
 
 TOPIC = "/leader/joint_states"
-CLI_TIMEOUT_S = 60.0
 RECEIVE_TIMEOUT_S = 15.0
+LATE_PUBLISHER_S = 3.0  # longer than `--timeout 0` would last if it meant "do not wait"
 RELIABLE = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}
-
-
-def topic_cli(env, *args, timeout=CLI_TIMEOUT_S) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "joshua_runtime.tools.topic_cli", *map(str, args)],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        check=False,
-    )
 
 
 @pytest.fixture
@@ -126,6 +117,7 @@ def test_the_robot_option_takes_the_domain_from_the_build(ros_env, ros_client, t
         (("pub", "/x", "std_msgs/msg/String", "{dat: a}"), "String.dat: no such field (fields: data)"),
         (("pub", "/x", "std_msgs/msg/Int32", "{data: [1}"), "the values are not YAML"),
         (("--robot", "/nonexistent/out", "list"), "/nonexistent/out: no manifest.json"),
+        (("echo", "/x", "--timeout", "-1"), "--timeout must be 0 (wait forever) or more"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_code_2(ros_env, args, message):
@@ -138,3 +130,61 @@ def test_echo_of_a_topic_nobody_publishes_ends_with_a_clear_message(ros_env):
     result = topic_cli(ros_env, "echo", "/nobody", "--timeout", 0.5)
     assert result.returncode == 1
     assert "topic /nobody does not appear in ROS domain" in result.stderr
+
+
+LATCHED = {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
+
+
+def test_echo_without_a_message_ends_after_its_default_timeout_with_exit_code_3(ros_env, ros_client):
+    from std_msgs.msg import String
+
+    ros_client.publisher("/silent", String, RELIABLE)  # announced, never published
+    result = topic_cli(ros_env, "echo", "/silent", "--once")
+    assert result.returncode == 3, result.stderr
+    assert result.stderr.count("\n") == 1 and result.stdout == ""
+    assert result.stderr.startswith("joshua-topic: no message on /silent within 10 s from its publishers (test_client)")
+    assert "subscribed RELIABLE, VOLATILE" in result.stderr
+
+
+def test_echo_of_a_topic_with_subscribers_only_says_it_has_no_publisher(ros_env, ros_client):
+    from std_msgs.msg import String
+
+    ros_client.listen("/unfed", String, RELIABLE)
+    result = topic_cli(ros_env, "echo", "/unfed", "--timeout", 3)
+    assert result.returncode == 1
+    assert "topic /unfed has no publisher in ROS domain" in result.stderr and "(only 1 subscription)" in result.stderr
+
+
+def test_echo_with_timeout_0_waits_for_a_publisher_that_comes_later(ros_env, ros_client):
+    from std_msgs.msg import String
+
+    echo = subprocess.Popen(
+        [sys.executable, "-m", "joshua_runtime.tools.topic_cli", "echo", "/later", "--once", "--timeout", "0"],
+        env=ros_env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        time.sleep(LATE_PUBLISHER_S)
+        ros_client.publisher("/later", String, LATCHED).publish(String(data="at last"))
+        stdout, stderr = echo.communicate(timeout=CLI_TIMEOUT_S)
+    finally:
+        echo.kill()
+    assert echo.returncode == 0, stderr
+    assert stdout == "data: at last\n---\n"
+
+
+def test_echo_hears_every_publisher_that_keeps_a_message_for_late_subscribers(ros_env, ros_client):
+    from std_msgs.msg import String
+
+    for name in ("first", "second"):
+        ros_client.publisher("/kept", String, LATCHED).publish(String(data=name))
+    result = topic_cli(ros_env, "echo", "/kept", "--count", 2)
+    assert result.returncode == 0, result.stderr
+    assert sorted(result.stdout.split("\n---\n")) == ["", "data: first", "data: second"]
+    info = topic_cli(ros_env, "info", "/kept", "--verbose")
+    assert info.returncode == 0, info.stderr
+    assert "Publisher count: 2" in info.stdout and info.stdout.count("Durability: TRANSIENT_LOCAL") == 2
+    assert re.search(r"^GID: [0-9a-f]{2}(\.[0-9a-f]{2})+$", info.stdout, re.M)
+    assert "echo and hz subscribe with: RELIABLE, TRANSIENT_LOCAL, depth 10" in info.stdout
