@@ -2,26 +2,15 @@
 
 import asyncio
 import json
-import socket
-import struct
 
-import websockets
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
 
 from testsupport.compiled_settings import compiled_settings
+from testsupport.foxglove_client import first_messages, free_port
 from testsupport.joshuac_cli import joshuac
 
-SUBPROTOCOL = "foxglove.sdk.v1"  # what foxglove-sdk 0.30 servers speak (the Foxglove app offers it)
-MESSAGE_DATA_OPCODE = 0x01
-WAIT_S = 30.0
 ARM = "/arm/joint_states"
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
 
 
 def description(port: int) -> str:
@@ -29,43 +18,6 @@ def description(port: int) -> str:
       foxglove {{ port: {port} host: "127.0.0.1" }}
       node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "{ARM}" rate_hz: 20 }}
       node {{ name: "state" type: ROBOT_STATE_PUBLISHER topic_name: "{ARM}" }} }}'''
-
-
-async def first_messages(port: int, topics: list[str]) -> tuple[dict, dict]:
-    """(advertised channel by topic, first payload by topic) once every topic has sent a message."""
-    deadline = asyncio.get_running_loop().time() + WAIT_S
-    while True:
-        try:
-            socket_ = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[SUBPROTOCOL])
-            break
-        except OSError:
-            if asyncio.get_running_loop().time() > deadline:
-                raise
-            await asyncio.sleep(0.2)
-    channels, payloads, subscribed = {}, {}, {}
-    async with socket_:
-        while len(payloads) < len(topics):
-            frame = await asyncio.wait_for(socket_.recv(), deadline - asyncio.get_running_loop().time())
-            if isinstance(frame, str):
-                message = json.loads(frame)
-                if message["op"] == "advertise":
-                    for channel in message["channels"]:
-                        channels[channel["topic"]] = channel
-                        if channel["topic"] in topics and channel["topic"] not in subscribed.values():
-                            subscription = len(subscribed) + 1
-                            subscribed[subscription] = channel["topic"]
-                            await socket_.send(
-                                json.dumps(
-                                    {
-                                        "op": "subscribe",
-                                        "subscriptions": [{"id": subscription, "channelId": channel["id"]}],
-                                    }
-                                )
-                            )
-            elif frame[0] == MESSAGE_DATA_OPCODE:
-                subscription, _log_time = struct.unpack_from("<IQ", frame, 1)
-                payloads.setdefault(subscribed[subscription], bytes(frame[13:]))
-    return channels, payloads
 
 
 def test_the_build_adds_a_bridge_process_serving_the_described_topics(tmp_path):
@@ -76,7 +28,13 @@ def test_the_build_adds_a_bridge_process_serving_the_described_topics(tmp_path):
     assert "foxglove_bridge" in [p["name"] for p in manifest["processes"]]
     settings = compiled_settings(description(8765))["foxglove_bridge"]
     assert settings["type"] == "FOXGLOVE_BRIDGE" and settings["foxglove"] == {"port": 8765, "host": "127.0.0.1"}
-    assert [t["name"] for t in settings["inputs"]] == [ARM]
+    # The ROBOT_STATE_PUBLISHER's own topics are described too, the latched ones served transient local.
+    assert [(t["name"], t["qos"]["durability"]) for t in settings["inputs"]] == [
+        (ARM, "VOLATILE"),
+        ("/robot_description", "TRANSIENT_LOCAL"),
+        ("/tf", "VOLATILE"),
+        ("/tf_static", "TRANSIENT_LOCAL"),
+    ]
 
 
 def test_a_websocket_client_receives_joint_states_and_transforms(start_node, ros_env):
