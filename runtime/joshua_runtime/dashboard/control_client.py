@@ -7,6 +7,8 @@ every call opens its own connection, so a supervisor restarted meanwhile is simp
 import asyncio
 import json
 import os
+import socket
+import struct
 from pathlib import Path
 
 # How long one request may take before the supervisor counts as unreachable (a restart waits for the old process).
@@ -16,6 +18,7 @@ REPLY_LIMIT_BYTES = 8 * 1024 * 1024
 NODE_ACTIONS = ("restart", "stop", "start")
 # Set by a supervisor for its children when it serves its socket somewhere else than the default.
 SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"
+PEER_CREDENTIALS = struct.Struct("3i")  # SO_PEERCRED: pid, uid, gid
 
 
 class ControlError(Exception):
@@ -30,6 +33,15 @@ def default_socket_path(robot: str) -> Path:
     if runtime_dir:
         return Path(runtime_dir) / "joshua" / f"{robot}.sock"
     return Path(f"/tmp/joshua-{os.getuid()}") / f"{robot}.sock"
+
+
+def check_server(connection, path: Path) -> None:
+    """Refuse a socket served by another user than this one or root (someone who bound the path first)."""
+    _, uid, _ = PEER_CREDENTIALS.unpack(
+        connection.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, PEER_CREDENTIALS.size)
+    )
+    if uid not in (os.geteuid(), 0):
+        raise ControlError(f"control socket {path} is served by uid {uid}, not by uid {os.geteuid()} or root")
 
 
 class ControlClient:
@@ -53,6 +65,7 @@ class ControlClient:
         except OSError as exc:
             raise ControlError(f"control socket {self.path}: {exc.strerror or exc}") from exc
         try:
+            check_server(writer.get_extra_info("socket"), self.path)
             writer.write(json.dumps(message).encode() + b"\n")
             await writer.drain()
             line = await reader.readline()
