@@ -46,7 +46,7 @@ def dashboard_address(config) -> str | None:
     """The address of the robot's dashboard page carrying its access token (the token file is created
     now when absent, where the supervisor's dashboard will read it), or None without a dashboard block.
     Raises joshua_core.dashboard_token.TokenFileError."""
-    from joshua_codegen.supervisor.control import default_control_socket
+    from joshua_codegen.supervisor.control_socket import default_control_socket
     from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
     from joshua_core.dashboard_token import load_or_create_token, token_path
 

@@ -14,6 +14,7 @@ Conventions that let `joshua_codegen/emitters/supervisor.py` concatenate these m
 MODULES = (
     "policy",
     "common",
+    "fd_limit",
     "containment",
     "children",
     "guard",
@@ -24,6 +25,10 @@ MODULES = (
     "preflight",
     "outcome",
     "node_log",
+    "poller",
+    "control_request",
+    "control_socket",
+    "control_connection",
     "control",
     "stop_cascade",
     "loop",

@@ -5,6 +5,7 @@ import signal
 
 from joshua_codegen.supervisor.common import PR_SET_PDEATHSIG, PRCTL
 from joshua_codegen.supervisor.containment import join_cgroup
+from joshua_codegen.supervisor.fd_limit import restore_fd_limit
 from joshua_codegen.supervisor.policy import (
     EXIT_EXEC_FAILED,
     EXIT_ORPHANED,
@@ -24,6 +25,7 @@ def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | 
         for number in RESET_IN_CHILD:
             signal.signal(number, signal.SIG_DFL)
         signal.set_wakeup_fd(-1)
+        restore_fd_limit()
         os.setsid()
         if PRCTL is not None:
             PRCTL(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)

@@ -4,16 +4,15 @@ import argparse
 import os
 import shutil
 import sys
+import traceback
 
 from joshua_codegen.supervisor.common import log
-from joshua_codegen.supervisor.control import (
-    CONTROL_SOCKET_VARIABLE,
-    default_control_socket,
-)
+from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
+from joshua_codegen.supervisor.control_socket import default_control_socket
 from joshua_codegen.supervisor.ctl import ctl
 from joshua_codegen.supervisor.loop import Supervisor
 from joshua_codegen.supervisor.node_log import default_log_dir
-from joshua_codegen.supervisor.policy import EXIT_PREFLIGHT
+from joshua_codegen.supervisor.policy import EXIT_INTERNAL, EXIT_PREFLIGHT
 from joshua_codegen.supervisor.preflight import preflight
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.supervisord_listener import supervisord_listener
@@ -55,7 +54,8 @@ def parse_arguments(argv):
         "--control-socket",
         default=default_control_socket(ROBOT["name"]),
         metavar="PATH",
-        help="serve the control socket here (default: %(default)s; `ctl` is its client)",
+        help="serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
+        "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",
     )
     parser.add_argument("--no-control", action="store_true", help="serve no control socket")
     parser.add_argument(
@@ -75,6 +75,15 @@ def main(argv):
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
     options = parse_arguments(argv)
+    try:
+        return supervise(options)
+    except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
+        log("supervisor", "internal error (a bug in supervisor.py); its traceback:")
+        traceback.print_exc()
+        return EXIT_INTERNAL
+
+
+def supervise(options):
     if options.no_control:
         options.control_socket = None
     else:

@@ -1,5 +1,6 @@
 """The control socket: status, restart / stop / start of one node and its log, one JSON line each way."""
 
+import errno
 import json
 import os
 import signal
@@ -7,156 +8,166 @@ import socket
 import time
 
 from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.control_connection import (
+    CONTROL_OUTPUT_LIMIT_BYTES,
+    CONTROL_OUTPUT_TOTAL_BYTES,
+    ControlConnection,
+    close_quietly,
+)
+from joshua_codegen.supervisor.control_request import RequestError, parse_request
+from joshua_codegen.supervisor.control_socket import SocketFile, may_control, peer_credentials
 from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
 
 CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
-CONTROL_REQUEST_LIMIT = 65536  # longest request line accepted
-CONTROL_SEND_TIMEOUT_S = 1.0  # a client that does not read its replies for this long is dropped
-LOG_LINES_DEFAULT = 100
+CONTROL_CLIENTS_MAX = 1024  # clients connected at once; one more is answered "too many" and closed
+CONTROL_FDS_KEPT = 64  # descriptors never given to clients: the supervisor's own, and its nodes' pipes...
+CONTROL_FDS_PER_NODE = 4  # ...and this many more per node
+CONTROL_ACCEPTS_PER_TURN = 64  # clients accepted before the loop turns to other work
+CONTROL_ACCEPT_BACKOFF_S = 0.5  # out of descriptors (EMFILE): how long the socket stops accepting
+CONTROL_TURN_S = 0.01  # time for requests in one turn of the loop; the rest wait for the next (timers run between)
+CONTROL_REFUSAL_LOG_S = 10.0  # refused clients of other users are logged at most once in this interval
+ACCEPT_OUT_OF_RESOURCES = (errno.EMFILE, errno.ENFILE, errno.ENOBUFS, errno.ENOMEM)
 
 
-def default_control_socket(robot: str) -> str:
-    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock."""
-    runtime_dir = os.environ.get("XDG_RUNTIME_DIR")
-    directory = os.path.join(runtime_dir, "joshua") if runtime_dir else f"/tmp/joshua-{os.getuid()}"
-    return os.path.join(directory, f"{robot}.sock")
-
-
-class ControlClient:
-    """One connection: buffers request bytes, writes reply lines, may follow a node's log."""
-
-    def __init__(self, connection):
-        self.connection = connection
-        self.connection.settimeout(CONTROL_SEND_TIMEOUT_S)
-        self.buffer = b""
-        self.following = None  # (NodeLog, listener) while `logs -f` runs
-        self.closed = False
-
-    def send(self, reply: dict) -> None:
-        if self.closed:
-            return
-        try:
-            self.connection.sendall(json.dumps(reply).encode() + b"\n")
-        except OSError:
-            self.close()
-
-    def close(self) -> None:
-        if self.following is not None:
-            node_log, listener = self.following
-            if listener in node_log.listeners:
-                node_log.listeners.remove(listener)
-            self.following = None
-        if not self.closed:
-            self.closed = True
-            self.connection.close()
+def control_clients_max(fd_limit: int, nodes: int) -> int:
+    """How many clients may be connected at once under the open-file limit `fd_limit`, `nodes` running too."""
+    return max(1, min(CONTROL_CLIENTS_MAX, fd_limit - CONTROL_FDS_KEPT - CONTROL_FDS_PER_NODE * nodes))
 
 
 class ControlPlane:
-    """Serves the socket for a Supervisor: registers its descriptors in `supervisor.readers`, and is
-    polled by the loop (`poll`) to finish node stops and restarts and to escalate their signals.
+    """Serves the socket for a Supervisor: registers its descriptors in `supervisor.readers` / `writers` (the
+    loop's Poller), and is polled by the loop (`poll`, at `deadline()`) to finish node stops and restarts,
+    escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
-    Requests: {"command": "status"}, {"command": "restart"|"stop"|"start", "node": NAME},
-    {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
-    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a
-    stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a
-    Unix stream socket of mode 0600 in a directory of mode 0700.
+    Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
+    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a stop:
+    SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a Unix
+    stream socket of mode 0600 in a directory of this user's, mode 0700 (control_socket.py); only
+    clients of the same user or root are served, the others get one error line.
     """
 
-    def __init__(self, supervisor, path: str):
+    def __init__(self, supervisor, path: str, clients_max: int):
         self.supervisor = supervisor
+        self.readers = supervisor.readers
+        self.writers = supervisor.writers
         self.path = path
-        self.clients = {}  # fd -> ControlClient
-        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [(client, command)]}
+        self.clients_max = clients_max
+        self.connections = {}  # fd -> ControlConnection
+        self.backlog = {}  # fd -> ControlConnection with request lines left for the next turn
+        self.buffered = 0  # reply bytes every connection holds unsent
+        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [connection]}
         self.since = {}  # node name -> (state, monotonic time it was entered)
-        directory = os.path.dirname(path)
-        os.makedirs(directory, mode=0o700, exist_ok=True)
-        if os.path.exists(path):
-            probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-            try:
-                probe.connect(path)
-            except OSError:
-                os.unlink(path)  # left by a supervisor that was killed
-            else:
-                raise OSError(f"another supervisor serves {path}")
-            finally:
-                probe.close()
-        self.listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        old_mask = os.umask(0o177)
+        self.accept_resume_at = None  # while out of descriptors: when accepting is tried again
+        self.accept_failing = False
+        self.refusals_logged_at = None
+        self.socket_file = SocketFile(path)
         try:
-            self.listener.bind(path)
-        finally:
-            os.umask(old_mask)
-        os.chmod(path, 0o600)
-        self.listener.listen(16)
-        self.listener.setblocking(False)
-        supervisor.readers[self.listener.fileno()] = self.accept
+            self.listener = self.socket_file.bind()
+        except BaseException:
+            self.socket_file.remove()
+            raise
+        self.readers[self.listener.fileno()] = self.accept
         log("supervisor", f"control socket {path} (python3 supervisor.py ctl --control-socket {path} status)")
 
     def close(self) -> None:
-        for client in list(self.clients.values()):
-            client.close()
-        self.supervisor.readers.pop(self.listener.fileno(), None)
+        for connection in list(self.connections.values()):
+            connection.close()
+        self.readers.pop(self.listener.fileno(), None)
         self.listener.close()
-        try:
-            os.unlink(self.path)
-        except OSError:
-            pass
+        self.socket_file.remove()
+
+    # Clients
 
     def accept(self) -> None:
-        try:
-            connection, _ = self.listener.accept()
-        except OSError:
-            return
-        client = ControlClient(connection)
-        fd = connection.fileno()
-        self.clients[fd] = client
-        self.supervisor.readers[fd] = lambda: self.receive(fd)
-
-    def drop(self, fd: int) -> None:
-        self.supervisor.readers.pop(fd, None)
-        client = self.clients.pop(fd, None)
-        if client is not None:
-            client.close()
-
-    def receive(self, fd: int) -> None:
-        client = self.clients[fd]
-        try:
-            data = client.connection.recv(CONTROL_REQUEST_LIMIT)
-        except OSError:
-            data = b""
-        if not data or len(client.buffer) + len(data) > CONTROL_REQUEST_LIMIT:
-            self.drop(fd)
-            return
-        client.buffer += data
-        while b"\n" in client.buffer and not client.closed:
-            line, client.buffer = client.buffer.split(b"\n", 1)
+        for _ in range(CONTROL_ACCEPTS_PER_TURN):
             try:
-                request = json.loads(line)
-            except ValueError as exc:
-                request = f"not JSON ({exc})"
-            if not isinstance(request, dict):
-                client.send({"ok": False, "error": f"a request is one JSON object per line, got {request!r:.80}"})
-                continue
-            reply = self.handle(client, request)
-            if reply is not None:
-                client.send(reply)
-        if client.closed:
-            self.drop(fd)
+                connection, _ = self.listener.accept()
+            except (BlockingIOError, InterruptedError):
+                if self.accept_failing:  # every waiting client was taken
+                    self.accept_failing = False
+                    log("supervisor", "control socket: accepting clients again")
+                return
+            except OSError as exc:
+                if exc.errno in ACCEPT_OUT_OF_RESOURCES:
+                    self.pause_accepting(exc)
+                return  # otherwise that client is gone already
+            self.admit(connection)
+
+    def pause_accepting(self, exc: OSError) -> None:
+        """Out of descriptors: stop watching the socket for CONTROL_ACCEPT_BACKOFF_S (its queue keeps the
+        clients waiting), rather than being woken at once again for a client that cannot be accepted."""
+        self.readers.pop(self.listener.fileno(), None)
+        self.accept_resume_at = time.monotonic() + CONTROL_ACCEPT_BACKOFF_S
+        if not self.accept_failing:
+            self.accept_failing = True
+            log(
+                "supervisor",
+                f"control socket: cannot accept a client ({exc.strerror}); trying again every "
+                f"{CONTROL_ACCEPT_BACKOFF_S} s",
+            )
+
+    def admit(self, connection) -> None:
+        try:
+            pid, uid, _ = peer_credentials(connection)
+        except OSError:
+            connection.close()
+            return
+        if not may_control(uid):
+            self.note_refusal(uid, pid)
+            refuse(connection, f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)")
+        elif len(self.connections) >= self.clients_max:
+            refuse(connection, f"too many control clients ({self.clients_max}); try again later")
+        else:
+            client = ControlConnection(self, connection, pid)
+            self.connections[client.fd] = client
+
+    def note_refusal(self, uid: int, pid: int) -> None:
+        now = time.monotonic()
+        if self.refusals_logged_at is None or now - self.refusals_logged_at >= CONTROL_REFUSAL_LOG_S:
+            self.refusals_logged_at = now
+            log("supervisor", f"control socket: refused a client of uid {uid} (pid {pid})")
+
+    def drop_unread(self, connection, size: int) -> None:
+        log(
+            "supervisor",
+            f"control socket: dropped a client (pid {connection.pid}) that left {size} bytes of replies unread "
+            f"(at most {CONTROL_OUTPUT_LIMIT_BYTES} a client, {CONTROL_OUTPUT_TOTAL_BYTES} in all)",
+        )
+        connection.close()
+
+    def turn_ends_at(self) -> float:
+        """When request lines must wait for the next turn of the loop: CONTROL_TURN_S after it woke."""
+        return self.supervisor.poller.woke_at + CONTROL_TURN_S
+
+    def forget(self, connection) -> None:
+        self.connections.pop(connection.fd, None)
 
     # Requests
 
-    def handle(self, client, request):
-        """The reply to `request`, or None when it comes later (a stop or restart in progress)."""
-        command = request.get("command")
+    def on_request(self, connection, line: bytes) -> None:
+        try:
+            request = parse_request(line)
+        except RequestError as exc:
+            connection.send({"ok": False, "error": str(exc)})
+            return
+        reply = self.handle(connection, request)
+        if reply is None:
+            connection.waiting += request["command"] in ("restart", "stop")
+        else:
+            connection.send(reply)
+
+    def handle(self, connection, request):
+        """The reply to `request`, or None when it comes later (a stop or restart in progress, or none at all
+        for `logs` that sent its own)."""
+        command = request["command"]
         if command == "status":
             return {"ok": True, **self.status()}
-        node = next((n for n in self.supervisor.nodes if n.name == request.get("node")), None)
-        if command not in ("restart", "stop", "start", "logs"):
-            return {"ok": False, "error": f"unknown command {command!r} (status, restart, stop, start, logs)"}
+        node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
         if node is None:
-            return {"ok": False, "error": f"no node named {request.get('node')!r}"}
+            return {"ok": False, "error": f"no node named {request['node']!r:.80}"}
         if command == "logs":
-            return self.logs(client, node, request)
+            return self.logs(connection, node, request)
         if self.supervisor.stopping:
             return {"ok": False, "error": "the robot is stopping"}
         if node.name in self.pending:
@@ -177,7 +188,7 @@ class ControlPlane:
             "stage": "SIGINT",
             "deadline": time.monotonic() + SIGINT_GRACE_S,
             "then_start": command == "restart",
-            "waiters": [client],
+            "waiters": [connection],
         }
         node.stop_requested = True
         node.state = "stopping"
@@ -211,20 +222,14 @@ class ControlPlane:
             ],
         }
 
-    def logs(self, client, node, request) -> dict | None:
-        try:
-            count = int(request.get("lines", LOG_LINES_DEFAULT))
-        except (TypeError, ValueError):
-            return {"ok": False, "error": "lines must be a whole number"}
-        node_log = self.supervisor.logs[node.name]
-        client.send({"ok": True, "lines": node_log.tail(count)})
-        if request.get("follow"):
-
-            def listener(line, client=client):
-                client.send({"line": line})
-
-            node_log.listeners.append(listener)
-            client.following = (node_log, listener)
+    def logs(self, connection, node, request) -> None:
+        node_log = self.supervisor.logs.get(node.name)
+        if node_log is None:
+            connection.send({"ok": False, "error": f"the output of {node.name} is not kept (no log directory)"})
+            return None
+        connection.send({"ok": True, "lines": node_log.tail(request["lines"])})
+        if request["follow"] and not connection.closed:
+            connection.follow(node_log)
         return None
 
     # The loop's part
@@ -235,12 +240,26 @@ class ControlPlane:
                 self.since[node.name] = (node.state, now)
 
     def deadline(self):
-        """The next moment poll() must run (a stop's signal escalation), or None."""
-        return min((item["deadline"] for item in self.pending.values()), default=None)
+        """The next moment poll() must run (a stop's signal escalation, accepting again, lines left), or None."""
+        moments = [item["deadline"] for item in self.pending.values()]
+        if self.accept_resume_at is not None:
+            moments.append(self.accept_resume_at)
+        if self.backlog:
+            moments.append(time.monotonic())
+        return min(moments, default=None)
 
     def poll(self) -> None:
-        """Finish stops and restarts whose node is gone; escalate those past their grace."""
+        """Resume accepting; handle lines left; finish stops and restarts whose node is gone, escalate those
+        past their grace."""
         now = time.monotonic()
+        if self.accept_resume_at is not None and now >= self.accept_resume_at:
+            self.accept_resume_at = None
+            self.readers[self.listener.fileno()] = self.accept
+        for index, connection in enumerate(list(self.backlog.values())):
+            if index and time.monotonic() >= self.turn_ends_at():
+                break  # the first always gets a line: lines left are handled, however busy the socket
+            del self.backlog[connection.fd]
+            connection.handle_lines(at_least_one=not index)
         for node in self.supervisor.nodes:
             item = self.pending.get(node.name)
             if item is None:
@@ -251,8 +270,8 @@ class ControlPlane:
                 if item["then_start"] and not self.supervisor.stopping:
                     node.restarts += 1
                     self.start(node)
-                for client in item["waiters"]:
-                    client.send(self.action_reply(node))
+                for connection in item["waiters"]:
+                    connection.answer(self.action_reply(node))
             elif now >= item["deadline"]:
                 stage, number, grace = (
                     ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
@@ -263,3 +282,13 @@ class ControlPlane:
                 item.update(stage=stage, deadline=now + grace)
                 self.supervisor.signal_node(node, number)
         self.note_states(now)
+
+
+def refuse(connection, error: str) -> None:
+    """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
+    try:
+        connection.setblocking(False)
+        connection.send(json.dumps({"ok": False, "error": error}).encode() + b"\n", socket.MSG_NOSIGNAL)
+    except OSError:
+        pass
+    close_quietly(connection)

@@ -2,13 +2,17 @@
 
 import argparse
 import json
+import os
 import socket
 import sys
+import time
 
-from joshua_codegen.supervisor.control import default_control_socket
+from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT
+from joshua_codegen.supervisor.control_socket import default_control_socket, may_control, peer_credentials
 from joshua_codegen.supervisor.robot import ROBOT
 
 CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
+CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
 CTL_EXIT_FAILED = 1
 
 
@@ -29,7 +33,9 @@ def ctl_arguments(argv):
         commands.add_parser(action, help=f"{action} one node").add_argument("node")
     logs = commands.add_parser("logs", help="the last lines of a node's output")
     logs.add_argument("node")
-    logs.add_argument("-n", "--lines", type=int, default=100, help="how many lines (default 100)")
+    logs.add_argument(
+        "-n", "--lines", type=int, default=CONTROL_LOG_LINES_DEFAULT, help="how many lines (default %(default)s)"
+    )
     logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
     return parser.parse_args(argv)
 
@@ -42,10 +48,19 @@ def ctl(argv) -> int:
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow)
     try:
-        connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        connection.settimeout(CTL_TIMEOUT_S)
-        connection.connect(options.control_socket)
-        connection.sendall(json.dumps(request).encode() + b"\n")
+        connection = ctl_connect(options.control_socket)
+        _, uid, _ = peer_credentials(connection)
+        if not may_control(uid):
+            print(
+                f"supervisor.py ctl: error: control socket {options.control_socket} is served by uid {uid}, "
+                f"not by uid {os.geteuid()} or root: not talking to it",
+                file=sys.stderr,
+            )
+            return CTL_EXIT_FAILED
+        try:
+            connection.sendall(json.dumps(request).encode() + b"\n")
+        except (BrokenPipeError, ConnectionResetError):
+            pass  # refused and closed at once (too many clients): the reply already sent says why
         if options.follow if options.command == "logs" else False:
             connection.settimeout(None)
         replies = connection.makefile("rb")
@@ -62,9 +77,28 @@ def ctl(argv) -> int:
             f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
         )
         return CTL_EXIT_FAILED
+    except ValueError as exc:
+        print(f"supervisor.py ctl: error: control socket {options.control_socket}: bad reply ({exc})", file=sys.stderr)
+        return CTL_EXIT_FAILED
     except KeyboardInterrupt:
         pass
     return 0
+
+
+def ctl_connect(path: str) -> socket.socket:
+    """A connection to the control socket, waiting up to CTL_TIMEOUT_S while its queue is full."""
+    deadline = time.monotonic() + CTL_TIMEOUT_S
+    while True:
+        connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        connection.settimeout(CTL_TIMEOUT_S)
+        try:
+            connection.connect(path)
+            return connection
+        except BlockingIOError:
+            connection.close()
+            if time.monotonic() >= deadline:
+                raise
+            time.sleep(CTL_CONNECT_RETRY_S)
 
 
 def print_reply(options, reply: dict) -> None:

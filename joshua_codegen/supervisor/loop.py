@@ -1,7 +1,6 @@
 """The event loop: launching, reaping and restarts with backoff."""
 
 import os
-import select
 import shlex
 import signal
 import time
@@ -16,7 +15,9 @@ from joshua_codegen.supervisor.common import (
     log,
     signal_name,
 )
-from joshua_codegen.supervisor.control import ControlPlane
+from joshua_codegen.supervisor.control import ControlPlane, control_clients_max
+from joshua_codegen.supervisor.control_socket import ControlSocketError
+from joshua_codegen.supervisor.fd_limit import raise_fd_limit
 from joshua_codegen.supervisor.guard import Guard
 from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.node_log import open_node_logs
@@ -24,6 +25,7 @@ from joshua_codegen.supervisor.node_processes import contain_nodes
 from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
+    EXIT_PREFLIGHT,
     LEFTOVER_POLL_S,
     RESTART_DELAY_CAP_S,
     RESTART_DELAY_FACTOR,
@@ -32,6 +34,7 @@ from joshua_codegen.supervisor.policy import (
     SHM_CLOCK_SLACK_S,
     STOP_SIGNALS,
 )
+from joshua_codegen.supervisor.poller import Poller
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.shm import remove_abandoned_segments
 from joshua_codegen.supervisor.stop_cascade import StopCascade
@@ -46,7 +49,10 @@ class Supervisor(StopCascade):
         self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
         self.pid = os.getpid()
         self.wakeup = None
-        self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
+        self.poller = Poller()
+        self.readers = self.poller.readers  # fd -> callable run when the fd is readable
+        self.writers = self.poller.writers  # fd -> callable run when the fd is writable
+        self.internal_errors = 0  # exceptions the supervisor did not expect (bugs), see on_internal_error
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
@@ -67,6 +73,7 @@ class Supervisor(StopCascade):
         os.set_blocking(read_end, False)
         os.set_blocking(write_end, False)
         self.wakeup = read_end
+        self.readers[read_end] = self.drain_wakeup
         signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
         signal.signal(signal.SIGCHLD, lambda number, frame: None)
         for number in STOP_SIGNALS:
@@ -75,6 +82,29 @@ class Supervisor(StopCascade):
             signal.signal(number, lambda number, frame: self.requests.append(number))
 
     def run(self):
+        fd_limit = raise_fd_limit()
+        if self.options.control_socket:
+            try:
+                self.control = ControlPlane(
+                    self, self.options.control_socket, control_clients_max(fd_limit, len(self.nodes))
+                )
+            except ControlSocketError as exc:
+                log("supervisor", f"cannot serve the control socket {self.options.control_socket}: {exc}")
+                return EXIT_PREFLIGHT
+        try:
+            self.start()
+        except Exception:  # noqa: BLE001 (a bug: logged, and every node started so far is stopped)
+            self.on_internal_error()
+        while True:
+            try:
+                if self.finished():
+                    break
+                self.turn()
+            except Exception:  # noqa: BLE001 (a bug: logged, and the robot is stopped)
+                self.on_internal_error()
+        return self.shut_down()
+
+    def start(self):
         if PRCTL is not None:
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
@@ -84,11 +114,6 @@ class Supervisor(StopCascade):
         self.guard.start()
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
-        if self.options.control_socket:
-            try:
-                self.control = ControlPlane(self, self.options.control_socket)
-            except OSError as exc:
-                log("supervisor", f"warning: no control socket at {self.options.control_socket}: {exc}")
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
         for node in self.nodes:
             if self.requests:
@@ -100,14 +125,30 @@ class Supervisor(StopCascade):
             f"started: {running} of {len(self.nodes)} nodes running "
             f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
         )
-        while not self.finished():
+
+    def turn(self):
+        """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
+        only the stop cascade runs, so a fault elsewhere cannot come back."""
+        if self.outcome.internal_error:  # until the cascade's next step; what else is due waits for good
+            due = LEFTOVER_POLL_S if self.stage_deadline is None else self.stage_deadline - time.monotonic()
+            if self.containment is not None:
+                self.containment.before_sleep()  # the nodes' processes are looked for anew after the sleep
+            self.wait(max(0.0, min(due, LEFTOVER_POLL_S)))
+        else:
             self.wait(self.timeout())
-            self.reap()
-            while self.requests:
-                self.request_stop(f"received {signal_name(self.requests.pop(0))}")
+        self.reap()
+        while self.requests:
+            self.request_stop(f"received {signal_name(self.requests.pop(0))}")
+        if self.outcome.internal_error:
+            if self.stage_deadline is not None and time.monotonic() >= self.stage_deadline:
+                self.escalate()
+        else:
             self.on_timers()
+
+    def shut_down(self):
         self.guard.stop()
-        self.containment.close()
+        if self.containment is not None:
+            self.containment.close()
         if self.control is not None:
             self.control.close()
         for node in self.nodes:
@@ -121,19 +162,21 @@ class Supervisor(StopCascade):
     def launch(self, node):
         argv, node.backend = node.command()
         node_log = self.logs.get(node.name)
-        read_end, write_end = node_log.open_pipe() if node_log is not None else (None, None)
+        read_end = write_end = None
         blocked = STOP_SIGNALS + (signal.SIGCHLD,)
         signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
         try:
+            if node_log is not None:
+                read_end, write_end = node_log.open_pipe()
             pid = os.fork()
             if pid == 0:
                 child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
-        except OSError as exc:
-            if node_log is not None:
-                os.close(read_end)
-                os.close(write_end)
-            log(node.name, f"cannot fork: {exc}")
-            node.last_exit = f"fork failed: {exc}"
+        except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
+            for fd in (read_end, write_end):
+                if fd is not None:
+                    os.close(fd)
+            log(node.name, f"cannot start: {exc}")
+            node.last_exit = f"start failed: {exc}"
             self.after_exit(node, failed=True, ran_for=0.0)
             return
         finally:
@@ -270,17 +313,15 @@ class Supervisor(StopCascade):
         return timeout
 
     def wait(self, timeout):
-        """Sleep until a signal arrives, a registered fd is readable, or `timeout` passes."""
-        ready, _, _ = select.select([self.wakeup, *self.readers], [], [], timeout)
-        for fd in ready:
-            if fd != self.wakeup:
-                self.readers[fd]()
-                continue
-            try:
-                while os.read(self.wakeup, 4096):
-                    pass
-            except BlockingIOError:
+        """Sleep until a signal arrives, a registered fd is ready, or `timeout` passes."""
+        self.poller.wait(timeout)
+
+    def drain_wakeup(self):
+        try:
+            while os.read(self.wakeup, 4096):
                 pass
+        except BlockingIOError:
+            pass
 
     def on_timers(self):
         if self.control is not None:

@@ -19,6 +19,7 @@ LINE_MAX_BYTES = 65536
 LINE_CUT_MARK = f" [line cut at {LINE_MAX_BYTES} bytes, continued below]".encode()
 UTF8_CONTINUATION = range(0x80, 0xC0)  # the bytes that continue a UTF-8 character, never start one
 TAIL_BLOCK_BYTES = 65536  # log files are read backwards in blocks of this size to find their last lines
+LOG_TAIL_BYTES = 1024 * 1024  # most output one `logs` request reads (its reply must fit a client's buffer)
 
 
 def default_log_dir(robot: str) -> str:
@@ -137,32 +138,37 @@ class NodeLog:
         os.replace(self.path, f"{self.path}.1")
 
     def tail(self, count: int) -> list[str]:
-        """The last `count` lines, from the rotated files too when the current one holds fewer."""
+        """The last `count` lines, from the rotated files too when the current one holds fewer; from the last
+        LOG_TAIL_BYTES of output at most (fewer lines when they are long)."""
         lines: list[bytes] = []
+        budget = LOG_TAIL_BYTES
         for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
-            if len(lines) >= count:
+            if len(lines) >= count or budget <= 0:
                 break
-            lines = last_lines(path, count - len(lines)) + lines
+            found, read = last_lines(path, count - len(lines), budget)
+            lines = found + lines
+            budget -= read
         return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
 
 
-def last_lines(path: str, count: int) -> list[bytes]:
-    """The last `count` lines of the file at `path` (fewer when it holds fewer; none when it is absent),
-    read backwards in blocks of TAIL_BLOCK_BYTES."""
+def last_lines(path: str, count: int, budget: int) -> tuple[list[bytes], int]:
+    """The last `count` lines of the file at `path` within its last `budget` bytes (fewer when it holds fewer;
+    none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
     try:
         with open(path, "rb") as log_file:
             position = log_file.seek(0, os.SEEK_END)
             blocks: list[bytes] = []
-            newlines = 0
-            while position > 0 and newlines <= count:
-                size = min(TAIL_BLOCK_BYTES, position)
+            newlines = read = 0
+            while position > 0 and newlines <= count and read < budget:
+                size = min(TAIL_BLOCK_BYTES, position, budget - read)
                 position -= size
                 log_file.seek(position)
                 blocks.insert(0, log_file.read(size))
                 newlines += blocks[0].count(b"\n")
+                read += size
     except OSError:
-        return []
+        return [], 0
     lines = b"".join(blocks).splitlines()
     if position > 0:
         lines = lines[1:]  # the first may have begun in a block not read
-    return lines[-count:] if count > 0 else []
+    return (lines[-count:] if count > 0 else []), read

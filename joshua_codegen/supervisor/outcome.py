@@ -1,9 +1,10 @@
-"""What a run of the supervisor came to: its exit code and, when a node lost data, its last lines."""
+"""What a run of the supervisor came to: its exit code, and last lines for lost data or an internal error."""
 
 from joshua_codegen.supervisor.policy import (
     EXIT_CRITICAL,
     EXIT_DATA_LOST,
     EXIT_ESCALATED,
+    EXIT_INTERNAL,
     EXIT_NODE_FAILED,
     EXIT_OK,
 )
@@ -14,6 +15,7 @@ class Outcome:
     """Failures seen while the robot ran; the first that applies decides the exit code."""
 
     def __init__(self):
+        self.internal_error = False  # the supervisor hit a bug of its own: the robot was stopped
         self.critical_failure = False  # a critical node failed for good: the robot was stopped
         self.node_failure = False  # a non-critical node failed for good
         self.escalated = False  # stopping needed SIGTERM or SIGKILL
@@ -24,6 +26,8 @@ class Outcome:
             self.data_lost.append(spec)
 
     def exit_code(self) -> int:
+        if self.internal_error:
+            return EXIT_INTERNAL
         if self.data_lost:
             return EXIT_DATA_LOST
         if self.critical_failure:
@@ -33,8 +37,14 @@ class Outcome:
         return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
 
     def last_lines(self) -> list[str]:
-        """One line per node that lost data: which node, and where the data should have gone."""
+        """One line per node that lost data (which node, where the data should have gone); one for an internal
+        error."""
         lines = []
+        if self.internal_error:
+            lines.append(
+                f"internal error: a bug in supervisor.py stopped the robot (exit code {EXIT_INTERNAL}); "
+                "its traceback is above"
+            )
         for spec in self.data_lost:
             where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
             lines.append(

@@ -20,6 +20,8 @@ RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may t
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
 EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
+EXIT_INTERNAL = 70  # the supervisor hit a bug of its own (EX_SOFTWARE): it stopped every node and says so
+INTERNAL_ERRORS_MAX = 10  # internal errors after which the supervisor SIGKILLs what is left and exits
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
 EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
 

@@ -2,16 +2,19 @@
 
 import os
 import signal
+import sys
 import time
+import traceback
 
 from joshua_codegen.supervisor.common import log, signal_name
 from joshua_codegen.supervisor.containment import process_group
-from joshua_codegen.supervisor.policy import KILL_WAIT_S
+from joshua_codegen.supervisor.policy import INTERNAL_ERRORS_MAX, KILL_WAIT_S
 from joshua_codegen.supervisor.robot import SIGINT_GRACE_S, SIGTERM_GRACE_S
 
 
 class StopCascade:
-    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome and stage fields."""
+    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome, stage, control
+    and internal_errors fields."""
 
     def request_stop(self, reason):
         if self.stopping:
@@ -99,3 +102,28 @@ class StopCascade:
         except OSError:
             children = []
         return [pid for pid in children if pid not in known]
+
+    def on_internal_error(self):
+        """An exception the supervisor did not expect: log its traceback, stop serving the control socket,
+        and stop every node with the cascade; after INTERNAL_ERRORS_MAX of them, SIGKILL what is left."""
+        self.internal_errors += 1
+        self.outcome.internal_error = True
+        log("supervisor", f"internal error {self.internal_errors} (a bug in supervisor.py); its traceback:")
+        sys.stderr.write(traceback.format_exc())
+        sys.stderr.flush()
+        if self.internal_errors >= INTERNAL_ERRORS_MAX:
+            log("supervisor", f"{self.internal_errors} internal errors: killing every process left (SIGKILL)")
+            self.gave_up = True  # the loop ends; the guard kills whatever the SIGKILL below misses
+            try:
+                self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
+            except Exception:  # noqa: BLE001 (the guard still kills every descendant once the loop ends)
+                pass
+            return
+        control, self.control = self.control, None
+        if control is not None:
+            try:
+                control.close()
+            except Exception:  # noqa: BLE001 (already stopping for a bug; the socket file may stay behind)
+                pass
+        if not self.stopping:
+            self.request_stop("internal error (a bug in supervisor.py)")

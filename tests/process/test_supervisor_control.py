@@ -1,58 +1,14 @@
 """The supervisor's control socket through its `ctl` client: status, restart, stop, start, logs."""
 
-import json
 import os
 import stat
 import subprocess
 import sys
 
-from supervisor_harness import (
-    PYTHON,
-    Supervisor,
-    build,
-    custom_node,
-    events,
-    quoted,
-    robot,
-    wait_until,
-)
+from control_harness import ctl, start_robot, status, talker_node
+from supervisor_harness import custom_node, events, wait_until
 
 from joshua_codegen.supervisor import node_log
-
-# A node that prints a numbered line to stdout every 50 ms.
-TALKER = (
-    "import itertools, sys, time\nfor n in itertools.count():\n    print(f'line {n}', flush=True)\n"
-    "    time.sleep(0.05)\n"
-)
-
-
-def talker_node() -> str:
-    return f'node {{ name: "talker" type: CUSTOM executable: "{PYTHON}" args: ["-c", {quoted(TALKER)}] }}'
-
-
-def ctl(out, sock, *args, timeout=30) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, str(out / "supervisor.py"), "ctl", "--control-socket", str(sock), *args],
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        check=False,
-    )
-
-
-def status(out, sock) -> dict:
-    result = ctl(out, sock, "status", "--json")
-    assert result.returncode == 0, result.stderr
-    return {node["name"]: node for node in json.loads(result.stdout)["nodes"]}
-
-
-def start_robot(tmp_path, *nodes):
-    log = tmp_path / "events.log"
-    out = build(tmp_path, robot([custom_node("steady", log), *nodes]))
-    sock, logs = tmp_path / "run" / "r.sock", tmp_path / "logs"
-    supervisor = Supervisor(out, "--control-socket", str(sock), "--log-dir", str(logs))
-    supervisor.wait_log(r"started: \d+ of \d+ nodes running")
-    return out, sock, logs, log, supervisor
 
 
 def test_restart_stop_and_start_a_node_while_the_others_run(tmp_path):

@@ -197,17 +197,25 @@ def test_generated_supervisor_is_standard_library_python_3_10_with_a_header(tmp_
     imported |= {node.module.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
     assert imported <= {
         "argparse",
+        "collections",
         "ctypes",
+        "errno",
         "json",
+        "math",
         "os",
+        "re",
+        "resource",
         "select",
+        "selectors",
         "shlex",
         "shutil",
         "signal",
         "socket",
+        "stat",
         "struct",
         "subprocess",
         "sys",
         "time",
+        "traceback",
     }
     assert os.access(out / "supervisor.py", os.X_OK)
