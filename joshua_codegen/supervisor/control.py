@@ -12,6 +12,7 @@ from joshua_codegen.supervisor.control_connection import (
     CONTROL_OUTPUT_LIMIT_BYTES,
     CONTROL_OUTPUT_TOTAL_BYTES,
     ControlConnection,
+    LogFollowers,
     close_quietly,
 )
 from joshua_codegen.supervisor.control_request import RequestError, parse_request
@@ -55,6 +56,7 @@ class ControlPlane:
         self.clients_max = clients_max
         self.connections = {}  # fd -> ControlConnection
         self.backlog = {}  # fd -> ControlConnection with request lines left for the next turn
+        self.followers = LogFollowers()
         self.buffered = 0  # reply bytes every connection holds unsent
         self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [connection]}
         self.since = {}  # node name -> (state, monotonic time it was entered)

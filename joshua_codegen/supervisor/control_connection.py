@@ -17,8 +17,8 @@ CONTROL_OUTPUT_TOTAL_BYTES = 64 * 1024 * 1024  # all clients together
 class ControlConnection:
     """A connected client. `plane` (the ControlPlane) provides readers / writers (the loop's Poller),
     `buffered` (unsent reply bytes of all clients), `backlog` (fd -> connection with lines left to handle),
-    `turn_ends_at()` (when requests must wait for the next turn), `on_request(connection, line)`,
-    `drop_unread(connection, size)` and `forget(connection)`."""
+    `turn_ends_at()` (when requests must wait for the next turn), `followers` (LogFollowers),
+    `on_request(connection, line)`, `drop_unread(connection, size)` and `forget(connection)`."""
 
     def __init__(self, plane, connection: socket.socket, pid: int):
         self.plane = plane
@@ -27,7 +27,7 @@ class ControlConnection:
         self.pid = pid
         self.received = bytearray()  # request bytes not handled yet
         self.output = bytearray()  # reply bytes not sent yet
-        self.following = None  # (NodeLog, listener) while `logs` with follow runs
+        self.following = None  # the NodeLog while `logs` with follow runs
         self.waiting = 0  # replies still to come (stops and restarts in progress)
         self.reading = True  # False once the client sent end-of-file or a line was refused for good
         self.closed = False
@@ -83,9 +83,13 @@ class ControlConnection:
     # Replies out
 
     def send(self, reply: dict) -> None:
+        if not self.closed:
+            self.send_line(json.dumps(reply).encode() + b"\n")
+
+    def send_line(self, data: bytes) -> None:
+        """Send one reply line, already encoded."""
         if self.closed:
             return
-        data = json.dumps(reply).encode() + b"\n"
         if len(self.output) + len(data) > CONTROL_OUTPUT_LIMIT_BYTES or (
             self.plane.buffered + len(data) > CONTROL_OUTPUT_TOTAL_BYTES
         ):
@@ -127,17 +131,12 @@ class ControlConnection:
     # Following a node's log
 
     def follow(self, node_log) -> None:
-        def listener(line, connection=self):
-            connection.send({"line": line})
-
-        node_log.listeners.append(listener)
-        self.following = (node_log, listener)
+        self.following = node_log
+        self.plane.followers.add(node_log, self)
 
     def stop_following(self) -> None:
         if self.following is not None:
-            node_log, listener = self.following
-            if listener in node_log.listeners:
-                node_log.listeners.remove(listener)
+            self.plane.followers.remove(self.following, self)
             self.following = None
 
     def close(self) -> None:
@@ -152,6 +151,30 @@ class ControlConnection:
         self.output.clear()
         close_quietly(self.connection)
         self.plane.forget(self)
+
+
+class LogFollowers:
+    """The connections following each node's log (`logs` with follow): one listener a NodeLog, and each new
+    line encoded once for all of them."""
+
+    def __init__(self):
+        self.connections = {}  # NodeLog -> {fd: ControlConnection}
+
+    def add(self, node_log, connection: ControlConnection) -> None:
+        if node_log not in self.connections:
+            self.connections[node_log] = {}
+            node_log.listeners.append(lambda line, node_log=node_log: self.on_line(node_log, line))
+        self.connections[node_log][connection.fd] = connection
+
+    def remove(self, node_log, connection: ControlConnection) -> None:
+        self.connections.get(node_log, {}).pop(connection.fd, None)
+
+    def on_line(self, node_log, line: str) -> None:
+        following = self.connections[node_log]
+        if following:
+            data = json.dumps({"line": line}).encode() + b"\n"
+            for connection in list(following.values()):
+                connection.send_line(data)
 
 
 def close_quietly(connection: socket.socket) -> None:

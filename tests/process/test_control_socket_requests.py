@@ -94,6 +94,7 @@ CHATTY = (
 STALLED_CLIENTS = 30
 REPLY_BYTES = 600_000  # the least a reply of the last 10000 of those lines takes
 STALLED_REQUESTS = CONTROL_OUTPUT_LIMIT_BYTES // REPLY_BYTES + 2  # together past a client's buffer limit
+DROPS_WAIT_S = 60.0  # hundreds of 1 MiB replies take the supervisor seconds on a busy machine (no timing here)
 
 
 def test_clients_that_never_read_their_logs_replies_are_dropped_and_never_stall_the_loop(tmp_path):
@@ -117,7 +118,7 @@ def test_clients_that_never_read_their_logs_replies_are_dropped_and_never_stall_
         restarted = ctl(out, sock, "restart", "steady", timeout=WAIT_S)
         assert restarted.returncode == 0, restarted.stderr
         wait_until(lambda: (logs / "chatty.log").read_text().count("tick ") > ticks + 5, "chatty's output to drain")
-        supervisor.wait_log(rf"(?s)(dropped a client .*?){{{STALLED_CLIENTS}}}")
+        supervisor.wait_log(rf"(?s)(dropped a client .*?){{{STALLED_CLIENTS}}}", timeout=DROPS_WAIT_S)
         for client in stalled:  # each was closed: after what the kernel held, end of file
             client.settimeout(WAIT_S)
             received = 0
