@@ -1,0 +1,29 @@
+"""The generated supervisor under load at its edges: each measurement loads one part and prints its figures
+against a floor measured in the same run.
+
+    .venv/bin/python bench/control.py [--quick]
+
+Each measurement is the function `measure(quick: bool)` of its own module in bench/support/, named in
+MEASUREMENTS (adding one is adding its module's name):
+- control_load: control-socket requests/s and the loop's timer lateness with 1000 idle clients and with 30
+  clients that never read their replies, against no other client.
+"""
+
+import argparse
+import importlib
+
+MEASUREMENTS = [
+    "control_load",
+]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="short phases (seconds), for the test suite")
+    options = parser.parse_args()
+    for name in MEASUREMENTS:
+        importlib.import_module(f"support.{name}").measure(options.quick)
+
+
+if __name__ == "__main__":
+    main()
