@@ -3,7 +3,9 @@
 """Supervisor of robot lego_bot: starts every node, restarts failed ones, stops them all cleanly.
 
 Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interval S] [--python PATH]
-                            [--no-cgroup]
+                            [--no-cgroup] [--control-socket PATH | --no-control] [--log-dir DIR]
+       python3 supervisor.py ctl [--control-socket PATH] status [--json] | restart|stop|start NODE |
+                            logs NODE [-n N] [-f]
 
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
 the directory can move. Nodes run in the directory the supervisor was started from.
@@ -29,11 +31,16 @@ the directory can move. Nodes run in the directory the supervisor was started fr
   SIGINT/SIGTERM skips to the next step.
 - Backend: a node with a C++ binary runs CPP_BIN_DIR/<binary> when it is an executable file at launch,
   else its Python entrypoint after one warning line.
+- Control socket: a Unix socket of mode 0600 in a directory of the user's own of mode 0700 (anything
+  else there is refused, and the supervisor does not start); only clients of the same user or root
+  are served, and `ctl` talks only to a supervisor of the same user or root. Requests are bounded JSON
+  lines; replies are never waited for: a client that leaves too much unread is dropped.
 
 Exit codes (the first that applies):
+  70 internal error, a bug in supervisor.py: its traceback is logged and every node was stopped
   6  a node lost data (it exited with code 6); the last line names it and where the data should have gone
   4  a critical node failed for good (restarts exhausted, or exit code 2: unusable settings); the robot was stopped
-  3  preflight found problems; nothing was started
+  3  preflight found problems, or the control socket cannot be served; nothing was started
   2  bad command line
   1  stopping needed SIGTERM or SIGKILL for at least one node (or a process it left behind)
   5  a non-critical node failed for good while the robot ran
@@ -42,17 +49,25 @@ Exit codes (the first that applies):
 
 import argparse
 import ctypes
+import errno
 import json
+import math
 import os
+import re
+import resource
 import select
+import selectors
 import shlex
 import shutil
 import signal
 import socket
+import stat
 import struct
 import subprocess
 import sys
 import time
+import traceback
+from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'lego_bot',
@@ -120,6 +135,8 @@ RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may t
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
 EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
+EXIT_INTERNAL = 70  # the supervisor hit a bug of its own (EX_SOFTWARE): it stopped every node and says so
+INTERNAL_ERRORS_MAX = 10  # internal errors after which the supervisor SIGKILLs what is left and exits
 EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
 EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
 
@@ -185,6 +202,42 @@ def group_alive(pgid: int) -> bool:
 
 def under_script_dir(path: str) -> str:
     return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
+
+
+# The open-file limit: raised for the supervisor's own clients, given back to every node before exec.
+
+
+# The soft RLIMIT_NOFILE the supervisor raises itself to (never past the hard limit): room for its control
+# clients and every node's pipes. Many programs misbehave with a huge soft limit (they loop over every
+# possible descriptor, or pass it to select()), so nodes get the limits the supervisor was started with.
+FD_LIMIT_WANTED = 65536
+STARTED_FD_LIMIT = resource.getrlimit(resource.RLIMIT_NOFILE)
+
+
+def raise_fd_limit() -> int:
+    """Raise the soft limit toward FD_LIMIT_WANTED, within the hard limit; the soft limit now in force."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    wanted = FD_LIMIT_WANTED if hard == resource.RLIM_INFINITY else min(FD_LIMIT_WANTED, hard)
+    if soft != resource.RLIM_INFINITY and soft < wanted:
+        try:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (wanted, hard))
+            soft = wanted
+        except (OSError, ValueError) as exc:
+            log("supervisor", f"warning: cannot raise the open-file limit from {soft} to {wanted}: {exc}")
+    return soft
+
+
+def restore_fd_limit() -> None:
+    """In a node's forked child: the soft limit the supervisor was started with (within today's hard limit)."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    started = STARTED_FD_LIMIT[0]
+    if hard != resource.RLIM_INFINITY and (started == resource.RLIM_INFINITY or started > hard):
+        started = hard
+    if started != soft:
+        try:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (started, hard))
+        except (OSError, ValueError):
+            pass
 
 
 # Keeping every descendant of the supervisor killable: a cgroup where writable, else /proc tracking.
@@ -445,6 +498,7 @@ def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | 
         for number in RESET_IN_CHILD:
             signal.signal(number, signal.SIG_DFL)
         signal.set_wakeup_fd(-1)
+        restore_fd_limit()
         os.setsid()
         if PRCTL is not None:
             PRCTL(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
@@ -1167,13 +1221,14 @@ def preflight(nodes, python):
     return problems
 
 
-# What a run of the supervisor came to: its exit code and, when a node lost data, its last lines.
+# What a run of the supervisor came to: its exit code, and last lines for lost data or an internal error.
 
 
 class Outcome:
     """Failures seen while the robot ran; the first that applies decides the exit code."""
 
     def __init__(self):
+        self.internal_error = False  # the supervisor hit a bug of its own: the robot was stopped
         self.critical_failure = False  # a critical node failed for good: the robot was stopped
         self.node_failure = False  # a non-critical node failed for good
         self.escalated = False  # stopping needed SIGTERM or SIGKILL
@@ -1184,6 +1239,8 @@ class Outcome:
             self.data_lost.append(spec)
 
     def exit_code(self) -> int:
+        if self.internal_error:
+            return EXIT_INTERNAL
         if self.data_lost:
             return EXIT_DATA_LOST
         if self.critical_failure:
@@ -1193,8 +1250,14 @@ class Outcome:
         return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
 
     def last_lines(self) -> list[str]:
-        """One line per node that lost data: which node, and where the data should have gone."""
+        """One line per node that lost data (which node, where the data should have gone); one for an internal
+        error."""
         lines = []
+        if self.internal_error:
+            lines.append(
+                f"internal error: a bug in supervisor.py stopped the robot (exit code {EXIT_INTERNAL}); "
+                "its traceback is above"
+            )
         for spec in self.data_lost:
             where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
             lines.append(
@@ -1221,6 +1284,7 @@ LINE_MAX_BYTES = 65536
 LINE_CUT_MARK = f" [line cut at {LINE_MAX_BYTES} bytes, continued below]".encode()
 UTF8_CONTINUATION = range(0x80, 0xC0)  # the bytes that continue a UTF-8 character, never start one
 TAIL_BLOCK_BYTES = 65536  # log files are read backwards in blocks of this size to find their last lines
+LOG_TAIL_BYTES = 1024 * 1024  # most output one `logs` request reads (its reply must fit a client's buffer)
 
 
 def default_log_dir(robot: str) -> str:
@@ -1339,44 +1403,235 @@ class NodeLog:
         os.replace(self.path, f"{self.path}.1")
 
     def tail(self, count: int) -> list[str]:
-        """The last `count` lines, from the rotated files too when the current one holds fewer."""
+        """The last `count` lines, from the rotated files too when the current one holds fewer; from the last
+        LOG_TAIL_BYTES of output at most (fewer lines when they are long)."""
         lines: list[bytes] = []
+        budget = LOG_TAIL_BYTES
         for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
-            if len(lines) >= count:
+            if len(lines) >= count or budget <= 0:
                 break
-            lines = last_lines(path, count - len(lines)) + lines
+            found, read = last_lines(path, count - len(lines), budget)
+            lines = found + lines
+            budget -= read
         return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
 
 
-def last_lines(path: str, count: int) -> list[bytes]:
-    """The last `count` lines of the file at `path` (fewer when it holds fewer; none when it is absent),
-    read backwards in blocks of TAIL_BLOCK_BYTES."""
+def last_lines(path: str, count: int, budget: int) -> tuple[list[bytes], int]:
+    """The last `count` lines of the file at `path` within its last `budget` bytes (fewer when it holds fewer;
+    none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
     try:
         with open(path, "rb") as log_file:
             position = log_file.seek(0, os.SEEK_END)
             blocks: list[bytes] = []
-            newlines = 0
-            while position > 0 and newlines <= count:
-                size = min(TAIL_BLOCK_BYTES, position)
+            newlines = read = 0
+            while position > 0 and newlines <= count and read < budget:
+                size = min(TAIL_BLOCK_BYTES, position, budget - read)
                 position -= size
                 log_file.seek(position)
                 blocks.insert(0, log_file.read(size))
                 newlines += blocks[0].count(b"\n")
+                read += size
     except OSError:
-        return []
+        return [], 0
     lines = b"".join(blocks).splitlines()
     if position > 0:
         lines = lines[1:]  # the first may have begun in a block not read
-    return lines[-count:] if count > 0 else []
+    return (lines[-count:] if count > 0 else []), read
 
 
-# The control socket: status, restart / stop / start of one node and its log, one JSON line each way.
+# The loop's wait: callbacks per readable or writable descriptor, on selectors (epoll), so any fd number works.
 
 
-CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
-CONTROL_REQUEST_LIMIT = 65536  # longest request line accepted
-CONTROL_SEND_TIMEOUT_S = 1.0  # a client that does not read its replies for this long is dropped
-LOG_LINES_DEFAULT = 100
+class Poller:
+    """Waits for many descriptors at once. `readers[fd] = callback` runs `callback()` whenever fd is
+    readable, `writers[fd] = callback` whenever it is writable; `del` (or `pop`) stops that. epoll has no
+    FD_SETSIZE: descriptors above 1023 work, and a wait costs the same with a thousand idle ones.
+
+    A descriptor should leave both mappings before it is closed (the kernel forgets a closed descriptor,
+    the selector does not); setting a callback registers its number anew, so a stale entry cannot hide a
+    new descriptor of the same number."""
+
+    def __init__(self):
+        self.selector = selectors.DefaultSelector()
+        self.woke_at = time.monotonic()  # when the last wait returned: the start of the loop's turn
+        self.readers = Callbacks(self)
+        self.writers = Callbacks(self)
+
+    def update(self, fd: int, fresh: bool = False) -> None:
+        """Tell the selector which events of `fd` are wanted now; `fresh`: a callback was just set, so
+        register anew (the number may belong to a descriptor closed while still registered)."""
+        events = (selectors.EVENT_READ if fd in self.readers else 0) | (
+            selectors.EVENT_WRITE if fd in self.writers else 0
+        )
+        try:
+            registered = self.selector.get_key(fd).events
+        except KeyError:
+            registered = 0
+        if events == registered and not fresh:
+            return
+        if registered:
+            try:
+                self.selector.unregister(fd)
+            except (KeyError, ValueError, OSError):
+                pass
+        if events:
+            self.selector.register(fd, events)
+
+    def wait(self, timeout: float | None) -> None:
+        """Sleep until a descriptor is ready or `timeout` seconds pass; run the callbacks of the ready ones.
+
+        A callback may add or remove descriptors: each one is looked up again just before it runs."""
+        ready = self.selector.select(timeout)
+        self.woke_at = time.monotonic()
+        for key, events in ready:
+            fd = key.fd
+            if events & selectors.EVENT_READ and fd in self.readers:
+                self.readers[fd]()
+            if events & selectors.EVENT_WRITE and fd in self.writers:
+                self.writers[fd]()
+
+    def close(self) -> None:
+        self.selector.close()
+
+
+class Callbacks(MutableMapping):
+    """fd -> callback for one kind of event of a Poller; setting or deleting an entry updates the selector."""
+
+    def __init__(self, poller: Poller):
+        self.poller = poller
+        self.callbacks: dict = {}
+
+    def __getitem__(self, fd):
+        return self.callbacks[fd]
+
+    def __setitem__(self, fd, callback):
+        self.callbacks[fd] = callback
+        self.poller.update(fd, fresh=True)
+
+    def __delitem__(self, fd):
+        del self.callbacks[fd]
+        self.poller.update(fd)
+
+    def __iter__(self):
+        return iter(self.callbacks)
+
+    def __len__(self):
+        return len(self.callbacks)
+
+    def __contains__(self, fd):
+        return fd in self.callbacks
+
+
+# Control requests: one bounded JSON line in, a checked request out, or one line saying why not.
+
+
+CONTROL_REQUEST_LIMIT = 4096  # longest request line, in bytes (the longest real one is under 200)
+CONTROL_REQUEST_DEPTH = 4  # deepest nesting of arrays and objects (a real request has 1)
+CONTROL_NUMBER_DIGITS = 20  # longest number literal
+CONTROL_LOG_LINES_MAX = 10000  # most lines one `logs` request may ask for
+CONTROL_LOG_LINES_DEFAULT = 100
+
+# The fields each command takes; "node" is required wherever it is taken, the others have defaults.
+CONTROL_COMMANDS = {
+    "status": (),
+    "restart": ("node",),
+    "stop": ("node",),
+    "start": ("node",),
+    "logs": ("node", "lines", "follow"),
+}
+FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False}
+FIELD_RULES = {
+    "node": (lambda value: isinstance(value, str), "node must be a string"),
+    "lines": (
+        lambda value: type(value) is int and 0 <= value <= CONTROL_LOG_LINES_MAX,
+        f"lines must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}",
+    ),
+    "follow": (lambda value: isinstance(value, bool), "follow must be true or false"),
+}
+JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
+JSON_BRACKET = re.compile(r"[\[\]{}]")
+
+
+class RequestError(ValueError):
+    """Why a request line was refused: one line, sent back to the client."""
+
+
+def nesting_depth(text: str) -> int:
+    """The deepest nesting of arrays and objects in JSON `text` (brackets inside strings do not count)."""
+    depth = deepest = 0
+    for bracket in JSON_BRACKET.findall(JSON_STRING.sub('""', text)):
+        depth += 1 if bracket in "[{" else -1
+        deepest = max(deepest, depth)
+    return deepest
+
+
+def refuse_constant(name: str):
+    raise RequestError(f"not a finite number: {name}")
+
+
+def finite_float(text: str) -> float:
+    if len(text) > CONTROL_NUMBER_DIGITS:
+        raise RequestError(f"number longer than {CONTROL_NUMBER_DIGITS} characters")
+    value = float(text)
+    if not math.isfinite(value):
+        raise RequestError(f"not a finite number: {text}")
+    return value
+
+
+def bounded_int(text: str) -> int:
+    if len(text) > CONTROL_NUMBER_DIGITS:
+        raise RequestError(f"number longer than {CONTROL_NUMBER_DIGITS} characters")
+    return int(text)
+
+
+def parse_request(line: bytes) -> dict:
+    """The request of one line (without its newline), with every field its command takes; raises RequestError."""
+    try:
+        text = line.decode("utf-8")
+    except UnicodeDecodeError:
+        raise RequestError("a request is one JSON object in UTF-8: this line is not UTF-8") from None
+    if nesting_depth(text) > CONTROL_REQUEST_DEPTH:
+        raise RequestError(f"request nested deeper than {CONTROL_REQUEST_DEPTH} levels")
+    try:
+        request = json.loads(text, parse_constant=refuse_constant, parse_float=finite_float, parse_int=bounded_int)
+    except RequestError:
+        raise
+    except (ValueError, RecursionError) as exc:
+        raise RequestError(f"not JSON: {exc}") from None
+    if not isinstance(request, dict):
+        raise RequestError(f"a request is one JSON object per line, not {type(request).__name__}")
+    command = request.get("command")
+    if not isinstance(command, str):
+        raise RequestError(f"command must be one of {', '.join(CONTROL_COMMANDS)}")
+    if command not in CONTROL_COMMANDS:
+        raise RequestError(f"unknown command {command!r:.60} ({', '.join(CONTROL_COMMANDS)})")
+    fields = CONTROL_COMMANDS[command]
+    for key in request:
+        if key != "command" and key not in fields:
+            raise RequestError(f"unknown field {key!r:.60} for {command} (it takes {', '.join(fields) or 'none'})")
+    checked = {"command": command}
+    for field in fields:
+        if field not in request and field not in FIELD_DEFAULTS:
+            raise RequestError(f"{command} needs a {field}")
+        value = request.get(field, FIELD_DEFAULTS.get(field))
+        valid, rule = FIELD_RULES[field]
+        if not valid(value):
+            raise RequestError(rule)
+        checked[field] = value
+    return checked
+
+
+# Whose the control socket is: its private directory, its file bound there, and the peer credentials checked.
+
+
+CONTROL_BACKLOG = 64  # connections the kernel queues before the supervisor accepts them
+CONTROL_PROBE_TIMEOUT_S = 1.0  # how long a socket already at the path may take to accept a probe
+SOCKET_PATH_MAX = 107  # bytes of a Unix socket address (sun_path, without its terminating NUL)
+ANOTHER_PATH = "choose another path with --control-socket PATH (--no-control for none)"
+
+
+class ControlSocketError(Exception):
+    """Why the control socket cannot be served: one line."""
 
 
 def default_control_socket(robot: str) -> str:
@@ -1386,141 +1641,468 @@ def default_control_socket(robot: str) -> str:
     return os.path.join(directory, f"{robot}.sock")
 
 
-class ControlClient:
-    """One connection: buffers request bytes, writes reply lines, may follow a node's log."""
+def peer_credentials(connection: socket.socket) -> tuple[int, int, int]:
+    """(pid, uid, gid) of the process at the other end of a connected Unix socket, as the kernel saw it
+    when that process connected or listened (SO_PEERCRED)."""
+    return UCRED.unpack(connection.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, UCRED.size))
 
-    def __init__(self, connection):
+
+def may_control(uid: int) -> bool:
+    """Whether a peer of `uid` may take part in this user's control socket: the same user, or root."""
+    return uid in (os.geteuid(), 0)
+
+
+def private_directory(directory: str) -> int:
+    """An open descriptor of `directory` (created mode 0700 when missing); raises ControlSocketError unless it
+    is a real directory (no symbolic link) of this user that no one else may enter or write in."""
+    try:
+        os.makedirs(os.path.dirname(os.path.abspath(directory)), exist_ok=True)
+        os.mkdir(directory, 0o700)
+    except FileExistsError:
+        pass
+    except OSError as exc:
+        raise ControlSocketError(f"cannot create its directory {directory}: {exc.strerror or exc}") from None
+    try:
+        fd = os.open(directory, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except OSError as exc:
+        what = "is a symbolic link or not a directory" if os.path.islink(directory) else (exc.strerror or str(exc))
+        raise ControlSocketError(f"its directory {directory} {what}; remove it, or {ANOTHER_PATH}") from None
+    info = os.fstat(fd)
+    problem = None
+    if info.st_uid != os.geteuid():
+        problem = f"belongs to uid {info.st_uid}, not to uid {os.geteuid()}"
+    elif stat.S_IMODE(info.st_mode) & 0o077:
+        problem = (
+            f"has mode {stat.S_IMODE(info.st_mode):04o}: others may rename or replace the socket in it "
+            "(it must be 0700)"
+        )
+    if problem:
+        os.close(fd)
+        raise ControlSocketError(f"its directory {directory} {problem}; remove it, or {ANOTHER_PATH}")
+    return fd
+
+
+class SocketFile:
+    """The control socket's file, in a private directory held open: bound and removed through that descriptor
+    (/proc/self/fd/N/NAME), so a directory renamed or replaced meanwhile cannot redirect either."""
+
+    def __init__(self, path: str):
+        if len(os.fsencode(path)) > SOCKET_PATH_MAX:
+            raise ControlSocketError(
+                f"the path is longer than a Unix socket address holds ({SOCKET_PATH_MAX} bytes); {ANOTHER_PATH}"
+            )
+        self.path = path
+        self.name = os.path.basename(path)
+        self.directory = private_directory(os.path.dirname(path) or ".")
+        self.address = f"/proc/self/fd/{self.directory}/{self.name}"  # the path, through the directory held
+        self.inode = None  # of the socket bound here, so only that one is ever removed
+
+    def bind(self) -> socket.socket:
+        """A listening, non-blocking socket of mode 0600 at the path; a stale socket there is replaced. It is
+        bound under a temporary name and linked to the path once it listens: a client that finds the path
+        can connect."""
+        self.clear_stale()
+        listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK)
+        temporary = f".{self.name}.{os.getpid()}"
+        remove_quietly(temporary, self.directory)  # left by a killed supervisor of the same pid
+        old_mask = os.umask(0o177)
+        try:
+            listener.bind(f"/proc/self/fd/{self.directory}/{temporary}")
+            listener.listen(CONTROL_BACKLOG)
+            os.link(temporary, self.name, src_dir_fd=self.directory, dst_dir_fd=self.directory)
+        except FileExistsError:
+            listener.close()
+            raise ControlSocketError(f"another supervisor took it meanwhile; {ANOTHER_PATH}") from None
+        except OSError as exc:
+            listener.close()
+            raise ControlSocketError(f"cannot bind it: {exc.strerror or exc}; {ANOTHER_PATH}") from None
+        finally:
+            os.umask(old_mask)
+            remove_quietly(temporary, self.directory)
+        self.inode = os.stat(self.name, dir_fd=self.directory, follow_symlinks=False).st_ino
+        return listener
+
+    def clear_stale(self) -> None:
+        """Remove a socket left at the path by a supervisor that was killed; refuse anything else there."""
+        try:
+            info = os.stat(self.name, dir_fd=self.directory, follow_symlinks=False)
+        except FileNotFoundError:
+            return
+        if not stat.S_ISSOCK(info.st_mode):
+            raise ControlSocketError(f"{self.path} exists and is not a socket; remove it, or {ANOTHER_PATH}")
+        probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM | socket.SOCK_CLOEXEC)
+        probe.settimeout(CONTROL_PROBE_TIMEOUT_S)
+        try:
+            probe.connect(self.address)
+            pid = peer_credentials(probe)[0]
+        except ConnectionRefusedError:
+            os.unlink(self.name, dir_fd=self.directory)  # nobody listens: left by a supervisor that was killed
+            return
+        except OSError as exc:  # a timeout too: a busy supervisor's queue is full
+            raise ControlSocketError(f"{self.path} cannot be probed ({exc.strerror or exc}); {ANOTHER_PATH}") from None
+        finally:
+            probe.close()
+        raise ControlSocketError(f"another supervisor (pid {pid}) serves it; stop it, or {ANOTHER_PATH}")
+
+    def remove(self) -> None:
+        """Remove the socket file if it is still the one bound here; let go of the directory."""
+        try:
+            if (
+                self.inode is not None
+                and os.stat(self.name, dir_fd=self.directory, follow_symlinks=False).st_ino == self.inode
+            ):
+                os.unlink(self.name, dir_fd=self.directory)
+        except OSError:
+            pass
+        os.close(self.directory)
+
+
+def remove_quietly(name: str, directory: int) -> None:
+    try:
+        os.unlink(name, dir_fd=directory)
+    except OSError:
+        pass
+
+
+# One client of the control socket: request lines in, reply lines out through a bounded buffer, never blocking.
+
+
+CONTROL_RECEIVE_BYTES = 65536  # read at most this much of a client's requests at a time
+CONTROL_REQUESTS_PER_TURN = 8  # request lines of one client handled before the loop turns to other work
+# Replies a client may leave unread in the supervisor, beyond what the kernel's socket buffer holds: past
+# either limit the client is dropped. The largest single reply (`logs` of 1 MiB of output, escaped) fits.
+CONTROL_OUTPUT_LIMIT_BYTES = 8 * 1024 * 1024  # per client
+CONTROL_OUTPUT_TOTAL_BYTES = 64 * 1024 * 1024  # all clients together
+
+
+class ControlConnection:
+    """A connected client. `plane` (the ControlPlane) provides readers / writers (the loop's Poller),
+    `buffered` (unsent reply bytes of all clients), `backlog` (fd -> connection with lines left to handle),
+    `turn_ends_at()` (when requests must wait for the next turn), `followers` (LogFollowers),
+    `on_request(connection, line)`, `drop_unread(connection, size)` and `forget(connection)`."""
+
+    def __init__(self, plane, connection: socket.socket, pid: int):
+        self.plane = plane
         self.connection = connection
-        self.connection.settimeout(CONTROL_SEND_TIMEOUT_S)
-        self.buffer = b""
-        self.following = None  # (NodeLog, listener) while `logs -f` runs
+        self.fd = connection.fileno()
+        self.pid = pid
+        self.received = bytearray()  # request bytes not handled yet
+        self.output = bytearray()  # reply bytes not sent yet
+        self.following = None  # the NodeLog while `logs` with follow runs
+        self.waiting = 0  # replies still to come (stops and restarts in progress)
+        self.reading = True  # False once the client sent end-of-file or a line was refused for good
         self.closed = False
+        connection.setblocking(False)
+        plane.readers[self.fd] = self.on_readable
+
+    # Requests in
+
+    def on_readable(self) -> None:
+        try:
+            data = self.connection.recv(CONTROL_RECEIVE_BYTES)
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError:
+            data = b""
+        if not data:
+            self.stop_reading()
+            return
+        self.received += data
+        self.handle_lines()
+
+    def handle_lines(self, at_least_one: bool = False) -> None:
+        """Handle complete lines: up to CONTROL_REQUESTS_PER_TURN, and none once the plane's time for this
+        turn is used up (but one when `at_least_one`). Lines left wait in the plane's backlog for the next
+        turn of the loop, and nothing more is read from this client until they are handled."""
+        for count in range(CONTROL_REQUESTS_PER_TURN):
+            end = self.received.find(b"\n", 0, CONTROL_REQUEST_LIMIT + 1)
+            if end < 0 or self.closed or not self.reading:
+                break
+            if time.monotonic() >= self.plane.turn_ends_at() and not (at_least_one and count == 0):
+                break
+            line = bytes(self.received[:end])
+            del self.received[: end + 1]
+            self.plane.on_request(self, line)
+        if self.closed or not self.reading:
+            return
+        if self.received.find(b"\n", 0, CONTROL_REQUEST_LIMIT + 1) >= 0:
+            self.plane.readers.pop(self.fd, None)
+            self.plane.backlog[self.fd] = self
+        elif len(self.received) > CONTROL_REQUEST_LIMIT:
+            self.send({"ok": False, "error": f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"})
+            self.stop_reading()
+        elif self.fd not in self.plane.readers:
+            self.plane.readers[self.fd] = self.on_readable
+
+    def stop_reading(self) -> None:
+        """No more requests from this client: it closes once what it waits for has been sent."""
+        self.reading = False
+        self.stop_following()
+        self.plane.readers.pop(self.fd, None)
+        self.close_when_done()
+
+    # Replies out
 
     def send(self, reply: dict) -> None:
+        if not self.closed:
+            self.send_line(json.dumps(reply).encode() + b"\n")
+
+    def send_line(self, data: bytes) -> None:
+        """Send one reply line, already encoded."""
         if self.closed:
             return
+        if len(self.output) + len(data) > CONTROL_OUTPUT_LIMIT_BYTES or (
+            self.plane.buffered + len(data) > CONTROL_OUTPUT_TOTAL_BYTES
+        ):
+            self.plane.drop_unread(self, len(self.output) + len(data))
+            return
+        self.output += data
+        self.plane.buffered += len(data)
+        if self.fd not in self.plane.writers:
+            self.flush()
+
+    def answer(self, reply: dict) -> None:
+        """Send the reply to a request answered later (a stop or a restart)."""
+        self.waiting -= 1
+        self.send(reply)
+        self.close_when_done()
+
+    def flush(self) -> None:
+        """Send what the socket takes now; wait for it to be writable for the rest."""
         try:
-            self.connection.sendall(json.dumps(reply).encode() + b"\n")
+            sent = self.connection.send(self.output, socket.MSG_NOSIGNAL)
+        except (BlockingIOError, InterruptedError):
+            sent = 0
         except OSError:
             self.close()
+            return
+        del self.output[:sent]
+        self.plane.buffered -= sent
+        if self.output:
+            if self.fd not in self.plane.writers:
+                self.plane.writers[self.fd] = self.flush
+            return
+        self.plane.writers.pop(self.fd, None)
+        self.close_when_done()
+
+    def close_when_done(self) -> None:
+        if not self.reading and not self.output and not self.waiting:
+            self.close()
+
+    # Following a node's log
+
+    def follow(self, node_log) -> None:
+        self.following = node_log
+        self.plane.followers.add(node_log, self)
+
+    def stop_following(self) -> None:
+        if self.following is not None:
+            self.plane.followers.remove(self.following, self)
+            self.following = None
 
     def close(self) -> None:
-        if self.following is not None:
-            node_log, listener = self.following
-            if listener in node_log.listeners:
-                node_log.listeners.remove(listener)
-            self.following = None
-        if not self.closed:
-            self.closed = True
-            self.connection.close()
+        if self.closed:
+            return
+        self.closed = True
+        self.stop_following()
+        self.plane.readers.pop(self.fd, None)
+        self.plane.writers.pop(self.fd, None)
+        self.plane.backlog.pop(self.fd, None)
+        self.plane.buffered -= len(self.output)
+        self.output.clear()
+        close_quietly(self.connection)
+        self.plane.forget(self)
+
+
+class LogFollowers:
+    """The connections following each node's log (`logs` with follow): one listener a NodeLog, and each new
+    line encoded once for all of them."""
+
+    def __init__(self):
+        self.connections = {}  # NodeLog -> {fd: ControlConnection}
+
+    def add(self, node_log, connection: ControlConnection) -> None:
+        if node_log not in self.connections:
+            self.connections[node_log] = {}
+            node_log.listeners.append(lambda line, node_log=node_log: self.on_line(node_log, line))
+        self.connections[node_log][connection.fd] = connection
+
+    def remove(self, node_log, connection: ControlConnection) -> None:
+        self.connections.get(node_log, {}).pop(connection.fd, None)
+
+    def on_line(self, node_log, line: str) -> None:
+        following = self.connections[node_log]
+        if following:
+            data = json.dumps({"line": line}).encode() + b"\n"
+            for connection in list(following.values()):
+                connection.send_line(data)
+
+
+def close_quietly(connection: socket.socket) -> None:
+    """Close a client's socket after discarding what it sent and was not read (up to CONTROL_RECEIVE_BYTES),
+    so that it sees the end of its replies, not a reset connection."""
+    try:
+        connection.setblocking(False)
+        connection.recv(CONTROL_RECEIVE_BYTES)
+    except OSError:
+        pass
+    connection.close()
+
+
+# The control socket: status, restart / stop / start of one node and its log, one JSON line each way.
+
+
+CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
+CONTROL_CLIENTS_MAX = 1024  # clients connected at once; one more is answered "too many" and closed
+CONTROL_FDS_KEPT = 64  # descriptors never given to clients: the supervisor's own, and its nodes' pipes...
+CONTROL_FDS_PER_NODE = 4  # ...and this many more per node
+CONTROL_ACCEPTS_PER_TURN = 64  # clients accepted before the loop turns to other work
+CONTROL_ACCEPT_BACKOFF_S = 0.5  # out of descriptors (EMFILE): how long the socket stops accepting
+CONTROL_TURN_S = 0.01  # time for requests in one turn of the loop; the rest wait for the next (timers run between)
+CONTROL_REFUSAL_LOG_S = 10.0  # refused clients of other users are logged at most once in this interval
+ACCEPT_OUT_OF_RESOURCES = (errno.EMFILE, errno.ENFILE, errno.ENOBUFS, errno.ENOMEM)
+
+
+def control_clients_max(fd_limit: int, nodes: int) -> int:
+    """How many clients may be connected at once under the open-file limit `fd_limit`, `nodes` running too."""
+    return max(1, min(CONTROL_CLIENTS_MAX, fd_limit - CONTROL_FDS_KEPT - CONTROL_FDS_PER_NODE * nodes))
 
 
 class ControlPlane:
-    """Serves the socket for a Supervisor: registers its descriptors in `supervisor.readers`, and is
-    polled by the loop (`poll`) to finish node stops and restarts and to escalate their signals.
+    """Serves the socket for a Supervisor: registers its descriptors in `supervisor.readers` / `writers` (the
+    loop's Poller), and is polled by the loop (`poll`, at `deadline()`) to finish node stops and restarts,
+    escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
-    Requests: {"command": "status"}, {"command": "restart"|"stop"|"start", "node": NAME},
-    {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
-    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a
-    stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a
-    Unix stream socket of mode 0600 in a directory of mode 0700.
+    Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
+    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a stop:
+    SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a Unix
+    stream socket of mode 0600 in a directory of this user's, mode 0700 (control_socket.py); only
+    clients of the same user or root are served, the others get one error line.
     """
 
-    def __init__(self, supervisor, path: str):
+    def __init__(self, supervisor, path: str, clients_max: int):
         self.supervisor = supervisor
+        self.readers = supervisor.readers
+        self.writers = supervisor.writers
         self.path = path
-        self.clients = {}  # fd -> ControlClient
-        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [(client, command)]}
+        self.clients_max = clients_max
+        self.connections = {}  # fd -> ControlConnection
+        self.backlog = {}  # fd -> ControlConnection with request lines left for the next turn
+        self.followers = LogFollowers()
+        self.buffered = 0  # reply bytes every connection holds unsent
+        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [connection]}
         self.since = {}  # node name -> (state, monotonic time it was entered)
-        directory = os.path.dirname(path)
-        os.makedirs(directory, mode=0o700, exist_ok=True)
-        if os.path.exists(path):
-            probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-            try:
-                probe.connect(path)
-            except OSError:
-                os.unlink(path)  # left by a supervisor that was killed
-            else:
-                raise OSError(f"another supervisor serves {path}")
-            finally:
-                probe.close()
-        self.listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        old_mask = os.umask(0o177)
+        self.accept_resume_at = None  # while out of descriptors: when accepting is tried again
+        self.accept_failing = False
+        self.refusals_logged_at = None
+        self.socket_file = SocketFile(path)
         try:
-            self.listener.bind(path)
-        finally:
-            os.umask(old_mask)
-        os.chmod(path, 0o600)
-        self.listener.listen(16)
-        self.listener.setblocking(False)
-        supervisor.readers[self.listener.fileno()] = self.accept
+            self.listener = self.socket_file.bind()
+        except BaseException:
+            self.socket_file.remove()
+            raise
+        self.readers[self.listener.fileno()] = self.accept
         log("supervisor", f"control socket {path} (python3 supervisor.py ctl --control-socket {path} status)")
 
     def close(self) -> None:
-        for client in list(self.clients.values()):
-            client.close()
-        self.supervisor.readers.pop(self.listener.fileno(), None)
+        for connection in list(self.connections.values()):
+            connection.close()
+        self.readers.pop(self.listener.fileno(), None)
         self.listener.close()
-        try:
-            os.unlink(self.path)
-        except OSError:
-            pass
+        self.socket_file.remove()
+
+    # Clients
 
     def accept(self) -> None:
-        try:
-            connection, _ = self.listener.accept()
-        except OSError:
-            return
-        client = ControlClient(connection)
-        fd = connection.fileno()
-        self.clients[fd] = client
-        self.supervisor.readers[fd] = lambda: self.receive(fd)
-
-    def drop(self, fd: int) -> None:
-        self.supervisor.readers.pop(fd, None)
-        client = self.clients.pop(fd, None)
-        if client is not None:
-            client.close()
-
-    def receive(self, fd: int) -> None:
-        client = self.clients[fd]
-        try:
-            data = client.connection.recv(CONTROL_REQUEST_LIMIT)
-        except OSError:
-            data = b""
-        if not data or len(client.buffer) + len(data) > CONTROL_REQUEST_LIMIT:
-            self.drop(fd)
-            return
-        client.buffer += data
-        while b"\n" in client.buffer and not client.closed:
-            line, client.buffer = client.buffer.split(b"\n", 1)
+        for _ in range(CONTROL_ACCEPTS_PER_TURN):
             try:
-                request = json.loads(line)
-            except ValueError as exc:
-                request = f"not JSON ({exc})"
-            if not isinstance(request, dict):
-                client.send({"ok": False, "error": f"a request is one JSON object per line, got {request!r:.80}"})
-                continue
-            reply = self.handle(client, request)
-            if reply is not None:
-                client.send(reply)
-        if client.closed:
-            self.drop(fd)
+                connection, _ = self.listener.accept()
+            except (BlockingIOError, InterruptedError):
+                if self.accept_failing:  # every waiting client was taken
+                    self.accept_failing = False
+                    log("supervisor", "control socket: accepting clients again")
+                return
+            except OSError as exc:
+                if exc.errno in ACCEPT_OUT_OF_RESOURCES:
+                    self.pause_accepting(exc)
+                return  # otherwise that client is gone already
+            self.admit(connection)
+
+    def pause_accepting(self, exc: OSError) -> None:
+        """Out of descriptors: stop watching the socket for CONTROL_ACCEPT_BACKOFF_S (its queue keeps the
+        clients waiting), rather than being woken at once again for a client that cannot be accepted."""
+        self.readers.pop(self.listener.fileno(), None)
+        self.accept_resume_at = time.monotonic() + CONTROL_ACCEPT_BACKOFF_S
+        if not self.accept_failing:
+            self.accept_failing = True
+            log(
+                "supervisor",
+                f"control socket: cannot accept a client ({exc.strerror}); trying again every "
+                f"{CONTROL_ACCEPT_BACKOFF_S} s",
+            )
+
+    def admit(self, connection) -> None:
+        try:
+            pid, uid, _ = peer_credentials(connection)
+        except OSError:
+            connection.close()
+            return
+        if not may_control(uid):
+            self.note_refusal(uid, pid)
+            refuse(connection, f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)")
+        elif len(self.connections) >= self.clients_max:
+            refuse(connection, f"too many control clients ({self.clients_max}); try again later")
+        else:
+            client = ControlConnection(self, connection, pid)
+            self.connections[client.fd] = client
+
+    def note_refusal(self, uid: int, pid: int) -> None:
+        now = time.monotonic()
+        if self.refusals_logged_at is None or now - self.refusals_logged_at >= CONTROL_REFUSAL_LOG_S:
+            self.refusals_logged_at = now
+            log("supervisor", f"control socket: refused a client of uid {uid} (pid {pid})")
+
+    def drop_unread(self, connection, size: int) -> None:
+        log(
+            "supervisor",
+            f"control socket: dropped a client (pid {connection.pid}) that left {size} bytes of replies unread "
+            f"(at most {CONTROL_OUTPUT_LIMIT_BYTES} a client, {CONTROL_OUTPUT_TOTAL_BYTES} in all)",
+        )
+        connection.close()
+
+    def turn_ends_at(self) -> float:
+        """When request lines must wait for the next turn of the loop: CONTROL_TURN_S after it woke."""
+        return self.supervisor.poller.woke_at + CONTROL_TURN_S
+
+    def forget(self, connection) -> None:
+        self.connections.pop(connection.fd, None)
 
     # Requests
 
-    def handle(self, client, request):
-        """The reply to `request`, or None when it comes later (a stop or restart in progress)."""
-        command = request.get("command")
+    def on_request(self, connection, line: bytes) -> None:
+        try:
+            request = parse_request(line)
+        except RequestError as exc:
+            connection.send({"ok": False, "error": str(exc)})
+            return
+        reply = self.handle(connection, request)
+        if reply is None:
+            connection.waiting += request["command"] in ("restart", "stop")
+        else:
+            connection.send(reply)
+
+    def handle(self, connection, request):
+        """The reply to `request`, or None when it comes later (a stop or restart in progress, or none at all
+        for `logs` that sent its own)."""
+        command = request["command"]
         if command == "status":
             return {"ok": True, **self.status()}
-        node = next((n for n in self.supervisor.nodes if n.name == request.get("node")), None)
-        if command not in ("restart", "stop", "start", "logs"):
-            return {"ok": False, "error": f"unknown command {command!r} (status, restart, stop, start, logs)"}
+        node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
         if node is None:
-            return {"ok": False, "error": f"no node named {request.get('node')!r}"}
+            return {"ok": False, "error": f"no node named {request['node']!r:.80}"}
         if command == "logs":
-            return self.logs(client, node, request)
+            return self.logs(connection, node, request)
         if self.supervisor.stopping:
             return {"ok": False, "error": "the robot is stopping"}
         if node.name in self.pending:
@@ -1541,7 +2123,7 @@ class ControlPlane:
             "stage": "SIGINT",
             "deadline": time.monotonic() + SIGINT_GRACE_S,
             "then_start": command == "restart",
-            "waiters": [client],
+            "waiters": [connection],
         }
         node.stop_requested = True
         node.state = "stopping"
@@ -1575,20 +2157,14 @@ class ControlPlane:
             ],
         }
 
-    def logs(self, client, node, request) -> dict | None:
-        try:
-            count = int(request.get("lines", LOG_LINES_DEFAULT))
-        except (TypeError, ValueError):
-            return {"ok": False, "error": "lines must be a whole number"}
-        node_log = self.supervisor.logs[node.name]
-        client.send({"ok": True, "lines": node_log.tail(count)})
-        if request.get("follow"):
-
-            def listener(line, client=client):
-                client.send({"line": line})
-
-            node_log.listeners.append(listener)
-            client.following = (node_log, listener)
+    def logs(self, connection, node, request) -> None:
+        node_log = self.supervisor.logs.get(node.name)
+        if node_log is None:
+            connection.send({"ok": False, "error": f"the output of {node.name} is not kept (no log directory)"})
+            return None
+        connection.send({"ok": True, "lines": node_log.tail(request["lines"])})
+        if request["follow"] and not connection.closed:
+            connection.follow(node_log)
         return None
 
     # The loop's part
@@ -1599,12 +2175,26 @@ class ControlPlane:
                 self.since[node.name] = (node.state, now)
 
     def deadline(self):
-        """The next moment poll() must run (a stop's signal escalation), or None."""
-        return min((item["deadline"] for item in self.pending.values()), default=None)
+        """The next moment poll() must run (a stop's signal escalation, accepting again, lines left), or None."""
+        moments = [item["deadline"] for item in self.pending.values()]
+        if self.accept_resume_at is not None:
+            moments.append(self.accept_resume_at)
+        if self.backlog:
+            moments.append(time.monotonic())
+        return min(moments, default=None)
 
     def poll(self) -> None:
-        """Finish stops and restarts whose node is gone; escalate those past their grace."""
+        """Resume accepting; handle lines left; finish stops and restarts whose node is gone, escalate those
+        past their grace."""
         now = time.monotonic()
+        if self.accept_resume_at is not None and now >= self.accept_resume_at:
+            self.accept_resume_at = None
+            self.readers[self.listener.fileno()] = self.accept
+        for index, connection in enumerate(list(self.backlog.values())):
+            if index and time.monotonic() >= self.turn_ends_at():
+                break  # the first always gets a line: lines left are handled, however busy the socket
+            del self.backlog[connection.fd]
+            connection.handle_lines(at_least_one=not index)
         for node in self.supervisor.nodes:
             item = self.pending.get(node.name)
             if item is None:
@@ -1615,8 +2205,8 @@ class ControlPlane:
                 if item["then_start"] and not self.supervisor.stopping:
                     node.restarts += 1
                     self.start(node)
-                for client in item["waiters"]:
-                    client.send(self.action_reply(node))
+                for connection in item["waiters"]:
+                    connection.answer(self.action_reply(node))
             elif now >= item["deadline"]:
                 stage, number, grace = (
                     ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
@@ -1629,11 +2219,22 @@ class ControlPlane:
         self.note_states(now)
 
 
+def refuse(connection, error: str) -> None:
+    """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
+    try:
+        connection.setblocking(False)
+        connection.send(json.dumps({"ok": False, "error": error}).encode() + b"\n", socket.MSG_NOSIGNAL)
+    except OSError:
+        pass
+    close_quietly(connection)
+
+
 # The stop cascade: SIGINT to every node, SIGTERM after its grace, SIGKILL after that, leftovers included.
 
 
 class StopCascade:
-    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome and stage fields."""
+    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome, stage, control
+    and internal_errors fields."""
 
     def request_stop(self, reason):
         if self.stopping:
@@ -1722,6 +2323,31 @@ class StopCascade:
             children = []
         return [pid for pid in children if pid not in known]
 
+    def on_internal_error(self):
+        """An exception the supervisor did not expect: log its traceback, stop serving the control socket,
+        and stop every node with the cascade; after INTERNAL_ERRORS_MAX of them, SIGKILL what is left."""
+        self.internal_errors += 1
+        self.outcome.internal_error = True
+        log("supervisor", f"internal error {self.internal_errors} (a bug in supervisor.py); its traceback:")
+        sys.stderr.write(traceback.format_exc())
+        sys.stderr.flush()
+        if self.internal_errors >= INTERNAL_ERRORS_MAX:
+            log("supervisor", f"{self.internal_errors} internal errors: killing every process left (SIGKILL)")
+            self.gave_up = True  # the loop ends; the guard kills whatever the SIGKILL below misses
+            try:
+                self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
+            except Exception:  # noqa: BLE001 (the guard still kills every descendant once the loop ends)
+                pass
+            return
+        control, self.control = self.control, None
+        if control is not None:
+            try:
+                control.close()
+            except Exception:  # noqa: BLE001 (already stopping for a bug; the socket file may stay behind)
+                pass
+        if not self.stopping:
+            self.request_stop("internal error (a bug in supervisor.py)")
+
 
 # The event loop: launching, reaping and restarts with backoff.
 
@@ -1735,7 +2361,10 @@ class Supervisor(StopCascade):
         self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
         self.pid = os.getpid()
         self.wakeup = None
-        self.readers = {}  # fd -> callable run when the fd is readable (besides the signal wake-up pipe)
+        self.poller = Poller()
+        self.readers = self.poller.readers  # fd -> callable run when the fd is readable
+        self.writers = self.poller.writers  # fd -> callable run when the fd is writable
+        self.internal_errors = 0  # exceptions the supervisor did not expect (bugs), see on_internal_error
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
@@ -1756,6 +2385,7 @@ class Supervisor(StopCascade):
         os.set_blocking(read_end, False)
         os.set_blocking(write_end, False)
         self.wakeup = read_end
+        self.readers[read_end] = self.drain_wakeup
         signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
         signal.signal(signal.SIGCHLD, lambda number, frame: None)
         for number in STOP_SIGNALS:
@@ -1764,6 +2394,29 @@ class Supervisor(StopCascade):
             signal.signal(number, lambda number, frame: self.requests.append(number))
 
     def run(self):
+        fd_limit = raise_fd_limit()
+        if self.options.control_socket:
+            try:
+                self.control = ControlPlane(
+                    self, self.options.control_socket, control_clients_max(fd_limit, len(self.nodes))
+                )
+            except ControlSocketError as exc:
+                log("supervisor", f"cannot serve the control socket {self.options.control_socket}: {exc}")
+                return EXIT_PREFLIGHT
+        try:
+            self.start()
+        except Exception:  # noqa: BLE001 (a bug: logged, and every node started so far is stopped)
+            self.on_internal_error()
+        while True:
+            try:
+                if self.finished():
+                    break
+                self.turn()
+            except Exception:  # noqa: BLE001 (a bug: logged, and the robot is stopped)
+                self.on_internal_error()
+        return self.shut_down()
+
+    def start(self):
         if PRCTL is not None:
             PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
         else:
@@ -1773,11 +2426,6 @@ class Supervisor(StopCascade):
         self.guard.start()
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
-        if self.options.control_socket:
-            try:
-                self.control = ControlPlane(self, self.options.control_socket)
-            except OSError as exc:
-                log("supervisor", f"warning: no control socket at {self.options.control_socket}: {exc}")
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
         for node in self.nodes:
             if self.requests:
@@ -1789,14 +2437,30 @@ class Supervisor(StopCascade):
             f"started: {running} of {len(self.nodes)} nodes running "
             f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
         )
-        while not self.finished():
+
+    def turn(self):
+        """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
+        only the stop cascade runs, so a fault elsewhere cannot come back."""
+        if self.outcome.internal_error:  # until the cascade's next step; what else is due waits for good
+            due = LEFTOVER_POLL_S if self.stage_deadline is None else self.stage_deadline - time.monotonic()
+            if self.containment is not None:
+                self.containment.before_sleep()  # the nodes' processes are looked for anew after the sleep
+            self.wait(max(0.0, min(due, LEFTOVER_POLL_S)))
+        else:
             self.wait(self.timeout())
-            self.reap()
-            while self.requests:
-                self.request_stop(f"received {signal_name(self.requests.pop(0))}")
+        self.reap()
+        while self.requests:
+            self.request_stop(f"received {signal_name(self.requests.pop(0))}")
+        if self.outcome.internal_error:
+            if self.stage_deadline is not None and time.monotonic() >= self.stage_deadline:
+                self.escalate()
+        else:
             self.on_timers()
+
+    def shut_down(self):
         self.guard.stop()
-        self.containment.close()
+        if self.containment is not None:
+            self.containment.close()
         if self.control is not None:
             self.control.close()
         for node in self.nodes:
@@ -1810,19 +2474,21 @@ class Supervisor(StopCascade):
     def launch(self, node):
         argv, node.backend = node.command()
         node_log = self.logs.get(node.name)
-        read_end, write_end = node_log.open_pipe() if node_log is not None else (None, None)
+        read_end = write_end = None
         blocked = STOP_SIGNALS + (signal.SIGCHLD,)
         signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
         try:
+            if node_log is not None:
+                read_end, write_end = node_log.open_pipe()
             pid = os.fork()
             if pid == 0:
                 child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
-        except OSError as exc:
-            if node_log is not None:
-                os.close(read_end)
-                os.close(write_end)
-            log(node.name, f"cannot fork: {exc}")
-            node.last_exit = f"fork failed: {exc}"
+        except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
+            for fd in (read_end, write_end):
+                if fd is not None:
+                    os.close(fd)
+            log(node.name, f"cannot start: {exc}")
+            node.last_exit = f"start failed: {exc}"
             self.after_exit(node, failed=True, ran_for=0.0)
             return
         finally:
@@ -1959,17 +2625,15 @@ class Supervisor(StopCascade):
         return timeout
 
     def wait(self, timeout):
-        """Sleep until a signal arrives, a registered fd is readable, or `timeout` passes."""
-        ready, _, _ = select.select([self.wakeup, *self.readers], [], [], timeout)
-        for fd in ready:
-            if fd != self.wakeup:
-                self.readers[fd]()
-                continue
-            try:
-                while os.read(self.wakeup, 4096):
-                    pass
-            except BlockingIOError:
+        """Sleep until a signal arrives, a registered fd is ready, or `timeout` passes."""
+        self.poller.wait(timeout)
+
+    def drain_wakeup(self):
+        try:
+            while os.read(self.wakeup, 4096):
                 pass
+        except BlockingIOError:
+            pass
 
     def on_timers(self):
         if self.control is not None:
@@ -2043,6 +2707,7 @@ def supervisord_listener():
 
 
 CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
+CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
 CTL_EXIT_FAILED = 1
 
 
@@ -2063,7 +2728,9 @@ def ctl_arguments(argv):
         commands.add_parser(action, help=f"{action} one node").add_argument("node")
     logs = commands.add_parser("logs", help="the last lines of a node's output")
     logs.add_argument("node")
-    logs.add_argument("-n", "--lines", type=int, default=100, help="how many lines (default 100)")
+    logs.add_argument(
+        "-n", "--lines", type=int, default=CONTROL_LOG_LINES_DEFAULT, help="how many lines (default %(default)s)"
+    )
     logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
     return parser.parse_args(argv)
 
@@ -2076,10 +2743,19 @@ def ctl(argv) -> int:
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow)
     try:
-        connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        connection.settimeout(CTL_TIMEOUT_S)
-        connection.connect(options.control_socket)
-        connection.sendall(json.dumps(request).encode() + b"\n")
+        connection = ctl_connect(options.control_socket)
+        _, uid, _ = peer_credentials(connection)
+        if not may_control(uid):
+            print(
+                f"supervisor.py ctl: error: control socket {options.control_socket} is served by uid {uid}, "
+                f"not by uid {os.geteuid()} or root: not talking to it",
+                file=sys.stderr,
+            )
+            return CTL_EXIT_FAILED
+        try:
+            connection.sendall(json.dumps(request).encode() + b"\n")
+        except (BrokenPipeError, ConnectionResetError):
+            pass  # refused and closed at once (too many clients): the reply already sent says why
         if options.follow if options.command == "logs" else False:
             connection.settimeout(None)
         replies = connection.makefile("rb")
@@ -2096,9 +2772,28 @@ def ctl(argv) -> int:
             f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
         )
         return CTL_EXIT_FAILED
+    except ValueError as exc:
+        print(f"supervisor.py ctl: error: control socket {options.control_socket}: bad reply ({exc})", file=sys.stderr)
+        return CTL_EXIT_FAILED
     except KeyboardInterrupt:
         pass
     return 0
+
+
+def ctl_connect(path: str) -> socket.socket:
+    """A connection to the control socket, waiting up to CTL_TIMEOUT_S while its queue is full."""
+    deadline = time.monotonic() + CTL_TIMEOUT_S
+    while True:
+        connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        connection.settimeout(CTL_TIMEOUT_S)
+        try:
+            connection.connect(path)
+            return connection
+        except BlockingIOError:
+            connection.close()
+            if time.monotonic() >= deadline:
+                raise
+            time.sleep(CTL_CONNECT_RETRY_S)
 
 
 def print_reply(options, reply: dict) -> None:
@@ -2156,7 +2851,8 @@ def parse_arguments(argv):
         "--control-socket",
         default=default_control_socket(ROBOT["name"]),
         metavar="PATH",
-        help="serve the control socket here (default: %(default)s; `ctl` is its client)",
+        help="serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
+        "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",
     )
     parser.add_argument("--no-control", action="store_true", help="serve no control socket")
     parser.add_argument(
@@ -2176,6 +2872,15 @@ def main(argv):
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
     options = parse_arguments(argv)
+    try:
+        return supervise(options)
+    except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
+        log("supervisor", "internal error (a bug in supervisor.py); its traceback:")
+        traceback.print_exc()
+        return EXIT_INTERNAL
+
+
+def supervise(options):
     if options.no_control:
         options.control_socket = None
     else:
