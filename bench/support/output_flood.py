@@ -1,6 +1,6 @@
 """Supervisor CPU and memory while one node floods its output: no newlines, against newlines every 80 bytes.
 
-`output_flood(quick)` builds a one-node robot through plan() + render() and runs its supervisor.py
+`measure(quick)` builds a one-node robot through plan() + render() and runs its supervisor.py
 (stderr to /dev/null, node logs in a temporary directory). The node writes "flood start", waits to be
 told to go, writes SIZE bytes in 64 KiB writes, then "flood done", and sleeps. The supervisor's CPU
 (the kernel's scheduler time of its threads, /proc/PID/task/*/schedstat) is read when the node says
@@ -128,7 +128,7 @@ def cat_run(directory: Path, size: int) -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def output_flood(quick: bool = False) -> dict[str, float]:
+def measure(quick: bool = False) -> dict[str, float]:
     """Print and return the figures of one run (QUICK_SIZE_BYTES when `quick`, else SIZE_BYTES)."""
     size = QUICK_SIZE_BYTES if quick else SIZE_BYTES
     with tempfile.TemporaryDirectory(prefix="bench-output-flood-") as tmp:
