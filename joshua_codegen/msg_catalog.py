@@ -1,9 +1,9 @@
-"""Every message type of std_msgs, sensor_msgs, geometry_msgs, nav_msgs, diagnostic_msgs and tf2_msgs in ROS 2 Jazzy.
+"""Every message type of std_msgs, sensor_msgs, geometry_msgs, nav_msgs, diagnostic_msgs, trajectory_msgs and
+tf2_msgs in ROS 2 Jazzy.
 
-Taken from the `.msg` files of the Jazzy packages (std_msgs, sensor_msgs, geometry_msgs, nav_msgs and
-diagnostic_msgs 5.3.6; tf2_msgs 0.36 defines TF2Error and TFMessage, built by set-up from interfaces/). Names
-use the ROS 2 form
-`pkg/msg/Type`.
+Taken from the `.msg` files of the Jazzy packages (std_msgs, sensor_msgs, geometry_msgs, nav_msgs,
+diagnostic_msgs and trajectory_msgs 5.3.6; tf2_msgs 0.36 defines TF2Error and TFMessage, built by set-up from
+interfaces/). Names use the ROS 2 form `pkg/msg/Type`.
 """
 
 from __future__ import annotations
@@ -119,6 +119,12 @@ PACKAGES: dict[str, tuple[str, ...]] = {
         "DiagnosticArray",
         "DiagnosticStatus",
         "KeyValue",
+    ),
+    "trajectory_msgs": (
+        "JointTrajectory",
+        "JointTrajectoryPoint",
+        "MultiDOFJointTrajectory",
+        "MultiDOFJointTrajectoryPoint",
     ),
     "tf2_msgs": (
         "TF2Error",

@@ -52,6 +52,10 @@ _BASE_FIELDS = frozenset(
 _CPP_TOPIC_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
 _CPP_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
 JOINT_STATE = "sensor_msgs/msg/JointState"
+# An action chunk: timed joint positions, as ros2_control's joint_trajectory_controller takes them.
+JOINT_TRAJECTORY = "trajectory_msgs/msg/JointTrajectory"
+# What a joint command topic carries: one goal per message, or a chunk of timed goals.
+JOINT_COMMAND_TYPES = (JOINT_STATE, JOINT_TRAJECTORY)
 TWIST = "geometry_msgs/msg/Twist"
 ODOMETRY = "nav_msgs/msg/Odometry"
 # The wheel joints a differential-drive base publishes unless its joint_names say otherwise.
@@ -206,7 +210,7 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     name="ACTUATOR_SUBSCRIBER",
     family="actuator",
     topic="subscribes",
-    message_types=(JOINT_STATE,),
+    message_types=JOINT_COMMAND_TYPES,
     state_topic=True,
     hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS
@@ -239,7 +243,7 @@ INFERENCE = NodeTypeSpec(
     name="INFERENCE",
     family="inference",
     topic="publishes",
-    message_types=(JOINT_STATE,),
+    message_types=JOINT_COMMAND_TYPES,
     input_types=OBSERVATION_TYPES,
     python_only=True,
     fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),

@@ -2,7 +2,8 @@
 
 What it checks:
     A written `message_type` (of a node, or of a topic a CUSTOM node declares) has the ROS 2 form `pkg/msg/Type` and names a message of std_msgs,
-    sensor_msgs, geometry_msgs, nav_msgs, diagnostic_msgs or tf2_msgs (ROS 2 Jazzy; see joshua_codegen/msg_catalog.py).
+    sensor_msgs, geometry_msgs, nav_msgs, diagnostic_msgs, trajectory_msgs or tf2_msgs (ROS 2 Jazzy; see
+    joshua_codegen/msg_catalog.py).
     The message suggests the closest known type.
 
 Why it matters:

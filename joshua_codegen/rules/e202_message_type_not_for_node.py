@@ -1,10 +1,11 @@
 """E202 message-type-not-for-node: a known message type that the node's type cannot use.
 
 What it checks:
-    Node types with fixed messages use one of them (defaults.MESSAGE_TYPES): cameras
-    sensor_msgs/msg/Image or CompressedImage, lidars LaserScan, encoders, actuators, INFERENCE,
-    DATA_SUBSCRIBER (its topic is the recorded action) and OPERATIONAL_LIMIT_CALIBRATION
-    JointState. CUSTOM takes any known type.
+    Node types with fixed messages use one of them (the registry's message_types, listed in each
+    message): cameras sensor_msgs/msg/Image or CompressedImage, lidars LaserScan or PointCloud2,
+    encoders, DATA_SUBSCRIBER (its topic is the recorded action) and OPERATIONAL_LIMIT_CALIBRATION
+    JointState; INFERENCE and actuators JointState or trajectory_msgs/msg/JointTrajectory (action
+    chunks). CUSTOM takes any known type.
 
 Why it matters:
     The node's code converts exactly these messages; any other type cannot be produced or read.

@@ -4,7 +4,14 @@ import importlib
 
 from joshua_codegen import msg_catalog
 
-INSTALLED = ("std_msgs", "sensor_msgs", "geometry_msgs", "nav_msgs", "tf2_msgs")  # tf2_msgs: built by set-up
+INSTALLED = (
+    "std_msgs",
+    "sensor_msgs",
+    "geometry_msgs",
+    "nav_msgs",
+    "trajectory_msgs",
+    "tf2_msgs",
+)  # tf2_msgs: built by set-up
 
 
 def test_catalogue_matches_the_installed_message_packages():

@@ -116,3 +116,31 @@ def test_a_bag_recorder_records_inputs_of_any_type():
     assert codes(robot(lidar, arm, recorder, mode="MODE_DATA_COLLECTION")) == [("E208", 6, 87)]
     bag = recorder + ' output_format: "mcap" bag_max_size_mb: 100 bag_max_duration_s: 60'
     assert codes(robot(lidar, arm, bag, mode="MODE_DATA_COLLECTION")) == []
+
+
+TRAJECTORY = 'message_type: "trajectory_msgs/msg/JointTrajectory"'
+CHUNK_POLICY = f'type: INFERENCE topic_name: "/arm/commands" {TRAJECTORY} model_path: "/m" input_topics: ["/cam"]'
+CAMERA = 'type: MOCK_CAMERA_PUBLISHER topic_name: "/cam"'
+
+
+def test_action_chunks_flow_from_inference_to_actuators_and_the_simulation():
+    for actuator in ('ACTUATOR_SUBSCRIBER serial_port: "/dev/ttyACM0"', "MOCK_ACTUATOR_SUBSCRIBER"):
+        follower = f'type: {actuator} topic_name: "/arm/commands" {TRAJECTORY}'
+        assert codes(robot(CAMERA, CHUNK_POLICY, follower, mode="MODE_INFERENCE")) == []
+    simulated = robot(
+        'type: CAMERA_PUBLISHER topic_name: "/cam"',
+        CHUNK_POLICY,
+        f'type: ACTUATOR_SUBSCRIBER topic_name: "/arm/commands" {TRAJECTORY}',
+        mode="MODE_SIMULATION",
+        extra='  simulation { model: "builtin:so100" }\n',
+    )
+    assert codes(simulated) == []
+
+
+def test_a_joint_state_subscriber_of_a_trajectory_topic_is_a_type_mismatch():
+    follower = 'type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/arm/commands"'
+    assert codes(robot(CAMERA, CHUNK_POLICY, follower, mode="MODE_INFERENCE")) == [("E207", 6, 41)]
+    typed = follower + ' message_type: "sensor_msgs/msg/JointState"'
+    assert codes(robot(CAMERA, CHUNK_POLICY, typed, mode="MODE_INFERENCE")) == [("E207", 6, 69)]
+    recorder = 'type: DATA_SUBSCRIBER topic_name: "/arm/commands" output_directory: "/d" input_topics: ["/cam"]'
+    assert [code for code, _, _ in codes(robot(CAMERA, CHUNK_POLICY, recorder, mode="MODE_INFERENCE"))] == ["E207"]
