@@ -1,10 +1,11 @@
-"""MOCK_ACTUATOR_SUBSCRIBER: a simulated arm that follows JointState commands on `topic`.
+"""MOCK_ACTUATOR_SUBSCRIBER: a simulated arm that follows JointState commands or action chunks on `topic`.
 
 Each joint of `joint_names` starts at 0 rad and moves first-order toward its last command
 (time constant mock_arm.TRACKING_TIME_CONSTANT_S), clamped to its SO-100 range. Commands are
 matched by joint name; a command without names is taken in joint order when its length matches;
-unknown names and NaN positions are ignored. Every 1/rate_hz the present positions and velocities
-are published on `state_topic` when it is set.
+unknown names and NaN positions are ignored. With a trajectory_msgs/msg/JointTrajectory topic, the
+command of each step (every 1/rate_hz) is the chunk's goal at that moment (nodes/trajectory_follower.py).
+Every 1/rate_hz the present positions and velocities are published on `state_topic` when it is set.
 """
 
 import math
@@ -15,6 +16,15 @@ from sensor_msgs.msg import JointState
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import mock_arm, settings_checks
+from joshua_runtime.nodes.trajectory_follower import (
+    ChunkRejected,
+    TrajectoryFollower,
+    chunk_from_trajectory,
+    is_trajectory,
+    now_s,
+)
+
+CHUNK_LOG_PERIOD_S = 2.0
 
 
 class MockActuatorSubscriber(JoshuaNode):
@@ -30,7 +40,12 @@ class MockActuatorSubscriber(JoshuaNode):
         self.targets = dict(self.positions)
         self.commands_received = 0
         self.last_step = time.monotonic()
-        self.subscription(topic, self._command)
+        self.follower = None
+        if is_trajectory(topic):
+            self.follower = TrajectoryFollower(len(self.joint_names))
+            self.subscription(topic, self._chunk)
+        else:
+            self.subscription(topic, self._command)
         self.states = self.publisher(self.settings.state_topic) if self.settings.HasField("state_topic") else None
         self.ros.create_timer(period, self._step)
 
@@ -41,7 +56,28 @@ class MockActuatorSubscriber(JoshuaNode):
                 self.targets[name] = mock_arm.clamp(name, position)
         self.commands_received += 1
 
+    def _chunk(self, message) -> None:
+        arrival = now_s(self.ros)
+        try:
+            dropped = self.follower.accept(chunk_from_trajectory(message, self.joint_names, arrival), arrival)
+        except ChunkRejected as exc:
+            dropped = str(exc)
+        if dropped:
+            self.log.warning(f"action chunk dropped: {dropped}", throttle_duration_sec=CHUNK_LOG_PERIOD_S)
+        else:
+            self.commands_received += 1
+
+    def _follow_chunk(self) -> None:
+        goal = self.follower.goal(now_s(self.ros))
+        if goal is None:
+            return
+        for name, position in zip(self.joint_names, goal):
+            if not math.isnan(position):
+                self.targets[name] = mock_arm.clamp(name, float(position))
+
     def _step(self) -> None:
+        if self.follower is not None:
+            self._follow_chunk()
         now = time.monotonic()
         dt, self.last_step = now - self.last_step, now
         for name in self.joint_names:

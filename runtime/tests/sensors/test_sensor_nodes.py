@@ -11,6 +11,7 @@ import math
 import signal
 
 import numpy as np
+import pytest
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 from sensor_support import (
@@ -158,6 +159,40 @@ def test_mock_actuator_follows_commands_and_publishes_its_state(start_node, ros_
     for name in ("shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll"):
         assert settled[name] == 0.0
     assert_clean_stop(node, signal.SIGTERM)
+
+
+def test_mock_actuator_follows_an_action_chunk_and_holds_its_last_point(start_node, ros_client):
+    from builtin_interfaces.msg import Duration
+    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+    settings = compiled_node(
+        'name: "mock_follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/follower/chunks" '
+        'message_type: "trajectory_msgs/msg/JointTrajectory" state_topic: "/follower/state" rate_hz: 100'
+    )
+    node = start_node(settings)
+    subscribers = ros_client.subscriptions_info("/follower/chunks", NODE_START_TIMEOUT_S)
+    assert_endpoint(subscribers, "mock_follower", "trajectory_msgs/msg/JointTrajectory", DEFAULT_QOS)
+    chunks = ros_client.publisher("/follower/chunks", JointTrajectory, DEFAULT_QOS)
+    ros_client.listen("/follower/state", JointState, DEFAULT_QOS, keep=400)
+    chunk = JointTrajectory(joint_names=["gripper", "shoulder_pan"])
+    chunk.header.stamp = ros_client.node.get_clock().now().to_msg()
+    # shoulder_pan ramps 0 -> 1 rad over 1 s in five points; the gripper goes to 0.5 at once.
+    for i in range(6):
+        chunk.points.append(
+            JointTrajectoryPoint(positions=[0.5, i / 5], time_from_start=Duration(nanosec=i * 200_000_000))
+        )
+    chunks.publish(chunk)
+    ros_client.spin_until(lambda: False, 1.6)
+    pan = [dict(zip(m.name, m.position))["shoulder_pan"] for m in ros_client.messages("/follower/state")]
+    # Followed step by step: many distinct goals on the way, not five jumps, then the last point held.
+    on_the_way = {round(value, 2) for value in pan if 0.05 < value < 0.95}
+    assert len(on_the_way) > 20, pan
+    assert all(b >= a - 1e-9 for a, b in zip(pan, pan[1:])), "a ramp never goes back"
+    assert pan[-1] == pytest.approx(1.0, abs=1e-3)
+    assert dict(zip(ros_client.last("/follower/state").name, ros_client.last("/follower/state").position))[
+        "gripper"
+    ] == pytest.approx(0.5, abs=1e-3)
+    assert_clean_stop(node, signal.SIGINT)
 
 
 def test_lidar_publisher_streams_emulated_turns_and_stops_the_motor(tmp_path, start_node, ros_client):
