@@ -1,10 +1,14 @@
-// ACTUATOR_SUBSCRIBER: drives an STS3215 bus (e.g. a follower arm) from JointState commands.
+// ACTUATOR_SUBSCRIBER: drives an STS3215 bus (e.g. a follower arm) from JointState commands or action chunks.
 //
 // On start the servos hold their present pose and torque goes on. Each command on topic_name is matched
 // to joint_names by name (absent joints keep their goal) and sent at once in one SYNC_WRITE of goals
 // clamped to the calibrated range; a clamped goal is logged (at most every CLAMP_LOG_INTERVAL) and noted
 // on /diagnostics. With state_topic set, the bus's joint states are published there every 1/rate_hz.
 // Torque goes off at exit unless keep_torque_on_exit is true.
+//
+// With message_type trajectory_msgs/msg/JointTrajectory, each chunk is followed by trajectory_follower.hpp:
+// every 1/rate_hz its goal of that moment goes out like a command (clamped, feeding the watchdog); when the
+// chunk is over its last point is held, and command_timeout_s counts from then.
 //
 // Preset commands (std_msgs/String) on `<topic_name>/preset`: torque_on, torque_off (the e-stop; torque
 // stays off until torque_on) and pose names (home, rest, grip_open and the `preset` parameter's), which
@@ -22,14 +26,18 @@
 #include "nodes/presets.hpp"
 #include "nodes/servo_bus.hpp"
 #include "nodes/servo_diagnostics.hpp"
+#include "nodes/trajectory_follower.hpp"
 #include "std_msgs/msg/string.hpp"
 
 namespace {
 
 using namespace joshua;
 using sensor_msgs::msg::JointState;
+using trajectory_msgs::msg::JointTrajectory;
 
 constexpr std::chrono::seconds CLAMP_LOG_INTERVAL{1};
+constexpr std::chrono::seconds DROP_LOG_INTERVAL{2};  // at most one "action chunk dropped" line per interval
+const char* const JOINT_TRAJECTORY = "trajectory_msgs/msg/JointTrajectory";
 const char* const RELEASE_TORQUE = "RELEASE_TORQUE";
 const char* const PRESET_SUFFIX = "/preset";
 
@@ -70,7 +78,12 @@ class ActuatorSubscriber : public Application {
     bus_->enable_torque();
     guard_ = std::make_unique<BusGuard>(*bus_, node, [this] { restore_torque(); });
     diagnostics_ = std::make_unique<ServoDiagnostics>(node, *bus_, *guard_, joint_names_);
-    node.subscribe<JointState>(topic, qos, [this](const JointState& message) { command(message); });
+    if (parameters.get_string("message_type") == JOINT_TRAJECTORY) {
+      node.subscribe<JointTrajectory>(topic, qos, [this](const JointTrajectory& message) { receive_chunk(message); });
+      node.every(period, [this] { follow_chunk(); });
+    } else {
+      node.subscribe<JointState>(topic, qos, [this](const JointState& message) { command(message); });
+    }
     node.subscribe<std_msgs::msg::String>(preset_topic(topic), fixed_qos(),
                                           [this](const std_msgs::msg::String& message) { preset(message.data); });
     if (command_timeout_s_ > 0) {
@@ -97,6 +110,30 @@ class ActuatorSubscriber : public Application {
   void command(const JointState& message) {
     const std::vector<double> goals = goals_from(message, joint_names_);
     if (goals.size() == joint_names_.size()) drive(goals);
+  }
+
+  void receive_chunk(const JointTrajectory& message) {
+    const double arrival = ros_now_s();
+    Chunk chunk;
+    std::string dropped;
+    if (chunk_from_trajectory(message, joint_names_, arrival, chunk, dropped)) dropped = chunks_.accept(chunk, arrival);
+    const Clock::time_point now = Clock::now();
+    if (!dropped.empty() && now >= next_drop_log_) {
+      next_drop_log_ = now + DROP_LOG_INTERVAL;
+      node_->warn("action chunk dropped: " + dropped);
+    }
+  }
+
+  // Every control period: the goal of the chunk in force; once it is over, its last point once more.
+  void follow_chunk() {
+    const double now = ros_now_s();
+    if (chunks_.executing(now)) {
+      holding_ = false;
+      drive(chunks_.goal(now));
+    } else if (!holding_) {
+      holding_ = true;
+      drive(chunks_.goal(now));
+    }
   }
 
   // Sends goal positions (rad, NaN: leave alone), clamped to the calibrated range, and feeds the watchdog.
@@ -188,6 +225,9 @@ class ActuatorSubscriber : public Application {
   bool torque_on_ = true;  // off after a torque_off preset until torque_on
   bool released_by_watchdog_ = false;
   Clock::time_point next_clamp_log_;
+  TrajectoryFollower chunks_;
+  bool holding_ = true;  // the last chunk is over (or none came yet)
+  Clock::time_point next_drop_log_;
   Publisher<JointState>* joint_states_ = nullptr;
 };
 

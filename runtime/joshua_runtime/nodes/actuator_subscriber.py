@@ -1,4 +1,4 @@
-"""ACTUATOR_SUBSCRIBER: drives an STS3215 bus (e.g. a follower arm) from JointState commands.
+"""ACTUATOR_SUBSCRIBER: drives an STS3215 bus (e.g. a follower arm) from JointState commands or action chunks.
 
 On start the servos hold their present pose and torque goes on. Each command on `topic` is matched to
 `joint_names` by name (absent joints keep their goal), converted to raw goals clamped to the
@@ -6,6 +6,10 @@ calibrated range, and sent at once in one SYNC_WRITE. Only positions are used: a
 velocity is no speed limit. A clamped goal is logged (at most every CLAMP_LOG_INTERVAL_S) and noted
 on /diagnostics. With `state_topic` set, the bus's present joint states are published there every
 1/rate_hz. Torque goes off when the node stops, unless keep_torque_on_exit is set.
+
+With a trajectory_msgs/msg/JointTrajectory topic, each chunk is followed by nodes/trajectory_follower.py:
+every 1/rate_hz its goal of that moment goes out like a command (clamped, feeding the watchdog); when
+the chunk is over its last point is held, and command_timeout_s counts from then.
 
 Preset commands (std_msgs/String) on `<topic>/preset`: `torque_on`, `torque_off` (the e-stop; torque
 stays off until `torque_on`) and pose names (home, rest, grip_open and the description's `preset`s),
@@ -31,6 +35,7 @@ from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
 from joshua_runtime.nodes.servo_diagnostics import ServoDiagnostics
+from joshua_runtime.nodes.trajectory_follower import ChunkCommands, is_trajectory
 from joshua_runtime.qos import qos_profile
 from joshua_runtime.servo_tools.command_guard import CommandWatchdog, clamp_goals
 from joshua_runtime.servo_tools.diagnostics import WARN, Finding
@@ -55,7 +60,10 @@ class ActuatorSubscriber(JoshuaNode):
         self.frame_id = self.settings.frame_id
         self.next_clamp_log = 0.0
         topic = settings_checks.topic(self.settings)
-        self.subscription(topic, self._command)
+        if is_trajectory(topic):
+            self.chunks = ChunkCommands(self, topic, self.bus.joint_names, period, self._drive_chunk)
+        else:
+            self.subscription(topic, self._command)
         self.ros.create_subscription(
             String, preset_topic(topic.name), self._preset, qos_profile(QosSettings(**FIXED_QOS))
         )
@@ -71,6 +79,9 @@ class ActuatorSubscriber(JoshuaNode):
         action = joint_state_to_action(message, self.bus.joint_names)
         if len(action.position) == len(self.bus.ids):
             self._drive(list(action.position))
+
+    def _drive_chunk(self, goals) -> None:
+        self._drive([float(goal) for goal in goals])
 
     def _drive(self, goals: list[float]) -> None:
         """Send goal positions (rad, NaN: leave alone), clamped to the calibrated range, and feed the watchdog."""

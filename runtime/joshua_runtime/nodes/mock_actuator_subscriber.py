@@ -16,15 +16,7 @@ from sensor_msgs.msg import JointState
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import mock_arm, settings_checks
-from joshua_runtime.nodes.trajectory_follower import (
-    ChunkRejected,
-    TrajectoryFollower,
-    chunk_from_trajectory,
-    is_trajectory,
-    now_s,
-)
-
-CHUNK_LOG_PERIOD_S = 2.0
+from joshua_runtime.nodes.trajectory_follower import ChunkCommands, is_trajectory
 
 
 class MockActuatorSubscriber(JoshuaNode):
@@ -40,10 +32,8 @@ class MockActuatorSubscriber(JoshuaNode):
         self.targets = dict(self.positions)
         self.commands_received = 0
         self.last_step = time.monotonic()
-        self.follower = None
         if is_trajectory(topic):
-            self.follower = TrajectoryFollower(len(self.joint_names))
-            self.subscription(topic, self._chunk)
+            self.chunks = ChunkCommands(self, topic, self.joint_names, period, self._aim)
         else:
             self.subscription(topic, self._command)
         self.states = self.publisher(self.settings.state_topic) if self.settings.HasField("state_topic") else None
@@ -56,28 +46,13 @@ class MockActuatorSubscriber(JoshuaNode):
                 self.targets[name] = mock_arm.clamp(name, position)
         self.commands_received += 1
 
-    def _chunk(self, message) -> None:
-        arrival = now_s(self.ros)
-        try:
-            dropped = self.follower.accept(chunk_from_trajectory(message, self.joint_names, arrival), arrival)
-        except ChunkRejected as exc:
-            dropped = str(exc)
-        if dropped:
-            self.log.warning(f"action chunk dropped: {dropped}", throttle_duration_sec=CHUNK_LOG_PERIOD_S)
-        else:
-            self.commands_received += 1
-
-    def _follow_chunk(self) -> None:
-        goal = self.follower.goal(now_s(self.ros))
-        if goal is None:
-            return
-        for name, position in zip(self.joint_names, goal):
+    def _aim(self, goals) -> None:
+        """Targets from an action chunk's goals in joint order (NaN: keep)."""
+        for name, position in zip(self.joint_names, goals):
             if not math.isnan(position):
                 self.targets[name] = mock_arm.clamp(name, float(position))
 
     def _step(self) -> None:
-        if self.follower is not None:
-            self._follow_chunk()
         now = time.monotonic()
         dt, self.last_step = now - self.last_step, now
         for name in self.joint_names:

@@ -23,6 +23,7 @@ import numpy as np
 from joshua_core.node_types import JOINT_TRAJECTORY
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
+DROP_LOG_PERIOD_S = 2.0  # at most one "action chunk dropped" line per this many seconds
 
 
 @dataclass(frozen=True)
@@ -131,3 +132,38 @@ def _sample(times: np.ndarray, positions: np.ndarray, at_s: float) -> np.ndarray
     after = int(np.searchsorted(times, at_s, side="right"))
     weight = (at_s - times[after - 1]) / (times[after] - times[after - 1])
     return positions[after - 1] + weight * (positions[after] - positions[after - 1])
+
+
+class ChunkCommands:
+    """A node's command topic taken as action chunks: `drive(goals)` every control period while one is in force.
+
+    `goals` are in `joint_names` order (NaN: leave alone). After a chunk's last point has passed, that
+    point is driven once more, exactly, and nothing after it until the next chunk: the actuator holds it.
+    """
+
+    def __init__(self, node, topic, joint_names: list[str], period_s: float, drive):
+        self.node, self.joint_names, self.drive = node, list(joint_names), drive
+        self.follower = TrajectoryFollower(len(self.joint_names))
+        self.driven = 0  # goals sent from chunks in force
+        self._holding = True
+        self.subscription = node.subscription(topic, self.receive)
+        self.timer = node.ros.create_timer(period_s, self.tick)
+
+    def receive(self, message) -> None:
+        arrival = now_s(self.node.ros)
+        try:
+            dropped = self.follower.accept(chunk_from_trajectory(message, self.joint_names, arrival), arrival)
+        except ChunkRejected as exc:
+            dropped = str(exc)
+        if dropped:
+            self.node.log.warning(f"action chunk dropped: {dropped}", throttle_duration_sec=DROP_LOG_PERIOD_S)
+
+    def tick(self) -> None:
+        now = now_s(self.node.ros)
+        if self.follower.executing(now):
+            self._holding = False
+            self.driven += 1
+            self.drive(self.follower.goal(now))
+        elif not self._holding:
+            self._holding = True
+            self.drive(self.follower.goal(now))
