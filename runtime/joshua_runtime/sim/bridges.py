@@ -8,7 +8,8 @@ One bridge per replaced node, built from that node's own settings dict:
 - ACTUATOR_SUBSCRIBER: JointState commands from `topic` become position-actuator goals; present
   states go to `state_topic` at `rate_hz` when one is set. Preset commands on `<topic>/preset` move
   to poses as the real node does; `torque_off` (the e-stop) holds the present pose and ignores goals
-  until `torque_on`, as a simulated position actuator cannot go limp.
+  until `torque_on`, as a simulated position actuator cannot go limp. With a JointTrajectory topic,
+  action chunks are followed as the real node follows them (nodes/trajectory_follower.py), every 1/rate_hz.
 - CAMERA_PUBLISHER: rendered frames at `width` x `height`, `rate_hz`; Image with encoding rgb8
   (MuJoCo renders RGB), or CompressedImage (JPEG) when the topic's type says so.
 - LIDAR_PUBLISHER: LaserScan of 360 rays at `rate_hz` (LDS-01 geometry, see sim/lidar.py).
@@ -34,6 +35,7 @@ from joshua_runtime.drivers.calibration import HALF_TURN_TICKS, RADIANS_PER_TICK
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.operational_limit_calibration import RANGE_MAX_SUFFIX, RANGE_MIN_SUFFIX
+from joshua_runtime.nodes.trajectory_follower import ChunkCommands, is_trajectory
 from joshua_runtime.qos import qos_profile
 from joshua_runtime.sim import lidar
 from joshua_runtime.sim.cameras import CameraStream
@@ -118,7 +120,11 @@ class ActuatorBridge:
         self.group = engine.joints(settings_checks.joints(settings)[1], actuated=True)
         self._index = {name: i for i, name in enumerate(self.group.names)}
         topic = settings_checks.topic(settings)
-        self.subscription = node.subscription(topic, self.on_command)
+        if is_trajectory(topic):
+            period = settings_checks.period_s(settings)
+            self.chunks = ChunkCommands(node, topic, list(self.group.names), period, self.on_goals)
+        else:
+            self.subscription = node.subscription(topic, self.on_command)
         self.poses = presets.poses({p.name: dict(p.positions) for p in settings.preset})
         self.frozen = False  # after torque_off, until torque_on
         self.presets = node.ros.create_subscription(
@@ -144,8 +150,11 @@ class ActuatorBridge:
         return goals
 
     def on_command(self, msg: JointState) -> None:
+        self.on_goals(self.goals(msg))
+
+    def on_goals(self, goals: np.ndarray) -> None:
         if not self.frozen:
-            self.engine.command(self.group, self.goals(msg))
+            self.engine.command(self.group, goals)
 
     def on_preset(self, msg: String) -> None:
         action = presets.expand(msg.data.strip(), self.poses, list(self.group.names))

@@ -41,6 +41,11 @@ ACTUATOR = """
     rate_hz: 50
   }
 """
+# The same actuator commanded by action chunks.
+CHUNK_ACTUATOR = ACTUATOR.replace(
+    'topic_name: "/arm/command"',
+    'topic_name: "/arm/chunks" message_type: "trajectory_msgs/msg/JointTrajectory"',
+)
 CAMERA = """
   node {
     name: "front_camera"

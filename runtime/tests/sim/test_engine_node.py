@@ -147,6 +147,39 @@ def _assert_endpoints(ros_client) -> None:
     assert subscriptions[0].qos_profile.reliability == ReliabilityPolicy.RELIABLE
 
 
+def test_simulated_actuator_follows_an_action_chunk_to_its_last_point(start_node, ros_client):
+    from builtin_interfaces.msg import Duration
+    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+    process = start_node(sim_settings.simulation(sim_settings.CHUNK_ACTUATOR))
+    ros_client.listen("/arm/present", JointState, RELIABLE, keep=200)
+    assert ros_client.spin_until(lambda: ros_client.last("/arm/present") is not None, STARTUP_TIMEOUT_S), (
+        process.failure()
+    )
+    chunks = ros_client.publisher("/arm/chunks", JointTrajectory, RELIABLE)
+    assert ros_client.spin_until(lambda: chunks.get_subscription_count() > 0, DISCOVERY_TIMEOUT_S)
+    chunk = JointTrajectory(joint_names=["shoulder_pan", "wrist_roll"])
+    chunk.header.stamp = ros_client.node.get_clock().now().to_msg()
+    for i in range(5):  # 0 -> (0.8, -0.6) rad over 2 s
+        offset = Duration(sec=i // 2, nanosec=(i % 2) * 500_000_000)
+        chunk.points.append(JointTrajectoryPoint(positions=[0.2 * i, -0.15 * i], time_from_start=offset))
+    chunks.publish(chunk)
+    ros_client.spin_until(lambda: False, 1.0)
+    halfway = dict(zip(ros_client.last("/arm/present").name, ros_client.last("/arm/present").position))
+
+    def arrived() -> bool:
+        present = dict(zip(ros_client.last("/arm/present").name, ros_client.last("/arm/present").position))
+        return abs(present["shoulder_pan"] - 0.8) < TRACKING_TOLERANCE_RAD and abs(present["wrist_roll"] + 0.6) < (
+            TRACKING_TOLERANCE_RAD
+        )
+
+    assert ros_client.spin_until(arrived, CONVERGE_TIMEOUT_S)
+    # Half-way through the chunk the arm is on its way, not at the end (the goal moves along the chunk).
+    assert 0.1 < halfway["shoulder_pan"] < 0.7, halfway
+    code, _, stderr = process.stop(signal.SIGINT)
+    assert code == 0, stderr
+
+
 def test_limit_calibration_reports_the_model_ranges_and_sigterm_stops(start_node, ros_client):
     process = start_node(sim_settings.simulation(sim_settings.CALIBRATION))
     try:
