@@ -4,8 +4,16 @@ Settings used: `model_path` (a policy directory saved by LeRobot, or `registry:N
 `policy_type` (optional check against the saved config), `device` (`cpu` / `cuda`), `inputs`
 (Image and JointState topics, mapped to policy features as described in `observation_mapper.py`),
 `topic` (sensor_msgs/msg/JointState actions; a PPO reach policy publishes goal angles of
-the four arm joints and aims at the `goal` of its joshua_policy.json, see train/ppo_runner.py), `joint_names` (names of the published joints; when
-empty, the policy's action feature names without `.pos`), `rate_hz` (inference and publish rate).
+the four arm joints and aims at the `goal` of its joshua_policy.json, see train/ppo_runner.py; or
+trajectory_msgs/msg/JointTrajectory action chunks, see below), `joint_names` (names of the published
+joints; when empty, the policy's action feature names without `.pos`), `rate_hz` (inference and publish
+rate; with action chunks, the rate of the chunk's actions, i.e. of the dataset the policy learnt from).
+
+JointState: at each tick the policy's `select_action` runs in the node's loop and one action is
+published, stamped with the observation's time (the oldest header stamp of the inputs used).
+JointTrajectory (ACT, Diffusion): the model runs in a background thread (`chunked_inference.py`) on the
+newest observation, and each call's whole chunk is published once, header stamped with the
+observation's time; the actuator executes it at its own rate while the next call runs.
 
 The policy is loaded and warmed up (one inference on a blank observation, then reset) in a
 background thread while the node keeps answering signals; the node announces itself ready (its
@@ -19,14 +27,17 @@ import math
 import threading
 import time
 
+from joshua_core.node_types import JOINT_COMMAND_TYPES
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai import model_files, registry
+from joshua_runtime.ai.chunked_inference import ChunkedInference
 from joshua_runtime.ai.latest_samples import LatestSamples
-from joshua_runtime.ai.ros_arrays import joint_state
+from joshua_runtime.ai.ros_arrays import joint_state, joint_trajectory, stamp_seconds, time_message
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.trajectory_follower import is_trajectory, now_s
 from joshua_runtime.train import saved_policy
 
 INPUT_STALE_AFTER_S = 0.5
@@ -56,14 +67,15 @@ def action_joint_names(joint_names: list[str], size: int, feature_names: list[st
 
 
 class InferenceNode(JoshuaNode):
-    """Subscribes to sensor inputs, runs `select_action` at rate_hz, publishes JointState actions."""
+    """Subscribes to sensor inputs and publishes JointState actions (one per tick) or JointTrajectory chunks."""
 
     ready_later = True  # ready once the policy is loaded and warmed up
 
     def start(self) -> None:
         topic = settings_checks.topic(self.settings)
-        if topic.message_type != keys.JOINT_STATE:
-            raise SettingsError(f"{self.name}: the action topic must be {keys.JOINT_STATE}")
+        if topic.message_type not in JOINT_COMMAND_TYPES:
+            raise SettingsError(f"{self.name}: the action topic must be {' or '.join(JOINT_COMMAND_TYPES)}")
+        self.chunked = is_trajectory(topic)
         self.inputs = inputs = with_discovered_types(self.ros, self.settings.inputs)
         if not inputs:
             raise SettingsError(f"{self.name}: no input topics")
@@ -74,6 +86,11 @@ class InferenceNode(JoshuaNode):
         if saved_type not in supported:
             raise SettingsError(f"policy type {saved_type!r} is not supported (supported: {', '.join(supported)})")
         self.policy_type = saved_type
+        if self.chunked and saved_type == saved_policy.KIND_PPO:
+            raise SettingsError(
+                f"{self.name}: a {saved_type} policy gives one action per call; action chunks "
+                f"({topic.message_type}) need an act or diffusion policy"
+            )
         wanted = self.settings.policy_type
         if wanted and wanted.lower() != saved_type:
             raise SettingsError(f"policy_type is {wanted!r} but the policy in {self.policy_dir} is {saved_type!r}")
@@ -83,6 +100,7 @@ class InferenceNode(JoshuaNode):
         self.action_publisher = self.publisher(topic)
         self.runner = None
         self.mapper = None
+        self.worker = None
         self.joint_names: list[str] = []
         self.ready = threading.Event()
         self.load_error: BaseException | None = None
@@ -120,6 +138,9 @@ class InferenceNode(JoshuaNode):
             for unused in self.mapper.unused_topics:
                 self.log.warning(f"input {unused} feeds no policy feature and is ignored")
             warm_up_s = runner.warm_up()
+            if self.chunked:
+                self.worker = ChunkedInference(runner, self._publish_chunk, 1.0 / self.rate_hz, self.log, self._now_s)
+                self.worker.start()
             self.runner = runner
             self.ready.set()
             self.announce_ready(
@@ -142,12 +163,21 @@ class InferenceNode(JoshuaNode):
         if problems:
             self._hold("; ".join(problems))
             return
+        if self.worker is not None:
+            if self.worker.error is not None:
+                error = self.worker.error
+                raise JoshuaError(f"inference failed: {type(error).__name__}: {error}") from error
+            if not self.worker.idle():
+                return
         from joshua_runtime.ai.observation_mapper import ObservationUnavailable
 
         try:
             observation = self.mapper.observation(self.samples.message)
         except ObservationUnavailable as exc:
             self._hold(str(exc))
+            return
+        if self.chunked:
+            self._offer(observation)
             return
         if self.inputs_interrupted:
             self.runner.reset()
@@ -159,10 +189,38 @@ class InferenceNode(JoshuaNode):
         if not all(math.isfinite(float(v)) for v in action):
             self._hold("the policy returned a non-finite action")
             return
-        self.action_publisher.publish(joint_state(self.joint_names, action, self.stamp()))
+        self.action_publisher.publish(joint_state(self.joint_names, action, time_message(self._observation_s())))
+        self._count_published("action")
+
+    def _offer(self, observation) -> None:
+        """Hand the observation to the background inference thread (it is idle)."""
+        if self.inputs_interrupted:
+            self.worker.interrupt()
+            self.inputs_interrupted = False
+        self.worker.offer(observation, self._observation_s())
+
+    def _publish_chunk(self, chunk, stamp_s: float) -> None:
+        """Called by the inference thread with each call's chunk (steps x joints)."""
+        if chunk.shape[1] != len(self.joint_names):
+            raise JoshuaError(
+                f"the policy returned chunks of {chunk.shape[1]} actions for {len(self.joint_names)} joints"
+            )
+        self.action_publisher.publish(joint_trajectory(self.joint_names, chunk, stamp_s, 1.0 / self.rate_hz))
+        self._count_published("action chunk")
+
+    def _count_published(self, what: str) -> None:
         self.published += 1
         if self.published == 1:
-            self.log.info(f"first action published {time.monotonic() - self.started_s:.2f} s after start")
+            self.log.info(f"first {what} published {time.monotonic() - self.started_s:.2f} s after start")
+
+    def _now_s(self) -> float:
+        return now_s(self.ros)
+
+    def _observation_s(self) -> float:
+        """When the observation was taken: the oldest header stamp of the inputs (now when none is stamped)."""
+        stamps = [stamp_seconds(self.samples.message(t.name)) for t in self.inputs]
+        stamped = [stamp for stamp in stamps if stamp > 0]
+        return min(stamped) if stamped else self._now_s()
 
     def _hold(self, reason: str) -> None:
         """Publish nothing this tick, remember the gap and say why (at most every PROBLEM_LOG_PERIOD_S)."""
@@ -173,3 +231,5 @@ class InferenceNode(JoshuaNode):
         timer = getattr(self, "timer", None)
         if timer is not None:
             timer.cancel()
+        if getattr(self, "worker", None) is not None:
+            self.worker.stop()

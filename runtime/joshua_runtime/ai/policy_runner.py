@@ -1,4 +1,4 @@
-"""Load a saved LeRobot policy with its own processor pipelines and run one inference step.
+"""Load a saved LeRobot policy with its own processor pipelines and run one inference step or one chunk.
 
 Normalisation, batching and device placement are done by the `policy_preprocessor` /
 `policy_postprocessor` pipelines saved with the policy (`make_pre_post_processors` with the
@@ -87,6 +87,28 @@ class PolicyRunner:
             robot_type="",
         )
         return action.squeeze(0).to("cpu").numpy().astype(np.float32)
+
+    def act_chunk(self, observation: dict[str, np.ndarray]) -> np.ndarray:
+        """The whole action chunk (steps x action size, float32) the policy predicts for one observation.
+
+        ACT predicts `chunk_size` actions; Diffusion `n_action_steps` from its observation history,
+        which this call extends as `select_action` would. Each action is unnormalised by the policy's
+        postprocessor, the chunk's steps taken as a batch.
+        """
+        from lerobot.policies.utils import populate_queues, prepare_observation_for_inference
+        from lerobot.utils.constants import ACTION, OBS_IMAGES
+
+        with torch.inference_mode():
+            batch = prepare_observation_for_inference(dict(observation), self.device, "", "")
+            batch = self.preprocessor(batch)
+            if self.config.type == "diffusion":
+                batch = {key: value for key, value in batch.items() if key != ACTION}
+                if self.config.image_features:
+                    batch[OBS_IMAGES] = torch.stack([batch[key] for key in self.config.image_features], dim=-4)
+                self.policy._queues = populate_queues(self.policy._queues, batch)
+            chunk = self.policy.predict_action_chunk(batch)
+            actions = self.postprocessor(chunk.squeeze(0))
+        return actions.to("cpu").numpy().astype(np.float32)
 
     def warm_up(self) -> float:
         """Run one inference on a blank observation, then reset; return its duration in seconds."""

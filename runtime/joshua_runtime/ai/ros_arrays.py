@@ -1,4 +1,4 @@
-"""Conversions between sensor_msgs (Image, JointState) and the numpy arrays LeRobot works with."""
+"""Conversions between sensor_msgs (Image, JointState), trajectory_msgs/JointTrajectory and numpy arrays."""
 
 import cv2
 import numpy as np
@@ -73,4 +73,38 @@ def joint_state(names: list[str], positions, stamp=None):
         msg.header.stamp = stamp
     msg.name = list(names)
     msg.position = [float(value) for value in positions]
+    return msg
+
+
+NANOSECONDS_PER_SECOND = 1_000_000_000
+
+
+def stamp_seconds(msg) -> float:
+    """A message's header stamp in seconds (0.0 when unstamped)."""
+    stamp = msg.header.stamp
+    return stamp.sec + stamp.nanosec / NANOSECONDS_PER_SECOND
+
+
+def time_message(seconds: float, message_class=None):
+    """A builtin_interfaces Time (or `message_class`, e.g. Duration) of a time in seconds."""
+    from builtin_interfaces.msg import Time
+
+    nanoseconds = int(round(seconds * NANOSECONDS_PER_SECOND))
+    return (message_class or Time)(
+        sec=nanoseconds // NANOSECONDS_PER_SECOND, nanosec=nanoseconds % NANOSECONDS_PER_SECOND
+    )
+
+
+def joint_trajectory(names: list[str], chunk: np.ndarray, stamp_s: float, step_s: float):
+    """An action chunk (steps x joints) as a trajectory_msgs/JointTrajectory: point i at i * step_s after stamp_s."""
+    from builtin_interfaces.msg import Duration
+    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+    msg = JointTrajectory()
+    msg.header.stamp = time_message(stamp_s)
+    msg.joint_names = list(names)
+    msg.points = [
+        JointTrajectoryPoint(positions=[float(v) for v in row], time_from_start=time_message(i * step_s, Duration))
+        for i, row in enumerate(chunk)
+    ]
     return msg

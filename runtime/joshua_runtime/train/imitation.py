@@ -41,16 +41,23 @@ DIFFUSION_SIZES = {
 }
 
 
-def policy_config(policy: str):
-    """The LeRobot config of a small `act` or `diffusion` policy for the CPU, without downloads."""
+def policy_config(policy: str, sizes: dict | None = None):
+    """The LeRobot config of a small `act` or `diffusion` policy for the CPU, without downloads.
+
+    `sizes` replace some of ACT_SIZES / DIFFUSION_SIZES (e.g. a longer `chunk_size`).
+    """
     if policy == "act":
         from lerobot.policies.act.configuration_act import ACTConfig
 
-        return ACTConfig(device="cpu", push_to_hub=False, pretrained_backbone_weights=None, **ACT_SIZES)
+        return ACTConfig(
+            device="cpu", push_to_hub=False, pretrained_backbone_weights=None, **{**ACT_SIZES, **(sizes or {})}
+        )
     if policy == "diffusion":
         from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
 
-        return DiffusionConfig(device="cpu", push_to_hub=False, pretrained_backbone_weights=None, **DIFFUSION_SIZES)
+        return DiffusionConfig(
+            device="cpu", push_to_hub=False, pretrained_backbone_weights=None, **{**DIFFUSION_SIZES, **(sizes or {})}
+        )
     raise SettingsError(f"unknown policy {policy!r} (known: {', '.join(POLICIES)})")
 
 
@@ -61,15 +68,17 @@ def check_dataset(dataset: Path) -> Path:
     return dataset
 
 
-def train(dataset: Path, policy: str, steps: int, output: Path, seed: int = 0, batch_size: int = 8) -> Path:
-    """Train `policy` on `dataset` for `steps` steps; return the directory of the saved policy."""
+def train(
+    dataset: Path, policy: str, steps: int, output: Path, seed: int = 0, batch_size: int = 8, sizes: dict | None = None
+) -> Path:
+    """Train `policy` (its `sizes` overriding the defaults) on `dataset` for `steps` steps; return the saved policy."""
     dataset = check_dataset(dataset)
     output = Path(output).expanduser().absolute()
     if steps < 1:
         raise SettingsError(f"--steps must be positive, got {steps}")
     if output.exists():
         raise SettingsError(f"output {output} already exists; LeRobot trains into a new directory")
-    config = policy_config(policy)
+    config = policy_config(policy, sizes)
     from lerobot.configs.default import DatasetConfig, WandBConfig
     from lerobot.configs.train import TrainPipelineConfig
     from lerobot.scripts.lerobot_train import train as lerobot_train

@@ -68,3 +68,11 @@ def ros_peer(ros_domain):
     """The test's ROS peer (see ai_support.RosPeer) in its ROS domain; closed at teardown."""
     with RosPeer() as peer:
         yield peer
+
+
+@pytest.fixture(scope="session")
+def trained_act(tmp_path_factory, lerobot_offline) -> Path:
+    """A real ACT (320x240 camera, chunks of tiny_act.CHUNK_SIZE) trained offline once per session."""
+    from testsupport.tiny_act import train_tiny_act
+
+    return train_tiny_act(tmp_path_factory.mktemp("tiny-act"))

@@ -150,7 +150,11 @@ def fake_policy(directory, policy_type):
         ("mismatch", "inf_policy: error: policy_type is 'diffusion' but the policy in {tmp}/act is 'act'"),
         ("unsupported", "inf_policy: error: policy type 'pi0' is not supported (supported: act, diffusion, sb3-ppo)"),
         ("cuda", "inf_policy: error: device 'cuda' requested but CUDA is not available on this machine"),
-        ("action_topic", "inf_policy: error: inf_policy: the action topic must be sensor_msgs/msg/JointState"),
+        (
+            "action_topic",
+            "inf_policy: error: inf_policy: the action topic must be sensor_msgs/msg/JointState or "
+            "trajectory_msgs/msg/JointTrajectory",
+        ),
     ],
 )
 def test_unusable_settings_exit_2_with_one_line(tmp_path, ai_env, case, message):
