@@ -3,8 +3,7 @@
 The dataset is written by the recorder's own FrameSampler and EpisodeWriter (LeRobotDataset v3.0):
 a few short episodes in which the arm sweeps and the camera sees a pattern move with it; the policy is
 trained by `joshua-train imitation`'s code (LeRobot's training loop, no pretrained backbone, nothing
-downloaded) for a few steps. The point is not a good policy but a real one, with LeRobot's full
-ResNet-18 backbone on a real 320x240 input, whose call takes longer than several control periods on
+downloaded) for a few steps. The point is not a good policy but a real one, with LeRobot's ResNet-18 backbone on a real 320x240 input, whose call takes longer than several control periods on
 a CPU. Used by the chunked-inference tests and bench/remote_inference.py.
 """
 
@@ -16,7 +15,7 @@ from joshua_core import so100
 from joshua_core.settings import TopicSettings
 
 WIDTH, HEIGHT = 320, 240
-CHUNK_SIZE = 50
+CHUNK_SIZE = 100  # ACT's default: 3.3 s of actions at 30 Hz
 FPS = 30
 EPISODES, FRAMES_PER_EPISODE = 2, 40
 TRAINING_STEPS, BATCH_SIZE = 3, 2
