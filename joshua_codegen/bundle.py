@@ -5,7 +5,11 @@ that runs its Python nodes. The bundle holds, next to the build:
 
     OUT/install.sh               creates a virtual environment and installs the two below into it
     OUT/wheels/*.whl             joshua-core and joshua-runtime, built from this source tree
+    OUT/wheels/local-requirements.txt   those two wheels pinned with their SHA-256
     OUT/wheels/requirements.txt  their third-party dependencies pinned with hashes from uv.lock
+
+install.sh installs nothing unless every file of the build matches OUT/.joshuac-stamp and OUT/wheels/
+holds no file the build did not write; the installer then checks each wheel against its pinned hash.
 
 Third-party wheels (rclpy and the ROS message packages from PyPI, numpy, OpenCV, LeRobot, MuJoCo) are
 not copied: install.sh takes them from PyPI, checked against the hashes; options given to install.sh
@@ -14,13 +18,14 @@ after the environment directory reach the installer (`--find-links DIR`, `--inde
 Building needs this source tree (uv.lock and the workspace members) and uv, a dependency of joshuac.
 """
 
+import hashlib
 import os
 import subprocess
 import tempfile
 from pathlib import Path
 
-from joshua_codegen.escape import shell_word
 from joshua_codegen.model import Robot
+from joshua_codegen.ownership import STAMP
 from joshua_codegen.render import template
 from joshua_core.node_types import spec
 from joshua_core.settings import FORMAT_VERSION
@@ -31,6 +36,8 @@ RUNTIME_PACKAGE = "joshua-runtime"
 INSTALL_SCRIPT = "install.sh"
 WHEEL_DIR = "wheels"
 REQUIREMENTS = f"{WHEEL_DIR}/requirements.txt"
+LOCAL_REQUIREMENTS_NAME = "local-requirements.txt"
+LOCAL_REQUIREMENTS = f"{WHEEL_DIR}/{LOCAL_REQUIREMENTS_NAME}"
 DEFAULT_VENV = "/opt/joshua/venv"
 PYTHON = "python3.11"  # the interpreter the locked dependencies are resolved for
 UV_TIMEOUT_S = 600.0
@@ -93,6 +100,16 @@ def requirements(robot: Robot) -> str:
     )
 
 
+def local_requirements(built: dict[str, bytes]) -> str:
+    """The built wheels as requirements pinned with their SHA-256, paths relative to the wheel directory."""
+    lines = [
+        f"# The wheels built with this bundle; install.sh installs them from {WHEEL_DIR}/ with --require-hashes.\n"
+    ]
+    for name, data in sorted(built.items()):
+        lines.append(f"./{name} --hash=sha256:{hashlib.sha256(data).hexdigest()}\n")
+    return "".join(lines)
+
+
 def bundle_files(robot: Robot) -> dict[str, str | bytes]:
     """The bundle's files by path relative to the output directory."""
     if not (SOURCE_ROOT / "uv.lock").is_file() or not all(
@@ -109,12 +126,16 @@ def bundle_files(robot: Robot) -> dict[str, str | bytes]:
         venv=DEFAULT_VENV,
         python=PYTHON,
         wheels=sorted(built),
-        wheel_arguments=" ".join(f'"$here"/{WHEEL_DIR}/{shell_word(name)}' for name in sorted(built)),
+        wheel_dir=WHEEL_DIR,
+        stamp=STAMP,
         requirements=REQUIREMENTS,
+        local_requirements=LOCAL_REQUIREMENTS,
+        local_requirements_name=LOCAL_REQUIREMENTS_NAME,
         extras=extras(robot),
         format_version=FORMAT_VERSION,
     )
     files: dict[str, str | bytes] = {f"{WHEEL_DIR}/{name}": data for name, data in built.items()}
     files[REQUIREMENTS] = requirements(robot)
+    files[LOCAL_REQUIREMENTS] = local_requirements(built)
     files[INSTALL_SCRIPT] = script
     return files
