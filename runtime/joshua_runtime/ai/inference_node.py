@@ -28,8 +28,8 @@ import threading
 import time
 
 from joshua_core.node_types import JOINT_COMMAND_TYPES
+from joshua_runtime.ai import data_only, model_files, registry
 from joshua_runtime.ai import features as keys
-from joshua_runtime.ai import model_files, registry
 from joshua_runtime.ai.chunked_inference import ChunkedInference
 from joshua_runtime.ai.latest_samples import LatestSamples
 from joshua_runtime.ai.ros_arrays import joint_state, joint_trajectory, stamp_seconds, time_message
@@ -45,12 +45,19 @@ PROBLEM_LOG_PERIOD_S = 2.0
 
 
 def resolve_model_path(model_path: str):
-    """The policy directory named by a settings `model_path` (a directory or `registry:NAME[@REV]`)."""
+    """The policy directory named by a settings `model_path` (a directory or `registry:NAME[@REV]`), checked
+    to be data (data_only.py) and, for a registry entry, to hold exactly the files it was imported with."""
     if not model_path:
         raise SettingsError("model_path is empty")
     try:
-        path = registry.resolve(model_path).path if registry.is_reference(model_path) else model_path
-        return registry.policy_files(path)[0]
+        if registry.is_reference(model_path):
+            entry = registry.resolve(model_path)
+            data_only.check(entry.path)
+            registry.verify(entry)
+            return registry.policy_files(entry.path)[0]
+        policy_dir = registry.policy_files(model_path)[0]
+        data_only.check(policy_dir)
+        return policy_dir
     except registry.RegistryError as exc:
         raise SettingsError(str(exc)) from exc
 

@@ -21,6 +21,15 @@ from joshua_runtime.errors import SettingsError
 CONFIG_FILE = "config.json"
 WEIGHTS_FILE = "model.safetensors"
 PROCESSOR_FILES = ("policy_preprocessor.json", "policy_postprocessor.json")
+# The processor steps LeRobot saves for ACT and Diffusion policies (by their registry names): each is
+# data in, data out. A pipeline naming any other step is refused (see data_only.py).
+ALLOWED_PROCESSOR_STEPS = (
+    "device_processor",
+    "normalizer_processor",
+    "rename_observations_processor",
+    "to_batch_processor",
+    "unnormalizer_processor",
+)
 TRAIN_CONFIG_FILE = "train_config.json"
 FEATURE_NAMES_FILE = "joshua_features.json"
 # Where a policy can sit below a directory given by the user, tried in order.

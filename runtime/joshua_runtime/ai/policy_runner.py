@@ -1,5 +1,8 @@
 """Load a saved LeRobot policy with its own processor pipelines and run one inference step or one chunk.
 
+The weights are read from safetensors (LeRobot's `from_pretrained` of a directory), the pipelines
+from JSON whose steps are checked first (data_only.check_processor_steps): nothing is unpickled.
+
 Normalisation, batching and device placement are done by the `policy_preprocessor` /
 `policy_postprocessor` pipelines saved with the policy (`make_pre_post_processors` with the
 policy directory as `pretrained_path`); the observation is prepared with LeRobot's
@@ -14,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from joshua_runtime.ai import data_only
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.model_files import SUPPORTED_POLICY_TYPES
 from joshua_runtime.errors import SettingsError
@@ -45,6 +49,7 @@ class PolicyRunner:
 
     def __init__(self, policy_dir: Path, device: str):
         self.device = check_device(device)  # before importing LeRobot, so a missing GPU is reported at once
+        data_only.check_processor_steps(policy_dir)  # LeRobot would import and call a `class` named there
 
         from lerobot.configs.policies import PreTrainedConfig
         from lerobot.policies.factory import get_policy_class, make_pre_post_processors

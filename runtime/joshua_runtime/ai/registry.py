@@ -2,16 +2,24 @@
 
 Layout (root: $JOSHUA_MODEL_REGISTRY, default ~/.cache/joshua/models):
 
-    <root>/<name>/<revision>/            the policy files, as saved by LeRobot
-    <root>/<name>/<revision>/joshua_model.json   name, revision, type, import order, source, digest, lineage
+    <root>/<name>/<revision>/            the policy files, as saved by LeRobot or joshua-train
+    <root>/<name>/<revision>/joshua_model.json   name, revision, type, import order, source, files, digest, lineage
 
-A policy is a LeRobot policy directory, or a `joshua-train rl` output (policy.zip with
+A policy is a LeRobot policy directory, or a `joshua-train rl` output (policy.safetensors with
 joshua_policy.json, type `sb3-ppo`). The lineage (what it was trained on, steps, seed, evaluation)
 is copied from the joshua_policy.json that `joshua-train` writes next to every policy.
 
+Models are data: import copies regular files only (a symbolic link or a special file is refused,
+named) and refuses a copy holding a pickle or code in a processor pipeline (data_only.py). With
+`trust_pickle`, the stable-baselines3 `policy.zip` of an earlier joshua-train is converted to
+weights and JSON (which unpickles it: for one's own files only); `pull` never does that.
+
+`files` maps every file of the entry but joshua_model.json to its SHA-256, and `digest` is the
+SHA-256 of that list (`<sha256>  <path>` lines, sorted): it covers every byte an INFERENCE node
+serves, and `verify` refuses an entry whose files changed, went missing or were added since.
 `registry:NAME` resolves to the revision imported last, `registry:NAME@REVISION` to that one.
-A revision defaults to the first 12 hex digits of the SHA-256 of the policy files, so importing the
-same files twice is a no-op. Entries appear atomically (copied aside, then renamed into place).
+A revision defaults to the first 12 hex digits of the digest, so importing the same files twice is
+a no-op. Entries appear atomically (copied aside, then renamed into place).
 The Hugging Face Hub is used only by `pull`, never by resolution.
 """
 
@@ -20,13 +28,14 @@ import json
 import os
 import re
 import shutil
+import stat
 import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
-from joshua_runtime.ai import model_files
+from joshua_runtime.ai import data_only, model_files
 from joshua_runtime.errors import JoshuaError
 from joshua_runtime.train import saved_policy
 
@@ -36,6 +45,9 @@ ENTRY_FILE = REGISTRY_ENTRY_FILE
 DIGEST_LENGTH = 12
 # Intermediate checkpoints of a training run are not part of the policy.
 TRAINING_CHECKPOINTS = "checkpoints"
+# What huggingface_hub keeps next to a download in a local directory: not part of the policy.
+HUB_DOWNLOAD_METADATA = ".cache"
+COPY_BLOCK_BYTES = 1 << 20
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,127}$")
 
 
@@ -54,6 +66,7 @@ class Entry:
     source: str
     digest: str
     lineage: dict | None = None
+    files: dict[str, str] | None = None  # relative path -> SHA-256; None for entries of earlier versions
 
     def lineage_text(self) -> str:
         """`so100_reach, 30000 steps, seed 0, success 0.43` (or `-` when unknown)."""
@@ -131,29 +144,38 @@ def resolve(reference: str) -> Entry:
     return found[-1]
 
 
-def import_policy(path: str | Path, name: str, revision: str | None = None, source: str | None = None) -> Entry:
+def import_policy(
+    path: str | Path, name: str, revision: str | None = None, source: str | None = None, trust_pickle: bool = False
+) -> Entry:
     """Copy the policy at `path` into the registry as NAME@REVISION; return the entry."""
     check_name(name, "model name")
     if revision is not None:
         check_name(revision, "revision")
     policy_dir, policy_type = policy_files(path)
     metadata = saved_policy.read(policy_dir)
-    digest = _digest(policy_dir)
-    revision = revision or digest[:DIGEST_LENGTH]
-    target = root() / name / revision
-    existing = _read_entry(target)
-    if existing is not None:
-        if existing.digest == digest:
-            return existing
-        raise RegistryError(f"{name}@{revision} already exists with different files")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".import-{revision}-", dir=target.parent))
+    (root() / name).mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=".import-", dir=root() / name))
     try:
         copy = staging / "policy"
-        shutil.copytree(policy_dir, copy, ignore=shutil.ignore_patterns(ENTRY_FILE, TRAINING_CHECKPOINTS))
+        _copy_regular_files(policy_dir.resolve(), copy, policy_dir, top=True)
+        if trust_pickle and policy_type == saved_policy.KIND_PPO and not (copy / saved_policy.PPO_FILE).exists():
+            from joshua_runtime.train import ppo_files
+
+            ppo_files.convert_pickled(copy)
+            metadata = saved_policy.read(copy)
         names = model_files.feature_names(policy_dir)
         if names:
             model_files.write_feature_names(copy, names)
+        data_only.check(copy, shown_as=policy_dir)
+        files = file_digests(copy)
+        digest = files_digest(files)
+        revision = revision or digest[:DIGEST_LENGTH]
+        target = root() / name / revision
+        existing = _read_entry(target)
+        if existing is not None:
+            if existing.digest == digest:
+                return existing
+            raise RegistryError(f"{name}@{revision} already exists with different files")
         record = {
             "name": name,
             "revision": revision,
@@ -161,6 +183,7 @@ def import_policy(path: str | Path, name: str, revision: str | None = None, sour
             "sequence": 1 + max((e.sequence for e in entries(name)), default=0),
             "imported_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
             "source": source or str(Path(path).resolve()),
+            "files": files,
             "digest": digest,
             "lineage": {k: v for k, v in metadata.items() if k != "kind"} if metadata else None,
         }
@@ -176,11 +199,56 @@ def import_policy(path: str | Path, name: str, revision: str | None = None, sour
     return entry
 
 
+def verify(entry: Entry) -> None:
+    """Refuse an entry whose files are not exactly, byte for byte, those it was imported with."""
+    reference = f"{REF_PREFIX}{entry.name}@{entry.revision}"
+    if entry.files is None:
+        raise RegistryError(
+            f"{reference} was imported without a list of its files (by an earlier version); import the policy again"
+        )
+    present = file_digests(entry.path)
+    again = "import the policy again"
+    for name in sorted(set(entry.files) | set(present)):
+        if name not in present:
+            raise RegistryError(f"{reference}: {name} is missing since import; {again}")
+        if name not in entry.files:
+            raise RegistryError(f"{reference}: {name} was added after import; {again}")
+        if present[name] != entry.files[name]:
+            raise RegistryError(
+                f"{reference}: {name} changed after import "
+                f"(its SHA-256 is not the one in {entry.path / ENTRY_FILE}); {again}"
+            )
+    if files_digest(entry.files) != entry.digest:
+        raise RegistryError(
+            f"{reference}: the file list in {entry.path / ENTRY_FILE} does not match its digest; {again}"
+        )
+
+
+def file_digests(directory: Path) -> dict[str, str]:
+    """{relative path: SHA-256} of every file of an entry (or a staged copy) but joshua_model.json."""
+    digests = {}
+    for path in _regular_files(directory):
+        relative = path.relative_to(directory).as_posix()
+        if relative == ENTRY_FILE:
+            continue
+        sha = hashlib.sha256()
+        with open(path, "rb") as stream:
+            for block in iter(lambda: stream.read(COPY_BLOCK_BYTES), b""):
+                sha.update(block)
+        digests[relative] = sha.hexdigest()
+    return digests
+
+
+def files_digest(files: dict[str, str]) -> str:
+    """The SHA-256 of the file list as `sha256sum` prints it (`<sha256>  <path>` lines, sorted by path)."""
+    return hashlib.sha256("".join(f"{files[p]}  {p}\n" for p in sorted(files)).encode()).hexdigest()
+
+
 def policy_files(path: str | Path) -> tuple[Path, str]:
     """(directory, type) of the policy at `path`: a `joshua-train rl` output or a LeRobot policy."""
     base = Path(path).expanduser()
     if base.is_dir() and saved_policy.is_ppo(base):
-        if not (base / saved_policy.PPO_FILE).is_file():
+        if not any((base / f).is_file() for f in (saved_policy.PPO_FILE, saved_policy.LEGACY_PPO_FILE)):
             raise RegistryError(f"{base} holds no {saved_policy.PPO_FILE} yet (training has not finished)")
         return base, saved_policy.KIND_PPO
     policy_dir = model_files.policy_directory(path)
@@ -200,8 +268,9 @@ def pull(repo_id: str, name: str | None = None, hub_revision: str | None = None)
         except (HfHubHTTPError, LocalEntryNotFoundError, OSError, ValueError) as exc:
             first_line = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
             raise RegistryError(f"cannot download {repo_id} from the Hugging Face Hub: {first_line}") from exc
+        shutil.rmtree(Path(download) / HUB_DOWNLOAD_METADATA, ignore_errors=True)
         source = f"hf://{repo_id}" + (f"@{hub_revision}" if hub_revision else "")
-        return import_policy(download, name, source=source)
+        return import_policy(download, name, source=source)  # never trusts a pickle
 
 
 def remove(reference: str) -> Entry:
@@ -216,18 +285,50 @@ def remove(reference: str) -> Entry:
     return entry
 
 
-def _digest(directory: Path) -> str:
-    """SHA-256 over the relative paths and contents of the policy files (metadata files excluded)."""
-    sha = hashlib.sha256()
-    for file in sorted(p for p in directory.rglob("*") if p.is_file()):
-        relative = file.relative_to(directory).as_posix()
-        if relative in (ENTRY_FILE, model_files.FEATURE_NAMES_FILE) or relative.startswith(TRAINING_CHECKPOINTS + "/"):
+def _copy_regular_files(source: Path, target: Path, shown: Path, top: bool = False) -> None:
+    """Copy the directories and regular files below `source` (modes kept); refuse links and special files.
+
+    At the top, the registry's own file and training checkpoints are left out. Files are opened
+    without following links, so a file swapped for a link while copying is refused too."""
+    target.mkdir()
+    for item in sorted(os.scandir(source), key=lambda e: e.name):
+        if top and item.name in (ENTRY_FILE, TRAINING_CHECKPOINTS):
             continue
-        sha.update(relative.encode() + b"\0")
-        with open(file, "rb") as stream:
-            for block in iter(lambda: stream.read(1 << 20), b""):
-                sha.update(block)
-    return sha.hexdigest()
+        if item.is_symlink():
+            raise RegistryError(
+                f"{shown / item.name} is a symbolic link: a policy is imported from regular files only "
+                "(copy the file in its place)"
+            )
+        if item.is_dir(follow_symlinks=False):
+            _copy_regular_files(Path(item.path), target / item.name, shown / item.name)
+            continue
+        try:
+            descriptor = os.open(item.path, os.O_RDONLY | os.O_NOFOLLOW)
+        except OSError as exc:
+            raise RegistryError(f"cannot read {shown / item.name}: {exc.strerror}") from exc
+        with open(descriptor, "rb") as stream:
+            mode = os.fstat(descriptor).st_mode
+            if not stat.S_ISREG(mode):
+                raise RegistryError(f"{shown / item.name} is not a regular file")
+            with open(target / item.name, "xb") as copy:
+                shutil.copyfileobj(stream, copy, COPY_BLOCK_BYTES)
+                os.fchmod(copy.fileno(), stat.S_IMODE(mode))
+
+
+def _regular_files(directory: Path):
+    """Every file below a registry entry, sorted; a link or special file there is refused."""
+    for item in sorted(os.scandir(directory), key=lambda e: e.name):
+        path = Path(item.path)
+        if item.is_symlink():
+            raise RegistryError(
+                f"{path} is a symbolic link, which a registry entry never holds; import the policy again"
+            )
+        if item.is_dir(follow_symlinks=False):
+            yield from _regular_files(path)
+        elif item.is_file(follow_symlinks=False):
+            yield path
+        else:
+            raise RegistryError(f"{path} is not a regular file, which a registry entry never holds")
 
 
 def _read_entry(directory: Path) -> Entry | None:
@@ -243,6 +344,7 @@ def _read_entry(directory: Path) -> Entry | None:
             source=record.get("source", ""),
             digest=record["digest"],
             lineage=record.get("lineage"),
+            files=record.get("files"),
         )
     except (OSError, ValueError, KeyError, TypeError):
         return None

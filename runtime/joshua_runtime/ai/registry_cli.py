@@ -1,12 +1,14 @@
 """`joshua-registry`: manage the local registry of policies (LeRobot, and PPO from joshua-train).
 
-    joshua-registry import PATH --name NAME [--revision REV]   add a saved policy
+    joshua-registry import PATH --name NAME [--revision REV] [--trust-pickle]   add a saved policy
     joshua-registry list [NAME]                                 show entries (latest marked with *) and lineage
     joshua-registry resolve registry:NAME[@REV]                 print the directory of an entry
     joshua-registry remove NAME@REV                             delete one revision
     joshua-registry pull REPO_ID [--name NAME] [--hub-revision REV]   download from the Hub, then import
 
-The registry lives in $JOSHUA_MODEL_REGISTRY (default ~/.cache/joshua/models).
+The registry lives in $JOSHUA_MODEL_REGISTRY (default ~/.cache/joshua/models). A policy holding a
+pickle (or a symbolic link) is refused, named; `--trust-pickle` converts the stable-baselines3
+`policy.zip` of an earlier `joshua-train rl` of your own into weights and JSON (it unpickles that file).
 Exit codes: 0 success, 1 failure (missing entry, conflict, unreadable policy), 2 usage error.
 """
 
@@ -24,6 +26,12 @@ def _parser() -> argparse.ArgumentParser:
     add.add_argument("path", help="policy directory (or a training output / checkpoint directory)")
     add.add_argument("--name", required=True, help="registry name")
     add.add_argument("--revision", help="revision label (default: digest of the files)")
+    add.add_argument(
+        "--trust-pickle",
+        action="store_true",
+        help="convert a stable-baselines3 policy.zip of your own to weights and JSON (this unpickles it: "
+        "it runs whatever the file holds)",
+    )
     show = sub.add_parser("list", help="list entries")
     show.add_argument("name", nargs="?", help="only this name")
     find = sub.add_parser("resolve", help="print the directory of registry:NAME[@REV]")
@@ -58,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         if args.command == "import":
-            entry = registry.import_policy(args.path, args.name, args.revision)
+            entry = registry.import_policy(args.path, args.name, args.revision, trust_pickle=args.trust_pickle)
             print(f"{entry.name}@{entry.revision} ({entry.policy_type}) -> {entry.path}")
         elif args.command == "list":
             _list(args.name)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from joshua_core.so100 import SO100_JOINTS
-from joshua_runtime.ai import model_files
+from joshua_runtime.ai import data_only, model_files
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.train import arm, envs, saved_policy
 
@@ -105,9 +105,12 @@ def load_actor(directory: str | Path, env_id: str) -> Actor:
     if metadata is not None and metadata["kind"] == saved_policy.KIND_PPO:
         if metadata.get("env") != env_id:
             raise SettingsError(f"the policy in {directory} was trained on {metadata.get('env')}, not {env_id}")
+        data_only.check(path)
         return ppo_actor(path)
     if env_id != envs.REACH:
         raise SettingsError(
             f"LeRobot policies are evaluated on {envs.REACH} only (their demonstrations reach a fixed goal)"
         )
-    return lerobot_actor(model_files.policy_directory(path))
+    policy_dir = model_files.policy_directory(path)
+    data_only.check(policy_dir)
+    return lerobot_actor(policy_dir)

@@ -34,7 +34,9 @@ def _parser() -> argparse.ArgumentParser:
     rl.add_argument(
         "--steps", type=int, required=True, help="environment steps in total (a resumed run continues to N)"
     )
-    rl.add_argument("--output", required=True, help="run directory: checkpoints, policy.zip, joshua_policy.json")
+    rl.add_argument(
+        "--output", required=True, help="run directory: checkpoints, policy.safetensors, joshua_policy.json"
+    )
     rl.add_argument("--seed", type=int, default=0)
     rl.add_argument("--checkpoint-every", type=int, default=DEFAULT_CHECKPOINT_EVERY, help="steps between checkpoints")
     rl.add_argument("--eval-episodes", type=int, default=DEFAULT_EVAL_EPISODES, help="episodes of the final evaluation")

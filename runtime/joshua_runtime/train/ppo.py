@@ -1,22 +1,26 @@
 """`joshua-train rl`: PPO (stable-baselines3) on a training environment, with checkpoints and resumption.
 
-OUTPUT holds `checkpoints/ppo_<steps>_steps.zip` (every `checkpoint_every` steps), and at the end
-`policy.zip` and `joshua_policy.json` (see saved_policy.py). When OUTPUT already holds a run of the
-same environment, training continues from its latest checkpoint (or final policy) up to `steps`
-in total; a directory holding anything else is refused rather than overwritten.
+OUTPUT holds `checkpoints/ppo_<steps>_steps.safetensors` (every `checkpoint_every` steps and at the
+end), and at the end `policy.safetensors` and `joshua_policy.json` (see saved_policy.py and
+ppo_files.py: weights and JSON, nothing pickled). When OUTPUT already holds a run of the same
+environment, training continues from its latest checkpoint up to `steps` in total, with the run's
+own PPO settings; a directory holding anything else, or a pickle, is refused rather than read or
+overwritten.
 """
 
 import re
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from joshua_runtime.ai import data_only
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.train import envs, saved_policy
 from joshua_runtime.train.evaluation import evaluate
 
 CHECKPOINT_DIR = "checkpoints"
 CHECKPOINT_PREFIX = "ppo"
-_CHECKPOINT = re.compile(rf"^{CHECKPOINT_PREFIX}_(\d+)_steps\.zip$")
+CHECKPOINT_SUFFIX = ".safetensors"
+_CHECKPOINT = re.compile(rf"^{CHECKPOINT_PREFIX}_(\d+)_steps\{CHECKPOINT_SUFFIX}$")
 # Small MLP policies run fastest on one thread, and leave the other core to the simulation.
 TORCH_THREADS = 1
 
@@ -34,9 +38,21 @@ class PpoSettings:
     gae_lambda: float = 0.95
     net_arch: tuple[int, ...] = (64, 64)
 
+    @classmethod
+    def of_checkpoint(cls, saved: dict, n_envs: int) -> "PpoSettings":
+        """The settings a checkpoint was trained with, on `n_envs` environments."""
+        try:
+            return cls(**{**saved, "net_arch": tuple(saved["net_arch"]), "n_envs": n_envs})
+        except (KeyError, TypeError) as exc:
+            raise SettingsError(f"the checkpoint's PPO settings are not this version's: {exc}") from exc
+
+
+def checkpoint_path(output: Path, steps: int) -> Path:
+    return Path(output) / CHECKPOINT_DIR / f"{CHECKPOINT_PREFIX}_{steps}_steps{CHECKPOINT_SUFFIX}"
+
 
 def latest_checkpoint(output: Path) -> tuple[int, Path] | None:
-    """(steps, path) of the most advanced saved model in OUTPUT (a checkpoint or the final policy)."""
+    """(steps, path) of the most advanced checkpoint in OUTPUT."""
     found = []
     directory = output / CHECKPOINT_DIR
     if directory.is_dir():
@@ -44,9 +60,6 @@ def latest_checkpoint(output: Path) -> tuple[int, Path] | None:
             match = _CHECKPOINT.match(path.name)
             if match:
                 found.append((int(match.group(1)), path))
-    metadata = saved_policy.read(output) if (output / saved_policy.METADATA_FILE).is_file() else None
-    if metadata and (output / saved_policy.PPO_FILE).is_file():
-        found.append((int(metadata.get("steps") or 0), output / saved_policy.PPO_FILE))
     return max(found, default=None)
 
 
@@ -65,6 +78,11 @@ def _check_output(output: Path, env_id: str) -> dict | None:
         raise SettingsError(
             f"output {output} holds a {metadata['kind']} run of {metadata.get('env') or metadata.get('dataset')}, "
             f"not PPO on {env_id}; choose another directory"
+        )
+    data_only.check(output)
+    if latest_checkpoint(output) is None and (output / saved_policy.PPO_FILE).is_file():
+        raise SettingsError(
+            f"output {output} holds a finished run but no checkpoint to continue from; choose another directory"
         )
     return metadata
 
@@ -89,47 +107,37 @@ def train(
     output = Path(output).expanduser()
     previous = _check_output(output, env_id)
     import torch
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.callbacks import CheckpointCallback
+
+    from joshua_runtime.train import ppo_files
 
     torch.set_num_threads(TORCH_THREADS)
     if previous is not None:
         seed = int(previous.get("seed", seed))
+    resume = latest_checkpoint(output) if previous is not None else None
+    if resume is not None:
+        settings = PpoSettings.of_checkpoint(ppo_files.checkpoint_settings(resume[1]), settings.n_envs)
     environments = _environments(env_id, backend, settings.n_envs, seed, vec_env)
     try:
-        resume = latest_checkpoint(output) if previous is not None else None
+        model = _model(environments, settings, seed)
         if resume is not None:
-            done, path = resume
-            model = PPO.load(path, env=environments, device="cpu")
-            log(f"continuing {env_id} from {path} ({model.num_timesteps} steps)")
+            ppo_files.restore_checkpoint(model, resume[1])
+            log(f"continuing {env_id} from {resume[1]} ({model.num_timesteps} steps)")
         else:
             output.mkdir(parents=True, exist_ok=True)
             saved_policy.write(output, _metadata(env_id, 0, seed, None))
-            model = PPO(
-                "MlpPolicy",
-                environments,
-                n_steps=settings.n_steps,
-                batch_size=settings.batch_size,
-                n_epochs=settings.n_epochs,
-                learning_rate=settings.learning_rate,
-                gamma=settings.gamma,
-                gae_lambda=settings.gae_lambda,
-                policy_kwargs={"net_arch": list(settings.net_arch)},
-                seed=seed,
-                device="cpu",
-                verbose=0,
-            )
         remaining = steps - model.num_timesteps
         if remaining > 0:
-            checkpoints = CheckpointCallback(
-                save_freq=max(checkpoint_every // settings.n_envs, 1),
-                save_path=str(output / CHECKPOINT_DIR),
-                name_prefix=CHECKPOINT_PREFIX,
+            checkpoints = ppo_files.SafetensorsCheckpoints(
+                lambda done: checkpoint_path(output, done),
+                max(checkpoint_every // settings.n_envs, 1),
+                asdict(settings),
             )
             model.learn(
                 total_timesteps=remaining, callback=checkpoints, reset_num_timesteps=False, progress_bar=progress
             )
-        model.save(output / saved_policy.PPO_FILE)
+        if not checkpoint_path(output, model.num_timesteps).is_file():
+            ppo_files.save_checkpoint(model, checkpoint_path(output, model.num_timesteps), asdict(settings))
+        network = ppo_files.save_policy(model.policy, output)
     finally:
         environments.close()
     result = (
@@ -137,9 +145,29 @@ def train(
         if eval_episodes > 0
         else None
     )
-    metadata = _metadata(env_id, int(model.num_timesteps), seed, result)
+    metadata = {**_metadata(env_id, int(model.num_timesteps), seed, result), "network": network}
     saved_policy.write(output, metadata)
     return metadata
+
+
+def _model(environments, settings: PpoSettings, seed: int):
+    """A new PPO model with these settings (its weights are replaced when a run continues)."""
+    from stable_baselines3 import PPO
+
+    return PPO(
+        "MlpPolicy",
+        environments,
+        n_steps=settings.n_steps,
+        batch_size=settings.batch_size,
+        n_epochs=settings.n_epochs,
+        learning_rate=settings.learning_rate,
+        gamma=settings.gamma,
+        gae_lambda=settings.gae_lambda,
+        policy_kwargs={"net_arch": list(settings.net_arch)},
+        seed=seed,
+        device="cpu",
+        verbose=0,
+    )
 
 
 def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: str):
@@ -182,7 +210,7 @@ def _metadata(env_id: str, steps: int, seed: int, evaluation: dict | None) -> di
 
 
 def load(directory: Path):
-    """The PPO model saved in a `joshua-train rl` output directory."""
-    from stable_baselines3 import PPO
+    """The PPO policy saved in a `joshua-train rl` output directory (weights and JSON; `predict` as stable-baselines3's)."""
+    from joshua_runtime.train import ppo_files
 
-    return PPO.load(Path(directory) / saved_policy.PPO_FILE, device="cpu")
+    return ppo_files.load_policy(Path(directory))

@@ -1,11 +1,12 @@
 """What `joshua-train` writes next to every policy: `joshua_policy.json`, read by the registry and the INFERENCE node.
 
-Fields: `kind` (`sb3-ppo` for a stable-baselines3 PPO policy in `policy.zip`; `lerobot` for a
-policy saved by LeRobot's `save_pretrained` in the same directory), `env` (the training
-environment) or `dataset` (the training dataset), `steps`, `seed`, `evaluation`
-(`{"success_rate", "mean_return", "episodes", "env"}` or null), and for `sb3-ppo` the
-`observation` layout, `joint_names` (the joints the actions move) and `goal` (the point an
-INFERENCE node reaches for, in the world frame of the model, m).
+Fields: `kind` (`sb3-ppo` for a stable-baselines3 PPO policy whose weights are in
+`policy.safetensors`; `lerobot` for a policy saved by LeRobot's `save_pretrained` in the same
+directory), `env` (the training environment) or `dataset` (the training dataset), `steps`, `seed`,
+`evaluation` (`{"success_rate", "mean_return", "episodes", "env"}` or null), and for `sb3-ppo` the
+`network` the weights fit (see train/ppo_files.py), the `observation` layout, `joint_names` (the
+joints the actions move) and `goal` (the point an INFERENCE node reaches for, in the world frame
+of the model, m).
 """
 
 import json
@@ -14,7 +15,9 @@ from pathlib import Path
 from joshua_runtime.errors import SettingsError
 
 METADATA_FILE = "joshua_policy.json"
-PPO_FILE = "policy.zip"
+PPO_FILE = "policy.safetensors"
+# What stable-baselines3's own save wrote (a zip holding pickles): converted only on request.
+LEGACY_PPO_FILE = "policy.zip"
 KIND_PPO = "sb3-ppo"
 KIND_LEROBOT = "lerobot"
 KINDS = (KIND_PPO, KIND_LEROBOT)

@@ -6,6 +6,7 @@ as it comes, because these tests wait for log lines while a node runs (episode s
 node_process.NodeProcess there reads output at exit.
 """
 
+import json
 import re
 import subprocess
 import sys
@@ -178,3 +179,55 @@ def pattern_image(height: int, width: int, level: int) -> np.ndarray:
     image[:, :, 1] = level
     image[:, :, 2] = 255 - ramp
     return image
+
+
+def save_tiny_diffusion(directory, height: int, width: int, action_min: np.ndarray, action_max: np.ndarray):
+    """A small untrained Diffusion policy saved with its processors, as LeRobot saves any policy."""
+    import torch
+    from lerobot.configs.types import FeatureType, PolicyFeature
+    from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
+    from lerobot.policies.diffusion.modeling_diffusion import DiffusionPolicy
+    from lerobot.policies.factory import make_pre_post_processors
+
+    config = DiffusionConfig(
+        device="cpu",
+        push_to_hub=False,
+        n_obs_steps=2,
+        horizon=8,
+        n_action_steps=2,
+        drop_n_last_frames=5,
+        down_dims=(16, 32),
+        n_groups=4,
+        diffusion_step_embed_dim=16,
+        spatial_softmax_num_keypoints=8,
+        num_inference_steps=2,
+        input_features={
+            "observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, height, width)),
+            "observation.state": PolicyFeature(FeatureType.STATE, (2,)),
+        },
+        output_features={"action": PolicyFeature(FeatureType.ACTION, (2,))},
+    )
+
+    def stats(low, high, shape):
+        low, high = torch.tensor(low, dtype=torch.float32), torch.tensor(high, dtype=torch.float32)
+        return {
+            "min": low.reshape(shape),
+            "max": high.reshape(shape),
+            "mean": ((low + high) / 2).reshape(shape),
+            "std": ((high - low) / 4).reshape(shape),
+        }
+
+    dataset_stats = {
+        "observation.images.camera": stats([0.0] * 3, [1.0] * 3, (3, 1, 1)),
+        "observation.state": stats([-2.0, -2.0], [2.0, 2.0], (2,)),
+        "action": stats(action_min.tolist(), action_max.tolist(), (2,)),
+    }
+    torch.manual_seed(0)
+    policy = DiffusionPolicy(config)
+    preprocessor, postprocessor = make_pre_post_processors(config, dataset_stats=dataset_stats)
+    policy.save_pretrained(directory)
+    preprocessor.save_pretrained(directory)
+    postprocessor.save_pretrained(directory)
+    # What `joshua-registry import` keeps from the training dataset: the action names.
+    (directory / "joshua_features.json").write_text(json.dumps({"action": ["wrist.pos", "gripper.pos"]}))
+    return directory

@@ -16,6 +16,7 @@ from ai_support import (
     mock_encoder,
     node_block,
     pattern_image,
+    save_tiny_diffusion,
     topic,
 )
 from sensor_msgs.msg import Image, JointState
@@ -27,58 +28,6 @@ ACTIONS_TO_CHECK = 3
 ACTIONS_TOPIC = "/inf/arm/commands"
 ACTION_MIN = np.array([-1.0, 0.0], np.float32)
 ACTION_MAX = np.array([1.0, 2.0], np.float32)
-
-
-def save_tiny_diffusion(directory):
-    """A small untrained Diffusion policy saved with its processors, as LeRobot saves any policy."""
-    import torch
-    from lerobot.configs.types import FeatureType, PolicyFeature
-    from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
-    from lerobot.policies.diffusion.modeling_diffusion import DiffusionPolicy
-    from lerobot.policies.factory import make_pre_post_processors
-
-    config = DiffusionConfig(
-        device="cpu",
-        push_to_hub=False,
-        n_obs_steps=2,
-        horizon=8,
-        n_action_steps=2,
-        drop_n_last_frames=5,
-        down_dims=(16, 32),
-        n_groups=4,
-        diffusion_step_embed_dim=16,
-        spatial_softmax_num_keypoints=8,
-        num_inference_steps=2,
-        input_features={
-            "observation.images.camera": PolicyFeature(FeatureType.VISUAL, (3, HEIGHT, WIDTH)),
-            "observation.state": PolicyFeature(FeatureType.STATE, (2,)),
-        },
-        output_features={"action": PolicyFeature(FeatureType.ACTION, (2,))},
-    )
-
-    def stats(low, high, shape):
-        low, high = torch.tensor(low, dtype=torch.float32), torch.tensor(high, dtype=torch.float32)
-        return {
-            "min": low.reshape(shape),
-            "max": high.reshape(shape),
-            "mean": ((low + high) / 2).reshape(shape),
-            "std": ((high - low) / 4).reshape(shape),
-        }
-
-    dataset_stats = {
-        "observation.images.camera": stats([0.0] * 3, [1.0] * 3, (3, 1, 1)),
-        "observation.state": stats([-2.0, -2.0], [2.0, 2.0], (2,)),
-        "action": stats(ACTION_MIN.tolist(), ACTION_MAX.tolist(), (2,)),
-    }
-    torch.manual_seed(0)
-    policy = DiffusionPolicy(config)
-    preprocessor, postprocessor = make_pre_post_processors(config, dataset_stats=dataset_stats)
-    policy.save_pretrained(directory)
-    preprocessor.save_pretrained(directory)
-    postprocessor.save_pretrained(directory)
-    # What `joshua-registry import` keeps from the training dataset: the action names.
-    (directory / "joshua_features.json").write_text(json.dumps({"action": ["wrist.pos", "gripper.pos"]}))
-    return directory
 
 
 def inference_settings(model_path, **fields):
@@ -104,7 +53,7 @@ def test_diffusion_policy_waits_for_every_input_then_publishes_named_actions(
 ):
     from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
 
-    policy_dir = save_tiny_diffusion(tmp_path / "diffusion")
+    policy_dir = save_tiny_diffusion(tmp_path / "diffusion", HEIGHT, WIDTH, ACTION_MIN, ACTION_MAX)
     image = pattern_image(HEIGHT, WIDTH, 30)
     ros_peer.publish_periodically("/inf/camera/image_raw", Image, SENSOR_HZ, lambda: rgb_to_image(image))
     ros_peer.listen(ACTIONS_TOPIC, JointState, RELIABLE, keep=ACTIONS_TO_CHECK)

@@ -7,6 +7,7 @@ import sys
 
 import pytest
 
+from joshua_runtime.ai import data_only
 from joshua_runtime.train import saved_policy
 
 TOOL_TIMEOUT_S = 240
@@ -49,15 +50,22 @@ def test_rl_checkpoints_resumes_and_is_imported_with_its_lineage(tmp_path):
     output = tmp_path / "run"
     first = train(output, STEPS)
     assert "saved PPO policy for so100_reach after 1024 steps" in first.stdout
-    assert sorted(p.name for p in (output / "checkpoints").iterdir()) == ["ppo_1024_steps.zip", "ppo_512_steps.zip"]
+    assert sorted(p.name for p in (output / "checkpoints").iterdir()) == [
+        "ppo_1024_steps.safetensors",
+        "ppo_512_steps.safetensors",
+    ]
+    assert sorted(p.name for p in output.iterdir()) == ["checkpoints", "joshua_policy.json", "policy.safetensors"]
+    data_only.check(output)  # weights and JSON: no file of the run is a pickle
     metadata = saved_policy.read(output)
     assert metadata["kind"] == "sb3-ppo" and metadata["env"] == "so100_reach"
     assert metadata["steps"] == STEPS and metadata["seed"] == 3 and metadata["evaluation"]["episodes"] == 2
 
     second = train(output, 2 * STEPS)
-    assert f"continuing so100_reach from {output / 'policy.zip'} (1024 steps)" in second.stdout
+    assert f"continuing so100_reach from {output / 'checkpoints' / 'ppo_1024_steps.safetensors'} (1024 steps)" in (
+        second.stdout
+    )
     assert saved_policy.read(output)["steps"] == 2 * STEPS
-    assert (output / "checkpoints" / "ppo_2048_steps.zip").is_file()
+    assert (output / "checkpoints" / "ppo_2048_steps.safetensors").is_file()
 
     evaluated = run(
         "joshua_runtime.train.cli", "evaluate", str(output), "--env", "so100_reach", "--episodes", "3", "--json"
@@ -68,7 +76,7 @@ def test_rl_checkpoints_resumes_and_is_imported_with_its_lineage(tmp_path):
     registry = tmp_path / "registry"
     imported = run("joshua_runtime.ai.registry_cli", "import", str(output), "--name", "reach", registry=registry)
     entry_dir = imported.stdout.strip().rsplit(" -> ", 1)[1]
-    assert sorted(os.listdir(entry_dir)) == ["joshua_model.json", "joshua_policy.json", "policy.zip"]
+    assert sorted(os.listdir(entry_dir)) == ["joshua_model.json", "joshua_policy.json", "policy.safetensors"]
     listed = run("joshua_runtime.ai.registry_cli", "list", registry=registry).stdout
     assert "sb3-ppo" in listed
     assert "trained on so100_reach, 2048 steps, seed 3, success" in listed

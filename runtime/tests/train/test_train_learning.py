@@ -30,6 +30,12 @@ def test_ppo_beats_the_random_baseline_by_a_clear_margin(trained_reach):
     assert learnt["mean_return"] > baseline["mean_return"] + MIN_RETURN_GAIN_OVER_RANDOM, (learnt, baseline)
 
 
+def test_the_saved_policy_evaluates_exactly_as_the_trained_one(trained_reach):
+    """Weights and JSON reproduce the evaluation done in memory at the end of training, to the last digit."""
+    output, metadata = trained_reach
+    assert cli.run_evaluation(output, "so100_reach", EVALUATION_EPISODES) == metadata["evaluation"]
+
+
 def test_imitation_of_scripted_demonstrations_beats_replaying_zeros(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("HF_HUB_OFFLINE", "1")
     monkeypatch.setenv("HF_LEROBOT_HOME", str(tmp_path / "lerobot-home"))
