@@ -77,3 +77,22 @@ def planted_registry_entry(root: Path, name: str, revision: str, policy_dir: Pat
     }
     (entry / "joshua_model.json").write_text(json.dumps(record))
     return entry
+
+
+def forbid_unpickling(monkeypatch) -> None:
+    """Make every way into pickle that model loaders use raise (pickle, cloudpickle, torch.load)."""
+    import pickle as pickle_module
+
+    import cloudpickle
+    import torch
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a model loader unpickled")
+
+    class RefusingUnpickler:
+        def __init__(self, *args, **kwargs):
+            refuse()
+
+    for module, name in [(pickle_module, "load"), (pickle_module, "loads"), (cloudpickle, "loads"), (torch, "load")]:
+        monkeypatch.setattr(module, name, refuse)
+    monkeypatch.setattr(pickle_module, "Unpickler", RefusingUnpickler)

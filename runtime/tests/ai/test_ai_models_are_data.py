@@ -190,6 +190,36 @@ def test_the_policy_runner_refuses_code_in_a_saved_pipeline_before_loading_it(tm
     assert_refused(outside, policy / "policy_postprocessor.json", "../stats.safetensors")
 
 
+def test_a_lerobot_policy_loads_and_acts_without_unpickling(tmp_path, lerobot_offline, monkeypatch):
+    from joshua_runtime.ai.policy_runner import PolicyRunner
+
+    policy = save_tiny_diffusion(tmp_path / "diffusion", 24, 32, np.zeros(2), np.ones(2))
+    crafted_models.forbid_unpickling(monkeypatch)
+    runner = PolicyRunner(policy, "cpu")
+    assert runner.warm_up() > 0
+
+
+def test_the_allowed_processor_steps_are_those_lerobot_saves_for_act_and_diffusion(lerobot_offline):
+    from lerobot.configs.types import FeatureType, PolicyFeature
+    from lerobot.policies.act.configuration_act import ACTConfig
+    from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
+    from lerobot.policies.factory import make_pre_post_processors
+
+    from joshua_runtime.ai.model_files import ALLOWED_PROCESSOR_STEPS, SUPPORTED_POLICY_TYPES
+
+    features = {
+        "input_features": {"observation.state": PolicyFeature(FeatureType.STATE, (2,))},
+        "output_features": {"action": PolicyFeature(FeatureType.ACTION, (2,))},
+    }
+    saved = set()
+    for config_class in (ACTConfig, DiffusionConfig):
+        config = config_class(device="cpu", push_to_hub=False, pretrained_backbone_weights=None, **features)
+        assert config.type in SUPPORTED_POLICY_TYPES
+        for pipeline in make_pre_post_processors(config, dataset_stats=None):
+            saved.update(type(step)._registry_name for step in pipeline.steps)
+    assert sorted(saved) == list(ALLOWED_PROCESSOR_STEPS)
+
+
 def inference_settings(model_path) -> dict:
     return compiled(
         "MODE_INFERENCE",

@@ -51,6 +51,18 @@ def test_training_refuses_to_resume_from_a_pickled_checkpoint(tmp_path):
     assert not marker.exists()
 
 
+def test_a_trained_ppo_policy_loads_and_acts_without_unpickling(trained_reach, monkeypatch):
+    from joshua_runtime.train import envs, ppo
+
+    output, _ = trained_reach
+    env = envs.make("so100_reach")
+    observation, _ = env.reset(seed=3)
+    env.close()
+    crafted_models.forbid_unpickling(monkeypatch)
+    action = ppo.load(output).predict(observation, deterministic=True)[0]
+    assert action.shape == env.action_space.shape and np.all(np.abs(action) <= 1.0)
+
+
 def test_an_earlier_pickled_run_converts_only_with_trust_pickle(tmp_path):
     """An old `joshua-train rl` output (stable-baselines3's zip) becomes weights and JSON that act the same."""
     from stable_baselines3 import PPO
