@@ -59,11 +59,13 @@ def run_node(literal: dict, exit_process: bool = True) -> int:
     Ends the process with the node's exit code (`end_process`); with exit_process=False it
     returns the code instead.
     """
-    from joshua_runtime.node import StopRequested, StopSignal, run
+    from joshua_runtime.stop_signal import StopRequested, StopSignal
 
-    stop = StopSignal().install()  # before the imports: a heavy node may be stopped while loading
+    stop = StopSignal().install()  # before the imports: a node may be stopped while it loads rclpy or more
     name = literal.get("name", "?") if isinstance(literal, dict) else "?"
     try:
+        from joshua_runtime.node import run
+
         settings = parse_settings(literal)
         cls = node_class(settings.type)
     except StopRequested:

@@ -11,9 +11,7 @@ one "ready: ..." line with what the node serves and sends READY=1 to the process
 pings the manager's watchdog while it spins.
 """
 
-import signal
 import sys
-import threading
 
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -25,6 +23,7 @@ from joshua_runtime.errors import JoshuaError
 from joshua_runtime.messages import message_class
 from joshua_runtime.notify import Notifier
 from joshua_runtime.qos import qos_profile
+from joshua_runtime.stop_signal import StopRequested, StopSignal
 
 SHUTDOWN_POLL_S = 0.05
 # Topics every rclpy node has; not part of what a node serves.
@@ -91,31 +90,6 @@ class JoshuaNode:
     def stamp(self):
         """The node clock's now() as a builtin_interfaces/Time."""
         return self.ros.get_clock().now().to_msg()
-
-
-class StopRequested(BaseException):
-    """Raised by the signal handler while a node is still starting (importing, opening devices).
-
-    A BaseException, so that no `except Exception` in start-up code swallows it.
-    """
-
-
-class StopSignal:
-    """SIGINT/SIGTERM handler: sets `event`; while `starting`, also abandons start-up at once."""
-
-    def __init__(self):
-        self.event = threading.Event()
-        self.starting = True
-
-    def install(self) -> "StopSignal":
-        signal.signal(signal.SIGINT, self)
-        signal.signal(signal.SIGTERM, self)
-        return self
-
-    def __call__(self, signum, _frame) -> None:
-        self.event.set()
-        if self.starting:
-            raise StopRequested(signum)
 
 
 def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal | None = None) -> int:
