@@ -278,6 +278,7 @@ def test_the_simulated_lego_car_serves_the_real_base_topics_types_and_qos():
     assert _endpoints(simulated) == _endpoints(real)
     assert [(t["name"], t["message_type"]) for t in real["topics"]] == [
         ("/cmd_vel", "geometry_msgs/msg/Twist"),
+        ("/diagnostics", "diagnostic_msgs/msg/DiagnosticArray"),  # the hub link's status
         ("/odom", "nav_msgs/msg/Odometry"),
         ("/tf", "tf2_msgs/msg/TFMessage"),  # odom -> base_link, broadcast by every base
         ("/wheel_states", "sensor_msgs/msg/JointState"),

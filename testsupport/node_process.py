@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 NODE_STOP_TIMEOUT_S = 5.0
 NODE_EXIT_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
@@ -26,28 +27,43 @@ def stop_process(process: subprocess.Popen, signum=signal.SIGINT) -> tuple[int, 
 
 
 class NodeProcess:
-    """One node, from its settings dict, in `python -c "...run_node(SETTINGS)"` with `env`."""
+    """One node, from its settings dict, in `python -c "...run_node(SETTINGS)"` with `env`.
 
-    def __init__(self, settings: dict, env: dict):
+    With `stderr_path` its stderr goes to that file, which a test can read while the node runs.
+    """
+
+    stderr_path: Path | None = None
+
+    def __init__(self, settings: dict, env: dict, stderr_path: Path | None = None):
         code = f"import sys\nfrom joshua_runtime.entrypoint import run_node\nsys.exit(run_node({settings!r}))\n"
-        self.process = subprocess.Popen(
-            [sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
-        )
+        self.stderr_path = stderr_path
+        command = [sys.executable, "-c", code]
+        if stderr_path is None:
+            self.process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        else:
+            with open(stderr_path, "w") as stderr:
+                self.process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=stderr, text=True)
+
+    def stderr_text(self) -> str:
+        """What the node wrote to stderr so far (only with `stderr_path`)."""
+        return self.stderr_path.read_text(errors="replace") if self.stderr_path.exists() else ""
 
     def stop(self, signum=signal.SIGINT) -> tuple[int, float, str]:
         """Send `signum`; return (exit code, seconds until exit, stderr)."""
-        return stop_process(self.process, signum)
+        code, seconds, stderr = stop_process(self.process, signum)
+        return code, seconds, stderr if self.stderr_path is None else self.stderr_text()
 
     def wait(self, timeout: float = NODE_EXIT_TIMEOUT_S) -> tuple[int, str]:
         """Wait for the process to end by itself; return (exit code, stderr)."""
         _, stderr = self.process.communicate(timeout=timeout)
-        return self.process.returncode, stderr
+        return self.process.returncode, stderr if self.stderr_path is None else self.stderr_text()
 
     def failure(self) -> str:
         """Why the process is gone (exit code and stderr), or that it still runs."""
         if self.process.poll() is None:
             return "process still running"
-        return f"exit code {self.process.returncode}: {self.process.communicate()[1]}"
+        stderr = self.process.communicate()[1]
+        return f"exit code {self.process.returncode}: {stderr if self.stderr_path is None else self.stderr_text()}"
 
     def kill(self) -> None:
         """End it if it still runs, reap it and close its pipes."""

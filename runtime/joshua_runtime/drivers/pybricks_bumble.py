@@ -3,13 +3,18 @@
 `hci` names where the controller is, in Bumble's transport syntax: `usb:0` for a USB Bluetooth dongle,
 `tcp-client:127.0.0.1:PORT` for the controller `joshua-emulate pybricks` serves next to its emulated
 hub. Tests hand in a Device already on an in-process link instead.
+
+A controller that goes away (a dongle pulled out, the emulator restarted) ends the connection; `reset()`
+then closes it, and the next `connect()` opens `hci` again. Bumble logs its own warnings and
+tracebacks about commands to a dead controller; the driver reports the loss as one line instead.
 """
 
 import asyncio
+import logging
 
 from bumble.core import UUID, AdvertisingData, BaseBumbleError
 from bumble.device import Connection, Device, Peer
-from bumble.hci import Address
+from bumble.hci import HCI_REMOTE_USER_TERMINATED_CONNECTION_ERROR, Address, HCI_Constant
 from bumble.transport import open_transport
 
 from joshua_runtime.drivers.pybricks_protocol import CAPABILITIES_UUID, COMMAND_EVENT_UUID, SERVICE_UUID
@@ -20,7 +25,17 @@ from joshua_runtime.errors import DeviceError
 CENTRAL_ADDRESS = "C0:4A:05:00:00:01"
 # ATT MTU asked for, so that a whole stdin line or RAM chunk fits in one write.
 ATT_MTU = 185
+# A controller answers an HCI command in milliseconds; one that has not within this is gone.
+HCI_COMMAND_TIMEOUT_S = 2.0
 BUMBLE_ERRORS = (BaseBumbleError, asyncio.TimeoutError, OSError, ConnectionError)
+
+
+def _silence_bumble() -> None:
+    """Bumble's log goes nowhere: its warnings would repeat, in many lines, what the driver reports in one."""
+    bumble_log = logging.getLogger("bumble")
+    if not bumble_log.handlers:
+        bumble_log.addHandler(logging.NullHandler())
+    bumble_log.propagate = False
 
 
 class BumbleTransport(HubTransport):
@@ -28,9 +43,11 @@ class BumbleTransport(HubTransport):
 
     def __init__(self, hci: str = "", device: Device | None = None):
         self.hci_spec, self.device = hci, device
+        self.owns_device = device is None  # it opens (and reopens) the controller named by `hci`
         self.hci = None
         self.connection: Connection | None = None
         self.command_event = self.capabilities = None
+        _silence_bumble()
 
     async def _power_on(self) -> None:
         if self.device is not None:
@@ -40,14 +57,26 @@ class BumbleTransport(HubTransport):
         except BUMBLE_ERRORS as exc:
             raise DeviceError(f"cannot open Bluetooth controller {self.hci_spec!r}: {exc}") from None
         self.device = Device.with_hci("joshua", Address(CENTRAL_ADDRESS), self.hci.source, self.hci.sink)
-        await self.device.power_on()
+        self.device.command_timeout = HCI_COMMAND_TIMEOUT_S
+        try:
+            await self.device.power_on()
+        except BUMBLE_ERRORS as exc:
+            raise DeviceError(f"Bluetooth controller {self.hci_spec!r} does not answer: {_reason(exc)}") from None
+
+    def _disconnection(self, code: int) -> str:
+        """Why a connection ended, in words."""
+        if self.hci is not None and self.hci.source.terminated.done():
+            return "Bluetooth controller lost"
+        if code == HCI_REMOTE_USER_TERMINATED_CONNECTION_ERROR:
+            return "the hub closed the link"
+        return f"disconnected: {HCI_Constant.error_name(code)}"
 
     async def connect(self, hub, on_event, on_disconnect) -> None:
         await self._power_on()
         try:
             target = Address(hub) if is_address(hub) else await self._scan(hub)
             self.connection = await self.device.connect(target, timeout=SCAN_TIMEOUT_S)
-            self.connection.on(Connection.EVENT_DISCONNECTION, lambda _reason: on_disconnect())
+            self.connection.on(Connection.EVENT_DISCONNECTION, lambda code: on_disconnect(self._disconnection(code)))
             peer = Peer(self.connection)
             await peer.request_mtu(ATT_MTU)
             await peer.discover_services([UUID(SERVICE_UUID)])
@@ -56,7 +85,7 @@ class BumbleTransport(HubTransport):
             self.capabilities = _characteristic(peer, CAPABILITIES_UUID)
             await self.command_event.subscribe(lambda value: on_event(bytes(value)))
         except BUMBLE_ERRORS as exc:
-            raise DeviceError(f"cannot connect to Pybricks hub {hub!r}: {exc or type(exc).__name__}") from None
+            raise DeviceError(f"cannot connect to Pybricks hub {hub!r}: {_reason(exc)}") from None
 
     async def _scan(self, name: str) -> Address:
         """The address of the first advertiser named `name`."""
@@ -90,12 +119,28 @@ class BumbleTransport(HubTransport):
                 pass
             self.connection = None
 
+    async def reset(self) -> None:
+        """Disconnect and close the controller opened from `hci`; the next connect() opens it again.
+
+        The controller is closed even when disconnecting hangs and is cancelled (a frozen controller).
+        """
+        try:
+            if self.hci is None or not self.hci.source.terminated.done():
+                await self.disconnect()
+        finally:
+            self.connection = None
+            if self.hci is not None:
+                hci, self.hci = self.hci, None
+                if self.owns_device:
+                    self.device = None
+                await hci.close()
+
     async def close(self) -> None:
-        """Disconnect and release the controller opened from `hci`."""
-        await self.disconnect()
-        if self.hci is not None:
-            await self.hci.close()
-            self.hci = None
+        await self.reset()
+
+
+def _reason(exc: BaseException) -> str:
+    return str(exc) or type(exc).__name__
 
 
 def _characteristic(peer: Peer, uuid: str):

@@ -2,7 +2,7 @@
 
 A transport finds and connects to one hub (by name, or by address when `hub` looks like one),
 subscribes to the command/event characteristic, reads the capabilities, writes commands, and
-reports a dropped link by calling `on_disconnect`. bleak uses the computer's own Bluetooth adapter;
+reports a dropped link by calling `on_disconnect` with the reason in words. bleak uses the computer's own Bluetooth adapter;
 pybricks_bumble.py implements the same interface over a Bumble BLE stack (a USB dongle, or an
 emulated hub over HCI on TCP).
 """
@@ -24,7 +24,7 @@ def is_address(hub: str) -> bool:
 class HubTransport:
     """One BLE link to a Pybricks hub. Every method is a coroutine of the driver's event loop."""
 
-    async def connect(self, hub: str, on_event: Callable[[bytes], None], on_disconnect: Callable[[], None]) -> None:
+    async def connect(self, hub: str, on_event: Callable[[bytes], None], on_disconnect: Callable[[str], None]) -> None:
         """Find and connect to `hub`, deliver every command/event notification to `on_event`."""
         raise NotImplementedError
 
@@ -37,6 +37,14 @@ class HubTransport:
 
     async def disconnect(self) -> None:
         raise NotImplementedError
+
+    async def reset(self) -> None:
+        """Drop the link and whatever holds it open, so that the next connect() starts afresh."""
+        await self.disconnect()
+
+    async def close(self) -> None:
+        """Release the link for good."""
+        await self.reset()
 
 
 class BleakTransport(HubTransport):
@@ -57,7 +65,7 @@ class BleakTransport(HubTransport):
                 device = await BleakScanner.find_device_by_name(hub, timeout=SCAN_TIMEOUT_S)
             if device is None:
                 raise DeviceError(f"no Pybricks hub {hub!r} found within {SCAN_TIMEOUT_S:g} s")
-            self.client = BleakClient(device, disconnected_callback=lambda _client: on_disconnect())
+            self.client = BleakClient(device, disconnected_callback=lambda _client: on_disconnect("disconnected"))
             await self.client.connect()
             await self.client.start_notify(COMMAND_EVENT_UUID, lambda _char, data: on_event(bytes(data)))
         except (FileNotFoundError, ConnectionRefusedError) as exc:
@@ -76,4 +84,5 @@ class BleakTransport(HubTransport):
 
     async def disconnect(self) -> None:
         if self.client is not None:
-            await self.client.disconnect()
+            client, self.client = self.client, None
+            await client.disconnect()

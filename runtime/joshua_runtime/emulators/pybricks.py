@@ -4,13 +4,15 @@ It takes a program download (write meta, write RAM, write meta again) and checks
 multi-file blob with an MPY v6 `__main__`; on start it runs, instead of executing MicroPython, the
 line protocol of the hub program (drivers/pybricks_protocol.py) over its stdin/stdout with the
 motor model of pybricks_motors.py, including the program's own watchdog. Faults on request: a hub
-that never starts its program, garbage written to stdout, the link dropped mid-command.
+that never starts its program, garbage written to stdout, the link dropped mid-command; each one
+injected is told to `report` (the command line prints it), garbage at most every REPORT_INTERVAL_S.
 """
 
 import asyncio
 import random
 import struct
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from bumble.att import ATT_DEFAULT_MTU, ATT_Error, Attribute
@@ -33,6 +35,8 @@ ERROR_BUSY = 0x81
 ERROR_INVALID_COMMAND = 0x80
 ERROR_VALUE_NOT_ALLOWED = 0x13
 GARBAGE = b"\x00\xff*\n#A,1,2*ZZ\nK,x*00\r\n\xfe\x80\n"
+# Garbage is injected many times a second; its reports are summed up this often.
+REPORT_INTERVAL_S = 1.0
 
 
 @dataclass
@@ -46,9 +50,17 @@ class HubFaults:
 class EmulatedHub:
     """The hub side: GATT server, program state, line protocol and motors, on a Bumble Device."""
 
-    def __init__(self, device: Device, name: str = hub.DEFAULT_HUB_NAME, faults: HubFaults | None = None):
-        self.device, self.name = device, name
+    def __init__(
+        self,
+        device: Device,
+        name: str = hub.DEFAULT_HUB_NAME,
+        faults: HubFaults | None = None,
+        report: Callable[[str], None] = lambda _text: None,
+    ):
+        self.device, self.name, self.report = device, name, report
         self.faults = faults or HubFaults()
+        self.garbage_lines = self.stdout_lines = 0
+        self._next_garbage_report = 0.0
         self.random = random.Random(self.faults.seed)
         self.left, self.right = Motor(), Motor()
         self.ram = bytearray()
@@ -128,7 +140,9 @@ class EmulatedHub:
             mpy = main_module(self.program)
             if mpy is None or not mpy.startswith(MPY_V6_MAGIC):
                 raise ATT_Error(ERROR_VALUE_NOT_ALLOWED)
-            if not self.faults.never_start:
+            if self.faults.never_start:
+                self.report("fault: program accepted, never started (--never-start)")
+            else:
                 self._set_running(True)
         else:
             raise ATT_Error(ERROR_INVALID_COMMAND)
@@ -168,6 +182,7 @@ class EmulatedHub:
         for fields in self.lines.feed(data):
             self.commands += 1
             if self.faults.drop_link_after and self.commands == self.faults.drop_link_after:
+                self.report(f"fault: dropping the link on stdin command {self.commands} (--drop-link-after)")
                 asyncio.get_running_loop().create_task(self._drop_link())
                 return
             if fields[0] == "V" and len(fields) == 4:
@@ -190,9 +205,17 @@ class EmulatedHub:
             await self.connection.disconnect()
 
     def _write_stdout(self, line: bytes) -> None:
+        self.stdout_lines += 1
         if self.faults.garbage_rate and self.random.random() < self.faults.garbage_rate:
             start = self.random.randrange(len(GARBAGE))
             line = GARBAGE[start:] + line
+            self.garbage_lines += 1
+            if time.monotonic() >= self._next_garbage_report:
+                self._next_garbage_report = time.monotonic() + REPORT_INTERVAL_S
+                self.report(
+                    f"fault: garbage before {self.garbage_lines} of {self.stdout_lines} stdout lines so far "
+                    "(--garbage-rate)"
+                )
         mtu = self.connection.att_mtu if self.connection is not None else ATT_DEFAULT_MTU
         chunk = mtu - 3 - 1
         for offset in range(0, len(line), chunk):

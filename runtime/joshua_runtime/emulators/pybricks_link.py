@@ -38,10 +38,10 @@ async def in_process(name: str, faults: HubFaults | None = None) -> tuple[Emulat
     return emulated, central
 
 
-async def serve_hci(name: str, port: int, faults: HubFaults | None = None):
+async def serve_hci(name: str, port: int, faults: HubFaults | None = None, report=lambda _text: None):
     """Start a hub and serve the HCI of a controller next to it on 127.0.0.1:port; returns (hub, transport)."""
     link = LocalLink()
-    emulated = EmulatedHub(_device_on(link, "hub", HUB_ADDRESS), name, faults)
+    emulated = EmulatedHub(_device_on(link, "hub", HUB_ADDRESS), name, faults, report)
     await emulated.start()
     transport = await open_transport(f"tcp-server:127.0.0.1:{port}")
     Controller("host", host_source=transport.source, host_sink=transport.sink, link=link)
@@ -57,8 +57,11 @@ def serve(args, should_stop) -> None:
         seed=args.seed,
     )
 
+    def report(text: str) -> None:
+        print(f"joshua-emulate: {text}", flush=True)
+
     async def main() -> None:
-        emulated, transport = await serve_hci(args.name, args.port, faults)
+        emulated, transport = await serve_hci(args.name, args.port, faults, report)
         print(
             f"joshua-emulate: Pybricks hub {args.name!r} ({HUB_ADDRESS}) reachable over "
             f"hci tcp-client:127.0.0.1:{args.port}",

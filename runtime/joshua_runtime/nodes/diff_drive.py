@@ -80,6 +80,13 @@ class BaseTopics:
         self.wheels.set_wheel_speeds(*limit_speeds(left, right, MAX_WHEEL_SPEED_RAD_S))
         self.last_command = time.monotonic()
 
+    def wheels_lost(self) -> None:
+        """The wheels' link dropped: forget the last Twist, and restart odometry from the next reading."""
+        self.last_command = None
+        self.previous = None
+        self.velocities = (0.0, 0.0)
+        self.odometry.rebase()
+
     def tick(self) -> None:
         if self.last_command is not None and time.monotonic() - self.last_command > self.timeout_s:
             self.wheels.set_wheel_speeds(0.0, 0.0)

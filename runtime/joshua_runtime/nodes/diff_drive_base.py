@@ -2,7 +2,10 @@
 
 The hub is reached through the computer's adapter (bleak), or through a Bumble controller when
 ble_transport names one (a USB dongle, or `joshua-emulate pybricks`). When the link drops the driver
-reconnects; meanwhile no odometry is published and the hub program stops the wheels on its own.
+reconnects; meanwhile no odometry is published, the hub program stops the wheels on its own, and
+the node says so (hub_link.py: a log line, an ERROR on /diagnostics, exit code 3 when the link stays
+down for HUB_RECONNECT_WINDOW_S). After a reconnection the wheels wait for the next Twist and
+odometry goes on from the pose it had.
 """
 
 import math
@@ -12,6 +15,7 @@ from joshua_runtime.drivers.pybricks_program import program_blob
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes.diff_drive import BaseTopics, WheelDrive
+from joshua_runtime.nodes.hub_link import HubLinkWatch
 
 
 def hub_transport(ble_transport: str):
@@ -51,6 +55,7 @@ class DiffDriveBase(JoshuaNode):
         self.hub.open()
         self.log.info(f"connected to Pybricks hub {self.settings.hub!r}, program running")
         self.topics = BaseTopics(self, self.settings, HubWheels(self.hub))
+        self.link = HubLinkWatch(self, self.hub, on_lost=self.topics.wheels_lost)
 
     def close(self) -> None:
         if self.hub is not None:

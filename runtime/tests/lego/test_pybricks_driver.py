@@ -8,6 +8,7 @@ import time
 
 import pytest
 
+from joshua_core.device_link import DEVICE_SILENCE_S
 from joshua_runtime.drivers.pybricks import PybricksHub
 from joshua_runtime.drivers.pybricks_bumble import BumbleTransport
 from joshua_runtime.emulators.pybricks import HubFaults
@@ -55,6 +56,18 @@ def test_the_link_lost_mid_command_is_reconnected(linked_hub):
     assert driver.set_speeds(100, 100).result(2) is None  # the link drops on this one
     wait_for(lambda: driver.reconnects == 1 and driver.connected, timeout=5.0)
     assert emulated.running  # the program went on running: not downloaded again
+    assert driver.set_speeds(50, 50).result(2) is not None
+
+
+def test_a_hub_that_goes_silent_is_declared_lost_and_its_program_started_again(linked_hub):
+    driver, emulated = linked_hub()
+    emulated.running = False  # the program ends without a word: no more angle reports, the link still up
+    wait_for(lambda: driver.link_lost_at is not None, timeout=DEVICE_SILENCE_S + 2.0)
+    assert driver.lost_reason == f"no wheel angles for {DEVICE_SILENCE_S:g} s"
+    assert driver.set_speeds(50, 50).result(2) is None  # dropped while the link is down
+    wait_for(lambda: driver.reconnects == 1 and driver.connected, timeout=5.0)
+    assert driver.link_lost_at is None and driver.link_losses == 1
+    assert emulated.running  # started again on the reconnection
     assert driver.set_speeds(50, 50).result(2) is not None
 
 

@@ -1,4 +1,4 @@
-"""The simulation stands in for the servo nodes' /diagnostics and preset channel too, as the manifest says."""
+"""The simulation stands in for the servo nodes' and the base's /diagnostics and the preset channel too, as the manifest says."""
 
 import signal
 
@@ -10,6 +10,8 @@ from sim_ros import RELIABLE, STARTUP_TIMEOUT_S
 from std_msgs.msg import String
 
 from joshua_runtime.presets import BUILTIN_PRESETS
+from testsupport.compiled_settings import compiled_settings
+from testsupport.joshuac_cli import ROOT
 
 CONVERGE_TIMEOUT_S = 20.0
 TOLERANCE_RAD = 0.03
@@ -42,6 +44,21 @@ def test_simulated_arm_reports_diagnostics_and_follows_presets(start_node, ros_c
         assert at(REST), "goals moved the arm after torque_off"
         presets.publish(String(data="torque_on"))
         assert ros_client.spin_until(lambda: at([0.0] * 6), CONVERGE_TIMEOUT_S, every=lambda: command.publish(goal))
+    finally:
+        code, _, stderr = process.stop(signal.SIGINT)
+    assert code == 0, stderr
+
+
+def test_the_simulated_lego_car_reports_its_base_on_diagnostics(start_node, ros_client):
+    config = ROOT / "config" / "robots" / "lego_bot.pbtxt"
+    process = start_node(compiled_settings(config.read_text(), ["mode=MODE_SIMULATION"])["simulation"])
+    ros_client.listen("/diagnostics", DiagnosticArray, RELIABLE)
+    try:
+        assert ros_client.spin_until(lambda: ros_client.last("/diagnostics"), STARTUP_TIMEOUT_S), process.failure()
+        statuses = ros_client.last("/diagnostics").status
+        assert [(s.name, s.level, s.message) for s in statuses] == [
+            ("base: Pybricks hub", DiagnosticStatus.OK, "simulated")
+        ]
     finally:
         code, _, stderr = process.stop(signal.SIGINT)
     assert code == 0, stderr
