@@ -18,7 +18,10 @@ constexpr size_t READING_BYTES = 6;
 constexpr size_t READINGS_OFFSET = 4;
 constexpr size_t TURN_BYTES = PACKETS_PER_TURN * PACKET_BYTES;
 constexpr double SPEED_SCALE = 10;  // speed field = rpm x 10
+// No usable turn this long after opening: the device is not streaming (time for the motor to spin up).
 constexpr std::chrono::seconds SILENT_DEVICE_TIMEOUT{2};
+// No usable turn this long once the device has streamed: it stopped (DEVICE_SILENCE_S of joshua_core.device_link).
+constexpr std::chrono::seconds STREAM_SILENCE_TIMEOUT{1};
 constexpr size_t READ_CHUNK_BYTES = 4096;
 const uint8_t START_COMMAND = 'b';
 const uint8_t STOP_COMMAND = 'e';
@@ -40,6 +43,7 @@ void Lds01::open() {
     throw DeviceError("cannot open LDS-01 lidar at " + port_.path() + ": " + error.what());
   }
   buffer_.clear();
+  streaming_ = false;
   last_turn_ = std::chrono::steady_clock::now();
 }
 
@@ -74,13 +78,20 @@ std::optional<LaserTurn> Lds01::poll() {
     std::optional<LaserTurn> turn = assemble(buffer_.data(), std::chrono::system_clock::now());
     buffer_.erase(buffer_.begin(), buffer_.begin() + TURN_BYTES);
     if (turn) {
+      streaming_ = true;
       last_turn_ = std::chrono::steady_clock::now();
       return turn;
     }
   }
-  if (std::chrono::steady_clock::now() - last_turn_ > SILENT_DEVICE_TIMEOUT) {
-    throw DeviceError("LDS-01 lidar at " + port_.path() +
-                      " sent no usable scan within 2 s (silent device, wrong baud rate or not an LDS-01)");
+  const auto silent = std::chrono::steady_clock::now() - last_turn_;
+  if (streaming_ && silent > STREAM_SILENCE_TIMEOUT) {
+    throw DeviceError("LDS-01 lidar at " + port_.path() + " stopped streaming: no usable scan for " +
+                      std::to_string(STREAM_SILENCE_TIMEOUT.count()) + " s");
+  }
+  if (!streaming_ && silent > SILENT_DEVICE_TIMEOUT) {
+    throw DeviceError("LDS-01 lidar at " + port_.path() + " sent no usable scan within " +
+                      std::to_string(SILENT_DEVICE_TIMEOUT.count()) +
+                      " s (silent device, wrong baud rate or not an LDS-01)");
   }
   return std::nullopt;
 }

@@ -38,7 +38,7 @@ class Lds01 {
   // Stops the motor and releases the port (never throws).
   void close();
   // Reads what has arrived and returns the next complete turn, if any. DeviceError when no usable
-  // turn came for SILENT_DEVICE_TIMEOUT.
+  // turn came for SILENT_DEVICE_TIMEOUT after opening, or for STREAM_SILENCE_TIMEOUT once it streamed.
   std::optional<LaserTurn> poll();
 
  private:
@@ -46,6 +46,7 @@ class Lds01 {
 
   SerialPort port_;
   std::vector<uint8_t> buffer_;
+  bool streaming_ = false;
   std::chrono::steady_clock::time_point last_turn_;
 };
 

@@ -11,12 +11,17 @@ A packet is used only when it passes the sanity check; the readings of a skipped
     devices, so off by default, as in the ROS driver).
 
 A turn in which no packet passes is dropped. The scan's rpm is the mean speed of its good packets.
+
+A read that gets no usable turn for `silent_timeout_s` before the device ever streamed
+(SILENT_DEVICE_TIMEOUT_S: time for the motor to spin up) means it is not streaming; for
+DEVICE_SILENCE_S once it has streamed, that it stopped (joshua_core.device_link). Both are a DeviceError.
 """
 
 import time
 
 import serial
 
+from joshua_core.device_link import DEVICE_SILENCE_S
 from joshua_core.schema import PerceptionPacket
 from joshua_runtime.drivers import lds01_protocol as proto
 from joshua_runtime.drivers.driver import Driver
@@ -24,7 +29,7 @@ from joshua_runtime.drivers.scan_geometry import fill_point_cloud
 from joshua_runtime.errors import DeviceError
 
 READ_POLL_S = 0.05  # longest single blocking read, so callers can stop promptly
-SILENT_DEVICE_TIMEOUT_S = 2.0  # no complete turn for this long: the device is not streaming
+SILENT_DEVICE_TIMEOUT_S = 2.0  # no complete turn for this long after opening: the device is not streaming
 SCAN_KIND = "laser_scan"
 
 
@@ -49,6 +54,7 @@ class Lds01Driver(Driver):
         self.turns_dropped = 0
         self._serial: serial.Serial | None = None
         self._buffer = bytearray()
+        self._streaming = False  # a usable turn came since the port was opened
 
     def open(self) -> None:
         """Open the port, discard stale input and start the motor."""
@@ -60,6 +66,7 @@ class Lds01Driver(Driver):
             self._serial = None
             raise DeviceError(f"cannot open LDS-01 lidar at {self.port}: {_reason(exc)}") from None
         self._buffer.clear()
+        self._streaming = False
 
     def close(self) -> None:
         """Stop the motor and release the port (never raises)."""
@@ -77,26 +84,35 @@ class Lds01Driver(Driver):
     def read_scan(self, should_stop=lambda: False) -> PerceptionPacket | None:
         """The next complete turn; None when `should_stop()` became true first.
 
-        Raises DeviceError when no usable turn arrives within `silent_timeout_s`.
+        Raises DeviceError when no usable turn arrives within `silent_timeout_s` before the first turn,
+        or within DEVICE_SILENCE_S once the device has streamed.
         """
         if self._serial is None:
             raise DeviceError(f"LDS-01 lidar at {self.port} is not open")
-        deadline = time.monotonic() + self.silent_timeout_s
+        deadline = time.monotonic() + (DEVICE_SILENCE_S if self._streaming else self.silent_timeout_s)
         while not should_stop():
             turn, started = self._take_turn()
             if turn is not None:
                 scan = self._assemble(turn, started)
                 if scan is not None:
+                    self._streaming = True
                     return scan
                 self.turns_dropped += 1
                 continue
             if time.monotonic() > deadline:
-                raise DeviceError(
-                    f"LDS-01 lidar at {self.port} sent no usable scan within {self.silent_timeout_s:g} s "
-                    f"(silent device, wrong baud rate or not an LDS-01)"
-                )
+                raise self._silence()
             self._fill()
         return None
+
+    def _silence(self) -> DeviceError:
+        if self._streaming:
+            return DeviceError(
+                f"LDS-01 lidar at {self.port} stopped streaming: no usable scan for {DEVICE_SILENCE_S:g} s"
+            )
+        return DeviceError(
+            f"LDS-01 lidar at {self.port} sent no usable scan within {self.silent_timeout_s:g} s "
+            f"(silent device, wrong baud rate or not an LDS-01)"
+        )
 
     def _fill(self) -> None:
         try:

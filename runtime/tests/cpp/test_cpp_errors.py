@@ -11,8 +11,9 @@ import time
 import pytest
 from cpp_support import NODE_START_TIMEOUT_S, STOP_BOUND_S, cpp_commands, error_line
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from sensor_msgs.msg import JointState
+from sensor_msgs.msg import JointState, LaserScan
 
+from joshua_core.device_link import DEVICE_SILENCE_S
 from testsupport.compiled_settings import compiled_settings
 
 SO100_BUS = 'device_ids: [1, 2, 3, 4, 5, 6]'
@@ -25,6 +26,7 @@ robot_config {{
 }}
 """
 RELIABLE = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
 
 
 def with_parameter(argv: list[str], override: str) -> list[str]:
@@ -65,6 +67,25 @@ def test_a_missing_device_ends_both_nodes_alike(start_node, start_cpp, node_type
         assert "No such file or directory" in python_text and cpp_text.endswith("No such file or directory")
     else:
         assert cpp_text == python_text == "serial port /dev/joshua-absent not found"
+
+
+def test_a_lidar_that_stops_streaming_ends_both_nodes_alike(lidars, start_node, start_cpp, ros_client):
+    python_lidar, cpp_lidar = lidars("ttySTALL-py"), lidars("ttySTALL-cpp")
+    text, overrides = pair("LIDAR_PUBLISHER", ""), [f"py_node.serial_port={python_lidar.link}",
+                                                  f"cpp_node.serial_port={cpp_lidar.link}"]
+    python = start_node(compiled_settings(text, overrides)["py_node"])
+    cpp = start_cpp(cpp_commands(text, overrides)["cpp_node"])
+    ros_client.listen("/py", LaserScan, SENSOR_QOS)
+    ros_client.listen("/cpp", LaserScan, SENSOR_QOS)
+    assert ros_client.spin_until(lambda: ros_client.last("/py") and ros_client.last("/cpp"), NODE_START_TIMEOUT_S), (
+        python.failure(), cpp.failure())
+    python_lidar.stream.spinning = cpp_lidar.stream.spinning = False  # motors stall: ports stay, data stops
+    for node, suffix in ((python, "-py"), (cpp, "-cpp")):
+        code, stderr = node.wait(NODE_START_TIMEOUT_S)
+        assert code == 3, stderr
+        assert error_line(stderr).replace(suffix, "") == (
+            f"LDS-01 lidar at {python_lidar.link.parent}/ttySTALL stopped streaming: "
+            f"no usable scan for {DEVICE_SILENCE_S:g} s")
 
 
 def test_a_calibration_file_without_the_joints_is_unusable_settings(tmp_path, buses, start_node, start_cpp):

@@ -24,6 +24,7 @@ from sensor_support import (
     publishers,
 )
 
+from joshua_core.device_link import DEVICE_SILENCE_S
 from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.nodes import mock_arm
@@ -241,6 +242,18 @@ def test_lidar_publisher_exits_3_when_the_device_disappears(tmp_path, start_node
     assert "]: ready: first scan published; publishing /scan" in ready
     assert rest == [stderr.splitlines()[-1]]
     assert rest[0].startswith(f"lidar: error: LDS-01 lidar at {link} stopped answering: ")
+
+
+def test_lidar_publisher_exits_3_when_the_device_stops_streaming(tmp_path, start_node, ros_client):
+    with Lds01Emulator(tmp_path / "ttySTALL") as emulator:
+        node = start_node(lidar(emulator.link))
+        collect(ros_client, LaserScan, "/scan", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
+        emulator.stream.spinning = False  # the motor stalls: the port stays, the data stops
+        code, stderr = node.wait()
+    assert code == 3
+    assert stderr.splitlines()[-1] == (
+        f"lidar: error: LDS-01 lidar at {emulator.link} stopped streaming: no usable scan for {DEVICE_SILENCE_S:g} s"
+    )
 
 
 def test_lidar_publisher_without_its_port_exits_3_with_one_line(tmp_path, start_node):
