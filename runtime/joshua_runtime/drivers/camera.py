@@ -1,7 +1,9 @@
 """OpenCV camera driver: a V4L2 device index or a video file/URL, frames as bgr8 PerceptionPackets.
 
 A video file is played in a loop (it rewinds at its end), so a recorded clip can stand in for a
-camera. Frames whose size differs from the requested width x height are resized to it.
+camera. Frames whose size differs from the requested width x height are resized to it. A stream
+(a URL) is opened through FFmpeg with STREAM_OPEN_TIMEOUT_S and STREAM_READ_TIMEOUT_S in place of
+FFmpeg's 30 s, so that a stalled stream does not hold a read that long.
 """
 
 import os
@@ -16,11 +18,15 @@ from joshua_runtime.errors import DeviceError
 ENCODING = "bgr8"
 BYTES_PER_PIXEL = 3
 OPENCV_LOG_SILENT = 0  # cv2.setLogLevel level that prints nothing
+FFMPEG_LOG_QUIET = "-8"  # AV_LOG_QUIET, for OPENCV_FFMPEG_LOGLEVEL
+STREAM_OPEN_TIMEOUT_S = 5.0
+STREAM_READ_TIMEOUT_S = 10.0
 
 
 def _silence_opencv() -> None:
-    """OpenCV logs its own warnings to stderr; the driver reports failures as one DeviceError line."""
+    """OpenCV and FFmpeg log their own warnings to stderr; the driver reports failures as one DeviceError line."""
     cv2.setLogLevel(OPENCV_LOG_SILENT)
+    os.environ["OPENCV_FFMPEG_LOGLEVEL"] = FFMPEG_LOG_QUIET
 
 
 class CameraDriver(Driver):
@@ -65,8 +71,16 @@ class CameraDriver(Driver):
                 raise DeviceError(f"cannot open a camera: no video_source and invalid index {self.camera_index}")
             if not os.path.exists(f"/dev/video{self.camera_index}"):
                 raise DeviceError(f"cannot open {self.description}: no such device")
-        if self.video_source:
+        if self.is_file:
             capture = cv2.VideoCapture(self.video_source)
+        elif self.video_source:
+            timeouts = [
+                cv2.CAP_PROP_OPEN_TIMEOUT_MSEC,
+                int(STREAM_OPEN_TIMEOUT_S * 1000),
+                cv2.CAP_PROP_READ_TIMEOUT_MSEC,
+                int(STREAM_READ_TIMEOUT_S * 1000),
+            ]
+            capture = cv2.VideoCapture(self.video_source, cv2.CAP_FFMPEG, timeouts)
         else:
             capture = cv2.VideoCapture(self.camera_index, cv2.CAP_V4L2)
         if not capture.isOpened():

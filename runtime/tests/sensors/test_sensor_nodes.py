@@ -12,6 +12,7 @@ import signal
 
 import numpy as np
 import pytest
+from mjpeg_server import MjpegServer
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 from sensor_support import (
@@ -283,6 +284,49 @@ def test_camera_publisher_without_its_camera_exits_3_with_one_line(start_node):
     code, stderr = start_node(settings).wait()
     assert code == 3
     assert stderr == "front_camera: error: cannot open camera 63 (/dev/video63): no such device\n"
+
+
+def network_camera(url: str) -> dict:
+    return compiled_node(
+        f'name: "ip_camera" type: CAMERA_PUBLISHER topic_name: "/ip/image" video_source: "{url}" '
+        "width: 160 height: 120 rate_hz: 10"
+    )
+
+
+def test_camera_publisher_exits_3_when_its_stream_stalls(start_node, ros_client):
+    from sensor_msgs.msg import Image
+
+    with MjpegServer(frames=30, then="stall") as camera:
+        node = start_node(network_camera(camera.url))
+        collect(ros_client, Image, "/ip/image", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
+        code, stderr = node.wait()
+    assert code == 3, stderr
+    ready, error = stderr.splitlines()  # nothing from OpenCV or FFmpeg in between
+    assert "]: ready: publishing /ip/image at 10 Hz" in ready
+    assert error == (
+        f"ip_camera: error: video source {camera.url} stopped delivering frames: no frame for {DEVICE_SILENCE_S:g} s"
+    )
+
+
+def test_camera_publisher_exits_3_when_its_stream_ends(start_node, ros_client):
+    from sensor_msgs.msg import Image
+
+    with MjpegServer(frames=30, then="end") as camera:
+        node = start_node(network_camera(camera.url))
+        collect(ros_client, Image, "/ip/image", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
+        code, stderr = node.wait()
+    assert code == 3, stderr
+    assert stderr.splitlines()[1:] == [f"ip_camera: error: video source {camera.url} stopped delivering frames"]
+
+
+def test_camera_publisher_stops_at_once_while_its_stream_stalls(start_node, ros_client):
+    from sensor_msgs.msg import Image
+
+    with MjpegServer(frames=5, then="stall") as camera:
+        node = start_node(network_camera(camera.url))
+        collect(ros_client, Image, "/ip/image", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
+        ros_client.spin_until(lambda: False, 0.5)  # the stream stalled: a read waits for a frame
+        assert_clean_stop(node, signal.SIGINT)
 
 
 def test_camera_publisher_sends_640x480_frames_across_processes_without_drops(tmp_path, start_node, ros_client):
