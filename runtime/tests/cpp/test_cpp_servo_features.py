@@ -304,3 +304,33 @@ def test_encoders_report_a_lost_bus_alike(buses, start_node, start_cpp, ros_clie
             assert list(values) == ["servo_id", "read_failures"] and int(values["read_failures"]) >= 1, (node, joint)
     # Past the grace period both end with the device's exit code.
     assert python.wait()[0] == cpp.wait()[0] == 3
+
+
+def test_idle_actuators_report_a_lost_bus_alike_and_exit_3(buses, start_node, start_cpp, ros_client):
+    """No state_topic and no goals: the diagnostics read (1 Hz by default) is what finds the bus gone."""
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
+    settings, argv = twins(
+        "follower",
+        "ACTUATOR_SUBSCRIBER",
+        "command",
+        "",
+        [f"py_follower.serial_port={python_bus.link}", f"cpp_follower.serial_port={cpp_bus.link}"],
+    )
+    python, cpp = start_node(settings), start_cpp(argv)
+    ros_client.listen("/diagnostics", DiagnosticArray, READER_QOS, keep=KEPT_DIAGNOSTICS)
+
+    def both_at(level) -> bool:
+        def accept(statuses):
+            return all(status.level == level for status in statuses.values())
+
+        return bool(statuses_of(ros_client, "py_follower", accept) and statuses_of(ros_client, "cpp_follower", accept))
+
+    assert ros_client.spin_until(lambda: both_at(OK), NODE_START_TIMEOUT_S), (python.failure(), cpp.failure())
+    python_bus.stop(), cpp_bus.stop()
+    assert ros_client.spin_until(lambda: both_at(ERROR), MESSAGE_TIMEOUT_S)
+    for node, bus in ((python, python_bus), (cpp, cpp_bus)):
+        code, stderr = node.wait()
+        assert code == 3, stderr
+        lines = stderr.strip().splitlines()
+        assert any("[WARN]" in line and str(bus.link) in line for line in lines), stderr  # said at the first failure
+        assert lines[-1].split(": error: ", 1)[1] == f"{bus.link}: bus failing for 3 s: serial port {bus.link} not found"
