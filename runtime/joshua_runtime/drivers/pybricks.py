@@ -52,7 +52,7 @@ TELEMETRY_POLL_S = 0.1
 # Reconnection: the first attempt this long after the loss, each next one twice as long after, at most
 # RECONNECT_MAX_DELAY_S apart; one attempt (controller, scan, connection, program) may take this long.
 RECONNECT_FIRST_DELAY_S = 0.25
-RECONNECT_MAX_DELAY_S = 2.0
+RECONNECT_MAX_DELAY_S = 1.0
 RECONNECT_ATTEMPT_TIMEOUT_S = 5.0
 # How long releasing a dead link may take before the driver goes on without it.
 RELEASE_TIMEOUT_S = 1.0
@@ -238,10 +238,13 @@ class PybricksHub(Driver):
             self._lose(reason)
 
     async def _watch_telemetry(self) -> None:
-        """Declare the link lost when an established link brings no angle report for DEVICE_SILENCE_S."""
+        """Declare the link lost when, counted as up, it brings no angle report for DEVICE_SILENCE_S.
+
+        Also the net under a disconnection that came while a reconnection was finishing.
+        """
         while not self._closing:
             await asyncio.sleep(TELEMETRY_POLL_S)
-            if self.connected and time.monotonic() - self._last_report_at > DEVICE_SILENCE_S:
+            if self.link_lost_at is None and time.monotonic() - self._last_report_at > DEVICE_SILENCE_S:
                 self._lose(f"no wheel angles for {DEVICE_SILENCE_S:g} s")
 
     def _lose(self, reason: str) -> None:
@@ -297,7 +300,10 @@ class PybricksHub(Driver):
             except Exception:  # the link may be gone already; there is nothing left to stop then
                 pass
         self._link += 1
-        await self.transport.close()
+        try:
+            await self.transport.close()
+        except Exception:  # a dead link fails its release in transport-specific ways; the process lets go of it anyway
+            pass
 
 
 async def _cancel_other_tasks() -> None:
