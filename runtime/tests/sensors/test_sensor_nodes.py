@@ -12,7 +12,6 @@ import signal
 
 import numpy as np
 import pytest
-from mjpeg_server import MjpegServer
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from sensor_msgs.msg import CompressedImage, JointState, LaserScan
 from sensor_support import (
@@ -32,6 +31,7 @@ from joshua_runtime.nodes import mock_arm
 from joshua_runtime.nodes.mock_camera_publisher import SCROLL_PX, gradient, pattern_frame
 from testsupport.compiled_settings import compiled_node
 from testsupport.joshuac_cli import ROOT
+from testsupport.mjpeg_server import MjpegServer
 
 RELIABLE_QOS = {"history": "KEEP_LAST", "depth": 3, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
 

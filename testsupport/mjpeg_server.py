@@ -6,6 +6,7 @@ connection stays open and nothing more comes, as from a hung camera) or ends (th
 
 import socket
 import threading
+import time
 
 import cv2
 import numpy as np
@@ -21,6 +22,7 @@ class MjpegServer:
         width, height = size
         self.jpeg = cv2.imencode(".jpg", np.full((height, width, 3), 128, np.uint8))[1].tobytes()
         self.frames, self.then, self.period_s = frames, then, period_s
+        self.last_frame_at = 0.0  # time.monotonic() when the newest frame was sent
         self.stopping = threading.Event()
         self.listener = socket.create_server(("127.0.0.1", 0))
         self.listener.settimeout(ACCEPT_POLL_S)
@@ -60,6 +62,7 @@ class MjpegServer:
                         len(self.jpeg),
                     )
                     connection.sendall(part + self.jpeg + b"\r\n")
+                    self.last_frame_at = time.monotonic()
                     if self.stopping.wait(self.period_s):
                         return
             except OSError:  # the client went away
