@@ -86,3 +86,48 @@ def test_signal_while_the_runtime_imports_rclpy_ends_the_node_with_0_and_no_trac
     stderr = process.stderr.read()
     assert code == 0, stderr
     assert stderr == ""
+
+
+RUNTIME_MARKER = "loading the runtime"
+# A generated entrypoint run as the supervisor runs it, whose first import of the runtime takes long.
+SLOW_RUNTIME_SCRIPT = f"""
+import runpy, sys, time
+
+class SlowRuntime:
+    def find_spec(self, name, path=None, target=None):
+        if name == "joshua_runtime.entrypoint":
+            print({RUNTIME_MARKER!r}, flush=True)
+            time.sleep({SLOW_START_S})
+        return None
+
+sys.meta_path.insert(0, SlowRuntime())
+runpy.run_path(sys.argv[1], run_name="__main__")
+"""
+
+
+def test_sigint_while_a_generated_entrypoint_loads_the_runtime_ends_it_with_0_and_no_traceback(tmp_path, ros_env):
+    from joshua_codegen.compile import plan_text
+    from joshua_codegen.render import render
+
+    description = (
+        'robot_config { name: "r" mode: MODE_TELEOPERATION '
+        'node { name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/joints" } }'
+    )
+    entrypoint = tmp_path / "arm.py"
+    entrypoint.write_text(render(plan_text(description))["nodes/arm.py"])
+    process = subprocess.Popen(
+        [sys.executable, "-c", SLOW_RUNTIME_SCRIPT, str(entrypoint)],
+        env=ros_env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert process.stdout.readline().strip() == RUNTIME_MARKER
+        process.send_signal(signal.SIGINT)
+        code = process.wait(timeout=STOP_TIMEOUT_S)
+    finally:
+        process.kill()
+    stderr = process.stderr.read()
+    assert code == 0, stderr
+    assert stderr == ""

@@ -34,6 +34,9 @@ SETTINGS = {
 }
 
 if __name__ == "__main__":
-    from joshua_runtime.entrypoint import run_node
+    try:
+        from joshua_runtime.entrypoint import run_node
 
-    sys.exit(run_node(SETTINGS))
+        sys.exit(run_node(SETTINGS))
+    except KeyboardInterrupt:  # SIGINT before run_node took over the signals: the node had not started
+        sys.exit(0)
