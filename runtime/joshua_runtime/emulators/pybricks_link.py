@@ -28,10 +28,12 @@ def _device_on(link: LocalLink, name: str, address: str) -> Device:
     return Device(name=name, address=Address(address), host=Host(controller, AsyncPipeSink(controller)))
 
 
-async def in_process(name: str, faults: HubFaults | None = None) -> tuple[EmulatedHub, Device]:
+async def in_process(
+    name: str, faults: HubFaults | None = None, report=lambda _text: None
+) -> tuple[EmulatedHub, Device]:
     """A started emulated hub and a powered-on central Device, both on one in-process link."""
     link = LocalLink()
-    emulated = EmulatedHub(_device_on(link, "hub", HUB_ADDRESS), name, faults)
+    emulated = EmulatedHub(_device_on(link, "hub", HUB_ADDRESS), name, faults, report)
     await emulated.start()
     central = _device_on(link, "central", CENTRAL_ADDRESS)
     await central.power_on()

@@ -18,12 +18,17 @@ def blob() -> bytes:
 
 @pytest.fixture
 def linked_hub(blob):
-    """Factory: linked_hub(faults=None, open=True) -> (driver, emulated hub) on one in-process link."""
+    """Factory: linked_hub(faults=None, open=True) -> (driver, emulated hub) on one in-process link.
+
+    What the emulated hub reports about the faults it injects is kept in its `reports` list.
+    """
     made = []
 
     def make(faults: HubFaults | None = None, open: bool = True):
         driver = PybricksHub(HUB_NAME, None, blob)
-        emulated, central = driver.run_on_loop(in_process(HUB_NAME, faults), 5.0)
+        reports = []
+        emulated, central = driver.run_on_loop(in_process(HUB_NAME, faults, reports.append), 5.0)
+        emulated.reports = reports
         driver.transport = BumbleTransport(device=central)
         made.append((driver, emulated))
         if open:

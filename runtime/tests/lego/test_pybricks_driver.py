@@ -41,12 +41,15 @@ def test_garbage_on_stdout_costs_lines_not_values(linked_hub):
     time.sleep(0.3)
     assert driver.lines.rejected > 0
     assert abs(driver.latest.left_deg - emulated.left.angle_deg) < 30
+    assert emulated.reports[0].startswith("fault: garbage before 1 of ")
+    assert emulated.reports[0].endswith(" stdout lines so far (--garbage-rate)")
 
 
 def test_a_hub_that_never_starts_the_program_is_a_clear_error(linked_hub):
-    driver, _ = linked_hub(HubFaults(never_start=True), open=False)
+    driver, emulated = linked_hub(HubFaults(never_start=True), open=False)
     with pytest.raises(DeviceError, match="did not start its program"):
         driver.open()
+    assert emulated.reports == ["fault: program accepted, never started (--never-start)"]
 
 
 def test_the_link_lost_mid_command_is_reconnected(linked_hub):
@@ -54,6 +57,7 @@ def test_the_link_lost_mid_command_is_reconnected(linked_hub):
     assert driver.set_speeds(100, 100).result(2) is not None
     assert driver.set_speeds(100, 100).result(2) is not None
     assert driver.set_speeds(100, 100).result(2) is None  # the link drops on this one
+    assert emulated.reports == ["fault: dropping the link on stdin command 3 (--drop-link-after)"]
     wait_for(lambda: driver.reconnects == 1 and driver.connected, timeout=5.0)
     assert emulated.running  # the program went on running: not downloaded again
     assert driver.set_speeds(50, 50).result(2) is not None
