@@ -1,7 +1,7 @@
-"""A network camera for the tests: an MJPEG stream over HTTP (multipart/x-mixed-replace) on 127.0.0.1.
+"""A network camera for tests and benchmarks: an MJPEG stream over HTTP (multipart/x-mixed-replace) on 127.0.0.1.
 
-Each connection gets `frames` JPEG frames `period_s` apart, then, as told, the stream stalls (the
-connection stays open and nothing more comes, as from a hung camera) or ends (the connection closes).
+Each connection gets a JPEG frame every `period_s` until the caller says `stall()` (the connection
+stays open and nothing more comes, as from a hung camera) or `end()` (the connection closes).
 """
 
 import socket
@@ -17,17 +17,29 @@ ACCEPT_POLL_S = 0.1
 
 
 class MjpegServer:
-    def __init__(self, frames: int, then: str = "stall", size: tuple[int, int] = (160, 120), period_s: float = 0.05):
-        assert then in ("stall", "end")
+    def __init__(self, size: tuple[int, int] = (160, 120), period_s: float = 0.2):
         width, height = size
         self.jpeg = cv2.imencode(".jpg", np.full((height, width, 3), 128, np.uint8))[1].tobytes()
-        self.frames, self.then, self.period_s = frames, then, period_s
-        self.last_frame_at = 0.0  # time.monotonic() when the newest frame was sent
+        self.period_s = period_s
+        self.streaming = threading.Event()
+        self.streaming.set()
+        self.closing = False  # after the stream stops: close the connections (True) or keep them open
+        self.stopped_at = 0.0  # time.monotonic() when stall() or end() was called
         self.stopping = threading.Event()
         self.listener = socket.create_server(("127.0.0.1", 0))
         self.listener.settimeout(ACCEPT_POLL_S)
         self.url = f"http://127.0.0.1:{self.listener.getsockname()[1]}/stream.mjpg"
         self.threads = [threading.Thread(target=self._accept, daemon=True)]
+
+    def stall(self) -> None:
+        """From now on, send nothing and keep every connection open."""
+        self.stopped_at = time.monotonic()
+        self.streaming.clear()
+
+    def end(self) -> None:
+        """From now on, close every connection after its current frame."""
+        self.closing = True
+        self.stall()
 
     def __enter__(self) -> "MjpegServer":
         self.threads[0].start()
@@ -56,16 +68,15 @@ class MjpegServer:
                 connection.sendall(
                     b"HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=" + BOUNDARY + b"\r\n\r\n"
                 )
-                for _ in range(self.frames):
+                while self.streaming.is_set():
                     part = b"--%s\r\nContent-Type: image/jpeg\r\nContent-Length: %d\r\n\r\n" % (
                         BOUNDARY,
                         len(self.jpeg),
                     )
                     connection.sendall(part + self.jpeg + b"\r\n")
-                    self.last_frame_at = time.monotonic()
                     if self.stopping.wait(self.period_s):
                         return
             except OSError:  # the client went away
                 return
-            if self.then == "stall":
+            if not self.closing:
                 self.stopping.wait()

@@ -296,9 +296,10 @@ def network_camera(url: str) -> dict:
 def test_camera_publisher_exits_3_when_its_stream_stalls(start_node, ros_client):
     from sensor_msgs.msg import Image
 
-    with MjpegServer(frames=30, then="stall") as camera:
+    with MjpegServer() as camera:
         node = start_node(network_camera(camera.url))
         collect(ros_client, Image, "/ip/image", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
+        camera.stall()
         code, stderr = node.wait()
     assert code == 3, stderr
     ready, error = stderr.splitlines()  # nothing from OpenCV or FFmpeg in between
@@ -311,9 +312,10 @@ def test_camera_publisher_exits_3_when_its_stream_stalls(start_node, ros_client)
 def test_camera_publisher_exits_3_when_its_stream_ends(start_node, ros_client):
     from sensor_msgs.msg import Image
 
-    with MjpegServer(frames=30, then="end") as camera:
+    with MjpegServer() as camera:
         node = start_node(network_camera(camera.url))
         collect(ros_client, Image, "/ip/image", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
+        camera.end()
         code, stderr = node.wait()
     assert code == 3, stderr
     assert stderr.splitlines()[1:] == [f"ip_camera: error: video source {camera.url} stopped delivering frames"]
@@ -322,10 +324,11 @@ def test_camera_publisher_exits_3_when_its_stream_ends(start_node, ros_client):
 def test_camera_publisher_stops_at_once_while_its_stream_stalls(start_node, ros_client):
     from sensor_msgs.msg import Image
 
-    with MjpegServer(frames=5, then="stall") as camera:
+    with MjpegServer() as camera:  # a frame every 0.2 s for a node asking every 0.1 s: it always waits on one
         node = start_node(network_camera(camera.url))
         collect(ros_client, Image, "/ip/image", SENSOR_QOS, 1, timeout_s=NODE_START_TIMEOUT_S)
-        ros_client.spin_until(lambda: False, 0.5)  # the stream stalled: a read waits for a frame
+        camera.stall()
+        ros_client.spin_until(lambda: False, 0.2)  # a read waits for the next frame, short of the watchdog
         assert_clean_stop(node, signal.SIGINT)
 
 
