@@ -8,15 +8,17 @@ the C++ binary in build/bin with its `--ros-args`. One node at a time, per backe
 to its first use of the device and to its first message, the CPU seconds used by then, CPU use while
 running at its rate, PSS, and seconds from SIGINT to exit 0. Then leader -> follower latency (both
 nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-rate-hz, about what
-one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire. The binaries are brought up
-to date with `make cpp` first (a no-op when they are). --quick: 0.5 s of steady running, 200 Hz only,
-20 samples, a 1 s rate window.
+one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire. Last, the delay from SIGINT
+to exit as a distribution: an idle follower per backend, started afresh --stop-trials times, SIGINT at
+a random moment after its READY=1. The binaries are brought up to date with `make cpp` first (a no-op
+when they are). --quick: 0.5 s of steady running, 200 Hz only, 20 samples, a 1 s rate window, 2 stops.
 """
 
 import argparse
 import os
 import random
 import signal
+import socket
 import statistics
 import subprocess
 import sys
@@ -68,6 +70,8 @@ TORQUE_ENABLE_ADDRESS = register("Torque_Enable").address
 TOPICS = {"leader": "/leader/joint_states", "lidar": "/scan"}  # what each node publishes
 DEVICE_READY = ("leader", "follower")  # nodes whose first use of their bus the emulator sees
 CLOCK_TICKS_PER_S = os.sysconf("SC_CLK_TCK")
+STOP_TRIALS, QUICK_STOP_TRIALS = 20, 2
+STOP_JITTER_S = 0.1  # SIGINT this long at most after READY=1, at a random moment
 
 
 def commands(links: dict[str, Path], rate_hz: float) -> dict[str, dict[str, list[str]]]:
@@ -174,6 +178,35 @@ def measure_node(
     }
 
 
+def stop_delays(argv: list[str], env: dict, trials: int, jitter: random.Random) -> list[float]:
+    """Seconds from SIGINT to exit 0 of `argv`, started afresh per trial and signalled at a random moment
+    after it sent READY=1 (on a NOTIFY_SOCKET of this process, as the supervisor hands one)."""
+    delays = []
+    for trial in range(trials):
+        name = f"joshua-bench-stop-{os.getpid()}-{trial}"
+        with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as listener:
+            listener.bind("\0" + name)
+            listener.settimeout(STARTUP_TIMEOUT_S)
+            process = subprocess.Popen(
+                argv,
+                env={**env, "NOTIFY_SOCKET": f"@{name}"},
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            try:
+                while b"READY=1" not in listener.recv(4096):
+                    pass
+            except TimeoutError:
+                raise SystemExit(f"{argv[0]} sent no READY=1: {stop(process)[2]}") from None
+            time.sleep(jitter.random() * STOP_JITTER_S)
+            code, seconds_taken, stderr = stop(process)
+        if code != 0:
+            raise SystemExit(f"{argv[0]} exited {code} on SIGINT: {stderr}")
+        delays.append(seconds_taken)
+    return delays
+
+
 def teleop(
     argv: dict[str, list[str]], env: dict, leader_bus, follower_bus, rate_hz: float, samples: int, window_s: float
 ) -> dict:
@@ -229,8 +262,10 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=300)
     parser.add_argument("--fast-rate-hz", type=float, default=1000.0)
+    parser.add_argument("--stop-trials", type=int, default=STOP_TRIALS)
     parser.add_argument("--quick", action="store_true", help="a short run of every figure (for the tests)")
     args = parser.parse_args()
+    stop_trials = QUICK_STOP_TRIALS if args.quick else args.stop_trials
     steady_s = QUICK_STEADY_S if args.quick else STEADY_S
     window_s = QUICK_RATE_WINDOW_S if args.quick else RATE_WINDOW_S
     samples = QUICK_SAMPLES if args.quick else args.samples
@@ -268,7 +303,7 @@ def main() -> int:
             }
         finally:
             client.close()  # its callbacks would compete with the emulators for the GIL during teleop
-        latency = {}
+        latency, stops = {}, {}
         try:
             for rate in rates:
                 teleop_argv = commands(links, rate)
@@ -276,6 +311,9 @@ def main() -> int:
                     latency[rate, backend] = teleop(
                         teleop_argv[backend], env, leader_bus, follower_bus, rate, samples, window_s
                     )
+            jitter = random.Random(1)
+            for backend in BACKENDS:
+                stops[backend] = stop_delays(node_argv[backend]["follower"], env, stop_trials, jitter)
         finally:
             leader_bus.stop()
             follower_bus.stop()
@@ -304,6 +342,15 @@ def main() -> int:
             f"{r['read_rate']:.0f} leader transactions/s, {r['write_rate']:.0f} goal writes/s; "
             f"{r['missed']} missed; exit codes {r['codes']}"
         )
+    print(f"SIGINT -> exit 0 of an idle follower, {stop_trials} fresh starts per backend, signal at a random moment")
+    for backend, delays in stops.items():
+        ms = [1000 * delay for delay in delays]
+        print(
+            f"  {backend:<7} min {min(ms):.1f} ms, p50 {percentile(ms, 0.5):.1f} ms, p90 {percentile(ms, 0.9):.1f} ms, "
+            f"max {max(ms):.1f} ms, spread p90-min {percentile(ms, 0.9) - min(ms):.1f} ms"
+        )
+    ratio = percentile(stops["C++"], 0.5) / percentile(stops["Python"], 0.5)
+    print(f"  C++ p50 / Python p50: {ratio:.2f}")
     return 0
 
 

@@ -8,7 +8,6 @@
 #include <iostream>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "joshua_rcl/notify.hpp"
 #include "joshua_rcl/signals.hpp"
@@ -71,10 +70,16 @@ Node::Node(int argc, char** argv, const std::string& default_name)
   const rcl_ret_t parsed = rcl_arguments_get_param_overrides(&context_.global_arguments, &overrides);
   if (parsed != RCL_RET_OK) throw SettingsError("invalid parameters: " + take_rcl_error());
   parameters_ = std::make_unique<Parameters>(overrides, rcl_node_get_fully_qualified_name(&node_));
+
+  check_rcl(rcl_guard_condition_init(&stop_guard_, &context_, rcl_guard_condition_get_default_options()),
+            "cannot create a guard condition");
+  stop_listener_ = std::make_unique<StopListener>([this] { discard(rcl_trigger_guard_condition(&stop_guard_)); });
 }
 
 Node::~Node() {
+  stop_listener_.reset();
   if (rcl_wait_set_is_valid(&wait_set_)) discard(rcl_wait_set_fini(&wait_set_));
+  if (stop_guard_.impl != nullptr) discard(rcl_guard_condition_fini(&stop_guard_));
   subscriptions_.clear();
   entities_.clear();
   parameters_.reset();
@@ -89,17 +94,14 @@ void Node::every(double period_s, std::function<void()> callback) {
 }
 
 void Node::spin() {
-  if (!subscriptions_.empty()) {
-    check_rcl(rcl_wait_set_init(&wait_set_, subscriptions_.size(), 0, 0, 0, 0, 0, &context_,
-                                rcl_get_default_allocator()),
-              "cannot create a wait set");
-  }
+  check_rcl(rcl_wait_set_init(&wait_set_, subscriptions_.size(), 1, 0, 0, 0, 0, &context_,
+                              rcl_get_default_allocator()),
+            "cannot create a wait set");
   while (!stop_requested()) {
     notifier_->watchdog(Clock::now());
-    Clock::duration timeout = SHUTDOWN_POLL;
-    const Clock::time_point now = Clock::now();
-    for (const Timer& timer : timers_) timeout = std::min(timeout, timer.next - now);
-    wait_for_work(std::max(timeout, Clock::duration::zero()));
+    std::optional<Clock::time_point> until = notifier_->watchdog_due();
+    for (const Timer& timer : timers_) until = until ? std::min(*until, timer.next) : timer.next;
+    wait_for_work(until);
     run_due_timers();
   }
   notifier_->stopping();
@@ -137,16 +139,17 @@ std::string Node::serving() const {
   return summary.empty() ? "no topics" : summary;
 }
 
-void Node::wait_for_work(Clock::duration timeout) {
-  if (subscriptions_.empty()) {
-    std::this_thread::sleep_for(timeout);
-    return;
-  }
+void Node::wait_for_work(std::optional<Clock::time_point> until) {
   check_rcl(rcl_wait_set_clear(&wait_set_), "wait set");
   for (SubscriptionBase* subscription : subscriptions_) {
     check_rcl(rcl_wait_set_add_subscription(&wait_set_, subscription->handle(), nullptr), "wait set");
   }
-  const int64_t timeout_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  check_rcl(rcl_wait_set_add_guard_condition(&wait_set_, &stop_guard_, nullptr), "wait set");
+  int64_t timeout_ns = -1;  // rcl_wait blocks until something happens
+  if (until) {
+    const Clock::duration left = std::max(*until - Clock::now(), Clock::duration::zero());
+    timeout_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+  }
   const rcl_ret_t ret = rcl_wait(&wait_set_, timeout_ns);
   if (ret == RCL_RET_TIMEOUT) return;
   check_rcl(ret, "wait failed");
@@ -181,11 +184,11 @@ namespace {
 }  // namespace
 
 void run(int argc, char** argv, const std::string& default_name, Application& application) {
-  install_stop_handlers();
   std::unique_ptr<Node> node;
   std::string name = default_name;
   int code = 0;
   try {
+    install_stop_handlers();
     node = std::make_unique<Node>(argc, argv, default_name);
     name = node->name();
     application.start(*node);

@@ -7,28 +7,30 @@
 //
 // run() installs the SIGINT/SIGTERM handlers, starts the node, announces it ready (one "ready: ..." line
 // and READY=1 to the process manager, see notify.hpp; an Application with ready_later() announces itself),
-// spins until a signal arrives (noticed within SHUTDOWN_POLL; pinging the manager's watchdog), calls close(), destroys the node and ends the process with the exit code of
-// the Python runtime: 0 after a signal (also during start-up), else the JoshuaError's code with one
+// spins until a signal arrives (pinging the manager's watchdog), calls close(), destroys the node and ends
+// the process with the exit code of the Python runtime: 0 after a signal (also during start-up), else the JoshuaError's code with one
 // line `NAME: error: ...` on stderr. It does not return.
 #pragma once
 
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "joshua_rcl/endpoints.hpp"
 #include "joshua_rcl/parameters.hpp"
 #include "rcl/context.h"
+#include "rcl/guard_condition.h"
 #include "rcl/node.h"
 #include "rcl/wait.h"
 
 namespace joshua {
 
 class Notifier;
+class StopListener;
 using Clock = std::chrono::steady_clock;
-constexpr std::chrono::milliseconds SHUTDOWN_POLL{50};
 
 class Node {
  public:
@@ -62,7 +64,8 @@ class Node {
   // Calls `callback` every `period_s` seconds from the wait loop (missed ticks are skipped).
   void every(double period_s, std::function<void()> callback);
 
-  // Runs timers and subscription callbacks until SIGINT or SIGTERM.
+  // Runs timers and subscription callbacks until SIGINT or SIGTERM. Between them it sleeps in rcl_wait
+  // until a message, the next timer or watchdog ping, or a stop signal (which triggers stop_guard_).
   void spin();
 
   // Logs "ready: [detail; ]<what it serves>" and sends READY=1; later calls do nothing.
@@ -80,12 +83,14 @@ class Node {
     std::function<void()> callback;
   };
 
-  void wait_for_work(Clock::duration timeout);
+  void wait_for_work(std::optional<Clock::time_point> until);
   void run_due_timers();
 
   rcl_context_t context_ = rcl_get_zero_initialized_context();
   rcl_node_t node_ = rcl_get_zero_initialized_node();
   rcl_wait_set_t wait_set_ = rcl_get_zero_initialized_wait_set();
+  rcl_guard_condition_t stop_guard_ = rcl_get_zero_initialized_guard_condition();
+  std::unique_ptr<StopListener> stop_listener_;  // triggers stop_guard_; ends before the guard condition
   std::string name_;
   std::unique_ptr<Parameters> parameters_;
   std::vector<std::unique_ptr<Entity>> entities_;

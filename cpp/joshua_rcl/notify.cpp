@@ -55,6 +55,11 @@ void Notifier::watchdog(Clock::time_point now) {
   send("WATCHDOG=1");
 }
 
+std::optional<Clock::time_point> Notifier::watchdog_due() const {
+  if (!watchdog_interval_) return std::nullopt;
+  return last_watchdog_ ? *last_watchdog_ + *watchdog_interval_ / 2 : Clock::now();
+}
+
 void Notifier::send(const std::string& datagram) {
   sockaddr_un target{};
   if (address_.empty() || address_.size() >= sizeof target.sun_path) return;

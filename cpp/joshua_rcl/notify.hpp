@@ -25,6 +25,8 @@ class Notifier {
   void stopping() { send("STOPPING=1"); }
   // Pings the watchdog when half its interval has passed since the last ping.
   void watchdog(Clock::time_point now);
+  // When the next watchdog ping is due; none without a watchdog.
+  std::optional<Clock::time_point> watchdog_due() const;
 
  private:
   Notifier() = default;
