@@ -1,6 +1,7 @@
 """`joshua-emulate`: serve an emulated device (on a pseudo-terminal, or Bluetooth HCI on TCP) until SIGINT or SIGTERM.
 
     joshua-emulate sts3215 --ids 1,2,3,4,5,6 --link /tmp/ttyLEADER
+    joshua-emulate sts3215 --link /tmp/ttyLEADER --hand -      # joints moved by commands on stdin
     joshua-emulate lds01 --link /tmp/ttyLIDAR
     joshua-emulate pybricks --port 9100
 
@@ -48,6 +49,13 @@ def _parser() -> argparse.ArgumentParser:
     sts.add_argument("--drop-rate", type=float, default=0.0, help="fraction of replies dropped")
     sts.add_argument("--corrupt-rate", type=float, default=0.0, help="fraction of replies with a bad checksum")
     sts.add_argument("--seed", type=int, default=0, help="seed of the fault injection")
+    sts.add_argument(
+        "--hand",
+        type=argparse.FileType("r"),
+        metavar="SCRIPT",
+        help="move joints as a hand would, by commands read from SCRIPT (- for stdin): turn ID TICKS, "
+        "sweep ID FROM TO [SECONDS], wait SECONDS; each answered 'hand: done ...' on stdout",
+    )
     lds = sub.add_parser("lds01", help="an LDS-01 lidar streaming a synthetic room")
     lds.add_argument("--link", required=True, help="path of the symlink to the pty")
     lds.add_argument("--rpm", type=float, default=300.0, help="rotation speed")

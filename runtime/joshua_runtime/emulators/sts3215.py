@@ -16,6 +16,7 @@ Return_Delay_Time, and can be dropped or corrupted (bad checksum) at seeded rand
 import os
 import random
 import select
+import sys
 import threading
 import time
 from collections import Counter
@@ -354,5 +355,10 @@ def serve(args, should_stop: Callable[[], bool]) -> None:
     )
     with emulator:
         print(f"sts3215: servos {','.join(map(str, args.ids))} on {args.link} -> {emulator.device_name}", flush=True)
+        if args.hand is not None:
+            from joshua_runtime.emulators.sts3215_hand import run_hand
+
+            hand = threading.Thread(target=run_hand, args=(emulator, args.hand, sys.stdout, should_stop), daemon=True)
+            hand.start()
         while not should_stop():
             time.sleep(POLL_INTERVAL_S)

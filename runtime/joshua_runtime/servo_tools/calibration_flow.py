@@ -89,11 +89,12 @@ class CalibrationFlow:
     def id_of(self, joint: str) -> int:
         return self.arm.ids[self.arm.joints.index(joint)]
 
-    def start(self) -> None:
-        """Torque off, position mode, offsets and limits cleared (unlocked until finish())."""
+    def start(self, joints: tuple[str, ...] | None = None) -> None:
+        """Torque off; position mode, offsets and limits cleared on `joints` (default all; unlocked until
+        finish() or store())."""
         bus = self.bus
         bus.disable_torque(list(self.arm.ids))
-        for servo_id in self.arm.ids:
+        for servo_id in (self.id_of(joint) for joint in joints or self.arm.joints):
             bus.write(servo_id, "Lock", 0)
             bus.write(servo_id, "Operating_Mode", 0)
             bus.write(servo_id, "Homing_Offset", 0)
@@ -128,6 +129,8 @@ class CalibrationFlow:
             raise CalibrationError(
                 f"{joint} crossed the encoder's wrap point while sweeping: home it nearer the middle of its travel"
             )
+        elif recorded.high == recorded.low:
+            raise CalibrationError(f"{joint} did not move during its sweep")
         elif recorded.high - recorded.low < MIN_SWEEP_TICKS:
             raise CalibrationError(f"{joint} moved only {recorded.high - recorded.low} ticks: sweep it end to end")
         else:
@@ -137,11 +140,15 @@ class CalibrationFlow:
     def result(self) -> dict[str, MotorCalibration]:
         return {joint: self.calibration_of(joint) for joint in self.arm.joints}
 
-    def finish(self) -> dict[str, MotorCalibration]:
-        """Check every joint, store the limits in the servos and lock their EEPROM."""
-        motors = self.result()
+    def store(self, motors: dict[str, MotorCalibration]) -> None:
+        """Store the limits of these checked joints in their servos and lock their EEPROM."""
         for motor in motors.values():
             self.bus.write(motor.id, "Min_Position_Limit", motor.range_min)
             self.bus.write(motor.id, "Max_Position_Limit", motor.range_max)
             self.bus.write(motor.id, "Lock", 1)
+
+    def finish(self) -> dict[str, MotorCalibration]:
+        """Check every joint, store the limits in the servos and lock their EEPROM."""
+        motors = self.result()
+        self.store(motors)
         return motors

@@ -7,16 +7,19 @@
     joshua-servo set-baud /dev/ttyACM0 4 500000
     joshua-servo status /dev/ttyACM0 [--json]
     joshua-servo calibrate /dev/ttyACM0 --robot so100 --role follower --output follower.json
+    joshua-servo calibrate /dev/ttyACM0 --output follower.json --joints wrist_flex   # redo one joint
 
 Exit codes: 0 done, 1 other failure, 2 bad usage, 3 device error, 4 port busy, 5 no answer or
-calibration refused, 6 two servos share an id.
+calibration refused (the joints that passed are saved), 6 two servos share an id.
 """
 
 import argparse
 import json
+import shlex
 import sys
 from pathlib import Path
 
+from joshua_runtime.drivers.calibration import load_calibration
 from joshua_runtime.drivers.sts3215 import DEFAULT_BAUD_RATE
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
 from joshua_runtime.drivers.sts3215_transport import GarbledReply, NoAnswer, PortBusy
@@ -113,12 +116,40 @@ def _calibrate(args) -> int:
     from joshua_runtime.servo_tools.calibrate_terminal import calibrate
 
     output = args.output or Path(f"{args.robot}_{args.role}.json")
-    if output.exists() and not args.force:
-        raise UsageError(f"{output} exists; pass --force to replace it")
     arm = ARMS[args.robot]
+    unknown = [joint for joint in args.joints or () if joint not in arm.joints]
+    if unknown:
+        raise UsageError(f"{args.robot} has no joint {', '.join(unknown)} (joints: {', '.join(arm.joints)})")
+    kept = {}
+    if args.joints and output.exists():  # redo some joints, keep the others of the file
+        kept = {joint: motor for joint, motor in load_calibration(output).items() if joint not in args.joints}
+    elif output.exists() and not args.force:
+        raise UsageError(f"{output} exists; pass --force to replace it")
     with open_bus(args.port, args.baud, list(arm.ids)) as bus:
-        calibrate(bus, arm, output)
+        failed = calibrate(bus, arm, output, args.joints, kept)
+    if failed:
+        attempted = args.joints or arm.joints
+        saved = f"; the other joints are saved in {output}" if kept or len(failed) < len(attempted) else ""
+        just = "just it" if len(failed) == 1 else "just them"
+        raise CalibrationError(
+            f"{'; '.join(failed.values())}{saved}. Redo {just}: {_redo_command(args, output, failed)}"
+        )
     return 0
+
+
+def _redo_command(args, output: Path, joints) -> str:
+    """The command that calibrates only `joints` into `output`, keeping its other joints."""
+    words = ["joshua-servo", "calibrate", args.port, "--robot", args.robot, "--role", args.role]
+    if args.baud != DEFAULT_BAUD_RATE:
+        words += ["--baud", str(args.baud)]
+    return shlex.join([*words, "--output", str(output), "--joints", ",".join(joints)])
+
+
+def _joints(text: str) -> tuple[str, ...]:
+    joints = tuple(part.strip() for part in text.split(",") if part.strip())
+    if not joints:
+        raise argparse.ArgumentTypeError("expected comma-separated joint names")
+    return joints
 
 
 def _ids(text: str) -> list[int]:
@@ -168,6 +199,11 @@ def _parser() -> argparse.ArgumentParser:
     command.add_argument("--output", type=Path, help="calibration file (default ROBOT_ROLE.json)")
     command.add_argument("--baud", type=int, default=DEFAULT_BAUD_RATE)
     command.add_argument("--force", action="store_true", help="replace an existing file")
+    command.add_argument(
+        "--joints",
+        type=_joints,
+        help="calibrate only these joints (comma-separated), keeping the others of an existing --output file",
+    )
     command.set_defaults(run=_calibrate)
     return parser
 
