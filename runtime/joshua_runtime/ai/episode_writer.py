@@ -6,7 +6,9 @@ So the dataset at `output_directory` is always a finalised dataset that `LeRobot
 a process killed at any moment loses at most the episode in progress. Each episode after the first
 goes to new data/video/metadata files, as LeRobot does when it resumes recording a dataset. An episode
 with frames that cannot be saved (full disk, directory not writable) is a DataLostError: the node
-exits 6 and says which episode did not reach which directory.
+exits 6 and says which episode did not reach which directory. That happens at the first write that
+fails, not when the episode is saved: a PNG the image writer could not write (checked_image_writer.py)
+or a video file the streaming encoder could not write ends the episode at the next frame.
 
 Video datasets use LeRobot's streaming encoder (frames are encoded while recording, so saving an
 episode at SIGINT is quick); image datasets write PNG files through LeRobot's threaded image writer.
@@ -46,6 +48,7 @@ class EpisodeWriter:
         self._commands: queue.Queue = queue.Queue()
         self._features: dict | None = None
         self._dataset = None
+        self._images = None  # the CheckedImageWriter of an image dataset in progress
         self._task = ""
         self._frames = 0
         self._cache = tempfile.mkdtemp(prefix="joshua-recorder-cache-")
@@ -121,6 +124,8 @@ class EpisodeWriter:
         frame["task"] = self._task
         self._dataset.add_frame(frame)
         self._frames += 1
+        if self._images is not None:
+            self._images.check()  # a PNG that could not be written ends the episode now
 
     def _stop(self, _argument) -> None:
         if self._dataset is None or self._frames == 0:
@@ -133,7 +138,7 @@ class EpisodeWriter:
         dataset.save_episode()
         dataset.stop_image_writer()
         dataset.finalize()
-        self._dataset = None
+        self._dataset = self._images = None
         staged_directory.commit(self.target)
         self._clear_cache()
         self.saved_episodes += 1
@@ -160,7 +165,7 @@ class EpisodeWriter:
                 self._dataset.finalize()
             except Exception:  # the staging copy is deleted below whatever state it is in
                 pass
-            self._dataset = None
+            self._dataset = self._images = None
         staged_directory.discard(self.target)
         self._frames = 0
 
@@ -172,33 +177,35 @@ class EpisodeWriter:
         """The LeRobotDataset to write the next episode into, in a fresh staging copy."""
         from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
+        from joshua_runtime.ai.checked_image_writer import CheckedImageWriter
+
         if self._features is None:
             raise JoshuaError("a frame arrived before the dataset features were known")
         staging = staged_directory.prepare(self.target)
         repo_id = f"local/{self.target.name}"
         if not (staging / "meta" / "info.json").is_file():
-            return LeRobotDataset.create(
+            dataset = LeRobotDataset.create(
                 repo_id,
                 self.fps,
                 self._features,
                 root=staging,
                 robot_type=self.robot_type,
                 use_videos=self.use_videos,
-                image_writer_threads=0 if self.use_videos else IMAGE_WRITER_THREADS,
                 video_backend="pyav",
                 vcodec=VIDEO_CODEC,
                 streaming_encoding=self.use_videos,
             )
-        self._check_compatible(staging)
-        dataset = LeRobotDataset(
-            repo_id,
-            root=staging,
-            video_backend="pyav",
-            vcodec=VIDEO_CODEC,
-            streaming_encoding=self.use_videos,
-        )
+        else:
+            self._check_compatible(staging)
+            dataset = LeRobotDataset(
+                repo_id,
+                root=staging,
+                video_backend="pyav",
+                vcodec=VIDEO_CODEC,
+                streaming_encoding=self.use_videos,
+            )
         if not self.use_videos:
-            dataset.start_image_writer(num_processes=0, num_threads=IMAGE_WRITER_THREADS)
+            self._images = dataset.image_writer = CheckedImageWriter(IMAGE_WRITER_THREADS)
         return dataset
 
     def _check_compatible(self, staging: Path) -> None:

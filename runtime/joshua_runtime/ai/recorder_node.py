@@ -174,6 +174,7 @@ class RecorderNode(JoshuaNode):
     def _tick(self) -> None:
         if self.writer.error is not None:
             self.error_reported = True
+            self.recording = False  # the writer ended the episode as lost: nothing left to save at close
             raise self.writer.error
         if not self.is_ready and self.writer_opened.is_set():
             self.announce_ready(self.summary)

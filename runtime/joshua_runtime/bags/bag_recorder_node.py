@@ -4,7 +4,9 @@ Settings used: `topic` and `inputs` (types learnt from the graph when the descri
 publisher), `output_directory` (each start writes a new bag directory `<robot>_<UTC time>` inside it),
 `bag_max_size_mb` and `bag_max_duration_s` (split the bag into files; 0: no split). Messages are
 taken serialized, as DDS delivers them, and stored as they are. SIGINT/SIGTERM close the bag (summary
-and metadata.yaml); after SIGKILL the files stay readable up to their last finished chunk.
+and metadata.yaml); after SIGKILL the files stay readable up to their last finished chunk. The
+first write that fails (a full disk) ends the node at once with exit code 6 and one line; the bag is
+then left as a kill leaves it.
 """
 
 import time
@@ -35,6 +37,7 @@ class BagRecorderNode(JoshuaNode):
     """Subscribes to every recorded topic in raw (serialized) form and writes each message to a BagWriter."""
 
     def start(self) -> None:
+        self.write_failed = False
         if not self.settings.output_directory:
             raise SettingsError(f"{self.name}: output_directory is empty")
         topics = [self.settings.topic] if self.settings.HasField("topic") else []
@@ -64,21 +67,27 @@ class BagRecorderNode(JoshuaNode):
                     raw=True,
                 )
             )
-        self.flush_timer = self.ros.create_timer(CHUNK_FLUSH_PERIOD_S, self.writer.flush_if_due)
+        self.flush_timer = self.ros.create_timer(CHUNK_FLUSH_PERIOD_S, lambda: self._written(self.writer.flush_if_due))
         self.log.info(f"recording {len(topics)} topics into the bag {self.writer.directory}")
 
-    def _writer_of(self, topic: str):
-        def write(data: bytes) -> None:
-            try:
-                self.writer.write(topic, data, time.time_ns())
-            except OSError as exc:
-                raise DataLostError(f"cannot write to the bag {self.writer.directory}: {exc}") from exc
+    def _written(self, write, *arguments) -> None:
+        """Run one write of the bag; the first that fails ends the recording with DataLostError (exit 6)."""
+        try:
+            write(*arguments)
+        except OSError as exc:
+            self.write_failed = True
+            raise DataLostError(f"cannot write to the bag {self.writer.directory}: {exc}") from exc
 
-        return write
+    def _writer_of(self, topic: str):
+        return lambda data: self._written(self.writer.write, topic, data, time.time_ns())
 
     def close(self) -> None:
         writer = getattr(self, "writer", None)
         if writer is None:
+            return
+        if self.write_failed:  # reported already; a summary would fail the same way
+            writer.abandon()
+            self.log.info(f"bag {writer.directory} left readable up to its last finished chunk")
             return
         try:
             writer.close()

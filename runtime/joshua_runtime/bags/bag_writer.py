@@ -98,6 +98,16 @@ class BagWriter:
         if self._writer is not None:
             self._finish_file()
 
+    def abandon(self) -> None:
+        """Close the file after a failed write, without a summary: it reads as a bag cut by a kill would,
+        up to its last finished chunk (`joshua-topic bag-recover` indexes it)."""
+        if self._file is not None:
+            try:
+                self._file.close()
+            except OSError:  # the buffered rest cannot be written either
+                pass
+        self._writer = self._file = None
+
     def _split_due(self, current: _FileStats, now_ns: int) -> bool:
         too_long = self.max_duration_ns and now_ns - current.start_ns >= self.max_duration_ns
         too_big = self.max_size_bytes and self._file.tell() >= self.max_size_bytes
