@@ -4,7 +4,8 @@ Settings used: `topic` and `inputs` (types learnt from the graph when the descri
 publisher), `output_directory` (each start writes a new bag directory `<robot>_<UTC time>` inside it),
 `bag_max_size_mb` and `bag_max_duration_s` (split the bag into files; 0: no split). Messages are
 taken serialized, as DDS delivers them, and stored as they are. SIGINT/SIGTERM close the bag (summary
-and metadata.yaml); after SIGKILL the files stay readable up to their last finished chunk. The
+and metadata.yaml); after SIGKILL the files stay readable up to their last finished chunk (by a
+streaming reader; `joshua-topic bag-recover`, bag_recover.py, rewrites them indexed). The
 first write that fails (a full disk) ends the node at once with exit code 6 and one line; the bag is
 then left as a kill leaves it.
 """
@@ -87,7 +88,10 @@ class BagRecorderNode(JoshuaNode):
             return
         if self.write_failed:  # reported already; a summary would fail the same way
             writer.abandon()
-            self.log.info(f"bag {writer.directory} left readable up to its last finished chunk")
+            self.log.info(
+                f"bag {writer.directory} left readable up to its last finished chunk; "
+                "`joshua-topic bag-recover` makes an indexed copy"
+            )
             return
         try:
             writer.close()

@@ -28,7 +28,7 @@ LIBRARY = "joshua_runtime bag writer"
 
 
 @dataclass
-class _FileStats:
+class FileStats:
     path: str
     start_ns: int = 0
     end_ns: int = 0
@@ -36,15 +36,15 @@ class _FileStats:
 
 
 @dataclass
-class _TopicStats:
+class TopicStats:
     message_type: str
     count: int = 0
 
 
 @dataclass
-class _BagStats:
-    files: list[_FileStats] = field(default_factory=list)
-    topics: dict[str, _TopicStats] = field(default_factory=dict)
+class BagStats:
+    files: list[FileStats] = field(default_factory=list)
+    topics: dict[str, TopicStats] = field(default_factory=dict)
 
 
 class BagWriter:
@@ -54,7 +54,7 @@ class BagWriter:
         self.directory = directory
         self.max_size_bytes = max_size_bytes
         self.max_duration_ns = max_duration_ns
-        self.stats = _BagStats()
+        self.stats = BagStats()
         self._definitions: dict[str, bytes] = {}
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
@@ -67,7 +67,7 @@ class BagWriter:
     def add_topic(self, topic: str, message_type: str) -> None:
         """Declare a topic and its `pkg/msg/Type` (its definition is looked up now)."""
         self._definitions[message_type] = full_definition(message_type).encode()
-        self.stats.topics[topic] = _TopicStats(message_type)
+        self.stats.topics[topic] = TopicStats(message_type)
         self._register(topic)
 
     def write(self, topic: str, data: bytes, receive_time_ns: int) -> None:
@@ -108,7 +108,7 @@ class BagWriter:
                 pass
         self._writer = self._file = None
 
-    def _split_due(self, current: _FileStats, now_ns: int) -> bool:
+    def _split_due(self, current: FileStats, now_ns: int) -> bool:
         too_long = self.max_duration_ns and now_ns - current.start_ns >= self.max_duration_ns
         too_big = self.max_size_bytes and self._file.tell() >= self.max_size_bytes
         return bool(too_long or too_big)
@@ -118,7 +118,7 @@ class BagWriter:
         self._file = open(self.directory / name, "wb")  # noqa: SIM115 - open until the file is finished
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE_BYTES, compression=CompressionType.ZSTD)
         self._writer.start(profile=Profile.ROS2, library=LIBRARY)
-        self.stats.files.append(_FileStats(name))
+        self.stats.files.append(FileStats(name))
         self._channels = {}
         self._schemas = {}
         for topic in self.stats.topics:
@@ -146,40 +146,45 @@ class BagWriter:
         self._write_metadata()
 
     def _write_metadata(self) -> None:
-        files = [f for f in self.stats.files if f.count] or self.stats.files[:1]
-        start = min((f.start_ns for f in files if f.count), default=0)
-        end = max((f.end_ns for f in files), default=0)
-        info = {
-            "version": METADATA_VERSION,
-            "storage_identifier": "mcap",
-            "duration": {"nanoseconds": end - start},
-            "starting_time": {"nanoseconds_since_epoch": start},
-            "message_count": sum(f.count for f in self.stats.files),
-            "topics_with_message_count": [
-                {
-                    "topic_metadata": {
-                        "name": topic,
-                        "type": stats.message_type,
-                        "serialization_format": "cdr",
-                        "offered_qos_profiles": "",
-                    },
-                    "message_count": stats.count,
-                }
-                for topic, stats in self.stats.topics.items()
-            ],
-            "compression_format": "",
-            "compression_mode": "",
-            "relative_file_paths": [f.path for f in self.stats.files],
-            "files": [
-                {
-                    "path": f.path,
-                    "starting_time": {"nanoseconds_since_epoch": f.start_ns},
-                    "duration": {"nanoseconds": f.end_ns - f.start_ns},
-                    "message_count": f.count,
-                }
-                for f in self.stats.files
-            ],
-        }
-        staging = self.directory / f".{METADATA_FILE}.tmp"
-        staging.write_text(yaml.safe_dump({"rosbag2_bagfile_information": info}, sort_keys=False))
-        staging.replace(self.directory / METADATA_FILE)
+        write_metadata(self.directory, self.stats)
+
+
+def write_metadata(directory: pathlib.Path, stats: BagStats) -> None:
+    """Write (atomically) the metadata.yaml of the bag at `directory` that `stats` describe."""
+    files = [f for f in stats.files if f.count] or stats.files[:1]
+    start = min((f.start_ns for f in files if f.count), default=0)
+    end = max((f.end_ns for f in files), default=0)
+    info = {
+        "version": METADATA_VERSION,
+        "storage_identifier": "mcap",
+        "duration": {"nanoseconds": end - start},
+        "starting_time": {"nanoseconds_since_epoch": start},
+        "message_count": sum(f.count for f in stats.files),
+        "topics_with_message_count": [
+            {
+                "topic_metadata": {
+                    "name": topic,
+                    "type": topic_stats.message_type,
+                    "serialization_format": "cdr",
+                    "offered_qos_profiles": "",
+                },
+                "message_count": topic_stats.count,
+            }
+            for topic, topic_stats in stats.topics.items()
+        ],
+        "compression_format": "",
+        "compression_mode": "",
+        "relative_file_paths": [f.path for f in stats.files],
+        "files": [
+            {
+                "path": f.path,
+                "starting_time": {"nanoseconds_since_epoch": f.start_ns},
+                "duration": {"nanoseconds": f.end_ns - f.start_ns},
+                "message_count": f.count,
+            }
+            for f in stats.files
+        ],
+    }
+    staging = directory / f".{METADATA_FILE}.tmp"
+    staging.write_text(yaml.safe_dump({"rosbag2_bagfile_information": info}, sort_keys=False))
+    staging.replace(directory / METADATA_FILE)

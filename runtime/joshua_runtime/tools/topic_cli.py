@@ -5,6 +5,7 @@
     joshua-topic echo TOPIC [--once | --count N] [--timeout S]   print messages as YAML
     joshua-topic hz TOPIC [--window N] [--duration S]   print the publishing rate every second
     joshua-topic pub TOPIC TYPE [YAML] [--rate HZ | --once | --times N]   publish a message
+    joshua-topic bag-recover IN OUT                  rewrite a bag cut short as an indexed one (no ROS)
 
 `--robot OUT` takes the ROS domain from a build's OUT/manifest.json; otherwise ROS_DOMAIN_ID applies.
 echo and hz wait for a publisher of the topic and subscribe with a QoS all its publishers serve:
@@ -25,6 +26,8 @@ import pathlib
 import sys
 import time
 from collections import deque
+
+from joshua_runtime.bags import recover_command
 
 EXIT_USAGE = 2
 EXIT_NO_MESSAGE = 3
@@ -89,11 +92,14 @@ def _parser() -> argparse.ArgumentParser:
         metavar="S",
         help="with --once/--times, seconds to wait for a subscriber first (default %(default)s)",
     )
+    recover_command.register(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if getattr(args, "offline", None):  # a file tool: no ROS domain
+        return args.offline(args)
     try:
         domain = _robot_domain(args.robot) if args.robot else None
         if args.robot:

@@ -6,26 +6,15 @@ second error from trying to finish the bag on the same full disk) and exit 6 wit
 stop, leaving the bag readable up to its last finished chunk.
 """
 
+from bag_support import ARM, two_arm_recorder
 from mcap.exceptions import EndOfFile
 from mcap.reader import NonSeekingReader
 from sensor_msgs.msg import JointState
-from test_bag_recorder import ARM, RELIABLE, WAIT_S
+from test_bag_recorder import RELIABLE, WAIT_S
 
-from testsupport.compiled_settings import compiled_settings
 from testsupport.small_filesystem import fill, small_filesystem
 
-FOLLOWER = "/follower/joint_states"
 EXIT_TIMEOUT_S = 30.0  # only ends a node that never notices; it exits at its next chunk (1 s)
-
-
-def recorder_settings(output):
-    return compiled_settings(f'''robot_config {{
-      name: "bagbot" mode: MODE_DATA_COLLECTION
-      node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "{ARM}" rate_hz: 50 }}
-      node {{ name: "follower" type: MOCK_ENCODER_PUBLISHER topic_name: "{FOLLOWER}" rate_hz: 50 }}
-      node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "{ARM}" input_topics: ["{FOLLOWER}"]
-              output_format: "mcap" output_directory: "{output}" }}
-    }}''')
 
 
 def messages_readable(path) -> int:
@@ -41,7 +30,7 @@ def messages_readable(path) -> int:
 
 def test_a_full_disk_ends_the_bag_recorder_at_the_first_failed_write(start_node, ros_client, tmp_path):
     with small_filesystem(tmp_path / "small") as small:
-        settings = recorder_settings(small / "bags")
+        settings = two_arm_recorder(small / "bags")
         ros_client.listen(ARM, JointState, RELIABLE, keep=1000)
         start_node(settings["arm"])
         start_node(settings["follower"])
