@@ -11,7 +11,8 @@ fails, not when the episode is saved: a PNG the image writer could not write (ch
 or a video file the streaming encoder could not write ends the episode at the next frame.
 
 Video datasets use LeRobot's streaming encoder (frames are encoded while recording, so saving an
-episode at SIGINT is quick); image datasets write PNG files through LeRobot's threaded image writer.
+episode at SIGINT is quick), kept quiet (ENCODER_LOG_VARIABLE); image datasets write PNG files through
+threads of the recorder's own (checked_image_writer.py).
 """
 
 import json
@@ -26,6 +27,11 @@ from joshua_runtime.ai import staged_directory
 from joshua_runtime.errors import DataLostError, JoshuaError, SettingsError
 
 VIDEO_CODEC = "libsvtav1"
+# SVT-AV1 prints a banner and its configuration (~20 lines) to stderr at every episode's encoder start,
+# at its default level 3 (info). It reads its level from this variable at each start; the recorder
+# keeps it to errors only unless the environment sets it (SVT_LOG=3 for the banner, 4 for debug).
+ENCODER_LOG_VARIABLE = "SVT_LOG"
+QUIET_ENCODER_LOG_LEVEL = "1"
 IMAGE_WRITER_THREADS = 4
 # LeRobot's default features, added by LeRobot itself; ignored when comparing with an existing dataset.
 _DEFAULT_FEATURES = ("timestamp", "frame_index", "episode_index", "index", "task_index")
@@ -52,6 +58,7 @@ class EpisodeWriter:
         self._task = ""
         self._frames = 0
         self._cache = tempfile.mkdtemp(prefix="joshua-recorder-cache-")
+        os.environ.setdefault(ENCODER_LOG_VARIABLE, QUIET_ENCODER_LOG_LEVEL)
         self._import_lerobot()
         self._thread = threading.Thread(target=self._run, name="episode-writer", daemon=True)
         self._thread.start()
