@@ -258,6 +258,9 @@ def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
         args += ["--zenoh-connect", dashboard.zenoh_connect]
     for name in dashboard.allowed_host:
         args += ["--allowed-host", name]
+    for field in dashboard_facts.FLEET_CREDENTIAL_FIELDS:  # paths only: the dashboard reads the files
+        if getattr(dashboard, field):
+            args += [dashboard_facts.credential_flag(field), getattr(dashboard, field)]
     return _service_process(
         dashboard_facts.PROCESS_NAME,
         dashboard_facts.PROCESS_TYPE,

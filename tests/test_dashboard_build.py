@@ -63,3 +63,23 @@ def test_the_name_dashboard_is_reserved_when_a_dashboard_runs():
         ("E205", 'node name "dashboard" is reserved for the dashboard process')
     ]
     assert not check_text("r.pbtxt", ROBOT.format(dashboard="", node="dashboard")).has_errors
+
+
+def test_fleet_credentials_reach_the_dashboard_as_paths():
+    files = build(
+        'dashboard { zenoh_connect: "tls/10.0.0.5:7447" zenoh_password_file: "/etc/joshua/fleet-password" '
+        'zenoh_tls_ca: "/etc/joshua/ca.pem" zenoh_tls_certificate: "/etc/joshua/r.pem" '
+        'zenoh_tls_private_key: "/etc/joshua/r.key" }'
+    )
+    assert arguments(files)[4:] == [
+        "--zenoh-connect",
+        "tls/10.0.0.5:7447",
+        "--zenoh-password-file",
+        "/etc/joshua/fleet-password",
+        "--zenoh-tls-ca",
+        "/etc/joshua/ca.pem",
+        "--zenoh-tls-certificate",
+        "/etc/joshua/r.pem",
+        "--zenoh-tls-private-key",
+        "/etc/joshua/r.key",
+    ]

@@ -19,13 +19,12 @@ import re
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
+from joshua_core.names import MAX_ROBOT_NAME_LENGTH, ROBOT_NAME
 
 CODE = "E101"
 NAME = "invalid-robot-name"
 SEVERITY = ERROR
 STAGE = "check"
-MAX_ROBOT_NAME_LENGTH = 64
-ROBOT_NAME = re.compile(r"[a-z][a-z0-9_]*")
 
 
 def _suggestion(name: str) -> str | None:

@@ -183,16 +183,24 @@ class RobotConfig(_message.Message):
     def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ..., foxglove: _Optional[_Union[Foxglove, _Mapping]] = ..., dashboard: _Optional[_Union[Dashboard, _Mapping]] = ...) -> None: ...
 
 class Dashboard(_message.Message):
-    __slots__ = ("port", "bind", "zenoh_connect", "allowed_host")
+    __slots__ = ("port", "bind", "zenoh_connect", "allowed_host", "zenoh_password_file", "zenoh_tls_ca", "zenoh_tls_certificate", "zenoh_tls_private_key")
     PORT_FIELD_NUMBER: _ClassVar[int]
     BIND_FIELD_NUMBER: _ClassVar[int]
     ZENOH_CONNECT_FIELD_NUMBER: _ClassVar[int]
     ALLOWED_HOST_FIELD_NUMBER: _ClassVar[int]
+    ZENOH_PASSWORD_FILE_FIELD_NUMBER: _ClassVar[int]
+    ZENOH_TLS_CA_FIELD_NUMBER: _ClassVar[int]
+    ZENOH_TLS_CERTIFICATE_FIELD_NUMBER: _ClassVar[int]
+    ZENOH_TLS_PRIVATE_KEY_FIELD_NUMBER: _ClassVar[int]
     port: int
     bind: str
     zenoh_connect: str
     allowed_host: _containers.RepeatedScalarFieldContainer[str]
-    def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., zenoh_connect: _Optional[str] = ..., allowed_host: _Optional[_Iterable[str]] = ...) -> None: ...
+    zenoh_password_file: str
+    zenoh_tls_ca: str
+    zenoh_tls_certificate: str
+    zenoh_tls_private_key: str
+    def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., zenoh_connect: _Optional[str] = ..., allowed_host: _Optional[_Iterable[str]] = ..., zenoh_password_file: _Optional[str] = ..., zenoh_tls_ca: _Optional[str] = ..., zenoh_tls_certificate: _Optional[str] = ..., zenoh_tls_private_key: _Optional[str] = ...) -> None: ...
 
 class Node(_message.Message):
     __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes", "bag_max_size_mb", "bag_max_duration_s", "robot_description", "preset", "on_command_timeout", "diagnostics_rate_hz")

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from joshua_core.dashboard import DEFAULT_BIND, DEFAULT_PORT, page_url
 from joshua_core.dashboard_token import TOKEN_SUFFIX, TokenFileError, load_or_create_token, token_path
+from joshua_runtime.dashboard.zenoh_link import add_credential_arguments
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.notify import Notifier
 
@@ -64,6 +65,7 @@ def parse_arguments(argv):
         metavar="ENDPOINT",
         help="also publish status and telemetry over zenoh to this endpoint (tcp/HOST:PORT)",
     )
+    add_credential_arguments(parser)
     parser.add_argument("--public-url", metavar="URL", help="the page's address as the fleet view links to it")
     parser.add_argument("--web-dir", type=Path, default=DEFAULT_WEB_DIR, help="the built page (default: web/dist)")
     return parser.parse_args(argv)
@@ -96,11 +98,12 @@ async def serve(args) -> None:
     from joshua_runtime.dashboard.robot_view import load_robot_view
     from joshua_runtime.dashboard.security import HostAllowList
     from joshua_runtime.dashboard.telemetry import Telemetry
-    from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint
+    from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint, credentials_of, robot_settings
 
     view = load_robot_view(args.manifest)
     if args.zenoh_connect:
         check_endpoint(args.zenoh_connect)
+    fleet_settings = robot_settings(view.robot, args.zenoh_connect or "", credentials_of(args))
     control_socket = args.control_socket or default_socket_path(view.robot)
     token_file = args.token_file or token_path(control_socket)
     try:
@@ -115,7 +118,7 @@ async def serve(args) -> None:
     control = ControlClient(control_socket)
     allowed = HostAllowList(args.bind, args.allowed_host)
     dashboard = Dashboard(view, control, broadcaster, telemetry, args.web_dir, token, allowed)
-    link = FleetLink(view.robot, args.zenoh_connect, url, broadcaster) if args.zenoh_connect else None
+    link = FleetLink(view.robot, args.zenoh_connect, url, broadcaster, fleet_settings) if args.zenoh_connect else None
     # The address without the token: this line ends up in the node's log (`joshuac run` prints it with).
     print(f"dashboard of {view.robot}: {url} (its access token is in {token_file})", flush=True)
     rate_limit = configure_logging()

@@ -3,13 +3,20 @@
 Keys: `joshua/<robot>/status` (the supervisor's status plus the dashboard's `url`), `joshua/<robot>/rates`,
 `joshua/<robot>/joints/<topic>`, `joshua/<robot>/recorder/<node>`, `joshua/<robot>/inference/<node>`.
 Camera frames and scans stay on the robot's own page. Multicast scouting is off: peers meet only
-through the endpoints given.
+through the endpoints given. A robot presents the credentials its description names (a password read
+from a file, its user being the robot's name; TLS certificates by path) and the fleet view admits it
+only under `joshua/<its name>/` (see fleet_access.py).
 """
 
 import asyncio
 import json
 
-from joshua_core.dashboard import zenoh_endpoint_problem
+from joshua_core.dashboard import (
+    FLEET_CREDENTIAL_FIELDS,
+    credential_flag,
+    fleet_credential_problems,
+    zenoh_endpoint_problem,
+)
 from joshua_runtime.errors import SettingsError
 
 KEY_ROOT = "joshua"
@@ -24,8 +31,9 @@ def check_endpoint(endpoint: str) -> str:
     return endpoint
 
 
-def open_session(mode: str, connect: list[str] = (), listen: list[str] = ()):
-    """A zenoh session in `mode` (peer, router), without multicast scouting.
+def open_session(mode: str, connect: list[str] = (), listen: list[str] = (), settings: dict | None = None):
+    """A zenoh session in `mode` (peer, router), without multicast scouting, with `settings` (zenoh
+    configuration key -> value) on top.
 
     A peer keeps trying its `connect` endpoints in the background: a robot starts whether or not the
     fleet view is up, and appears there once it is.
@@ -39,9 +47,70 @@ def open_session(mode: str, connect: list[str] = (), listen: list[str] = ()):
     config.insert_json5("listen/endpoints", json.dumps(list(listen) if listen else []))
     config.insert_json5("scouting/multicast/enabled", "false")
     try:
+        for key, value in (settings or {}).items():
+            config.insert_json5(key, json.dumps(value))
         return zenoh.open(config)
     except zenoh.ZError as exc:
         raise SettingsError(f"zenoh: {exc}") from exc
+
+
+def add_credential_arguments(parser) -> None:
+    """The dashboard's `--zenoh-password-file PATH`, `--zenoh-tls-ca PATH`, ... (the description's fields)."""
+    for field in FLEET_CREDENTIAL_FIELDS:
+        parser.add_argument(
+            credential_flag(field), dest=field, default="", metavar="PATH", help=f"the description's {field}"
+        )
+
+
+def credentials_of(args) -> dict[str, str]:
+    return {field: getattr(args, field) for field in FLEET_CREDENTIAL_FIELDS}
+
+
+def robot_settings(robot: str, endpoint: str, credentials: dict[str, str]) -> dict:
+    """The zenoh settings that present `robot`'s credentials (field -> path) to the fleet view at `endpoint`.
+
+    The password is read here, into the session's settings only; the TLS files are checked readable and
+    handed to zenoh by path.
+    """
+    problems = fleet_credential_problems(endpoint, credentials)
+    if problems:
+        raise SettingsError(problems[0][1])
+    settings = {}
+    if credentials["zenoh_password_file"]:
+        settings["transport/auth/usrpwd/user"] = robot
+        settings["transport/auth/usrpwd/password"] = read_password(credentials["zenoh_password_file"])
+    if credentials["zenoh_tls_ca"]:
+        settings["transport/link/tls/root_ca_certificate"] = readable("zenoh_tls_ca", credentials["zenoh_tls_ca"])
+    if credentials["zenoh_tls_certificate"]:
+        certificate = readable("zenoh_tls_certificate", credentials["zenoh_tls_certificate"])
+        settings["transport/link/tls/connect_certificate"] = certificate
+        settings["transport/link/tls/connect_private_key"] = readable(
+            "zenoh_tls_private_key", credentials["zenoh_tls_private_key"]
+        )
+        settings["transport/link/tls/enable_mtls"] = True
+    return settings
+
+
+def readable(field: str, path: str) -> str:
+    """`path` once it opens for reading (a clear error now rather than a refused link later)."""
+    try:
+        with open(path, "rb"):
+            return path
+    except OSError as exc:
+        raise SettingsError(f"cannot read {field} {path}: {exc.strerror or exc}") from exc
+
+
+def read_password(path: str) -> str:
+    """The one-line password in the file at `path` (a final newline allowed)."""
+    try:
+        with open(readable("zenoh_password_file", path), encoding="utf-8") as file:
+            text = file.read()
+    except UnicodeDecodeError as exc:
+        raise SettingsError(f"zenoh_password_file {path} is not UTF-8 text") from exc
+    password = text.removesuffix("\n")
+    if not password or password != password.strip() or "\n" in password:
+        raise SettingsError(f"zenoh_password_file {path} must hold one line, the password, without surrounding spaces")
+    return password
 
 
 def key_for(robot: str, event_key: str) -> str:
@@ -54,11 +123,11 @@ def key_for(robot: str, event_key: str) -> str:
 class FleetLink:
     """Forwards the broadcaster's events (all but images and scans) to zenoh, through a mailbox of its own."""
 
-    def __init__(self, robot: str, endpoint: str, url: str, broadcaster):
+    def __init__(self, robot: str, endpoint: str, url: str, broadcaster, settings: dict | None = None):
         self.robot = robot
         self.url = url
         self.broadcaster = broadcaster
-        self.session = open_session("peer", connect=[check_endpoint(endpoint)])
+        self.session = open_session("peer", connect=[check_endpoint(endpoint)], settings=settings)
 
     async def run(self) -> None:
         mailbox = self.broadcaster.subscribe(viewer=False)
