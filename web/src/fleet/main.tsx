@@ -2,7 +2,8 @@ import { StrictMode, useEffect, useState } from "react";
 import { createRoot } from "react-dom/client";
 import { getJson } from "../api";
 import "../index.css";
-import { RobotList, type FleetRobot } from "./RobotList";
+import { RobotList } from "./RobotList";
+import { readRobots, type FleetRobot } from "./robots";
 
 const REFRESH_MS = 1000;
 
@@ -10,8 +11,8 @@ function FleetPage() {
   const [robots, setRobots] = useState<FleetRobot[]>([]);
   const [error, setError] = useState<string | null>(null);
   useEffect(() => {
-    const load = () => getJson<FleetRobot[]>("/api/robots").then((r) => { setRobots(r); setError(null); },
-      (e: Error) => setError(e.message));
+    const load = () => getJson<unknown>("/api/robots").then(readRobots)
+      .then((r) => { setRobots(r); setError(null); }, (e: Error) => setError(e.message));
     void load();
     const timer = setInterval(load, REFRESH_MS);
     return () => clearInterval(timer);
