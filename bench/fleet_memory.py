@@ -13,21 +13,25 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from support.fleet_junk import fleet_memory  # noqa: E402
-
-KEYS, ROUNDS = 5000, 4
-QUICK_KEYS, QUICK_ROUNDS = 1000, 2
+from support.fleet_junk import FORGET_AFTER_S, KEYS, ROUNDS, fleet_memory, measure  # noqa: E402
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--keys", type=int, default=KEYS, help=f"junk keys per round (default {KEYS})")
     parser.add_argument("--rounds", type=int, default=ROUNDS, help=f"rounds (default {ROUNDS})")
-    parser.add_argument("--forget-after", type=float, default=5.0, help="the server's --forget-after (default 5)")
-    parser.add_argument("--quick", action="store_true", help=f"{QUICK_ROUNDS} rounds of {QUICK_KEYS} keys (tests)")
+    parser.add_argument(
+        "--forget-after",
+        type=float,
+        default=FORGET_AFTER_S,
+        help=f"the server's --forget-after (default {FORGET_AFTER_S:g})",
+    )
+    parser.add_argument("--quick", action="store_true", help="2 rounds of 1000 keys (for the tests)")
     args = parser.parse_args()
-    keys, rounds = (QUICK_KEYS, QUICK_ROUNDS) if args.quick else (args.keys, args.rounds)
-    print(fleet_memory(keys, rounds, args.forget_after).summary(), flush=True)
+    if args.quick:
+        measure(quick=True)
+    else:
+        print(fleet_memory(args.keys, args.rounds, args.forget_after).summary(), flush=True)
     return 0
 
 

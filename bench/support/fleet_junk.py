@@ -53,7 +53,20 @@ class FleetMemory:
         )
 
 
-def fleet_memory(keys: int, rounds: int = 4, forget_after_s: float = 5.0) -> FleetMemory:
+KEYS, ROUNDS = 5000, 4  # 20000 junk keys in all
+QUICK_KEYS, QUICK_ROUNDS = 1000, 2
+FORGET_AFTER_S = 5.0
+
+
+def measure(quick: bool = False) -> FleetMemory:
+    """Print and return the figures of one run (2 rounds of 1000 keys when `quick`, else 4 of 5000)."""
+    keys, rounds = (QUICK_KEYS, QUICK_ROUNDS) if quick else (KEYS, ROUNDS)
+    result = fleet_memory(keys, rounds)
+    print(result.summary(), flush=True)
+    return result
+
+
+def fleet_memory(keys: int, rounds: int = ROUNDS, forget_after_s: float = FORGET_AFTER_S) -> FleetMemory:
     """Run the measurement on a fresh fleet server: `rounds` times, `keys` junk keys then their eviction
     (`forget_after_s`); RSS idle before, at the peak, and after each eviction."""
     endpoint, http_port = f"tcp/127.0.0.1:{_free_port()}", _free_port()

@@ -12,11 +12,12 @@ from dataclasses import dataclass
 
 from joshua_core.dashboard import TLS_PROTOCOLS, endpoint_host, endpoint_protocol, is_loopback
 from joshua_core.names import is_robot_name
+from joshua_runtime.dashboard.fleet_status import MAX_STATUS_BYTES
 from joshua_runtime.dashboard.zenoh_link import KEY_ROOT
 from joshua_runtime.errors import SettingsError
 
-# Zenoh buffers a message split in fragments up to this size (its default is 1 GiB); a status is far smaller.
-MAX_ZENOH_MESSAGE_BYTES = 1024 * 1024
+# Zenoh reassembles a message split in fragments up to this size (its default is 1 GiB): twice a status's limit.
+MAX_ZENOH_MESSAGE_BYTES = 2 * MAX_STATUS_BYTES
 ANYONE = "anyone"
 
 

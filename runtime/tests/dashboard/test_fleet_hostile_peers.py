@@ -31,6 +31,7 @@ JUNK = {
     "deep": "[" * 100_000,
     "too_many_nodes": json.dumps({"nodes": [{"name": f"n{i}", "state": "running"} for i in range(5000)]}),
     "oversized": json.dumps({"nodes": [], "error": "x" * (MAX_STATUS_BYTES + 1)}),
+    "over_zenohs_limit": json.dumps({"nodes": [], "error": "x" * (4 * MAX_STATUS_BYTES)}),
 }
 BAD_NAMES = ("Upper", "9starts_with_digit", "with-dash", "x" * 65)
 
