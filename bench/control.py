@@ -1,5 +1,5 @@
-"""The generated supervisor under load at its edges: each measurement loads one part and prints its figures
-against a floor measured in the same run.
+"""The control paths under hostile load: each measurement loads one part (the generated supervisor, the fleet
+server) and prints its figures against a floor measured in the same run.
 
     .venv/bin/python bench/control.py [--quick]
 
@@ -9,6 +9,8 @@ MEASUREMENTS (adding one is adding its module's name):
   clients that never read their replies, against no other client.
 - output_flood: supervisor CPU and peak memory while one node writes 100 MiB without a newline, against the
   same bytes in 80-byte lines and against `cat`.
+- fleet_junk: fleet server memory while a Zenoh peer sends 20000 junk keys in 4 rounds, each forgotten
+  before the next, against the idle server.
 """
 
 import argparse
@@ -17,6 +19,7 @@ import importlib
 MEASUREMENTS = [
     "control_load",
     "output_flood",
+    "fleet_junk",
 ]
 
 
