@@ -1,7 +1,6 @@
 """The defaults of every unset field, per node type: the one place both rules and model read them."""
 
 from joshua_core import servo_topics
-from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
 from joshua_core.models import DEVICES, GL_BACKENDS, OUTPUT_FORMATS
 from joshua_core.node_types import (
     BASE_WHEEL_JOINTS,
@@ -10,6 +9,7 @@ from joshua_core.node_types import (
     NODE_TYPES,
     ODOMETRY,
     SIMULATION_ENGINE,
+    Family,
     NodeTypeSpec,
 )
 from joshua_core.schema import robot_config_pb2 as pb
@@ -28,22 +28,24 @@ NodeType = pb.NodeType
 # Node-type numbers of the schema -> registry entries. Every set below is derived from the registry.
 SPECS = {pb.NodeType.Value(name): entry for name, entry in NODE_TYPES.items()}
 ALL_TYPES = set(SPECS)
-_UNTYPED = NodeTypeSpec(name="NODE_TYPE_UNSPECIFIED", family="", topic="")
+_UNTYPED = NodeTypeSpec(name="NODE_TYPE_UNSPECIFIED", family=Family.CUSTOM, topic="")
 
 
 def _types(predicate) -> set[int]:
     return {number for number, entry in SPECS.items() if predicate(entry)}
 
 
-CAMERAS = _types(lambda t: t.family == "camera")
-LIDARS = _types(lambda t: t.family == "lidar")
-ENCODERS = _types(lambda t: t.family == "encoder")
-ACTUATORS = _types(lambda t: t.family == "actuator")
+CAMERAS = _types(lambda t: t.family == Family.CAMERA)
+LIDARS = _types(lambda t: t.family == Family.LIDAR)
+ENCODERS = _types(lambda t: t.family == Family.ENCODER)
+ACTUATORS = _types(lambda t: t.family == Family.ACTUATOR)
 MOCKS = _types(lambda t: bool(t.mock_of))
 # Types that read an STS3215 servo bus (real ones), and every type that opens a serial port.
 SERVO_BUS = _types(lambda t: t.servo_bus and not t.mock_of)
 SERIAL = _types(lambda t: "serial_port" in t.claims)
-ALWAYS_PYTHON = _types(lambda t: t.python_only)
+# Types without a C++ binary: they run their Python entrypoint (CUSTOM: its executable) whatever
+# preferred_backend says (W102).
+ALWAYS_PYTHON = _types(lambda t: not t.binary)
 # Node types that touch hardware; MODE_SIMULATION replaces them with the simulation engine.
 HARDWARE = _types(lambda t: t.hardware)
 # Node types that publish topic_name, and those that subscribe to it (CUSTOM declares neither).
@@ -54,7 +56,7 @@ READS_INPUTS = _types(lambda t: t.reads_inputs)
 MESSAGE_TYPES = {number: entry.message_types for number, entry in SPECS.items() if entry.message_types}
 STATE_MESSAGE_TYPE = JOINT_STATE
 ODOM_MESSAGE_TYPE = ODOMETRY
-BASES = _types(lambda t: t.family == "base")
+BASES = _types(lambda t: t.family == Family.BASE)
 # Node fields that only some node types read; every other type ignores them (W101).
 FIELD_APPLIES_TO = {
     name: _types(lambda t, name=name: name in t.fields)
@@ -139,11 +141,7 @@ def diagnostics_rate_hz(node: pb.Node) -> float:
 
 
 def baud_rate(node: pb.Node) -> int:
-    if node.HasField("baud_rate"):
-        return node.baud_rate
-    if node.type in LIDARS:
-        return LDS01_BAUD_RATE
-    return STS3215_DEFAULT_BAUD_RATE if entry(node).servo_bus else 0
+    return node.baud_rate if node.HasField("baud_rate") else entry(node).baud_rate
 
 
 def device_ids(node: pb.Node) -> list[int]:

@@ -2,17 +2,32 @@
 
 import ast
 import importlib.util
+import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
+from joshua_codegen.check import check_text
 from joshua_codegen.compile import node_settings
+from joshua_codegen.plan import plan
 from joshua_core.models import BUILTIN_MODELS
-from joshua_core.node_types import NODE_TYPES, PROCESS_TYPES, SIMULATION_ENGINE
+from joshua_core.node_types import NODE_TYPES, PROCESS_TYPES, SIMULATION_ENGINE, Family, cpp_binaries
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_runtime.sim import model
 
 NODE_FIELDS = set(pb.Node.DESCRIPTOR.fields_by_name)
+ROOT = Path(__file__).resolve().parents[1]
+# Values for every field some node type requires, so that a one-node description checks without errors.
+REQUIRED_VALUES = {
+    "serial_port": '"/dev/ttyUSB0"',
+    "calibration_file": '"/c.json"',
+    "model_path": '"/m"',
+    "input_topics": '["/t"]',
+    "output_directory": '"/d"',
+    "executable": '"/bin/true"',
+}
 
 
 def defined_classes(target: str) -> tuple[str, set[str]]:
@@ -34,7 +49,7 @@ def test_every_schema_node_type_has_exactly_one_entry():
 @pytest.mark.parametrize("name", sorted(PROCESS_TYPES))
 def test_entry_names_classes_that_exist(name):
     entry = PROCESS_TYPES[name]
-    if entry.family == "custom":
+    if entry.family == Family.CUSTOM:
         assert not entry.runtime_class  # runs its own executable
     else:
         class_name, classes = defined_classes(entry.runtime_class)
@@ -52,7 +67,7 @@ def test_entry_fields_are_schema_fields(name):
     assert entry.fields <= NODE_FIELDS
     assert set(entry.required) <= NODE_FIELDS
     if entry.mock_of:
-        assert NODE_TYPES[entry.mock_of].hardware and entry.python_only and not entry.hardware
+        assert NODE_TYPES[entry.mock_of].hardware and not entry.binary and not entry.hardware
     if entry.topic:
         assert entry.message_types, "a type with a topic_name needs its message types"
 
@@ -66,6 +81,48 @@ def test_every_cpp_parameter_is_planned(name):
     )
     settings = node_settings(text)
     assert settings["n"]["type"] == name
+
+
+@pytest.mark.parametrize("name", sorted(NODE_TYPES))
+def test_preferred_backend_cpp_runs_the_binary_or_is_reported_at_check_time(name):
+    """A type with a C++ binary plans it; a type without one gets W102 and runs Python, never a crash."""
+    entry = NODE_TYPES[name]
+    fields = " ".join(f"{field}: {REQUIRED_VALUES[field]}" for field in entry.required)
+    topic = 'topic_name: "/t"' if entry.topic else ""
+    text = (
+        f'robot_config {{ name: "r" mode: MODE_TELEOPERATION node {{ name: "n" type: {name} {topic} {fields} '
+        "preferred_backend: CPP } }"
+    )
+    result = check_text("cpp.pbtxt", text)
+    assert not result.has_errors, [d.message for d in result.diagnostics]
+    warned = [d.message for d in result.diagnostics if d.code == "W102"]
+    (process,) = [p for p in plan(result.description, "cpp.pbtxt").processes if p.name == "n"]
+    if entry.binary:
+        assert not warned and process.cpp_binary == entry.binary
+    else:
+        assert warned == [
+            f"{name} has no C++ binary and always runs "
+            f"{'its executable' if entry.declares_topics else 'its Python entrypoint'}; preferred_backend CPP is ignored"
+        ]
+        assert process.cpp_binary == "" and not process.cpp_args
+
+
+def test_cpp_makefile_builds_exactly_the_binaries_of_the_registry():
+    """cpp/Makefile reads the binaries from the registry, and each has its source with a main()."""
+    made = subprocess.run(
+        ["make", "-s", "--no-print-directory", "-C", str(ROOT / "cpp"), "binaries", f"PYTHON={sys.executable}"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert made.returncode == 0, made.stderr
+    assert made.stdout.split() == cpp_binaries() != []
+    with_main = {
+        path.stem
+        for path in (ROOT / "cpp" / "nodes").glob("*.cpp")
+        if re.search(r"^int main\(", path.read_text(encoding="utf-8"), re.MULTILINE)
+    }
+    assert with_main == set(cpp_binaries())
 
 
 def test_checker_accepts_exactly_the_built_in_models_the_runtime_has():

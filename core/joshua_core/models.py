@@ -1,6 +1,7 @@
-"""Names both sides agree on for models: built-in MJCF models, GL backends, policy types and the model-registry prefix."""
+"""Names both sides agree on for models and data: built-in MJCF models, GL backends, policy types, output formats
+and the model-registry prefix, and what message types a reader takes."""
 
-from joshua_core.node_types import BASE_WHEEL_JOINTS
+from joshua_core.node_types import BASE_WHEEL_JOINTS, Family, NodeTypeSpec
 from joshua_core.so100 import SO100_JOINTS
 
 # `simulation { model: "builtin:NAME" }` names an MJCF model shipped with joshua_runtime.
@@ -28,3 +29,14 @@ DEVICES = ("cpu", "cuda")
 REGISTRY_ENV = "JOSHUA_MODEL_REGISTRY"
 REGISTRY_DEFAULT_ROOT = "~/.cache/joshua/models"
 REGISTRY_ENTRY_FILE = "joshua_model.json"
+
+
+def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, ...] | None:
+    """The message types a node's input_topics may carry; None when any type is fine.
+
+    A recorder writing a ROS bag stores messages as they are, whatever their type; every other
+    reader (a policy, a dataset recorder) reads only its registry entry's input_types.
+    """
+    if entry.family == Family.RECORDER and output_format == BAG_FORMAT:
+        return None
+    return entry.input_types

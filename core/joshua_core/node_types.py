@@ -1,14 +1,40 @@
 """The node-type registry: one declarative entry per node type, read by every layer.
 
-The compiler's rules and planner, the emitters, the runtime's dispatch and the simulation all read
-these entries; nothing else lists node types. Adding a node type means: its enum value in
-proto/joshua/v1/robot_config.proto, its entry here, its runtime node class, its simulation bridge if
-it touches hardware, and its tests (tests/test_node_type_registry.py checks that they agree).
+The compiler's rules and planner, the emitters, the runtime's dispatch, the simulation, `joshuac
+explain`, the README's node-type table and cpp/Makefile all read these entries; nothing else lists
+node types. docs/adding-a-node-type.md walks through adding one; tests/test_node_type_registry.py
+checks that the layers agree, tests/test_type_lists.py that no prose lists types by hand.
+
+`python -m joshua_core.node_types --cpp-binaries` prints the C++ binaries, one per line (cpp/Makefile).
 """
 
+import sys
 from dataclasses import dataclass, field
+from enum import StrEnum
 
+from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
 from joshua_core.fixed_topics import ROBOT_DESCRIPTION, TF, TF_STATIC, FixedTopic
+
+
+class Family(StrEnum):
+    """What a node type is about. Behaviour that depends on it compares with these members, never with text."""
+
+    CAMERA = "camera"
+    LIDAR = "lidar"
+    ENCODER = "encoder"
+    ACTUATOR = "actuator"
+    CALIBRATION = "calibration"
+    INFERENCE = "inference"
+    RECORDER = "recorder"
+    BASE = "base"
+    STATE_PUBLISHER = "state_publisher"
+    CUSTOM = "custom"
+    SIMULATION = "simulation"
+    BRIDGE = "bridge"
+
+
+# The families that read joints through an STS3215 servo bus (or stand in for one that does).
+SERVO_BUS_FAMILIES = frozenset({Family.ENCODER, Family.ACTUATOR, Family.CALIBRATION})
 
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
 _SERVO_BUS_FIELDS = frozenset(
@@ -69,8 +95,7 @@ OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 class NodeTypeSpec:
     """What one node type is, declared once.
 
-    family      what it is about: camera, lidar, encoder, actuator, calibration, inference, recorder, base,
-                state_publisher, custom
+    family      what it is about (Family)
     topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
     message_types  allowed on topic_name; the first is the default
     input_types    the message types its input_topics may carry (empty: it reads none)
@@ -79,13 +104,14 @@ class NodeTypeSpec:
     fixed_topics   topics it publishes whatever its fields say (/tf, /tf_static, ...), with type and QoS
     hardware       it touches a device; MODE_SIMULATION replaces it with the simulation engine
     mock_of        the hardware type a MOCK_* stands in for (it reads the same fields)
-    python_only    it always runs its Python implementation, whatever preferred_backend says
-    cpp_parameters the `-p` parameters of its C++ binary, in order; None when it has no binary (`preset`
+    cpp_parameters the `-p` parameters of its C++ binary (cpp/nodes/<name in lower case>.cpp, which
+                   cpp/Makefile builds), in order; None when it has none: then it always runs its Python
+                   implementation (CUSTOM: its executable) and preferred_backend CPP gets W102 (`preset`
                    is one JSON string: {"name": {"joint": rad}})
     fields         node fields it reads besides the common ones (W101 warns about the others)
     required       fields it cannot run without (each has its rule: E105 serial_port, ...)
     claims         devices it needs present before start: serial_port, camera, video_file, model_path
-    rate_hz, frame_id  defaults of those fields
+    rate_hz, frame_id, baud_rate  defaults of those fields (baud_rate 0: it opens no serial line)
     sensor_qos     BEST_EFFORT with depth 5 by default (else RELIABLE, depth 10)
     diagnostics    it publishes its device's health on /diagnostics (joshua_core.servo_topics): one DiagnosticStatus
                    per servo, or a base's one for its hub link
@@ -96,7 +122,7 @@ class NodeTypeSpec:
     """
 
     name: str
-    family: str
+    family: Family
     topic: str
     message_types: tuple[str, ...] = ()
     input_types: tuple[str, ...] = ()
@@ -105,13 +131,13 @@ class NodeTypeSpec:
     fixed_topics: tuple[FixedTopic, ...] = ()
     hardware: bool = False
     mock_of: str = ""
-    python_only: bool = False
     cpp_parameters: tuple[str, ...] | None = None
     fields: frozenset[str] = field(default_factory=frozenset)
     required: tuple[str, ...] = ()
     claims: tuple[str, ...] = ()
     rate_hz: float = 100.0
     frame_id: str = "base_link"
+    baud_rate: int = 0
     sensor_qos: bool = False
     diagnostics: bool = False
     presets: bool = False
@@ -137,7 +163,7 @@ class NodeTypeSpec:
     @property
     def servo_bus(self) -> bool:
         """It reads joints through an STS3215 servo bus (or stands in for one that does)."""
-        return self.family in ("encoder", "actuator", "calibration")
+        return self.family in SERVO_BUS_FAMILIES
 
 
 def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
@@ -151,10 +177,10 @@ def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
         odom_topic=real.odom_topic,
         fixed_topics=real.fixed_topics,
         mock_of=real.name,
-        python_only=True,
-        fields=real.fields - _HARDWARE_ONLY_FIELDS - (_ARM_WATCHDOG if real.family == "actuator" else frozenset()),
+        fields=real.fields - _HARDWARE_ONLY_FIELDS - (_ARM_WATCHDOG if real.family == Family.ACTUATOR else frozenset()),
         rate_hz=real.rate_hz,
         frame_id=real.frame_id,
+        baud_rate=real.baud_rate,
         sensor_qos=real.sensor_qos,
         runtime_class=runtime_class,
     )
@@ -164,11 +190,10 @@ _NODES = "joshua_runtime.nodes"
 _BRIDGES = "joshua_runtime.sim.bridges"
 CAMERA_PUBLISHER = NodeTypeSpec(
     name="CAMERA_PUBLISHER",
-    family="camera",
+    family=Family.CAMERA,
     topic="publishes",
     message_types=IMAGE_TYPES,
     hardware=True,
-    cpp_parameters=_CPP_TOPIC_PARAMETERS + ("camera_index", "video_source", "width", "height", "rate_hz", "frame_id"),
     fields=_CAMERA_FIELDS,
     claims=("camera", "video_file"),
     rate_hz=30.0,
@@ -179,12 +204,13 @@ CAMERA_PUBLISHER = NodeTypeSpec(
 )
 ENCODER_PUBLISHER = NodeTypeSpec(
     name="ENCODER_PUBLISHER",
-    family="encoder",
+    family=Family.ENCODER,
     topic="publishes",
     message_types=(JOINT_STATE,),
     hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id", "diagnostics_rate_hz"),
     fields=_SERVO_BUS_FIELDS,
+    baud_rate=STS3215_DEFAULT_BAUD_RATE,
     required=("serial_port",),
     claims=("serial_port",),
     diagnostics=True,
@@ -193,12 +219,13 @@ ENCODER_PUBLISHER = NodeTypeSpec(
 )
 LIDAR_PUBLISHER = NodeTypeSpec(
     name="LIDAR_PUBLISHER",
-    family="lidar",
+    family=Family.LIDAR,
     topic="publishes",
     message_types=("sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2"),
     hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
     fields=_LIDAR_FIELDS,
+    baud_rate=LDS01_BAUD_RATE,
     required=("serial_port",),
     claims=("serial_port",),
     rate_hz=5.0,
@@ -209,7 +236,7 @@ LIDAR_PUBLISHER = NodeTypeSpec(
 )
 ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     name="ACTUATOR_SUBSCRIBER",
-    family="actuator",
+    family=Family.ACTUATOR,
     topic="subscribes",
     message_types=JOINT_COMMAND_TYPES,
     state_topic=True,
@@ -219,6 +246,7 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     + ("state_topic", "frame_id", "keep_torque_on_exit", "diagnostics_rate_hz")
     + ("command_timeout_s", "on_command_timeout", "preset"),
     fields=_SERVO_BUS_FIELDS | _ACTUATOR_FIELDS,
+    baud_rate=STS3215_DEFAULT_BAUD_RATE,
     required=("serial_port",),
     claims=("serial_port",),
     diagnostics=True,
@@ -228,12 +256,12 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
 )
 OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
     name="OPERATIONAL_LIMIT_CALIBRATION",
-    family="calibration",
+    family=Family.CALIBRATION,
     topic="publishes",
     message_types=(JOINT_STATE,),
     hardware=True,
-    cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS,
     fields=_SERVO_BUS_FIELDS,
+    baud_rate=STS3215_DEFAULT_BAUD_RATE,
     required=("serial_port", "calibration_file"),
     claims=("serial_port",),
     diagnostics=True,
@@ -242,11 +270,10 @@ OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
 )
 INFERENCE = NodeTypeSpec(
     name="INFERENCE",
-    family="inference",
+    family=Family.INFERENCE,
     topic="publishes",
     message_types=JOINT_COMMAND_TYPES,
     input_types=OBSERVATION_TYPES,
-    python_only=True,
     fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),
     required=("model_path", "input_topics"),
     claims=("model_path",),
@@ -256,11 +283,10 @@ INFERENCE = NodeTypeSpec(
 )
 DATA_SUBSCRIBER = NodeTypeSpec(
     name="DATA_SUBSCRIBER",
-    family="recorder",
+    family=Family.RECORDER,
     topic="subscribes",
     message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
-    python_only=True,
     fields=frozenset(
         {"input_topics", "output_format", "output_directory", "rate_hz", "bag_max_size_mb", "bag_max_duration_s"}
     ),
@@ -271,14 +297,13 @@ DATA_SUBSCRIBER = NodeTypeSpec(
 )
 DIFF_DRIVE_BASE = NodeTypeSpec(
     name="DIFF_DRIVE_BASE",
-    family="base",
+    family=Family.BASE,
     topic="subscribes",
     message_types=(TWIST,),
     state_topic=True,
     odom_topic=True,
     fixed_topics=(TF,),  # odom -> base_link, the pose of its odometry
     hardware=True,
-    python_only=True,
     fields=_BASE_FIELDS,
     rate_hz=50.0,
     frame_id="odom",
@@ -289,19 +314,17 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
 )
 ROBOT_STATE_PUBLISHER = NodeTypeSpec(
     name="ROBOT_STATE_PUBLISHER",
-    family="state_publisher",
+    family=Family.STATE_PUBLISHER,
     topic="subscribes",
     message_types=(JOINT_STATE,),
     fixed_topics=(TF, TF_STATIC, ROBOT_DESCRIPTION),
-    python_only=True,
     fields=frozenset({"robot_description"}),
     runtime_class=f"{_NODES}.robot_state_publisher:RobotStatePublisher",
 )
 CUSTOM = NodeTypeSpec(
     name="CUSTOM",
-    family="custom",
+    family=Family.CUSTOM,
     topic="",
-    python_only=True,
     fields=frozenset({"executable", "args", "publishes", "subscribes"}),
     required=("executable",),
 )
@@ -330,18 +353,16 @@ NODE_TYPES: dict[str, NodeTypeSpec] = {
 # The process that stands in for every hardware node in MODE_SIMULATION: not a NodeType of the schema.
 SIMULATION_ENGINE = NodeTypeSpec(
     name="SIMULATION",
-    family="simulation",
+    family=Family.SIMULATION,
     topic="",
-    python_only=True,
     runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode",
     runtime_extra="sim",
 )
 # The process `foxglove { }` adds: the robot's topics over the Foxglove WebSocket protocol.
 FOXGLOVE_BRIDGE = NodeTypeSpec(
     name="FOXGLOVE_BRIDGE",
-    family="bridge",
+    family=Family.BRIDGE,
     topic="",
-    python_only=True,
     runtime_class="joshua_runtime.foxglove.bridge_node:FoxgloveBridgeNode",
     runtime_extra="foxglove",
 )
@@ -353,19 +374,17 @@ PROCESS_TYPES: dict[str, NodeTypeSpec] = {
 }
 
 
-def readable_input_types(entry: NodeTypeSpec, output_format: str) -> tuple[str, ...] | None:
-    """The message types a node's input_topics may carry; None when any type is fine.
-
-    A recorder writing a ROS bag stores messages as they are, whatever their type; every other
-    reader (a policy, a dataset recorder) reads only its registry entry's input_types.
-    """
-    from joshua_core.models import BAG_FORMAT  # models imports this module
-
-    if entry.family == "recorder" and output_format == BAG_FORMAT:
-        return None
-    return entry.input_types
-
-
 def spec(name: str) -> NodeTypeSpec | None:
     """The entry of a node type (or of the simulation engine) by name; None when there is none."""
     return PROCESS_TYPES.get(name)
+
+
+def cpp_binaries() -> list[str]:
+    """File names of every C++ node binary, sorted: what cpp/Makefile builds from cpp/nodes/<binary>.cpp."""
+    return sorted(entry.binary for entry in NODE_TYPES.values() if entry.binary)
+
+
+if __name__ == "__main__":
+    if sys.argv[1:] != ["--cpp-binaries"]:
+        sys.exit("usage: python -m joshua_core.node_types --cpp-binaries")
+    print("\n".join(cpp_binaries()))

@@ -12,7 +12,9 @@ W = warning, reported while the build goes on):
     E5xx, W5xx  modes and process settings
 
 Each code lives in one module `rules/<code>_<name>.py` with `CODE`, `NAME`, `SEVERITY`, `STAGE`
-and a docstring under the headings "What it checks", "Why it matters" and "Example".
+and a docstring under the headings "What it checks", "Why it matters" and "Example". A docstring
+names node types through placeholders that the module's `TYPE_LISTS` fills from the registry
+(joshua_codegen/type_lists.py), never by a list written out.
 `STAGE` says who reports it: "load" (the loader), "override" (the `--set` parser), "check" (the
 module's own `check(ctx)`, which yields `Finding`s) or "plan" (also `check(ctx)`, reading the planned
 model `ctx.robot`; run only when nothing before found an error, since only a valid description plans).
@@ -31,6 +33,7 @@ import re
 from functools import cache
 from types import ModuleType
 
+from joshua_codegen import type_lists
 from joshua_codegen.diagnostics import Diagnostic, Related
 from joshua_codegen.rules.context import Finding, RuleContext
 
@@ -62,15 +65,20 @@ def explain(code: str) -> str | None:
     module = rule(code)
     if module is None:
         return None
-    title, _, body = (module.__doc__ or "").strip().partition("\n")
+    title, _, body = docstring(module).partition("\n")
     return f"{title}\nSeverity: {module.SEVERITY}\n{body}\n"
+
+
+def docstring(module: ModuleType) -> str:
+    """The rule's docstring with its node-type placeholders filled from the registry."""
+    return type_lists.render((module.__doc__ or "").strip(), getattr(module, "TYPE_LISTS", {}))
 
 
 def summaries() -> list[str]:
     """One line per code, sorted: `E301 reliability-incompatible  error    <what it reports>`."""
     lines = []
     for module in all_rules():
-        title = (module.__doc__ or "").strip().partition("\n")[0]
+        title = docstring(module).partition("\n")[0]
         what = title.partition(": ")[2]
         lines.append(f"{module.CODE} {module.NAME:<40} {module.SEVERITY:<8} {what}".rstrip())
     return lines

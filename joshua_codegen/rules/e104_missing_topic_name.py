@@ -1,9 +1,10 @@
 """E104 missing-topic-name: a node other than CUSTOM has no topic_name.
 
 What it checks:
-    Every node except CUSTOM sets `topic_name`: the topic it publishes (publishers, INFERENCE,
-    OPERATIONAL_LIMIT_CALIBRATION) or subscribes to (ACTUATOR_SUBSCRIBER, DATA_SUBSCRIBER). Every
-    topic a CUSTOM node declares (`publishes { ... }`, `subscribes { ... }`) sets its `topic_name`.
+    Every node except CUSTOM sets `topic_name`: the topic it publishes ({publishers}) or subscribes
+    to ({subscribers}).
+
+    Every topic a CUSTOM node declares (`publishes { ... }`, `subscribes { ... }`) sets its `topic_name`.
 
 Why it matters:
     A node without a topic has nothing to publish or nothing to act on.
@@ -18,6 +19,10 @@ from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_core.schema import robot_config_pb2 as pb
 
+TYPE_LISTS = {
+    "publishers": lambda entry: entry.topic == "publishes",
+    "subscribers": lambda entry: entry.topic == "subscribes",
+}
 CODE = "E104"
 NAME = "missing-topic-name"
 SEVERITY = ERROR

@@ -1,9 +1,8 @@
-"""E105 missing-serial-port: a servo-bus or lidar node has no serial_port.
+"""E105 missing-serial-port: a node that talks to a device over a serial line has no serial_port.
 
 What it checks:
-    ENCODER_PUBLISHER, ACTUATOR_SUBSCRIBER, OPERATIONAL_LIMIT_CALIBRATION and LIDAR_PUBLISHER set
-    `serial_port` (e.g. /dev/ttyUSB0). Not checked in MODE_SIMULATION, where these nodes are
-    replaced by the simulation and open no device; MOCK_* nodes never need one.
+    {serial_types} set `serial_port` (e.g. /dev/ttyUSB0). Not checked in MODE_SIMULATION, where these
+    nodes are replaced by the simulation and open no device; MOCK_* nodes never need one.
 
 Why it matters:
     These nodes talk to hardware over a serial line; there is no port they could safely guess.
@@ -19,6 +18,7 @@ from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_core.schema import robot_config_pb2 as pb
 
+TYPE_LISTS = {"serial_types": lambda entry: "serial_port" in entry.required}
 CODE = "E105"
 NAME = "missing-serial-port"
 SEVERITY = ERROR

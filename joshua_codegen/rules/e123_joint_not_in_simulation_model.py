@@ -2,10 +2,10 @@
 
 What it checks:
     In MODE_SIMULATION with a built-in model (`builtin:so100`), every joint of every servo node that
-    the simulation stands in for (ENCODER_PUBLISHER, ACTUATOR_SUBSCRIBER, OPERATIONAL_LIMIT_CALIBRATION)
-    is a joint of that model: its `joint_names`, or the names derived from `device_ids`
-    (`joint_<id>` unless there are six ids). The same holds for the wheel joints of a simulated
-    DIFF_DRIVE_BASE (`builtin:lego_bot`: left_wheel, right_wheel).
+    the simulation stands in for ({servo_types}) is a joint of that model: its `joint_names`, or the
+    names derived from `device_ids` (`joint_<id>` unless there are six ids).
+
+    The same holds for the wheel joints of a simulated {bases} (`builtin:lego_bot`: left_wheel, right_wheel).
 
 Why it matters:
     The simulation drives and reads joints by name; the simulated node refuses to start when one is
@@ -23,8 +23,13 @@ from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_core.models import BUILTIN_MODEL_JOINTS, BUILTIN_PREFIX
+from joshua_core.node_types import Family
 from joshua_core.schema import robot_config_pb2 as pb
 
+TYPE_LISTS = {
+    "servo_types": lambda entry: entry.servo_bus and entry.hardware,
+    "bases": lambda entry: entry.family == Family.BASE and entry.hardware,
+}
 CODE = "E123"
 NAME = "joint-not-in-simulation-model"
 SEVERITY = ERROR

@@ -1,9 +1,8 @@
 """E207 subscription-type-mismatch: a subscriber expects a type that no publisher of its topic sends.
 
 What it checks:
-    A subscriber of `topic_name` (ACTUATOR_SUBSCRIBER, MOCK_ACTUATOR_SUBSCRIBER, and DATA_SUBSCRIBER,
-    whose topic is recorded as the JointState action) uses a type that at least one publisher of
-    that topic publishes.
+    A subscriber of `topic_name` ({subscribers}) uses a type that at least one publisher of that
+    topic publishes. A recorder's topic_name is recorded as the JointState action.
 
 Why it matters:
     A subscription of another type never matches the publishers: no data flows, silently.
@@ -16,6 +15,7 @@ Example:
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 
+TYPE_LISTS = {"subscribers": lambda entry: entry.topic == "subscribes"}
 CODE = "E207"
 NAME = "subscription-type-mismatch"
 SEVERITY = ERROR

@@ -19,7 +19,7 @@ Example:
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.node_types import readable_input_types
+from joshua_core.models import readable_input_types
 
 CODE = "E208"
 NAME = "input-type-not-observable"

@@ -1,9 +1,8 @@
 """E401 serial-port-conflict: two nodes claim the same serial port.
 
 What it checks:
-    Each `serial_port` of a servo-bus or lidar node (ENCODER_PUBLISHER, ACTUATOR_SUBSCRIBER,
-    OPERATIONAL_LIMIT_CALIBRATION, LIDAR_PUBLISHER) is used by one node only. MOCK_* nodes open
-    no port and are not counted. The error is at the second node, with the first as a note.
+    Each `serial_port` of a node that opens it ({serial_types}) is used by one node only. MOCK_*
+    nodes open no port and are not counted. The error is at the second node, with the first as a note.
 
 Why it matters:
     Two processes on one serial line interleave their bytes: both read garbage and servos may
@@ -18,6 +17,7 @@ from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 
+TYPE_LISTS = {"serial_types": lambda entry: "serial_port" in entry.claims}
 CODE = "E401"
 NAME = "serial-port-conflict"
 SEVERITY = ERROR

@@ -1,10 +1,11 @@
 """W202 unpublished-topic: a node subscribes to a topic that nothing in the description publishes.
 
 What it checks:
-    Each subscription (topic_name of ACTUATOR_SUBSCRIBER and DATA_SUBSCRIBER, and every
-    input_topics entry of INFERENCE and DATA_SUBSCRIBER, and every topic a CUSTOM node declares in
-    `subscribes`) has a publisher in the description; processes outside it are not known. Topics a
-    node publishes by its type alone count too (its registry entry's fixed_topics, e.g. /tf,
+    Each subscription (topic_name of {subscribers}, every input_topics entry of {readers}, and every
+    topic a CUSTOM node declares in `subscribes`) has a publisher in the description; processes
+    outside it are not known.
+
+    Topics a node publishes by its type alone count too (its registry entry's fixed_topics, e.g. /tf,
     /tf_static and /robot_description). When a published topic is spelt alike, the message suggests
     it. An actuator's preset channel (`<topic_name>/preset`) is left out: it is published by hand or
     by joshua-desktop when needed.
@@ -29,6 +30,10 @@ from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.rules.context import Finding
 from joshua_codegen.values import suggest
 
+TYPE_LISTS = {
+    "subscribers": lambda entry: entry.topic == "subscribes",
+    "readers": lambda entry: entry.reads_inputs,
+}
 CODE = "W202"
 NAME = "unpublished-topic"
 SEVERITY = WARNING

@@ -8,22 +8,33 @@ from joshua_codegen.diagnostics import format_text
 SEEDS = Path(__file__).parent / "seeds"
 
 
-def test_so100_arm_only_warns_that_nothing_publishes_its_commands(monkeypatch):
+# The spec's camera asks for a C++ binary that no node-type registry entry has.
+CAMERA_HAS_NO_BINARY = (
+    "CAMERA_PUBLISHER has no C++ binary and always runs its Python entrypoint; preferred_backend CPP is ignored"
+)
+
+
+def test_so100_arm_only_warns_that_nothing_publishes_its_commands_and_its_camera_has_no_binary(monkeypatch):
     monkeypatch.chdir(SEEDS)
     result = check_file("so100_arm.pbtxt")
     assert format_text(result.diagnostics, result.sources) == (
+        f"so100_arm.pbtxt:13:5: warning[W102]: {CAMERA_HAS_NO_BINARY}\n"
+        "    preferred_backend: CPP\n"
+        "    ^~~~~~~~~~~~~~~~~~~~~~\n"
         'so100_arm.pbtxt:18:5: warning[W202]: nothing in this description publishes "/arm/commands"\n'
         '    topic_name: "/arm/commands"\n'
         "    ^~~~~~~~~~~~~~~~~~~~~~~~~~~\n"
-        "0 errors, 1 warning\n"
+        "0 errors, 2 warnings\n"
     )
     assert result.description.robot_config.name == "so100_arm"
 
 
-def test_so100_leader_follower_is_clean(monkeypatch):
+def test_so100_leader_follower_only_warns_that_its_camera_has_no_binary(monkeypatch):
     monkeypatch.chdir(SEEDS)
     result = check_file("so100_leader_follower.pbtxt")
-    assert result.diagnostics == []
+    assert [(d.line, d.column, d.code, d.message) for d in result.diagnostics] == [
+        (39, 5, "W102", CAMERA_HAS_NO_BINARY)
+    ]
     assert [n.type for n in result.description.robot_config.node] == [2, 4, 1, 6]
 
 
