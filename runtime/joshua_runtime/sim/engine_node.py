@@ -2,12 +2,12 @@
 
 Its settings carry `simulation = {"model", "timestep_s", "realtime_factor", "camera", "gl_backend",
 "simulates": [settings of each replaced node]}`. It loads the model, starts physics, and builds one
-bridge per replaced node (sim/bridges.py) on that node's own topics, types and QoS, and publishes
-/diagnostics for the servo nodes among them (sim/diagnostics.py). Cameras render in
-their own thread; encoders, actuator states and lidars run on the node's ROS timers.
+bridge per replaced node (sim/bridge.py; the registry names each type's) on that node's own topics,
+types and QoS, and publishes /diagnostics for the servo nodes among them (sim/diagnostics.py).
+The bridges' render streams are drawn in their own thread; everything else runs on the node's ROS timers.
 """
 
-from joshua_core.node_types import spec
+from joshua_core.node_types import IMAGE_TYPES
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.sim.gl_backend import configure_gl
@@ -25,11 +25,12 @@ class SimulationEngineNode(JoshuaNode):
             raise SettingsError(f"{self.name}: settings have no 'simulation' section")
         sim = self.settings.simulation
         simulated = list(sim.simulates)
-        renders = any(spec(s.type).family == "camera" for s in simulated)
+        # A simulated node that publishes images is rendered: the GL backend is chosen before mujoco loads.
+        renders = any(s.topic.message_type in IMAGE_TYPES for s in simulated)
         gl_backend = configure_gl(sim.gl_backend) if renders else ""
 
         # mujoco is imported only now, after the GL backend is chosen.
-        from joshua_runtime.sim.bridges import make_bridge
+        from joshua_runtime.sim.bridge import make_bridge
         from joshua_runtime.sim.cameras import CameraThread
         from joshua_runtime.sim.diagnostics import SimulatedDiagnostics
         from joshua_runtime.sim.engine import SimulationEngine
@@ -40,7 +41,7 @@ class SimulationEngineNode(JoshuaNode):
         self.default_camera = sim.camera  # the MJCF camera of camera nodes whose frame_id names none
         self.bridges = [make_bridge(self, self.engine, s) for s in simulated]
         self.diagnostics = SimulatedDiagnostics(self, self.engine, simulated)
-        streams = [b.stream for b in self.bridges if hasattr(b, "stream")]
+        streams = [stream for bridge in self.bridges for stream in bridge.streams]
         self.cameras = CameraThread(self.engine, streams, gl_backend)
         # Cameras first: creating GL contexts holds the interpreter for a while, which would show
         # up as time the physics schedule has to drop.
@@ -69,7 +70,6 @@ class SimulationEngineNode(JoshuaNode):
             f"{self.engine.dropped_s:.3f} s dropped"
         )
         for bridge in self.bridges:
-            stream = getattr(bridge, "stream", None)
-            if stream is not None:
-                line += f"; {bridge.name} {stream.frames} frames ({stream.skipped} skipped)"
+            if said := bridge.summary():
+                line += f"; {said}"
         return line

@@ -3,6 +3,7 @@ from the simulated wheel angles through the same code as on the real base (nodes
 
 from joshua_core.settings import NodeSettings
 from joshua_runtime.nodes.diff_drive import BaseTopics, WheelDrive, wheel_names
+from joshua_runtime.sim.bridge import SimulationBridge
 from joshua_runtime.sim.engine import SimulationEngine
 
 
@@ -21,7 +22,7 @@ class SimulatedWheels(WheelDrive):
         return float(reading.positions[0]), float(reading.positions[1]), reading.sim_time
 
 
-class DiffDriveBridge:
+class DiffDriveBridge(SimulationBridge):
     """Serves the base's topics, types and QoS for the simulated car."""
 
     def __init__(self, node, engine: SimulationEngine, settings: NodeSettings):
