@@ -8,7 +8,7 @@ RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 PYTEST_ARGS ?=
 
-.PHONY: setup install uninstall run test generate proto bench check cpp demo-train
+.PHONY: setup install uninstall run test generate proto bench check cpp demo-train docs
 
 setup:
 	@bash scripts/setup.sh
@@ -47,6 +47,10 @@ generate: setup
 	@for robot in $(ROBOTS); do \
 		rm -rf generated/$$robot && $(VENV)/joshuac build config/robots/$$robot.pbtxt -o generated/$$robot || exit 1; \
 	done
+
+## docs: render the README's node-type table from the node-type registry (tests fail when it is stale).
+docs: setup
+	$(VENV)/python -m joshua_codegen.readme_tables
 
 ## cpp: build the C++ node binaries into build/bin/ (a no-op when they are up to date; setup runs it).
 cpp:

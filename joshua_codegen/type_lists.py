@@ -1,6 +1,6 @@
 """Lists of node types in prose, taken from the registry: what `joshuac explain` and the README print.
 
-A rule's docstring names the types it concerns with a placeholder, `{serial_types}`, and its module
+A rule's docstring names the types it concerns with a placeholder ending in `_types`, `{serial_types}`, and its module
 defines `TYPE_LISTS = {"serial_types": predicate}` over registry entries; `render` puts the types
 that satisfy each predicate in its place, so a new node type appears in every explanation that
 concerns it without anyone editing the text (tests/test_type_lists.py fails on a list written by hand).
@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 from joshua_core.node_types import NODE_TYPES, NodeTypeSpec
 
 Predicate = Callable[[NodeTypeSpec], bool]
-PLACEHOLDER = re.compile(r"\{([a-z_]+)\}")
+PLACEHOLDER = re.compile(r"\{([a-z_]+_types)\}")
 MOCKS = "MOCK_*"
 # Lines a filled-in paragraph is wrapped to (the width the rules' docstrings are written at).
 WIDTH = 100

@@ -1,8 +1,8 @@
 """E104 missing-topic-name: a node other than CUSTOM has no topic_name.
 
 What it checks:
-    Every node except CUSTOM sets `topic_name`: the topic it publishes ({publishers}) or subscribes
-    to ({subscribers}).
+    Every node except CUSTOM sets `topic_name`: the topic it publishes ({publisher_types}) or subscribes
+    to ({subscriber_types}).
 
     Every topic a CUSTOM node declares (`publishes { ... }`, `subscribes { ... }`) sets its `topic_name`.
 
@@ -20,8 +20,8 @@ from joshua_codegen.rules.context import Finding
 from joshua_core.schema import robot_config_pb2 as pb
 
 TYPE_LISTS = {
-    "publishers": lambda entry: entry.topic == "publishes",
-    "subscribers": lambda entry: entry.topic == "subscribes",
+    "publisher_types": lambda entry: entry.topic == "publishes",
+    "subscriber_types": lambda entry: entry.topic == "subscribes",
 }
 CODE = "E104"
 NAME = "missing-topic-name"

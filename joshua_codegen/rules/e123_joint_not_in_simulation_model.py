@@ -5,7 +5,7 @@ What it checks:
     the simulation stands in for ({servo_types}) is a joint of that model: its `joint_names`, or the
     names derived from `device_ids` (`joint_<id>` unless there are six ids).
 
-    The same holds for the wheel joints of a simulated {bases} (`builtin:lego_bot`: left_wheel, right_wheel).
+    The same holds for the wheel joints of a simulated {base_types} (`builtin:lego_bot`: left_wheel, right_wheel).
 
 Why it matters:
     The simulation drives and reads joints by name; the simulated node refuses to start when one is
@@ -28,7 +28,7 @@ from joshua_core.schema import robot_config_pb2 as pb
 
 TYPE_LISTS = {
     "servo_types": lambda entry: entry.servo_bus and entry.hardware,
-    "bases": lambda entry: entry.family == Family.BASE and entry.hardware,
+    "base_types": lambda entry: entry.family == Family.BASE and entry.hardware,
 }
 CODE = "E123"
 NAME = "joint-not-in-simulation-model"

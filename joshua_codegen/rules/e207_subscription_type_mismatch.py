@@ -1,7 +1,7 @@
 """E207 subscription-type-mismatch: a subscriber expects a type that no publisher of its topic sends.
 
 What it checks:
-    A subscriber of `topic_name` ({subscribers}) uses a type that at least one publisher of that
+    A subscriber of `topic_name` ({subscriber_types}) uses a type that at least one publisher of that
     topic publishes. A recorder's topic_name is recorded as the JointState action.
 
 Why it matters:
@@ -15,7 +15,7 @@ Example:
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 
-TYPE_LISTS = {"subscribers": lambda entry: entry.topic == "subscribes"}
+TYPE_LISTS = {"subscriber_types": lambda entry: entry.topic == "subscribes"}
 CODE = "E207"
 NAME = "subscription-type-mismatch"
 SEVERITY = ERROR

@@ -1,7 +1,7 @@
 """W202 unpublished-topic: a node subscribes to a topic that nothing in the description publishes.
 
 What it checks:
-    Each subscription (topic_name of {subscribers}, every input_topics entry of {readers}, and every
+    Each subscription (topic_name of {subscriber_types}, every input_topics entry of {reader_types}, and every
     topic a CUSTOM node declares in `subscribes`) has a publisher in the description; processes
     outside it are not known.
 
@@ -31,8 +31,8 @@ from joshua_codegen.rules.context import Finding
 from joshua_codegen.values import suggest
 
 TYPE_LISTS = {
-    "subscribers": lambda entry: entry.topic == "subscribes",
-    "readers": lambda entry: entry.reads_inputs,
+    "subscriber_types": lambda entry: entry.topic == "subscribes",
+    "reader_types": lambda entry: entry.reads_inputs,
 }
 CODE = "W202"
 NAME = "unpublished-topic"

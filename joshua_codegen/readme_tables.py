@@ -1,0 +1,99 @@
+"""The README's node-type table, rendered from the registry between its marker comments.
+
+    python -m joshua_codegen.readme_tables          # rewrite the table in README.md (make docs)
+    python -m joshua_codegen.readme_tables --check  # exit 1 when README.md's table is stale
+
+tests/test_type_lists.py fails when the committed table differs from what this renders.
+"""
+
+import sys
+from pathlib import Path
+
+from joshua_core.node_types import NODE_TYPES, NodeTypeSpec
+from joshua_core.servo_topics import DIAGNOSTICS_TOPIC
+
+README = Path(__file__).resolve().parent.parent / "README.md"
+BEGIN = "<!-- begin node-types: rendered from core/joshua_core/node_types.py by `make docs`; do not edit -->"
+END = "<!-- end node-types -->"
+HEADER = (
+    "| type | topic_name | message types (first: default) | requires | opens | also publishes | C++ binary "
+    "| in MODE_SIMULATION | extra |",
+    "|---|---|---|---|---|---|---|---|---|",
+)
+NONE = "-"
+
+
+def _short(message_type: str) -> str:
+    return message_type.rsplit("/", 1)[-1]
+
+
+def _codes(items) -> str:
+    return ", ".join(f"`{item}`" for item in items) or NONE
+
+
+def _also_publishes(entry: NodeTypeSpec) -> str:
+    topics = []
+    if entry.state_topic:
+        topics.append("`state_topic`")
+    if entry.odom_topic:
+        topics.append("`odom_topic`")
+    if entry.diagnostics:
+        topics.append(f"`{DIAGNOSTICS_TOPIC}`")
+    topics += [f"`{topic.name}`" for topic in entry.fixed_topics]
+    return ", ".join(topics) or NONE
+
+
+def _simulated(entry: NodeTypeSpec) -> str:
+    if entry.sim_bridge:
+        return "simulated"
+    return "runs as it is" if entry.runtime_class else "runs its executable"
+
+
+def row(entry: NodeTypeSpec) -> str:
+    """One table row: what a description author needs to know of a node type."""
+    cells = [
+        f"`{entry.name}`",
+        entry.topic or ("declared in `publishes` / `subscribes`" if entry.declares_topics else NONE),
+        ", ".join(_short(t) for t in entry.message_types) or NONE,
+        _codes(entry.required),
+        _codes(entry.claims),
+        _also_publishes(entry),
+        f"`{entry.binary}`" if entry.binary else NONE,
+        _simulated(entry),
+        f"`{entry.runtime_extra}`" if entry.runtime_extra else NONE,
+    ]
+    return "| " + " | ".join(cells) + " |"
+
+
+def table() -> str:
+    """The rendered section, markers included."""
+    rows = [row(entry) for entry in NODE_TYPES.values()]
+    return "\n".join((BEGIN, *HEADER, *rows, END))
+
+
+def render(readme_text: str) -> str:
+    """The README text with its table section replaced by a fresh one."""
+    start, end = readme_text.find(BEGIN), readme_text.find(END)
+    if start < 0 or end < start:
+        raise ValueError(f"README.md lacks the markers {BEGIN!r} ... {END!r}")
+    return readme_text[:start] + table() + readme_text[end + len(END) :]
+
+
+def main(argv: list[str]) -> int:
+    text = README.read_text(encoding="utf-8")
+    fresh = render(text)
+    if argv == ["--check"]:
+        if fresh != text:
+            print("README.md's node-type table is stale; run: make docs", file=sys.stderr)
+            return 1
+        return 0
+    if argv:
+        print("usage: python -m joshua_codegen.readme_tables [--check]", file=sys.stderr)
+        return 2
+    if fresh != text:
+        README.write_text(fresh, encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
