@@ -16,10 +16,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from joshua_runtime.drivers.sts3215_status import read_status
 from joshua_runtime.drivers.sts3215_table import STATE_BLOCK_ADDRESS, STATE_BLOCK_SIZE
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 from joshua_runtime.servo_tools.bus import open_bus
-from joshua_runtime.servo_tools.status import read_status
 
 IDS = [1, 2, 3, 4, 5, 6]
 CONTROL_HZ = 100.0

@@ -23,11 +23,11 @@ from pathlib import Path
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
+from joshua_runtime.drivers.sts3215_status import read_status
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 from joshua_runtime.errors import DeviceError
 from joshua_runtime.servo_tools.bus import open_bus
 from joshua_runtime.servo_tools.scan import scan
-from joshua_runtime.servo_tools.status import read_status
 
 IDS = [1, 2, 3, 4, 5, 6]
 FEED_HZ = 100.0

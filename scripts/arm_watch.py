@@ -6,7 +6,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
-from joshua_runtime.train import arm
+from joshua_runtime.sim import arm_task as arm
 from joshua_runtime.train.demonstrations import DEMONSTRATION_GOAL
 
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)

@@ -2,6 +2,8 @@
 
 A robot installs joshua_core and joshua_runtime only, so the runtime must not need the compiler or its
 libraries (Jinja2, click); the core needs nothing but protobuf; the compiler runs where ROS is absent.
+Inside the runtime, layers import downward only (tools, ai, sim, nodes, drivers): the contracts of
+[tool.importlinter] in pyproject.toml, checked here by import-linter's lint-imports.
 """
 
 import ast
@@ -76,3 +78,23 @@ def test_node_entrypoint_runs_without_the_compiler_installed():
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
+
+
+def test_import_linter_contracts_are_kept():
+    lint_imports = Path(sys.executable).with_name("lint-imports")
+    result = subprocess.run(
+        [str(lint_imports), "--no-cache", "--no-logo"], cwd=ROOT, capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-2000:]
+    assert "0 broken" in result.stdout
+
+
+def test_every_runtime_module_has_its_layer():
+    """A new subpackage of the runtime joins a layer, so that the contract also holds for it."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]["contracts"]
+    (runtime,) = [c for c in config if c.get("containers") == ["joshua_runtime"]]
+    layered = {name.strip() for layer in runtime["layers"] for name in layer.replace(":", "|").split("|")}
+    package = PACKAGES["joshua_runtime"]
+    modules = {p.stem for p in package.glob("*.py") if p.name != "__init__.py"}
+    modules |= {p.name for p in package.iterdir() if p.is_dir() and any(p.glob("*.py"))}
+    assert layered == modules

@@ -1,4 +1,4 @@
-// One telemetry reading per servo and its judgement against the STS3215 limits (as servo_tools.diagnostics).
+// One telemetry reading per servo and its judgement against the STS3215 limits (as drivers/sts3215_health.py).
 //
 // Levels are diagnostic_msgs/DiagnosticStatus levels (OK 0, WARN 1, ERROR 2). A reading within a
 // margin of a factory protection limit warns before the servo protects itself.

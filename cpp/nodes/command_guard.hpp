@@ -1,5 +1,5 @@
 // Guards for an actuator's goals, free of ROS: a command watchdog, and clamping that says what it clamped
-// (as joshua_runtime.servo_tools.command_guard).
+// (as joshua_runtime.nodes.command_guard).
 #pragma once
 
 #include <optional>

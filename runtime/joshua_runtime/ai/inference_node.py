@@ -4,7 +4,7 @@ Settings used: `model_path` (a policy directory saved by LeRobot, or `registry:N
 `policy_type` (optional check against the saved config), `device` (`cpu` / `cuda`), `inputs`
 (Image and JointState topics, mapped to policy features as described in `observation_mapper.py`),
 `topic` (sensor_msgs/msg/JointState actions; a PPO reach policy publishes goal angles of
-the four arm joints and aims at the `goal` of its joshua_policy.json, see train/ppo_runner.py; or
+the four arm joints and aims at the `goal` of its joshua_policy.json, see ai/ppo_runner.py; or
 trajectory_msgs/msg/JointTrajectory action chunks, see below), `joint_names` (names of the published
 joints; when empty, the policy's action feature names without `.pos`), `rate_hz` (inference and publish
 rate; with action chunks, the rate of the chunk's actions, i.e. of the dataset the policy learnt from).
@@ -28,7 +28,7 @@ import threading
 import time
 
 from joshua_core.node_types import JOINT_COMMAND_TYPES
-from joshua_runtime.ai import data_only, model_files, registry
+from joshua_runtime.ai import data_only, model_files, registry, saved_policy
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.chunked_inference import ChunkedInference
 from joshua_runtime.ai.latest_samples import LatestSamples
@@ -38,7 +38,6 @@ from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 from joshua_runtime.nodes.trajectory_follower import is_trajectory, now_s
-from joshua_runtime.train import saved_policy
 
 INPUT_STALE_AFTER_S = 0.5
 PROBLEM_LOG_PERIOD_S = 2.0
@@ -123,7 +122,7 @@ class InferenceNode(JoshuaNode):
             from joshua_runtime.ai.observation_mapper import ObservationMapper
 
             if self.policy_type == saved_policy.KIND_PPO:
-                from joshua_runtime.train.ppo_runner import PpoRunner
+                from joshua_runtime.ai.ppo_runner import PpoRunner
 
                 runner = PpoRunner(self.policy_dir, self.rate_hz)
                 names = runner.feature_names

@@ -35,9 +35,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
-from joshua_runtime.ai import data_only, model_files
+from joshua_runtime.ai import data_only, model_files, saved_policy
 from joshua_runtime.errors import JoshuaError
-from joshua_runtime.train import saved_policy
 
 DEFAULT_ROOT = REGISTRY_DEFAULT_ROOT
 REF_PREFIX = REGISTRY_PREFIX
@@ -159,7 +158,7 @@ def import_policy(
         copy = staging / "policy"
         _copy_regular_files(policy_dir.resolve(), copy, policy_dir, top=True)
         if trust_pickle and policy_type == saved_policy.KIND_PPO and not (copy / saved_policy.PPO_FILE).exists():
-            from joshua_runtime.train import ppo_files
+            from joshua_runtime.ai import ppo_files
 
             ppo_files.convert_pickled(copy)
             metadata = saved_policy.read(copy)

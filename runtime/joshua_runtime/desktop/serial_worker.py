@@ -10,12 +10,12 @@ from joshua_runtime.desktop.worker import LinkWorker
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.calibration import calibration_for_bus, save_calibration
 from joshua_runtime.drivers.sts3215 import Sts3215Driver
+from joshua_runtime.drivers.sts3215_health import assess, level
+from joshua_runtime.drivers.sts3215_status import read_status
 from joshua_runtime.drivers.sts3215_table import encode_value, register
 from joshua_runtime.errors import JoshuaError
 from joshua_runtime.servo_tools.bus import TOOL_REPLY_TIMEOUT_S, TOOL_RETRIES
 from joshua_runtime.servo_tools.calibration_flow import ARMS, CalibrationFlow
-from joshua_runtime.servo_tools.diagnostics import assess, level
-from joshua_runtime.servo_tools.status import read_status
 
 SERIAL_POLL_HZ = 50.0
 

@@ -17,7 +17,7 @@ import threading
 import time
 
 from joshua_runtime.drivers import lds01_protocol as proto
-from joshua_runtime.emulators import synthetic_room
+from joshua_runtime.drivers import synthetic_room
 from joshua_runtime.emulators.pty_link import PtyLink
 
 POLL_S = 0.02  # longest wait between two checks of the stop flag

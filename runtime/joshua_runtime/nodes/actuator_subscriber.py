@@ -30,15 +30,15 @@ from joshua_runtime.convert.joint_state import (
     joint_state_to_action,
     perception_to_joint_state,
 )
+from joshua_runtime.drivers.sts3215_health import WARN, Finding
 from joshua_runtime.errors import DeviceError, SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.command_guard import CommandWatchdog, clamp_goals
 from joshua_runtime.nodes.servo_bus import BusGuard, bus_from_settings
 from joshua_runtime.nodes.servo_diagnostics import ServoDiagnostics
 from joshua_runtime.nodes.trajectory_follower import ChunkCommands, is_trajectory
 from joshua_runtime.qos import qos_profile
-from joshua_runtime.servo_tools.command_guard import CommandWatchdog, clamp_goals
-from joshua_runtime.servo_tools.diagnostics import WARN, Finding
 
 CLAMP_LOG_INTERVAL_S = 1.0
 RELEASE_TORQUE = "RELEASE_TORQUE"

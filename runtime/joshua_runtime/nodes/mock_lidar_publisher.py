@@ -8,9 +8,8 @@ room: whole-degree rays, 0 where the wall is beyond 3.5 m.
 import time
 
 from joshua_runtime.convert.point_cloud import scan_message
-from joshua_runtime.drivers import lds01_protocol
+from joshua_runtime.drivers import lds01_protocol, synthetic_room
 from joshua_runtime.drivers.lds01 import scan_packet
-from joshua_runtime.emulators import synthetic_room
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
 

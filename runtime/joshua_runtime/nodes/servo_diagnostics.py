@@ -3,7 +3,7 @@
 Each publication costs one SYNC_READ of the telemetry span (Present_Position .. Present_Current) of
 every servo, run by the node's BusGuard between two control ticks: at 1 Hz that is one extra bus
 transaction a second (bench/servo_diagnostics.py measures it against a control tick). Readings are
-judged by servo_tools.diagnostics (STS3215 limits). A failed read makes every servo ERROR and counts
+judged by drivers/sts3215_health.py (STS3215 limits). A failed read makes every servo ERROR and counts
 as a read failure. The node adds its own findings: `note` for one publication (a clamped goal),
 `condition` for as long as it holds (a stopped actuator).
 """
@@ -12,10 +12,10 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from joshua_core.servo_topics import DIAGNOSTICS_RATE_HZ, DIAGNOSTICS_TOPIC, FIXED_QOS
 from joshua_core.settings import QosSettings
+from joshua_runtime.drivers.sts3215_health import Finding, assess, level, read_failure
+from joshua_runtime.drivers.sts3215_status import ServoStatus, read_status
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.qos import qos_profile
-from joshua_runtime.servo_tools.diagnostics import Finding, assess, level, read_failure
-from joshua_runtime.servo_tools.status import ServoStatus, read_status
 
 
 class ServoDiagnostics:

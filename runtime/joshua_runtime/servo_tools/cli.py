@@ -19,6 +19,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from joshua_runtime.drivers import sts3215_status
 from joshua_runtime.drivers.calibration import load_calibration
 from joshua_runtime.drivers.sts3215 import DEFAULT_BAUD_RATE
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES
@@ -91,7 +92,7 @@ def _status(args) -> int:
         if not ids:
             raise NoAnswer(f"{args.port}: no servo answered at {args.baud} baud")
         bus.transport.set_baud_rate(args.baud)
-        statuses = status.read_status(bus, ids)
+        statuses = sts3215_status.read_status(bus, ids)
     if args.json:
         print(json.dumps([s.as_json() for s in statuses]))
     else:

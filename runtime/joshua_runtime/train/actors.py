@@ -13,9 +13,10 @@ from pathlib import Path
 import numpy as np
 
 from joshua_core.so100 import SO100_JOINTS
-from joshua_runtime.ai import data_only, model_files
+from joshua_runtime.ai import data_only, model_files, saved_policy
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.train import arm, envs, saved_policy
+from joshua_runtime.sim import arm_task as arm
+from joshua_runtime.train import envs
 
 
 @dataclass

@@ -124,7 +124,8 @@ def _rl(args) -> None:
 
 
 def _imitation(args) -> None:
-    from joshua_runtime.train import imitation, saved_policy
+    from joshua_runtime.ai import saved_policy
+    from joshua_runtime.train import imitation
     from joshua_runtime.train.envs import REACH
     from joshua_runtime.train.evaluation import summary
 

@@ -20,8 +20,9 @@ from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler
 from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
 from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.sim import arm_task as arm
 from joshua_runtime.sim.scripted_motion import KEYFRAMES
-from joshua_runtime.train import arm, reach_env
+from joshua_runtime.train import reach_env
 from joshua_runtime.train.arm_view import ACTION_TOPIC, CAMERA_TOPIC, STATE_TOPIC, ArmView
 
 DEMONSTRATION_POSE = np.array(KEYFRAMES[0][1][: len(arm.ARM_JOINTS)])

@@ -3,9 +3,10 @@
 import gymnasium as gym
 
 from joshua_runtime.errors import SettingsError
+from joshua_runtime.sim.arm_task import REACH_ENV
 from joshua_runtime.train import push_env, reach_env
 
-REACH = "so100_reach"
+REACH = REACH_ENV
 PUSH = "so100_push"
 # id -> (entry point, episode length in actions)
 ENVIRONMENTS = {

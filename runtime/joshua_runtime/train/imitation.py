@@ -9,8 +9,8 @@ where `joshua_policy.json` records the dataset, steps, seed and, when asked, an 
 import sys
 from pathlib import Path
 
+from joshua_runtime.ai import saved_policy
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.train import saved_policy
 
 POLICIES = ("act", "diffusion")
 # One thread per process: on a shared CPU more threads make each small update slower, not faster.

@@ -15,8 +15,9 @@ import mujoco
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
+from joshua_runtime.sim import arm_task as arm
 from joshua_runtime.sim.model import model_path
-from joshua_runtime.train import arm, reach_env
+from joshua_runtime.train import reach_env
 
 
 def variant_model() -> mujoco.MjModel:

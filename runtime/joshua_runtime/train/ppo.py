@@ -12,9 +12,9 @@ import re
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from joshua_runtime.ai import data_only
+from joshua_runtime.ai import data_only, saved_policy
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.train import envs, saved_policy
+from joshua_runtime.train import envs
 from joshua_runtime.train.evaluation import evaluate
 
 CHECKPOINT_DIR = "checkpoints"
@@ -108,7 +108,7 @@ def train(
     previous = _check_output(output, env_id)
     import torch
 
-    from joshua_runtime.train import ppo_files
+    from joshua_runtime.ai import ppo_files
 
     torch.set_num_threads(TORCH_THREADS)
     if previous is not None:
@@ -193,7 +193,8 @@ def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: st
 
 
 def _metadata(env_id: str, steps: int, seed: int, evaluation: dict | None) -> dict:
-    from joshua_runtime.train import arm, reach_env
+    from joshua_runtime.sim import arm_task as arm
+    from joshua_runtime.train import reach_env
 
     metadata = {
         "kind": saved_policy.KIND_PPO,
@@ -211,6 +212,6 @@ def _metadata(env_id: str, steps: int, seed: int, evaluation: dict | None) -> di
 
 def load(directory: Path):
     """The PPO policy saved in a `joshua-train rl` output directory (weights and JSON; `predict` as stable-baselines3's)."""
-    from joshua_runtime.train import ppo_files
+    from joshua_runtime.ai import ppo_files
 
     return ppo_files.load_policy(Path(directory))

@@ -11,7 +11,7 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
-from joshua_runtime.train import arm
+from joshua_runtime.sim import arm_task as arm
 
 MAX_EPISODE_STEPS = 100
 SUCCESS_DISTANCE_M = 0.03

@@ -3,7 +3,7 @@
 Observation (float32, 17): the angles of shoulder_pan, shoulder_lift, elbow_flex and wrist_flex
 (rad), their velocities (/VELOCITY_SCALE), the grasp point, the goal, and goal minus grasp point
 (m, world frame; the base of the arm is the origin). Action (4, in [-1, 1]): the change of each
-joint's goal angle from its present angle, times MAX_DELTA_RAD, at 20 Hz (see arm.py).
+joint's goal angle from its present angle, times MAX_DELTA_RAD, at 20 Hz (see sim/arm_task.py).
 Reward: minus the grasp-to-goal distance at every step. An episode lasts MAX_EPISODE_STEPS actions
 (2.5 s); it is a success when the final distance is under SUCCESS_DISTANCE_M.
 Goals are the grasp points of random joint angles in GOAL_JOINT_RANGES, above the table top, so
@@ -14,7 +14,7 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
-from joshua_runtime.train import arm
+from joshua_runtime.sim import arm_task as arm
 
 MAX_EPISODE_STEPS = 50
 SUCCESS_DISTANCE_M = 0.04

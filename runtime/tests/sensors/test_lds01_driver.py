@@ -19,7 +19,7 @@ from joshua_runtime.errors import DeviceError
 EMULATOR_START_TIMEOUT_S = 10.0
 EMULATOR_EXIT_TIMEOUT_S = 5.0
 
-# Known angles of the synthetic room (see emulators/synthetic_room.py), in metres.
+# Known angles of the synthetic room (see drivers/synthetic_room.py), in metres.
 KNOWN_RANGES = {0: 0.8, 45: 2.121, 90: 1.5, 180: 0.0, 270: 1.0}
 
 
@@ -172,6 +172,6 @@ def test_joshua_emulate_lds01_serves_until_sigint(tmp_path):
 
 
 def _clean_ranges() -> list[float]:
-    from joshua_runtime.emulators import synthetic_room
+    from joshua_runtime.drivers import synthetic_room
 
     return [mm / 1000.0 for mm in synthetic_room.scan_mm()]

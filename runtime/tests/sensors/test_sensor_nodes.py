@@ -25,7 +25,7 @@ from sensor_support import (
 )
 
 from joshua_core.device_link import DEVICE_SILENCE_S
-from joshua_runtime.emulators import synthetic_room
+from joshua_runtime.drivers import synthetic_room
 from joshua_runtime.emulators.lds01 import Lds01Emulator
 from joshua_runtime.nodes import mock_arm
 from joshua_runtime.nodes.mock_camera_publisher import SCROLL_PX, gradient, pattern_frame

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from joshua_runtime.drivers.calibration import MotorCalibration
-from joshua_runtime.servo_tools.command_guard import CommandWatchdog, clamp_goals
+from joshua_runtime.nodes.command_guard import CommandWatchdog, clamp_goals
 
 
 def test_watchdog_fires_once_per_silence_and_never_before_a_goal():

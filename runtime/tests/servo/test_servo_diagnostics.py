@@ -1,8 +1,7 @@
 """Servo readings judged against the STS3215 limits, as the diagnostics publisher will report them."""
 
 from joshua_runtime.drivers import sts3215_protocol as proto
-from joshua_runtime.servo_tools.bus import open_bus
-from joshua_runtime.servo_tools.diagnostics import (
+from joshua_runtime.drivers.sts3215_health import (
     ERROR,
     OK,
     WARN,
@@ -11,7 +10,8 @@ from joshua_runtime.servo_tools.diagnostics import (
     level,
     read_failure,
 )
-from joshua_runtime.servo_tools.status import ServoStatus, read_status
+from joshua_runtime.drivers.sts3215_status import ServoStatus, read_status
+from joshua_runtime.servo_tools.bus import open_bus
 
 
 def reading(**changes) -> ServoStatus:

@@ -7,8 +7,7 @@ import sys
 
 import pytest
 
-from joshua_runtime.ai import data_only
-from joshua_runtime.train import saved_policy
+from joshua_runtime.ai import data_only, saved_policy
 
 TOOL_TIMEOUT_S = 240
 STEPS = 1024  # one PPO update of 4 environments x 256 steps

@@ -6,7 +6,8 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.train import arm, envs, push_env, reach_env
+from joshua_runtime.sim import arm_task as arm
+from joshua_runtime.train import envs, push_env, reach_env
 
 
 @pytest.mark.parametrize("env_id", sorted(envs.ENVIRONMENTS))

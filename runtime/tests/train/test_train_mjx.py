@@ -7,7 +7,8 @@ contacts or constraints (mjx_reach.variant_model), which keeps that compilation 
 import mujoco
 import numpy as np
 
-from joshua_runtime.train import arm, mjx_reach
+from joshua_runtime.sim import arm_task as arm
+from joshua_runtime.train import mjx_reach
 
 ACTIONS = 4
 START = np.array([0.1, -0.2, 0.3, 0.2])

@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 
-from joshua_runtime.train import saved_policy
+from joshua_runtime.ai import saved_policy
 from testsupport import crafted_models
 
 TOOL_TIMEOUT_S = 240

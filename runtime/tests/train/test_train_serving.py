@@ -8,7 +8,8 @@ states and commands the actuator. The goal is the one in the policy's joshua_pol
 import numpy as np
 from sensor_msgs.msg import JointState
 
-from joshua_runtime.train import arm, saved_policy
+from joshua_runtime.ai import saved_policy
+from joshua_runtime.sim import arm_task as arm
 from testsupport.compiled_settings import compiled_settings
 
 RELIABLE = {"history": "KEEP_LAST", "depth": 10, "reliability": "RELIABLE", "durability": "VOLATILE"}

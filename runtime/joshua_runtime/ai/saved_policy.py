@@ -4,7 +4,7 @@ Fields: `kind` (`sb3-ppo` for a stable-baselines3 PPO policy whose weights are i
 `policy.safetensors`; `lerobot` for a policy saved by LeRobot's `save_pretrained` in the same
 directory), `env` (the training environment) or `dataset` (the training dataset), `steps`, `seed`,
 `evaluation` (`{"success_rate", "mean_return", "episodes", "env"}` or null), and for `sb3-ppo` the
-`network` the weights fit (see train/ppo_files.py), the `observation` layout, `joint_names` (the
+`network` the weights fit (see ai/ppo_files.py), the `observation` layout, `joint_names` (the
 joints the actions move) and `goal` (the point an INFERENCE node reaches for, in the world frame
 of the model, m).
 """

@@ -7,12 +7,12 @@ reading within WARN_MARGIN of a limit warns before the servo protects itself.
 
 from dataclasses import dataclass
 
-from joshua_runtime.drivers.sts3215_table import BY_NAME
-from joshua_runtime.servo_tools.status import (
+from joshua_runtime.drivers.sts3215_status import (
     LOAD_PERCENT_PER_UNIT,
     VOLTS_PER_UNIT,
     ServoStatus,
 )
+from joshua_runtime.drivers.sts3215_table import BY_NAME
 
 OK, WARN, ERROR = 0, 1, 2
 TEMPERATURE_WARN_MARGIN_C = 10

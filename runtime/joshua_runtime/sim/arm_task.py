@@ -15,6 +15,8 @@ from joshua_core.so100 import SO100_RANGES
 from joshua_runtime.sim.model import load_model, site_id
 
 MODEL = "builtin:so100"
+# The gymnasium id of the reach task (train/envs.py registers it); the INFERENCE node serves its PPO policies.
+REACH_ENV = "so100_reach"
 GRASP_SITE = "grasp"
 # The joints a task moves (the position of the grasp point depends on these; wrist_roll and the
 # gripper are held at 0).

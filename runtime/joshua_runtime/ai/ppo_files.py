@@ -23,8 +23,8 @@ from safetensors.torch import load_file, save_file
 from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.policies import ActorCriticPolicy
 
+from joshua_runtime.ai import saved_policy
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.train import saved_policy
 
 ACTIVATIONS = {"Tanh": torch.nn.Tanh, "ReLU": torch.nn.ReLU}
 POLICY_PREFIX = "policy."

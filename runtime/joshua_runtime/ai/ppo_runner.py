@@ -2,7 +2,7 @@
 
 The INFERENCE node gives the joint angles it maps from its JointState inputs (`observation.state`,
 picked by name: the four ARM_JOINTS). The rest of the task's observation is built here, as the
-environment builds it (arm.py): velocities by finite differences between ticks, the grasp point by
+environment builds it (sim/arm_task.py): velocities by finite differences between ticks, the grasp point by
 forward kinematics, and the goal from the policy's `joshua_policy.json` (`goal`, m, in the frame
 of the arm's base; set when training, edit it to aim elsewhere). The action is turned into goal
 angles for the ARM_JOINTS, published like any policy's action.
@@ -14,9 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from joshua_runtime.ai import features as keys
+from joshua_runtime.ai import ppo_files, saved_policy
 from joshua_runtime.ai.policy_runner import PolicyShapes
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.train import arm, envs, saved_policy
+from joshua_runtime.sim import arm_task as arm
 
 
 class PpoRunner:
@@ -25,18 +26,16 @@ class PpoRunner:
     kind = saved_policy.KIND_PPO
 
     def __init__(self, policy_dir: Path, rate_hz: float):
-        from joshua_runtime.train import ppo
-
         metadata = saved_policy.read(policy_dir) or {}
-        if metadata.get("env") != envs.REACH:
+        if metadata.get("env") != arm.REACH_ENV:
             raise SettingsError(
-                f"only {envs.REACH} PPO policies can be served, {policy_dir} is for {metadata.get('env')}"
+                f"only {arm.REACH_ENV} PPO policies can be served, {policy_dir} is for {metadata.get('env')}"
             )
         goal = metadata.get("goal")
         if not (isinstance(goal, list) and len(goal) == 3):
             raise SettingsError(f"{policy_dir / saved_policy.METADATA_FILE} has no goal [x, y, z]")
         self.goal = np.array(goal, dtype=float)
-        self.model = ppo.load(policy_dir)
+        self.model = ppo_files.load_policy(Path(policy_dir))
         self.kinematics = arm.ArmKinematics()
         self.period_s = 1.0 / rate_hz
         self.device = "cpu"
