@@ -31,6 +31,17 @@ def _codes(items) -> str:
     return ", ".join(f"`{item}`" for item in items) or NONE
 
 
+def _opens(entry: NodeTypeSpec) -> str:
+    servo_bus = entry.servo_bus and "serial_port" in entry.claims
+    return (
+        ", ".join(
+            f"`{claim}`" + (" (STS3215 servo bus)" if servo_bus and claim == "serial_port" else "")
+            for claim in entry.claims
+        )
+        or NONE
+    )
+
+
 def _also_publishes(entry: NodeTypeSpec) -> str:
     topics = []
     if entry.state_topic:
@@ -56,7 +67,7 @@ def row(entry: NodeTypeSpec) -> str:
         entry.topic or ("declared in `publishes` / `subscribes`" if entry.declares_topics else NONE),
         ", ".join(_short(t) for t in entry.message_types) or NONE,
         _codes(entry.required),
-        _codes(entry.claims),
+        _opens(entry),
         _also_publishes(entry),
         f"`{entry.binary}`" if entry.binary else NONE,
         _simulated(entry),
