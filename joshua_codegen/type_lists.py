@@ -25,12 +25,10 @@ def types_where(predicate: Predicate) -> list[str]:
 
 
 def sentence(names: list[str]) -> str:
-    """`A, B and C`; every MOCK_* type at once is written `MOCK_*` (last but one)."""
+    """`A, B and C`; every MOCK_* type at once is written `MOCK_*`, last."""
     mocks = [name for name, entry in NODE_TYPES.items() if entry.mock_of]
     if len(mocks) > 1 and set(mocks) <= set(names):
         names = [name for name in names if name not in mocks] + [MOCKS]
-        if names[-2:-1] and names[-2] == "CUSTOM":  # "..., MOCK_* and CUSTOM" reads best
-            names[-2], names[-1] = names[-1], names[-2]
     if len(names) <= 1:
         return "".join(names) or "no node type"
     return f"{', '.join(names[:-1])} and {names[-1]}"
