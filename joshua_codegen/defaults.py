@@ -11,6 +11,7 @@ from joshua_core.node_types import (
     SIMULATION_ENGINE,
     Family,
     NodeTypeSpec,
+    TopicRole,
 )
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
@@ -28,7 +29,7 @@ NodeType = pb.NodeType
 # Node-type numbers of the schema -> registry entries. Every set below is derived from the registry.
 SPECS = {pb.NodeType.Value(name): entry for name, entry in NODE_TYPES.items()}
 ALL_TYPES = set(SPECS)
-_UNTYPED = NodeTypeSpec(name="NODE_TYPE_UNSPECIFIED", family=Family.CUSTOM, topic="")
+_UNTYPED = NodeTypeSpec(name="NODE_TYPE_UNSPECIFIED", family=Family.CUSTOM, topic=TopicRole.NONE)
 
 
 def _types(predicate) -> set[int]:
@@ -49,8 +50,8 @@ ALWAYS_PYTHON = _types(lambda t: not t.binary)
 # Node types that touch hardware; MODE_SIMULATION replaces them with the simulation engine.
 HARDWARE = _types(lambda t: t.hardware)
 # Node types that publish topic_name, and those that subscribe to it (CUSTOM declares neither).
-PUBLISHES_TOPIC = _types(lambda t: t.topic == "publishes")
-SUBSCRIBES_TOPIC = _types(lambda t: t.topic == "subscribes")
+PUBLISHES_TOPIC = _types(lambda t: t.topic == TopicRole.PUBLISHES)
+SUBSCRIBES_TOPIC = _types(lambda t: t.topic == TopicRole.SUBSCRIBES)
 READS_INPUTS = _types(lambda t: t.reads_inputs)
 # Message types each node type may use on topic_name; the first is the default.
 MESSAGE_TYPES = {number: entry.message_types for number, entry in SPECS.items() if entry.message_types}

@@ -8,6 +8,7 @@ from joshua_codegen import defaults
 from joshua_codegen.positions import Path, node_path
 from joshua_codegen.ros_names import resolve_topic, topic_problem
 from joshua_core import servo_topics
+from joshua_core.node_types import TopicRole
 from joshua_core.schema import robot_config_pb2 as pb
 
 PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"
@@ -59,9 +60,9 @@ def _declared(node: pb.Node):
     """(topic as written, role, message type, QoS, field path within the node, implied) of each topic."""
     entry = defaults.entry(node)
     qos = defaults.qos(node)
-    if entry.topic == "publishes":
+    if entry.topic == TopicRole.PUBLISHES:
         yield node.topic_name, PUBLISHER, defaults.message_type(node), qos, ("topic_name",), False
-    elif entry.topic == "subscribes":
+    elif entry.topic == TopicRole.SUBSCRIBES:
         yield node.topic_name, SUBSCRIBER, defaults.message_type(node), qos, ("topic_name",), False
     if entry.state_topic and node.state_topic:
         yield node.state_topic, PUBLISHER, defaults.STATE_MESSAGE_TYPE, qos, ("state_topic",), False

@@ -33,6 +33,14 @@ class Family(StrEnum):
     BRIDGE = "bridge"
 
 
+class TopicRole(StrEnum):
+    """What a node type does with its topic_name (NONE: it has none, CUSTOM declares its topics)."""
+
+    PUBLISHES = "publishes"
+    SUBSCRIBES = "subscribes"
+    NONE = ""
+
+
 # The families that read joints through an STS3215 servo bus (or stand in for one that does).
 SERVO_BUS_FAMILIES = frozenset({Family.ENCODER, Family.ACTUATOR, Family.CALIBRATION})
 
@@ -96,7 +104,7 @@ class NodeTypeSpec:
     """What one node type is, declared once.
 
     family      what it is about (Family)
-    topic       whether it "publishes" or "subscribes" topic_name ("" when it declares no topic_name)
+    topic       whether it publishes or subscribes topic_name (TopicRole)
     message_types  allowed on topic_name; the first is the default
     input_types    the message types its input_topics may carry (empty: it reads none)
     state_topic    it also publishes present joint states on state_topic when set
@@ -123,7 +131,7 @@ class NodeTypeSpec:
 
     name: str
     family: Family
-    topic: str
+    topic: TopicRole
     message_types: tuple[str, ...] = ()
     input_types: tuple[str, ...] = ()
     state_topic: bool = False
@@ -191,7 +199,7 @@ _BRIDGES = "joshua_runtime.sim.bridges"  # one module per bridge, named like the
 CAMERA_PUBLISHER = NodeTypeSpec(
     name="CAMERA_PUBLISHER",
     family=Family.CAMERA,
-    topic="publishes",
+    topic=TopicRole.PUBLISHES,
     message_types=IMAGE_TYPES,
     hardware=True,
     fields=_CAMERA_FIELDS,
@@ -205,7 +213,7 @@ CAMERA_PUBLISHER = NodeTypeSpec(
 ENCODER_PUBLISHER = NodeTypeSpec(
     name="ENCODER_PUBLISHER",
     family=Family.ENCODER,
-    topic="publishes",
+    topic=TopicRole.PUBLISHES,
     message_types=(JOINT_STATE,),
     hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + _CPP_BUS_PARAMETERS + ("frame_id", "diagnostics_rate_hz"),
@@ -220,7 +228,7 @@ ENCODER_PUBLISHER = NodeTypeSpec(
 LIDAR_PUBLISHER = NodeTypeSpec(
     name="LIDAR_PUBLISHER",
     family=Family.LIDAR,
-    topic="publishes",
+    topic=TopicRole.PUBLISHES,
     message_types=("sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2"),
     hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
@@ -237,7 +245,7 @@ LIDAR_PUBLISHER = NodeTypeSpec(
 ACTUATOR_SUBSCRIBER = NodeTypeSpec(
     name="ACTUATOR_SUBSCRIBER",
     family=Family.ACTUATOR,
-    topic="subscribes",
+    topic=TopicRole.SUBSCRIBES,
     message_types=JOINT_COMMAND_TYPES,
     state_topic=True,
     hardware=True,
@@ -257,7 +265,7 @@ ACTUATOR_SUBSCRIBER = NodeTypeSpec(
 OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
     name="OPERATIONAL_LIMIT_CALIBRATION",
     family=Family.CALIBRATION,
-    topic="publishes",
+    topic=TopicRole.PUBLISHES,
     message_types=(JOINT_STATE,),
     hardware=True,
     fields=_SERVO_BUS_FIELDS,
@@ -271,7 +279,7 @@ OPERATIONAL_LIMIT_CALIBRATION = NodeTypeSpec(
 INFERENCE = NodeTypeSpec(
     name="INFERENCE",
     family=Family.INFERENCE,
-    topic="publishes",
+    topic=TopicRole.PUBLISHES,
     message_types=JOINT_COMMAND_TYPES,
     input_types=OBSERVATION_TYPES,
     fields=frozenset({"input_topics", "model_path", "policy_type", "device", "joint_names", "rate_hz", "frame_id"}),
@@ -284,7 +292,7 @@ INFERENCE = NodeTypeSpec(
 DATA_SUBSCRIBER = NodeTypeSpec(
     name="DATA_SUBSCRIBER",
     family=Family.RECORDER,
-    topic="subscribes",
+    topic=TopicRole.SUBSCRIBES,
     message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
     fields=frozenset(
@@ -298,7 +306,7 @@ DATA_SUBSCRIBER = NodeTypeSpec(
 DIFF_DRIVE_BASE = NodeTypeSpec(
     name="DIFF_DRIVE_BASE",
     family=Family.BASE,
-    topic="subscribes",
+    topic=TopicRole.SUBSCRIBES,
     message_types=(TWIST,),
     state_topic=True,
     odom_topic=True,
@@ -315,7 +323,7 @@ DIFF_DRIVE_BASE = NodeTypeSpec(
 ROBOT_STATE_PUBLISHER = NodeTypeSpec(
     name="ROBOT_STATE_PUBLISHER",
     family=Family.STATE_PUBLISHER,
-    topic="subscribes",
+    topic=TopicRole.SUBSCRIBES,
     message_types=(JOINT_STATE,),
     fixed_topics=(TF, TF_STATIC, ROBOT_DESCRIPTION),
     fields=frozenset({"robot_description"}),
@@ -324,7 +332,7 @@ ROBOT_STATE_PUBLISHER = NodeTypeSpec(
 CUSTOM = NodeTypeSpec(
     name="CUSTOM",
     family=Family.CUSTOM,
-    topic="",
+    topic=TopicRole.NONE,
     fields=frozenset({"executable", "args", "publishes", "subscribes"}),
     required=("executable",),
 )
@@ -354,7 +362,7 @@ NODE_TYPES: dict[str, NodeTypeSpec] = {
 SIMULATION_ENGINE = NodeTypeSpec(
     name="SIMULATION",
     family=Family.SIMULATION,
-    topic="",
+    topic=TopicRole.NONE,
     runtime_class="joshua_runtime.sim.engine_node:SimulationEngineNode",
     runtime_extra="sim",
 )
@@ -362,7 +370,7 @@ SIMULATION_ENGINE = NodeTypeSpec(
 FOXGLOVE_BRIDGE = NodeTypeSpec(
     name="FOXGLOVE_BRIDGE",
     family=Family.BRIDGE,
-    topic="",
+    topic=TopicRole.NONE,
     runtime_class="joshua_runtime.foxglove.bridge_node:FoxgloveBridgeNode",
     runtime_extra="foxglove",
 )

@@ -17,11 +17,12 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.node_types import TopicRole
 from joshua_core.schema import robot_config_pb2 as pb
 
 TYPE_LISTS = {
-    "publisher_types": lambda entry: entry.topic == "publishes",
-    "subscriber_types": lambda entry: entry.topic == "subscribes",
+    "publisher_types": lambda entry: entry.topic == TopicRole.PUBLISHES,
+    "subscriber_types": lambda entry: entry.topic == TopicRole.SUBSCRIBES,
 }
 CODE = "E104"
 NAME = "missing-topic-name"

@@ -14,8 +14,9 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
+from joshua_core.node_types import TopicRole
 
-TYPE_LISTS = {"subscriber_types": lambda entry: entry.topic == "subscribes"}
+TYPE_LISTS = {"subscriber_types": lambda entry: entry.topic == TopicRole.SUBSCRIBES}
 CODE = "E207"
 NAME = "subscription-type-mismatch"
 SEVERITY = ERROR

@@ -29,9 +29,10 @@ Example:
 from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.rules.context import Finding
 from joshua_codegen.values import suggest
+from joshua_core.node_types import TopicRole
 
 TYPE_LISTS = {
-    "subscriber_types": lambda entry: entry.topic == "subscribes",
+    "subscriber_types": lambda entry: entry.topic == TopicRole.SUBSCRIBES,
     "reader_types": lambda entry: entry.reads_inputs,
 }
 CODE = "W202"
