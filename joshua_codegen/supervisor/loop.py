@@ -125,6 +125,8 @@ class Supervisor(StopCascade):
             f"started: {running} of {len(self.nodes)} nodes running "
             f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
         )
+        if not self.requests:
+            self.readiness.check_all(time.monotonic())  # CUSTOM programs are ready at once: the loop may sleep long
 
     def turn(self):
         """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
@@ -333,7 +335,6 @@ class Supervisor(StopCascade):
             self.request_stop(f"duration of {self.options.duration} s elapsed")
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
-        self.readiness.on_timer(now, self.stopping)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet
@@ -342,6 +343,7 @@ class Supervisor(StopCascade):
                     continue
                 node.restart_at = None
                 self.launch(node)
+        self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
         if self.next_status is not None and now >= self.next_status:
             self.next_status = now + self.options.status_interval
             self.print_status(now)
