@@ -6,6 +6,7 @@ VENV := .venv/bin
 ROBOTS := $(basename $(notdir $(wildcard config/robots/*.pbtxt)))
 RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
+STATUS_INTERVAL ?=
 PYTEST_ARGS ?=
 
 .PHONY: setup install uninstall run test generate proto bench check cpp demo-train docs
@@ -22,10 +23,11 @@ uninstall:
 	@bash scripts/install.sh uninstall
 
 ## run: build the demo description into a temporary directory and run it (Ctrl-C stops it;
-## DURATION=10 makes it stop by itself). Nodes preferring CPP run the binaries setup built in build/bin.
+## DURATION=10 makes it stop by itself; STATUS_INTERVAL=2 logs every node's state every 2 s).
+## Nodes preferring CPP run the binaries setup built in build/bin.
 run: setup
-	$(VENV)/joshuac run $(RUN_CONFIG) --set "cpp_bin_dir=$(CURDIR)/build/bin" --status-interval 2 \
-		$(if $(DURATION),--duration $(DURATION))
+	$(VENV)/joshuac run $(RUN_CONFIG) --set "cpp_bin_dir=$(CURDIR)/build/bin" \
+		$(if $(DURATION),--duration $(DURATION)) $(if $(STATUS_INTERVAL),--status-interval $(STATUS_INTERVAL))
 
 ## demo-train: scripted demonstrations in simulation -> a small ACT -> the registry -> the simulated arm driven
 ## by it through a generated supervisor (scripts/demo_train.py). Outputs go to DEMO_DIR (new or empty; default

@@ -1,5 +1,7 @@
 """run_supervisor (behind `joshuac run`): the supervisor in the foreground, signals forwarded once."""
 
+import os
+import re
 import signal
 import subprocess
 import sys
@@ -7,10 +9,13 @@ import sys
 import pytest
 from supervisor_harness import PYTHON, build, custom_node, events, robot, wait_until
 
+from testsupport.joshuac_cli import ROOT
+
 RUNNER = (
     "import sys; from pathlib import Path; from joshua_codegen.run import run_supervisor; "
     "sys.exit(run_supervisor(Path(sys.argv[1]), sys.argv[2:]))"
 )
+MAKE_TIMEOUT_S = 300  # `make run` sets the machine up first (seconds when it is already)
 
 
 def run_in_subprocess(out, *args):
@@ -64,3 +69,23 @@ def test_run_is_a_joshuac_command():
     result = subprocess.run([sys.executable, "-m", "joshua_codegen", "run", "--help"], capture_output=True, text=True)
     assert result.returncode == 0
     assert "--duration" in result.stdout and "--skip-preflight" in result.stdout
+
+
+@pytest.mark.parametrize("interval", [None, "0.5"], ids=["quiet", "STATUS_INTERVAL"])
+def test_make_run_prints_status_lines_only_when_asked(tmp_path, interval):
+    config = tmp_path / "quiet.pbtxt"
+    config.write_text(robot([custom_node("a", tmp_path / "events.log"), custom_node("b", tmp_path / "events.log")]))
+    env = dict(os.environ, XDG_RUNTIME_DIR=str(tmp_path / "run"), XDG_STATE_HOME=str(tmp_path / "state"))
+    (tmp_path / "run").mkdir(mode=0o700)
+    variables = [f"RUN_CONFIG={config}", "DURATION=3"] + ([f"STATUS_INTERVAL={interval}"] if interval else [])
+    result = subprocess.run(
+        ["make", "-s", "run", *variables], cwd=ROOT, env=env, capture_output=True, text=True, timeout=MAKE_TIMEOUT_S
+    )
+    output = result.stdout + result.stderr
+    assert result.returncode == 0, output[-3000:]
+    status_lines = re.findall(r"supervisor: status: 2 running$", output, re.M)
+    if interval is None:
+        assert status_lines == [] and "running pid" not in output
+    else:
+        assert len(status_lines) >= 3
+    assert "supervisor: ready: 2 of 2 nodes ready" in output
