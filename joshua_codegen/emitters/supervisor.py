@@ -12,6 +12,7 @@ from pathlib import Path
 from joshua_codegen import supervisor as package
 from joshua_codegen.emitters import fastdds, process_launch, supervisord
 from joshua_codegen.model import Process, Robot
+from joshua_codegen.ownership import STAMP
 from joshua_codegen.render import Context, template
 from joshua_core import exit_codes
 from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGISTRY_ENV, REGISTRY_PREFIX
@@ -54,6 +55,7 @@ def supervisor_data(robot: Robot) -> dict:
         "cpp_bin_dir": robot.cpp_bin_dir,
         "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,
         "supervisord_group": supervisord.group_name(robot),
+        "stamp_file": STAMP,
         "model_registry": {
             "prefix": REGISTRY_PREFIX,
             "variable": REGISTRY_ENV,

@@ -14,6 +14,7 @@ Conventions that let `joshua_codegen/emitters/supervisor.py` concatenate these m
 MODULES = (
     "policy",
     "common",
+    "run_mark",
     "fd_limit",
     "containment",
     "children",

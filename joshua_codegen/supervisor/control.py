@@ -41,7 +41,7 @@ class ControlPlane:
     escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
     Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
-    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}. Replies: {"ok": true, ...}
     or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a stop:
     SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a Unix
     stream socket of mode 0600 in a directory of this user's, mode 0700 (control_socket.py); only
@@ -211,6 +211,7 @@ class ControlPlane:
         self.note_states(now)
         return {
             "robot": ROBOT["name"],
+            "run": self.supervisor.run_mark.as_dict(),
             "nodes": [
                 {
                     "name": node.name,
@@ -229,7 +230,7 @@ class ControlPlane:
         if node_log is None:
             connection.send({"ok": False, "error": f"the output of {node.name} is not kept (no log directory)"})
             return None
-        connection.send({"ok": True, "lines": node_log.tail(request["lines"])})
+        connection.send({"ok": True, "lines": node_log.tail(request["lines"], request["all"])})
         if request["follow"] and not connection.closed:
             connection.follow(node_log)
         return None

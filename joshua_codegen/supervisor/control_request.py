@@ -16,9 +16,9 @@ CONTROL_COMMANDS = {
     "restart": ("node",),
     "stop": ("node",),
     "start": ("node",),
-    "logs": ("node", "lines", "follow"),
+    "logs": ("node", "lines", "follow", "all"),
 }
-FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False}
+FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False}
 FIELD_RULES = {
     "node": (lambda value: isinstance(value, str), "node must be a string"),
     "lines": (
@@ -26,6 +26,7 @@ FIELD_RULES = {
         f"lines must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}",
     ),
     "follow": (lambda value: isinstance(value, bool), "follow must be true or false"),
+    "all": (lambda value: isinstance(value, bool), "all must be true or false"),
 }
 JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 JSON_BRACKET = re.compile(r"[\[\]{}]")

@@ -31,12 +31,15 @@ def ctl_arguments(argv):
     status.add_argument("--json", action="store_true", help="print the status as one JSON object")
     for action in ("restart", "stop", "start"):
         commands.add_parser(action, help=f"{action} one node").add_argument("node")
-    logs = commands.add_parser("logs", help="the last lines of a node's output")
+    logs = commands.add_parser("logs", help="the last lines of a node's output in this run, each after its time")
     logs.add_argument("node")
     logs.add_argument(
         "-n", "--lines", type=int, default=CONTROL_LOG_LINES_DEFAULT, help="how many lines (default %(default)s)"
     )
     logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
+    logs.add_argument(
+        "--all", action="store_true", help="from earlier runs too (each begins with its header line), as far as kept"
+    )
     return parser.parse_args(argv)
 
 
@@ -46,7 +49,7 @@ def ctl(argv) -> int:
     if options.command != "status":
         request["node"] = options.node
     if options.command == "logs":
-        request.update(lines=options.lines, follow=options.follow)
+        request.update(lines=options.lines, follow=options.follow, all=options.all)
     try:
         connection = ctl_connect(options.control_socket)
         _, uid, _ = peer_credentials(connection)

@@ -36,6 +36,7 @@ from joshua_codegen.supervisor.policy import (
 )
 from joshua_codegen.supervisor.poller import Poller
 from joshua_codegen.supervisor.robot import ROBOT
+from joshua_codegen.supervisor.run_mark import RunMark
 from joshua_codegen.supervisor.shm import remove_abandoned_segments
 from joshua_codegen.supervisor.stop_cascade import StopCascade
 
@@ -43,6 +44,8 @@ from joshua_codegen.supervisor.stop_cascade import StopCascade
 class Supervisor(StopCascade):
     def __init__(self, options):
         self.options = options
+        self.run_mark = RunMark()
+        log("supervisor", self.run_mark.header())
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
         self.guard = Guard(None)
@@ -91,6 +94,8 @@ class Supervisor(StopCascade):
             except ControlSocketError as exc:
                 log("supervisor", f"cannot serve the control socket {self.options.control_socket}: {exc}")
                 return EXIT_PREFLIGHT
+        for node_log in self.logs.values():  # here, as the nodes start: a run refused before leaves no header
+            node_log.begin_run(self.run_mark.header())
         try:
             self.start()
         except Exception:  # noqa: BLE001 (a bug: logged, and every node started so far is stopped)

@@ -1,9 +1,11 @@
-"""Each node's output: overlong lines cut, passed on to the supervisor's stderr and kept in `<log dir>/<node>.log`."""
+"""Each node's output: overlong lines cut, passed on to stderr, kept in `<log dir>/<node>.log` with times and runs."""
 
 import os
 import sys
+import time
 
 from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.run_mark import log_time
 
 # A node's log file is rotated when it would grow past LOG_MAX_BYTES: <node>.log becomes <node>.log.1,
 # .1 becomes .2, ... and the oldest of LOG_BACKUPS is dropped; at most (1 + LOG_BACKUPS) x 10 MiB a node.
@@ -56,13 +58,28 @@ def character_start(data: bytes, cut: int, start: int, end: int) -> int:
 
 class NodeLog:
     """The output of one node: `feed` takes what its pipe gave, cuts overlong lines, and passes the result
-    to the supervisor's stderr, the log file and the listeners (which get complete lines)."""
+    to the supervisor's stderr as it is, and with each line after the time it was read (`log_time` and a
+    space) to the log file and the listeners (which get complete lines). `begin_run` writes a run's header
+    line into the file; `tail` reads the current run's lines, or every run's."""
 
     def __init__(self, directory: str, name: str):
         self.path = os.path.join(directory, f"{name}.log")
         self.line_length = 0  # bytes of the unfinished line passed on so far
-        self.partial = bytearray()  # the unfinished line, for the listeners (at most LINE_MAX_BYTES)
+        self.partial = bytearray()  # the unfinished line with its time, for the listeners (at most LINE_MAX_BYTES more)
         self.listeners = []  # callables taking one decoded line, e.g. `ctl logs -f` clients
+        # Where the current run's header is: [rotations of the file since it was written, its offset in the file
+        # it was written to]; None before begin_run (every line then counts as the current run's).
+        self.run_start = None
+
+    def begin_run(self, header: str) -> None:
+        """Start a run: its `header` on a line of its own (an unfinished line a killed supervisor left is ended
+        first), after which `tail` reads by default."""
+        data = f"{log_time(time.time())} {header}\n".encode()
+        if not ends_a_line(self.path):
+            data = b"\n" + data
+        offset = self.append(data)
+        if offset is not None:
+            self.run_start = [0, offset + (data[0] == ord("\n"))]
 
     def open_pipe(self):
         """(read end, write end) of a new pipe for one launch; the read end is non-blocking."""
@@ -86,12 +103,14 @@ class NodeLog:
         return True
 
     def feed(self, data: bytes) -> None:
+        at_line_start = self.line_length == 0
         data = self.cut_long_lines(data)
         try:
             sys.stderr.buffer.write(data)
             sys.stderr.flush()
         except (OSError, ValueError):
             pass
+        data = stamp_lines(data, f"{log_time(time.time())} ".encode(), at_line_start)
         self.append(data)
         end = data.rfind(b"\n")
         if end < 0:
@@ -121,14 +140,19 @@ class NodeLog:
         pieces.append(data[start:])
         return b"".join(pieces)
 
-    def append(self, data: bytes) -> None:
+    def append(self, data: bytes) -> int | None:
+        """Write `data` at the end of the log file, rotated first when it would grow past LOG_MAX_BYTES: the
+        offset it was written at, None when it could not be written."""
         try:
-            if os.path.exists(self.path) and os.path.getsize(self.path) + len(data) > LOG_MAX_BYTES:
+            size = os.path.getsize(self.path) if os.path.exists(self.path) else 0
+            if size and size + len(data) > LOG_MAX_BYTES:
                 self.rotate()
+                size = 0
             with open(self.path, "ab") as log_file:
                 log_file.write(data)
+            return size
         except OSError:
-            pass  # a full or read-only disk must not stop the robot; stderr still has the output
+            return None  # a full or read-only disk must not stop the robot; stderr still has the output
 
     def rotate(self) -> None:
         for index in range(LOG_BACKUPS - 1, 0, -1):
@@ -136,31 +160,59 @@ class NodeLog:
             if os.path.exists(older):
                 os.replace(older, f"{self.path}.{index + 1}")
         os.replace(self.path, f"{self.path}.1")
+        if self.run_start is not None:
+            self.run_start[0] += 1
 
-    def tail(self, count: int) -> list[str]:
-        """The last `count` lines, from the rotated files too when the current one holds fewer; from the last
-        LOG_TAIL_BYTES of output at most (fewer lines when they are long)."""
+    def tail(self, count: int, all_runs: bool = False) -> list[str]:
+        """The last `count` lines of the current run (from its header on), or of every run kept when `all_runs`;
+        from the rotated files too when the current one holds fewer; from the last LOG_TAIL_BYTES of output at
+        most (fewer lines when they are long)."""
+        paths = [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]
+        starts = [0] * len(paths)  # where each file's lines of interest begin
+        if not all_runs and self.run_start is not None and self.run_start[0] < len(paths):
+            rotations, offset = self.run_start
+            paths, starts = paths[: rotations + 1], [*starts[:rotations], offset]
         lines: list[bytes] = []
         budget = LOG_TAIL_BYTES
-        for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
+        for path, start in zip(paths, starts):
             if len(lines) >= count or budget <= 0:
                 break
-            found, read = last_lines(path, count - len(lines), budget)
+            found, read = last_lines(path, count - len(lines), budget, start)
             lines = found + lines
             budget -= read
         return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
 
 
-def last_lines(path: str, count: int, budget: int) -> tuple[list[bytes], int]:
-    """The last `count` lines of the file at `path` within its last `budget` bytes (fewer when it holds fewer;
-    none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
+def stamp_lines(data: bytes, stamp: bytes, at_line_start: bool) -> bytes:
+    """`data` with `stamp` before every line that begins in it (its first only when it is `at_line_start`)."""
+    body = data[:-1].replace(b"\n", b"\n" + stamp) + data[-1:]
+    return stamp + body if at_line_start else body
+
+
+def ends_a_line(path: str) -> bool:
+    """Whether the file at `path` is empty, absent, unreadable or ends with a newline."""
+    try:
+        with open(path, "rb") as log_file:
+            if log_file.seek(0, os.SEEK_END) == 0:
+                return True
+            log_file.seek(-1, os.SEEK_END)
+            return log_file.read(1) == b"\n"
+    except OSError:
+        return True
+
+
+def last_lines(path: str, count: int, budget: int, start: int = 0) -> tuple[list[bytes], int]:
+    """The last `count` lines of the file at `path` after offset `start` (where a line begins; the whole file
+    when it is shorter, since something else truncated it) within its last `budget` bytes (fewer when it holds
+    fewer; none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
     try:
         with open(path, "rb") as log_file:
             position = log_file.seek(0, os.SEEK_END)
+            start = start if start <= position else 0
             blocks: list[bytes] = []
             newlines = read = 0
-            while position > 0 and newlines <= count and read < budget:
-                size = min(TAIL_BLOCK_BYTES, position, budget - read)
+            while position > start and newlines <= count and read < budget:
+                size = min(TAIL_BLOCK_BYTES, position - start, budget - read)
                 position -= size
                 log_file.seek(position)
                 blocks.insert(0, log_file.read(size))
@@ -169,6 +221,6 @@ def last_lines(path: str, count: int, budget: int) -> tuple[list[bytes], int]:
     except OSError:
         return [], 0
     lines = b"".join(blocks).splitlines()
-    if position > 0:
+    if position > start:
         lines = lines[1:]  # the first may have begun in a block not read
     return (lines[-count:] if count > 0 else []), read

@@ -8,6 +8,7 @@ ROBOT: dict[str, Any] = {
     "cpp_bin_dir": "bin",
     "fastdds_profile_variable": "FASTRTPS_DEFAULT_PROFILES_FILE",
     "supervisord_group": "joshua-example",
+    "stamp_file": ".joshuac-stamp",
     "model_registry": {
         "prefix": "registry:",
         "variable": "JOSHUA_MODEL_REGISTRY",

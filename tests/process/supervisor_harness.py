@@ -272,6 +272,17 @@ def ctl(out: Path, sock: Path, *args: str, timeout: float = 30) -> subprocess.Co
     )
 
 
+# What begins every line of a node's log file, and of `ctl logs`: its time in ISO 8601 with the local offset, a space.
+LOG_STAMP = r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}[+-]\d\d:\d\d "
+
+
+def unstamped(line: str) -> str:
+    """A line of a node's log without its time, which it must begin with."""
+    stamp = re.match(LOG_STAMP, line)
+    assert stamp, f"no time at the start of {line[:80]!r}"
+    return line[stamp.end() :]
+
+
 def log_times(text: str, pattern: str) -> list[float]:
     """The supervisor's timestamps of the log lines matching `pattern`."""
     return [float(m.group(1)) for m in re.finditer(r"^\[\s*([\d.]+)\] " + pattern, text, re.M)]

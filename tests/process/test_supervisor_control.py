@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 from control_harness import ctl, start_robot, status, talker_node
-from supervisor_harness import custom_node, events, wait_until
+from supervisor_harness import custom_node, events, unstamped, wait_until
 
 from joshua_codegen.supervisor import node_log
 
@@ -70,7 +70,7 @@ def test_logs_shows_and_follows_a_nodes_output_kept_in_its_log_file(tmp_path):
             "the talker's log file",
         )
         tail = ctl(out, sock, "logs", "talker", "-n", "2").stdout.splitlines()
-        assert len(tail) == 2 and all(line.startswith("line ") for line in tail)
+        assert len(tail) == 2 and all(unstamped(line).startswith("line ") for line in tail)
         follower = subprocess.Popen(
             [
                 sys.executable,
@@ -88,8 +88,8 @@ def test_logs_shows_and_follows_a_nodes_output_kept_in_its_log_file(tmp_path):
             text=True,
         )
         try:
-            first = int(follower.stdout.readline().split()[1])
-            second = int(follower.stdout.readline().split()[1])
+            first = int(unstamped(follower.stdout.readline()).split()[1])
+            second = int(unstamped(follower.stdout.readline()).split()[1])
         finally:
             follower.terminate()
             follower.wait()

@@ -200,6 +200,7 @@ def test_generated_supervisor_is_standard_library_python_3_10_with_a_header(tmp_
         "collections",
         "ctypes",
         "errno",
+        "hashlib",
         "json",
         "math",
         "os",

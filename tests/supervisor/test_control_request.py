@@ -19,15 +19,19 @@ from joshua_codegen.supervisor.control_request import (
         (b'{"command": "stop", "node": "arm"}', {"command": "stop", "node": "arm"}),
         (
             b'{"command": "logs", "node": "arm"}',
-            {"command": "logs", "node": "arm", "lines": CONTROL_LOG_LINES_DEFAULT, "follow": False},
+            {"command": "logs", "node": "arm", "lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False},
         ),
         (
             b'{"command": "logs", "node": "arm", "lines": 0, "follow": true}',
-            {"command": "logs", "node": "arm", "lines": 0, "follow": True},
+            {"command": "logs", "node": "arm", "lines": 0, "follow": True, "all": False},
+        ),
+        (
+            b'{"command": "logs", "node": "arm", "all": true}',
+            {"command": "logs", "node": "arm", "lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": True},
         ),
         (
             f'{{"command": "logs", "node": "a[{{", "lines": {CONTROL_LOG_LINES_MAX}}}'.encode(),
-            {"command": "logs", "node": "a[{", "lines": CONTROL_LOG_LINES_MAX, "follow": False},
+            {"command": "logs", "node": "a[{", "lines": CONTROL_LOG_LINES_MAX, "follow": False, "all": False},
         ),
     ],
 )
@@ -43,6 +47,7 @@ def test_valid_requests_come_out_with_every_field_of_their_command(line, checked
         (b'{"command": "logs", "node": "a", "lines": 1E+999}', "not a finite number: 1E+999"),
         (b'{"command": "logs", "node": "a", "lines": -0.0}', "lines must be a whole number from 0 to 10000"),
         (b'{"command": "start", "node": null}', "node must be a string"),
+        (b'{"command": "logs", "node": "a", "all": 1}', "all must be true or false"),
         (b'{"command": "start", "node": "a", "node2": "b"}', "unknown field 'node2' for start (it takes node)"),
         (b'{"command": null}', "command must be one of status, restart, stop, start, logs"),
         (b'{"command": "STATUS"}', "unknown command 'STATUS' (status, restart, stop, start, logs)"),
