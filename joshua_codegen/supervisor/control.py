@@ -15,7 +15,7 @@ from joshua_codegen.supervisor.control_connection import (
     LogFollowers,
     close_quietly,
 )
-from joshua_codegen.supervisor.control_request import RequestError, parse_request
+from joshua_codegen.supervisor.control_request import RequestError, parse_request, refusal
 from joshua_codegen.supervisor.control_socket import SocketFile, may_control, peer_credentials
 from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
 
@@ -41,11 +41,13 @@ class ControlPlane:
     escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
     Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
-    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}. Replies: {"ok": true, ...}
-    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a stop:
-    SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a Unix
-    stream socket of mode 0600 in a directory of this user's, mode 0700 (control_socket.py); only
-    clients of the same user or root are served, the others get one error line.
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}. Replies:
+    {"ok": true, ...} or {"ok": false, "kind": one of REFUSAL_KINDS, "error": "one line"}; a stop or restart
+    is answered once it has been done (a stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after
+    sigterm_grace_s more). A start of a node that runs and a stop of one that does not (stopped, finished,
+    failed) are both refused as conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
+    this user's, mode 0700 (control_socket.py); only clients of the same user or root are served, the others
+    get one error line.
     """
 
     def __init__(self, supervisor, path: str, clients_max: int):
@@ -117,9 +119,11 @@ class ControlPlane:
             return
         if not may_control(uid):
             self.note_refusal(uid, pid)
-            refuse(connection, f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)")
+            refuse(
+                connection, "forbidden", f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)"
+            )
         elif len(self.connections) >= self.clients_max:
-            refuse(connection, f"too many control clients ({self.clients_max}); try again later")
+            refuse(connection, "busy", f"too many control clients ({self.clients_max}); try again later")
         else:
             client = ControlConnection(self, connection, pid)
             self.connections[client.fd] = client
@@ -151,7 +155,7 @@ class ControlPlane:
         try:
             request = parse_request(line)
         except RequestError as exc:
-            connection.send({"ok": False, "error": str(exc)})
+            connection.send(refusal("bad_request", str(exc)))
             return
         reply = self.handle(connection, request)
         if reply is None:
@@ -167,24 +171,28 @@ class ControlPlane:
             return {"ok": True, **self.status()}
         node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
         if node is None:
-            return {"ok": False, "error": f"no node named {request['node']!r:.80}"}
+            return refusal("not_found", f"no node named {request['node']!r:.80}")
         if command == "logs":
             return self.logs(connection, node, request)
         if self.supervisor.stopping:
-            return {"ok": False, "error": "the robot is stopping"}
+            return refusal("stopping", "the robot is stopping")
         if node.name in self.pending:
-            return {"ok": False, "error": f"{node.name} is already being stopped or restarted"}
+            return refusal("conflict", f"{node.name} is already being stopped or restarted")
         if command == "start":
             if node.alive():
-                return {"ok": False, "error": f"{node.name} is already {node.state}"}
+                return refusal("conflict", f"{node.name} is already {node.state}")
             self.start(node)
             return self.action_reply(node)
         if not node.alive():
-            if command == "stop":
+            if command == "restart":
+                node.manual_restarts += 1
+                self.start(node)
+            elif node.state == "backoff":  # nothing runs, a restart is due: it is called off
                 node.restart_at = None
+                node.stop_requested = True
                 node.state = "stopped"
-                return self.action_reply(node)
-            self.start(node)
+            else:  # nothing runs and nothing is due: stopped, finished or failed
+                return refusal("conflict", f"{node.name} is already {node.state}")
             return self.action_reply(node)
         self.pending[node.name] = {
             "stage": "SIGINT",
@@ -207,6 +215,8 @@ class ControlPlane:
         return {"ok": True, "node": node.name, "state": node.state, "pid": node.pid}
 
     def status(self) -> dict:
+        """{"robot", "run": {"id", "started", "build"}, "nodes": [{"name", "state", "pid", "restarts" (by the
+        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}."""
         now = time.monotonic()
         self.note_states(now)
         return {
@@ -218,6 +228,7 @@ class ControlPlane:
                     "state": node.state,
                     "pid": node.pid,
                     "restarts": node.restarts,
+                    "manual_restarts": node.manual_restarts,
                     "ready": node.ready,
                     "since_s": round(now - self.since[node.name][1], 3),
                 }
@@ -228,7 +239,7 @@ class ControlPlane:
     def logs(self, connection, node, request) -> None:
         node_log = self.supervisor.logs.get(node.name)
         if node_log is None:
-            connection.send({"ok": False, "error": f"the output of {node.name} is not kept (no log directory)"})
+            connection.send(refusal("not_found", f"the output of {node.name} is not kept (no log directory)"))
             return None
         connection.send({"ok": True, "lines": node_log.tail(request["lines"], request["all"])})
         if request["follow"] and not connection.closed:
@@ -271,7 +282,7 @@ class ControlPlane:
                 del self.pending[node.name]
                 node.state = "stopped"
                 if item["then_start"] and not self.supervisor.stopping:
-                    node.restarts += 1
+                    node.manual_restarts += 1
                     self.start(node)
                 for connection in item["waiters"]:
                     connection.answer(self.action_reply(node))
@@ -287,11 +298,11 @@ class ControlPlane:
         self.note_states(now)
 
 
-def refuse(connection, error: str) -> None:
+def refuse(connection, kind: str, error: str) -> None:
     """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
     try:
         connection.setblocking(False)
-        connection.send(json.dumps({"ok": False, "error": error}).encode() + b"\n", socket.MSG_NOSIGNAL)
+        connection.send(json.dumps(refusal(kind, error)).encode() + b"\n", socket.MSG_NOSIGNAL)
     except OSError:
         pass
     close_quietly(connection)

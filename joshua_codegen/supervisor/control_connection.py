@@ -4,7 +4,7 @@ import json
 import socket
 import time
 
-from joshua_codegen.supervisor.control_request import CONTROL_REQUEST_LIMIT
+from joshua_codegen.supervisor.control_request import CONTROL_REQUEST_LIMIT, refusal
 
 CONTROL_RECEIVE_BYTES = 65536  # read at most this much of a client's requests at a time
 CONTROL_REQUESTS_PER_TURN = 8  # request lines of one client handled before the loop turns to other work
@@ -68,7 +68,7 @@ class ControlConnection:
             self.plane.readers.pop(self.fd, None)
             self.plane.backlog[self.fd] = self
         elif len(self.received) > CONTROL_REQUEST_LIMIT:
-            self.send({"ok": False, "error": f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"})
+            self.send(refusal("bad_request", f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"))
             self.stop_reading()
         elif self.fd not in self.plane.readers:
             self.plane.readers[self.fd] = self.on_readable

@@ -19,6 +19,16 @@ CONTROL_COMMANDS = {
     "logs": ("node", "lines", "follow", "all"),
 }
 FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False}
+# The kinds of refusal an error reply names in its "kind" field, for clients that act on them (a web server
+# answers them with the HTTP status in the comment).
+REFUSAL_KINDS = {
+    "bad_request": "the request line is not a request this supervisor takes",  # 400
+    "forbidden": "the client is of another user than the supervisor's and not root",  # 403
+    "not_found": "no node has that name, or its output is not kept (no log directory)",  # 404
+    "conflict": "the node is already in the state asked for, or a stop or restart of it is under way",  # 409
+    "stopping": "the robot is stopping: its nodes are started, stopped and restarted no more",  # 503
+    "busy": "too many clients are connected: try again later",  # 503
+}
 FIELD_RULES = {
     "node": (lambda value: isinstance(value, str), "node must be a string"),
     "lines": (
@@ -34,6 +44,11 @@ JSON_BRACKET = re.compile(r"[\[\]{}]")
 
 class RequestError(ValueError):
     """Why a request line was refused: one line, sent back to the client."""
+
+
+def refusal(kind: str, error: str) -> dict:
+    """The reply that refuses a request: `kind` one of REFUSAL_KINDS, `error` one line saying why."""
+    return {"ok": False, "kind": kind, "error": error}
 
 
 def nesting_depth(text: str) -> int:

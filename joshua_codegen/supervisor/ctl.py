@@ -7,13 +7,30 @@ import socket
 import sys
 import time
 
-from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT
+from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT, CONTROL_LOG_LINES_MAX
 from joshua_codegen.supervisor.control_socket import default_control_socket, may_control, peer_credentials
 from joshua_codegen.supervisor.robot import ROBOT
 
 CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
 CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
-CTL_EXIT_FAILED = 1
+# Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
+# start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.
+CTL_EXIT_DONE = 0
+CTL_EXIT_REFUSED = 1
+CTL_EXIT_USAGE = 2  # bad command line: argparse exits with it
+CTL_EXIT_UNREACHABLE = 3  # no supervisor at the socket, one of another user, or no answer (in CTL_TIMEOUT_S)
+CTL_EXIT_INTERRUPTED = 130  # Ctrl-C before the answer came (following a log, Ctrl-C is its normal end: 0)
+
+
+def log_line_count(text: str) -> int:
+    """The value of `logs -n`: a whole number of lines a request may ask for, else a usage error."""
+    try:
+        count = int(text)
+    except ValueError:
+        count = -1
+    if not 0 <= count <= CONTROL_LOG_LINES_MAX:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}: {text}")
+    return count
 
 
 def ctl_arguments(argv):
@@ -34,7 +51,7 @@ def ctl_arguments(argv):
     logs = commands.add_parser("logs", help="the last lines of a node's output in this run, each after its time")
     logs.add_argument("node")
     logs.add_argument(
-        "-n", "--lines", type=int, default=CONTROL_LOG_LINES_DEFAULT, help="how many lines (default %(default)s)"
+        "-n", "--lines", type=log_line_count, default=CONTROL_LOG_LINES_DEFAULT, help="how many (default %(default)s)"
     )
     logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
     logs.add_argument(
@@ -50,6 +67,7 @@ def ctl(argv) -> int:
         request["node"] = options.node
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow, all=options.all)
+    following = options.command == "logs" and options.follow
     try:
         connection = ctl_connect(options.control_socket)
         _, uid, _ = peer_credentials(connection)
@@ -59,33 +77,36 @@ def ctl(argv) -> int:
                 f"not by uid {os.geteuid()} or root: not talking to it",
                 file=sys.stderr,
             )
-            return CTL_EXIT_FAILED
+            return CTL_EXIT_UNREACHABLE
         try:
             connection.sendall(json.dumps(request).encode() + b"\n")
         except (BrokenPipeError, ConnectionResetError):
             pass  # refused and closed at once (too many clients): the reply already sent says why
-        if options.follow if options.command == "logs" else False:
+        if following:
             connection.settimeout(None)
         replies = connection.makefile("rb")
-        reply = json.loads(replies.readline() or b"{}")
+        answer = replies.readline()
+        if not answer:
+            raise ValueError("it closed the connection without one")
+        reply = json.loads(answer)
         if not reply.get("ok"):
-            print(f"supervisor.py ctl: error: {reply.get('error') or 'no answer'}", file=sys.stderr)
-            return CTL_EXIT_FAILED
+            print(f"supervisor.py ctl: error: {reply.get('error') or 'refused, without a reason'}", file=sys.stderr)
+            return CTL_EXIT_REFUSED
         print_reply(options, reply)
-        if options.command == "logs" and options.follow:
+        if following:
             for line in replies:
                 print(json.loads(line).get("line", ""), flush=True)
     except OSError as exc:
         print(
             f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
         )
-        return CTL_EXIT_FAILED
+        return CTL_EXIT_UNREACHABLE
     except ValueError as exc:
-        print(f"supervisor.py ctl: error: control socket {options.control_socket}: bad reply ({exc})", file=sys.stderr)
-        return CTL_EXIT_FAILED
+        print(f"supervisor.py ctl: error: control socket {options.control_socket}: no answer ({exc})", file=sys.stderr)
+        return CTL_EXIT_UNREACHABLE
     except KeyboardInterrupt:
-        pass
-    return 0
+        return CTL_EXIT_DONE if following else CTL_EXIT_INTERRUPTED
+    return CTL_EXIT_DONE
 
 
 def ctl_connect(path: str) -> socket.socket:
@@ -112,7 +133,10 @@ def print_reply(options, reply: dict) -> None:
             return
         for node in reply["nodes"]:
             pid = f"pid {node['pid']}" if node["pid"] else "no process"
-            print(f"{node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts, {node['since_s']:.0f} s")
+            asked = f", {node['manual_restarts']} asked for" if node["manual_restarts"] else ""
+            print(
+                f"{node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts{asked}, {node['since_s']:.0f} s"
+            )
     elif options.command == "logs":
         for line in reply["lines"]:
             print(line)

@@ -23,7 +23,10 @@ class Node:
         self.pgid = None  # its process group while any member may be alive
         self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
         self.state = "pending"  # pending, running, backoff, finished, failed, stopping, stopped
-        self.restarts = 0
+        self.restarts = (
+            0  # restarts its restart policy made (counted again from 0 after a run of RESTART_RESET_AFTER_S)
+        )
+        self.manual_restarts = 0  # restarts asked for over the control socket
         self.delay = RESTART_DELAY_INITIAL_S
         self.restart_at = None
         self.started_at = None
@@ -81,6 +84,7 @@ class Node:
             return (
                 f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
                 f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts"
+                + (f", {self.manual_restarts} asked for" if self.manual_restarts else "")
             )
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"

@@ -58,6 +58,7 @@ def test_more_clients_than_the_cap_and_descriptors_above_1023_are_served(tmp_pat
             refused = RawClient(sock)
             assert refused.reply() == {
                 "ok": False,
+                "kind": "busy",
                 "error": f"too many control clients ({CONTROL_CLIENTS_MAX}); try again later",
             }
             assert refused.reply() is None

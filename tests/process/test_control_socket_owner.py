@@ -47,7 +47,7 @@ def test_a_socket_another_user_bound_first_is_refused_by_the_supervisor_and_by_c
         assert events(log) == []  # nothing was started
 
         answered = ctl(out, sock, "status")
-        assert answered.returncode == 1 and answered.stdout == ""
+        assert answered.returncode == 3 and answered.stdout == ""  # no supervisor of this user to talk to
         assert answered.stderr == (
             f"supervisor.py ctl: error: control socket {sock} is served by uid {OTHER_UID}, not by uid "
             f"{os.getuid()} or root: not talking to it\n"
@@ -94,7 +94,7 @@ def test_the_supervisor_answers_a_client_of_another_user_with_a_refusal(tmp_path
         assert len(heard.splitlines()) == 2, complaints
         reply, after = heard.splitlines()
         assert reply == (
-            f'{{"ok": false, "error": "uid {OTHER_UID} may not use this control socket (only uid {os.getuid()} '
+            f'{{"ok": false, "kind": "forbidden", "error": "uid {OTHER_UID} may not use this control socket (only uid {os.getuid()} '
             'and root)"}'
         )
         assert after == "EOF"

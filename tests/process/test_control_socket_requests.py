@@ -58,7 +58,10 @@ def test_every_hostile_request_line_gets_one_error_line_and_the_robot_runs_on(ro
         for line, error in HOSTILE_LINES:
             reply = client.request(line + b"\n")
             assert reply is not None, f"the supervisor closed the connection after {line[:60]!r}"
-            assert reply["ok"] is False and error in reply["error"], (line[:60], reply)
+            assert reply["ok"] is False and reply["kind"] == "bad_request" and error in reply["error"], (
+                line[:60],
+                reply,
+            )
             assert "\n" not in reply["error"] and len(reply["error"]) < 300
         assert client.request(b'{"command": "status"}\n')["ok"] is True  # the same connection still serves
     finally:
@@ -77,7 +80,11 @@ def test_a_request_line_over_the_limit_is_refused_and_its_connection_closed(robo
     try:
         client.send(line)
         reply = client.reply()
-        assert reply == {"ok": False, "error": f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"}
+        assert reply == {
+            "ok": False,
+            "kind": "bad_request",
+            "error": f"request line longer than {CONTROL_REQUEST_LIMIT} bytes",
+        }
         assert client.reply() is None
     finally:
         client.close()

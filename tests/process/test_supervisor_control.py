@@ -29,7 +29,12 @@ def test_restart_stop_and_start_a_node_while_the_others_run(tmp_path):
 
         assert ctl(out, sock, "stop", "steady").stdout == "steady: stopped\n"
         stopped = status(out, sock)["steady"]
-        assert (stopped["state"], stopped["pid"], stopped["restarts"]) == ("stopped", None, 1)
+        assert (stopped["state"], stopped["pid"], stopped["restarts"], stopped["manual_restarts"]) == (
+            "stopped",
+            None,
+            0,  # restarts counts those of the restart policy only
+            1,
+        )
         assert supervisor.process.poll() is None
 
         assert ctl(out, sock, "start", "steady").returncode == 0
@@ -100,7 +105,7 @@ def test_logs_shows_and_follows_a_nodes_output_kept_in_its_log_file(tmp_path):
         supervisor.wait()
 
 
-def test_bad_requests_answer_one_line_and_exit_1(tmp_path):
+def test_bad_requests_answer_one_line_and_exit_1_and_without_a_supervisor_3(tmp_path):
     out, sock, _, _, supervisor = start_robot(tmp_path)
     try:
         unknown = ctl(out, sock, "restart", "nobody")
@@ -111,7 +116,7 @@ def test_bad_requests_answer_one_line_and_exit_1(tmp_path):
         supervisor.signal()
         supervisor.wait()
     gone = ctl(out, sock, "status")
-    assert gone.returncode == 1 and gone.stderr.startswith(f"supervisor.py ctl: error: control socket {sock}: ")
+    assert gone.returncode == 3 and gone.stderr.startswith(f"supervisor.py ctl: error: control socket {sock}: ")
     assert gone.stderr.count("\n") == 1
 
 
