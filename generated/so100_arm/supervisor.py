@@ -5,7 +5,7 @@
 Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interval S] [--python PATH]
                             [--no-cgroup] [--control-socket PATH | --no-control] [--log-dir DIR]
        python3 supervisor.py ctl [--control-socket PATH] status [--json] | restart|stop|start NODE |
-                            logs NODE [-n N] [-f]
+                            logs NODE [-n N] [-f] [--all]
 
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
 the directory can move. Nodes run in the directory the supervisor was started from.
@@ -34,7 +34,19 @@ the directory can move. Nodes run in the directory the supervisor was started fr
 - Control socket: a Unix socket of mode 0600 in a directory of the user's own of mode 0700 (anything
   else there is refused, and the supervisor does not start); only clients of the same user or root
   are served, and `ctl` talks only to a supervisor of the same user or root. Requests are bounded JSON
-  lines; replies are never waited for: a client that leaves too much unread is dropped.
+  lines; replies are never waited for: a client that leaves too much unread is dropped. A refusal names
+  its kind (bad_request, forbidden, not_found, conflict, stopping, busy); a start of a running node and a
+  stop of a stopped one are both conflicts. "restarts" counts the restart policy's restarts,
+  "manual_restarts" those asked for over the socket.
+- Runs: each start is a run with a random id. Its header line, "-- run ID: robot NAME, build HASH,
+  supervisor pid PID, started TIME --" (HASH: the first 12 hex digits of `sha256sum .joshuac-stamp`),
+  begins the supervisor's output and each run's part of every node's log file (--log-dir DIR: DIR/<node>.log,
+  rotated at 10 MiB, 3 older files kept), where each line begins with the time it was read, in ISO 8601
+  with the local offset; the node's output on the supervisor's stderr stays as it came. `ctl logs`
+  shows the current run, `ctl logs --all` the earlier ones too.
+
+`ctl` exit codes: 0 done; 1 refused by the supervisor (the line says why); 2 bad command line; 3 no
+supervisor to talk to (no socket, nobody serving it, one of another user, no answer); 130 interrupted.
 
 Exit codes (the first that applies):
   70 internal error, a bug in supervisor.py: its traceback is logged and every node was stopped
@@ -50,6 +62,7 @@ Exit codes (the first that applies):
 import argparse
 import ctypes
 import errno
+import hashlib
 import json
 import math
 import os
@@ -77,6 +90,7 @@ ROBOT = {
     'cpp_bin_dir': '/opt/joshua/bin',
     'fastdds_profile_variable': 'FASTRTPS_DEFAULT_PROFILES_FILE',
     'supervisord_group': 'joshua-so100_arm',
+    'stamp_file': '.joshuac-stamp',
     'model_registry': {
         'prefix': 'registry:',
         'variable': 'JOSHUA_MODEL_REGISTRY',
@@ -230,6 +244,57 @@ def group_alive(pgid: int) -> bool:
 
 def under_script_dir(path: str) -> str:
     return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
+
+
+# Which run this is: a random id, the start time and the build, told in a header line at each start.
+
+
+RUN_ID_BYTES = 4  # a run id is this many random bytes in hex: 8 digits
+BUILD_SHOWN_DIGITS = 12  # of the build's hash, in the header line (status --json gives all 64)
+RUN_HEADER_START = "-- run "  # how a run's header line begins, in the supervisor's output and each node's log
+
+
+def log_time(wall: float) -> str:
+    """`wall` (seconds since the epoch) in ISO 8601 with milliseconds and the local offset, as
+    `2025-06-01T14:03:27.512+02:00` (the offset of TZ, else of /etc/localtime)."""
+    seconds = int(wall)
+    local = time.localtime(seconds)
+    sign = "-" if local.tm_gmtoff < 0 else "+"
+    hours, minutes = divmod(abs(local.tm_gmtoff) // 60, 60)
+    millis = min(999, int((wall - seconds) * 1000))
+    return f"{time.strftime('%Y-%m-%dT%H:%M:%S', local)}.{millis:03d}{sign}{hours:02d}:{minutes:02d}"
+
+
+def build_hash() -> str:
+    """The SHA-256 of the build's stamp beside supervisor.py (what `sha256sum OUT/.joshuac-stamp` prints: the
+    stamp lists every file of the build with its own hash), or "" when there is none to read."""
+    try:
+        with open(os.path.join(SCRIPT_DIR, ROBOT["stamp_file"]), "rb") as stamp:
+            return hashlib.sha256(stamp.read()).hexdigest()
+    except OSError:
+        return ""
+
+
+class RunMark:
+    """This start of the supervisor: its run id, when it started (wall clock) and which build it runs."""
+
+    def __init__(self):
+        self.id = os.urandom(RUN_ID_BYTES).hex()
+        self.started = time.time()
+        self.build = build_hash()
+        self.pid = os.getpid()
+
+    def header(self) -> str:
+        """The line that begins the run in the supervisor's output and in every node's log file."""
+        build = self.build[:BUILD_SHOWN_DIGITS] or f"unknown (no {ROBOT['stamp_file']} beside supervisor.py)"
+        return (
+            f"{RUN_HEADER_START}{self.id}: robot {ROBOT['name']}, build {build}, supervisor pid {self.pid}, "
+            f"started {log_time(self.started)} --"
+        )
+
+    def as_dict(self) -> dict:
+        """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null)}."""
+        return {"id": self.id, "started": log_time(self.started), "build": self.build or None}
 
 
 # The open-file limit: raised for the supervisor's own clients, given back to every node before exec.
@@ -921,7 +986,10 @@ class Node:
         self.pgid = None  # its process group while any member may be alive
         self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
         self.state = "pending"  # pending, running, backoff, finished, failed, stopping, stopped
-        self.restarts = 0
+        self.restarts = (
+            0  # restarts its restart policy made (counted again from 0 after a run of RESTART_RESET_AFTER_S)
+        )
+        self.manual_restarts = 0  # restarts asked for over the control socket
         self.delay = RESTART_DELAY_INITIAL_S
         self.restart_at = None
         self.started_at = None
@@ -979,6 +1047,7 @@ class Node:
             return (
                 f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
                 f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts"
+                + (f", {self.manual_restarts} asked for" if self.manual_restarts else "")
             )
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
@@ -1295,7 +1364,7 @@ class Outcome:
         return lines
 
 
-# Each node's output: overlong lines cut, passed on to the supervisor's stderr and kept in `<log dir>/<node>.log`.
+# Each node's output: overlong lines cut, passed on to stderr, kept in `<log dir>/<node>.log` with times and runs.
 
 
 # A node's log file is rotated when it would grow past LOG_MAX_BYTES: <node>.log becomes <node>.log.1,
@@ -1349,13 +1418,28 @@ def character_start(data: bytes, cut: int, start: int, end: int) -> int:
 
 class NodeLog:
     """The output of one node: `feed` takes what its pipe gave, cuts overlong lines, and passes the result
-    to the supervisor's stderr, the log file and the listeners (which get complete lines)."""
+    to the supervisor's stderr as it is, and with each line after the time it was read (`log_time` and a
+    space) to the log file and the listeners (which get complete lines). `begin_run` writes a run's header
+    line into the file; `tail` reads the current run's lines, or every run's."""
 
     def __init__(self, directory: str, name: str):
         self.path = os.path.join(directory, f"{name}.log")
         self.line_length = 0  # bytes of the unfinished line passed on so far
-        self.partial = bytearray()  # the unfinished line, for the listeners (at most LINE_MAX_BYTES)
+        self.partial = bytearray()  # the unfinished line with its time, for the listeners (at most LINE_MAX_BYTES more)
         self.listeners = []  # callables taking one decoded line, e.g. `ctl logs -f` clients
+        # Where the current run's header is: [rotations of the file since it was written, its offset in the file
+        # it was written to]; None before begin_run (every line then counts as the current run's).
+        self.run_start = None
+
+    def begin_run(self, header: str) -> None:
+        """Start a run: its `header` on a line of its own (an unfinished line a killed supervisor left is ended
+        first), after which `tail` reads by default."""
+        data = f"{log_time(time.time())} {header}\n".encode()
+        if not ends_a_line(self.path):
+            data = b"\n" + data
+        offset = self.append(data)
+        if offset is not None:
+            self.run_start = [0, offset + (data[0] == ord("\n"))]
 
     def open_pipe(self):
         """(read end, write end) of a new pipe for one launch; the read end is non-blocking."""
@@ -1379,12 +1463,14 @@ class NodeLog:
         return True
 
     def feed(self, data: bytes) -> None:
+        at_line_start = self.line_length == 0
         data = self.cut_long_lines(data)
         try:
             sys.stderr.buffer.write(data)
             sys.stderr.flush()
         except (OSError, ValueError):
             pass
+        data = stamp_lines(data, f"{log_time(time.time())} ".encode(), at_line_start)
         self.append(data)
         end = data.rfind(b"\n")
         if end < 0:
@@ -1414,14 +1500,19 @@ class NodeLog:
         pieces.append(data[start:])
         return b"".join(pieces)
 
-    def append(self, data: bytes) -> None:
+    def append(self, data: bytes) -> int | None:
+        """Write `data` at the end of the log file, rotated first when it would grow past LOG_MAX_BYTES: the
+        offset it was written at, None when it could not be written."""
         try:
-            if os.path.exists(self.path) and os.path.getsize(self.path) + len(data) > LOG_MAX_BYTES:
+            size = os.path.getsize(self.path) if os.path.exists(self.path) else 0
+            if size and size + len(data) > LOG_MAX_BYTES:
                 self.rotate()
+                size = 0
             with open(self.path, "ab") as log_file:
                 log_file.write(data)
+            return size
         except OSError:
-            pass  # a full or read-only disk must not stop the robot; stderr still has the output
+            return None  # a full or read-only disk must not stop the robot; stderr still has the output
 
     def rotate(self) -> None:
         for index in range(LOG_BACKUPS - 1, 0, -1):
@@ -1429,31 +1520,59 @@ class NodeLog:
             if os.path.exists(older):
                 os.replace(older, f"{self.path}.{index + 1}")
         os.replace(self.path, f"{self.path}.1")
+        if self.run_start is not None:
+            self.run_start[0] += 1
 
-    def tail(self, count: int) -> list[str]:
-        """The last `count` lines, from the rotated files too when the current one holds fewer; from the last
-        LOG_TAIL_BYTES of output at most (fewer lines when they are long)."""
+    def tail(self, count: int, all_runs: bool = False) -> list[str]:
+        """The last `count` lines of the current run (from its header on), or of every run kept when `all_runs`;
+        from the rotated files too when the current one holds fewer; from the last LOG_TAIL_BYTES of output at
+        most (fewer lines when they are long)."""
+        paths = [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]
+        starts = [0] * len(paths)  # where each file's lines of interest begin
+        if not all_runs and self.run_start is not None and self.run_start[0] < len(paths):
+            rotations, offset = self.run_start
+            paths, starts = paths[: rotations + 1], [*starts[:rotations], offset]
         lines: list[bytes] = []
         budget = LOG_TAIL_BYTES
-        for path in [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]:
+        for path, start in zip(paths, starts):
             if len(lines) >= count or budget <= 0:
                 break
-            found, read = last_lines(path, count - len(lines), budget)
+            found, read = last_lines(path, count - len(lines), budget, start)
             lines = found + lines
             budget -= read
         return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
 
 
-def last_lines(path: str, count: int, budget: int) -> tuple[list[bytes], int]:
-    """The last `count` lines of the file at `path` within its last `budget` bytes (fewer when it holds fewer;
-    none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
+def stamp_lines(data: bytes, stamp: bytes, at_line_start: bool) -> bytes:
+    """`data` with `stamp` before every line that begins in it (its first only when it is `at_line_start`)."""
+    body = data[:-1].replace(b"\n", b"\n" + stamp) + data[-1:]
+    return stamp + body if at_line_start else body
+
+
+def ends_a_line(path: str) -> bool:
+    """Whether the file at `path` is empty, absent, unreadable or ends with a newline."""
+    try:
+        with open(path, "rb") as log_file:
+            if log_file.seek(0, os.SEEK_END) == 0:
+                return True
+            log_file.seek(-1, os.SEEK_END)
+            return log_file.read(1) == b"\n"
+    except OSError:
+        return True
+
+
+def last_lines(path: str, count: int, budget: int, start: int = 0) -> tuple[list[bytes], int]:
+    """The last `count` lines of the file at `path` after offset `start` (where a line begins; the whole file
+    when it is shorter, since something else truncated it) within its last `budget` bytes (fewer when it holds
+    fewer; none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
     try:
         with open(path, "rb") as log_file:
             position = log_file.seek(0, os.SEEK_END)
+            start = start if start <= position else 0
             blocks: list[bytes] = []
             newlines = read = 0
-            while position > 0 and newlines <= count and read < budget:
-                size = min(TAIL_BLOCK_BYTES, position, budget - read)
+            while position > start and newlines <= count and read < budget:
+                size = min(TAIL_BLOCK_BYTES, position - start, budget - read)
                 position -= size
                 log_file.seek(position)
                 blocks.insert(0, log_file.read(size))
@@ -1462,7 +1581,7 @@ def last_lines(path: str, count: int, budget: int) -> tuple[list[bytes], int]:
     except OSError:
         return [], 0
     lines = b"".join(blocks).splitlines()
-    if position > 0:
+    if position > start:
         lines = lines[1:]  # the first may have begun in a block not read
     return (lines[-count:] if count > 0 else []), read
 
@@ -1565,9 +1684,19 @@ CONTROL_COMMANDS = {
     "restart": ("node",),
     "stop": ("node",),
     "start": ("node",),
-    "logs": ("node", "lines", "follow"),
+    "logs": ("node", "lines", "follow", "all"),
 }
-FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False}
+FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False}
+# The kinds of refusal an error reply names in its "kind" field, for clients that act on them (a web server
+# answers them with the HTTP status in the comment).
+REFUSAL_KINDS = {
+    "bad_request": "the request line is not a request this supervisor takes",  # 400
+    "forbidden": "the client is of another user than the supervisor's and not root",  # 403
+    "not_found": "no node has that name, or its output is not kept (no log directory)",  # 404
+    "conflict": "the node is already in the state asked for, or a stop or restart of it is under way",  # 409
+    "stopping": "the robot is stopping: its nodes are started, stopped and restarted no more",  # 503
+    "busy": "too many clients are connected: try again later",  # 503
+}
 FIELD_RULES = {
     "node": (lambda value: isinstance(value, str), "node must be a string"),
     "lines": (
@@ -1575,6 +1704,7 @@ FIELD_RULES = {
         f"lines must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}",
     ),
     "follow": (lambda value: isinstance(value, bool), "follow must be true or false"),
+    "all": (lambda value: isinstance(value, bool), "all must be true or false"),
 }
 JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 JSON_BRACKET = re.compile(r"[\[\]{}]")
@@ -1582,6 +1712,11 @@ JSON_BRACKET = re.compile(r"[\[\]{}]")
 
 class RequestError(ValueError):
     """Why a request line was refused: one line, sent back to the client."""
+
+
+def refusal(kind: str, error: str) -> dict:
+    """The reply that refuses a request: `kind` one of REFUSAL_KINDS, `error` one line saying why."""
+    return {"ok": False, "kind": kind, "error": error}
 
 
 def nesting_depth(text: str) -> int:
@@ -1857,7 +1992,7 @@ class ControlConnection:
             self.plane.readers.pop(self.fd, None)
             self.plane.backlog[self.fd] = self
         elif len(self.received) > CONTROL_REQUEST_LIMIT:
-            self.send({"ok": False, "error": f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"})
+            self.send(refusal("bad_request", f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"))
             self.stop_reading()
         elif self.fd not in self.plane.readers:
             self.plane.readers[self.fd] = self.on_readable
@@ -2002,11 +2137,13 @@ class ControlPlane:
     escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
     Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
-    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true}. Replies: {"ok": true, ...}
-    or {"ok": false, "error": "one line"}; a stop or restart is answered once it has been done (a stop:
-    SIGINT, SIGTERM after sigint_grace_s, SIGKILL after sigterm_grace_s more). The socket is a Unix
-    stream socket of mode 0600 in a directory of this user's, mode 0700 (control_socket.py); only
-    clients of the same user or root are served, the others get one error line.
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}. Replies:
+    {"ok": true, ...} or {"ok": false, "kind": one of REFUSAL_KINDS, "error": "one line"}; a stop or restart
+    is answered once it has been done (a stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after
+    sigterm_grace_s more). A start of a node that runs and a stop of one that does not (stopped, finished,
+    failed) are both refused as conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
+    this user's, mode 0700 (control_socket.py); only clients of the same user or root are served, the others
+    get one error line.
     """
 
     def __init__(self, supervisor, path: str, clients_max: int):
@@ -2078,9 +2215,11 @@ class ControlPlane:
             return
         if not may_control(uid):
             self.note_refusal(uid, pid)
-            refuse(connection, f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)")
+            refuse(
+                connection, "forbidden", f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)"
+            )
         elif len(self.connections) >= self.clients_max:
-            refuse(connection, f"too many control clients ({self.clients_max}); try again later")
+            refuse(connection, "busy", f"too many control clients ({self.clients_max}); try again later")
         else:
             client = ControlConnection(self, connection, pid)
             self.connections[client.fd] = client
@@ -2112,7 +2251,7 @@ class ControlPlane:
         try:
             request = parse_request(line)
         except RequestError as exc:
-            connection.send({"ok": False, "error": str(exc)})
+            connection.send(refusal("bad_request", str(exc)))
             return
         reply = self.handle(connection, request)
         if reply is None:
@@ -2128,24 +2267,28 @@ class ControlPlane:
             return {"ok": True, **self.status()}
         node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
         if node is None:
-            return {"ok": False, "error": f"no node named {request['node']!r:.80}"}
+            return refusal("not_found", f"no node named {request['node']!r:.80}")
         if command == "logs":
             return self.logs(connection, node, request)
         if self.supervisor.stopping:
-            return {"ok": False, "error": "the robot is stopping"}
+            return refusal("stopping", "the robot is stopping")
         if node.name in self.pending:
-            return {"ok": False, "error": f"{node.name} is already being stopped or restarted"}
+            return refusal("conflict", f"{node.name} is already being stopped or restarted")
         if command == "start":
             if node.alive():
-                return {"ok": False, "error": f"{node.name} is already {node.state}"}
+                return refusal("conflict", f"{node.name} is already {node.state}")
             self.start(node)
             return self.action_reply(node)
         if not node.alive():
-            if command == "stop":
+            if command == "restart":
+                node.manual_restarts += 1
+                self.start(node)
+            elif node.state == "backoff":  # nothing runs, a restart is due: it is called off
                 node.restart_at = None
+                node.stop_requested = True
                 node.state = "stopped"
-                return self.action_reply(node)
-            self.start(node)
+            else:  # nothing runs and nothing is due: stopped, finished or failed
+                return refusal("conflict", f"{node.name} is already {node.state}")
             return self.action_reply(node)
         self.pending[node.name] = {
             "stage": "SIGINT",
@@ -2168,16 +2311,20 @@ class ControlPlane:
         return {"ok": True, "node": node.name, "state": node.state, "pid": node.pid}
 
     def status(self) -> dict:
+        """{"robot", "run": {"id", "started", "build"}, "nodes": [{"name", "state", "pid", "restarts" (by the
+        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}."""
         now = time.monotonic()
         self.note_states(now)
         return {
             "robot": ROBOT["name"],
+            "run": self.supervisor.run_mark.as_dict(),
             "nodes": [
                 {
                     "name": node.name,
                     "state": node.state,
                     "pid": node.pid,
                     "restarts": node.restarts,
+                    "manual_restarts": node.manual_restarts,
                     "ready": node.ready,
                     "since_s": round(now - self.since[node.name][1], 3),
                 }
@@ -2188,9 +2335,9 @@ class ControlPlane:
     def logs(self, connection, node, request) -> None:
         node_log = self.supervisor.logs.get(node.name)
         if node_log is None:
-            connection.send({"ok": False, "error": f"the output of {node.name} is not kept (no log directory)"})
+            connection.send(refusal("not_found", f"the output of {node.name} is not kept (no log directory)"))
             return None
-        connection.send({"ok": True, "lines": node_log.tail(request["lines"])})
+        connection.send({"ok": True, "lines": node_log.tail(request["lines"], request["all"])})
         if request["follow"] and not connection.closed:
             connection.follow(node_log)
         return None
@@ -2231,7 +2378,7 @@ class ControlPlane:
                 del self.pending[node.name]
                 node.state = "stopped"
                 if item["then_start"] and not self.supervisor.stopping:
-                    node.restarts += 1
+                    node.manual_restarts += 1
                     self.start(node)
                 for connection in item["waiters"]:
                     connection.answer(self.action_reply(node))
@@ -2247,11 +2394,11 @@ class ControlPlane:
         self.note_states(now)
 
 
-def refuse(connection, error: str) -> None:
+def refuse(connection, kind: str, error: str) -> None:
     """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
     try:
         connection.setblocking(False)
-        connection.send(json.dumps({"ok": False, "error": error}).encode() + b"\n", socket.MSG_NOSIGNAL)
+        connection.send(json.dumps(refusal(kind, error)).encode() + b"\n", socket.MSG_NOSIGNAL)
     except OSError:
         pass
     close_quietly(connection)
@@ -2383,6 +2530,8 @@ class StopCascade:
 class Supervisor(StopCascade):
     def __init__(self, options):
         self.options = options
+        self.run_mark = RunMark()
+        log("supervisor", self.run_mark.header())
         self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
         self.by_pid = {}
         self.guard = Guard(None)
@@ -2431,6 +2580,8 @@ class Supervisor(StopCascade):
             except ControlSocketError as exc:
                 log("supervisor", f"cannot serve the control socket {self.options.control_socket}: {exc}")
                 return EXIT_PREFLIGHT
+        for node_log in self.logs.values():  # here, as the nodes start: a run refused before leaves no header
+            node_log.begin_run(self.run_mark.header())
         try:
             self.start()
         except Exception:  # noqa: BLE001 (a bug: logged, and every node started so far is stopped)
@@ -2465,6 +2616,8 @@ class Supervisor(StopCascade):
             f"started: {running} of {len(self.nodes)} nodes running "
             f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
         )
+        if not self.requests:
+            self.readiness.check_all(time.monotonic())  # CUSTOM programs are ready at once: the loop may sleep long
 
     def turn(self):
         """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
@@ -2673,7 +2826,6 @@ class Supervisor(StopCascade):
             self.request_stop(f"duration of {self.options.duration} s elapsed")
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
-        self.readiness.on_timer(now, self.stopping)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet
@@ -2682,6 +2834,7 @@ class Supervisor(StopCascade):
                     continue
                 node.restart_at = None
                 self.launch(node)
+        self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
         if self.next_status is not None and now >= self.next_status:
             self.next_status = now + self.options.status_interval
             self.print_status(now)
@@ -2736,7 +2889,24 @@ def supervisord_listener():
 
 CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
 CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
-CTL_EXIT_FAILED = 1
+# Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
+# start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.
+CTL_EXIT_DONE = 0
+CTL_EXIT_REFUSED = 1
+CTL_EXIT_USAGE = 2  # bad command line: argparse exits with it
+CTL_EXIT_UNREACHABLE = 3  # no supervisor at the socket, one of another user, or no answer (in CTL_TIMEOUT_S)
+CTL_EXIT_INTERRUPTED = 130  # Ctrl-C before the answer came (following a log, Ctrl-C is its normal end: 0)
+
+
+def log_line_count(text: str) -> int:
+    """The value of `logs -n`: a whole number of lines a request may ask for, else a usage error."""
+    try:
+        count = int(text)
+    except ValueError:
+        count = -1
+    if not 0 <= count <= CONTROL_LOG_LINES_MAX:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}: {text}")
+    return count
 
 
 def ctl_arguments(argv):
@@ -2754,12 +2924,15 @@ def ctl_arguments(argv):
     status.add_argument("--json", action="store_true", help="print the status as one JSON object")
     for action in ("restart", "stop", "start"):
         commands.add_parser(action, help=f"{action} one node").add_argument("node")
-    logs = commands.add_parser("logs", help="the last lines of a node's output")
+    logs = commands.add_parser("logs", help="the last lines of a node's output in this run, each after its time")
     logs.add_argument("node")
     logs.add_argument(
-        "-n", "--lines", type=int, default=CONTROL_LOG_LINES_DEFAULT, help="how many lines (default %(default)s)"
+        "-n", "--lines", type=log_line_count, default=CONTROL_LOG_LINES_DEFAULT, help="how many (default %(default)s)"
     )
     logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
+    logs.add_argument(
+        "--all", action="store_true", help="from earlier runs too (each begins with its header line), as far as kept"
+    )
     return parser.parse_args(argv)
 
 
@@ -2769,7 +2942,8 @@ def ctl(argv) -> int:
     if options.command != "status":
         request["node"] = options.node
     if options.command == "logs":
-        request.update(lines=options.lines, follow=options.follow)
+        request.update(lines=options.lines, follow=options.follow, all=options.all)
+    following = options.command == "logs" and options.follow
     try:
         connection = ctl_connect(options.control_socket)
         _, uid, _ = peer_credentials(connection)
@@ -2779,33 +2953,36 @@ def ctl(argv) -> int:
                 f"not by uid {os.geteuid()} or root: not talking to it",
                 file=sys.stderr,
             )
-            return CTL_EXIT_FAILED
+            return CTL_EXIT_UNREACHABLE
         try:
             connection.sendall(json.dumps(request).encode() + b"\n")
         except (BrokenPipeError, ConnectionResetError):
             pass  # refused and closed at once (too many clients): the reply already sent says why
-        if options.follow if options.command == "logs" else False:
+        if following:
             connection.settimeout(None)
         replies = connection.makefile("rb")
-        reply = json.loads(replies.readline() or b"{}")
+        answer = replies.readline()
+        if not answer:
+            raise ValueError("it closed the connection without one")
+        reply = json.loads(answer)
         if not reply.get("ok"):
-            print(f"supervisor.py ctl: error: {reply.get('error') or 'no answer'}", file=sys.stderr)
-            return CTL_EXIT_FAILED
+            print(f"supervisor.py ctl: error: {reply.get('error') or 'refused, without a reason'}", file=sys.stderr)
+            return CTL_EXIT_REFUSED
         print_reply(options, reply)
-        if options.command == "logs" and options.follow:
+        if following:
             for line in replies:
                 print(json.loads(line).get("line", ""), flush=True)
     except OSError as exc:
         print(
             f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
         )
-        return CTL_EXIT_FAILED
+        return CTL_EXIT_UNREACHABLE
     except ValueError as exc:
-        print(f"supervisor.py ctl: error: control socket {options.control_socket}: bad reply ({exc})", file=sys.stderr)
-        return CTL_EXIT_FAILED
+        print(f"supervisor.py ctl: error: control socket {options.control_socket}: no answer ({exc})", file=sys.stderr)
+        return CTL_EXIT_UNREACHABLE
     except KeyboardInterrupt:
-        pass
-    return 0
+        return CTL_EXIT_DONE if following else CTL_EXIT_INTERRUPTED
+    return CTL_EXIT_DONE
 
 
 def ctl_connect(path: str) -> socket.socket:
@@ -2832,7 +3009,10 @@ def print_reply(options, reply: dict) -> None:
             return
         for node in reply["nodes"]:
             pid = f"pid {node['pid']}" if node["pid"] else "no process"
-            print(f"{node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts, {node['since_s']:.0f} s")
+            asked = f", {node['manual_restarts']} asked for" if node["manual_restarts"] else ""
+            print(
+                f"{node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts{asked}, {node['since_s']:.0f} s"
+            )
     elif options.command == "logs":
         for line in reply["lines"]:
             print(line)
