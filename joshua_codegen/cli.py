@@ -9,7 +9,7 @@ import click
 
 from joshua_codegen.version import VERSION
 
-FORMATS = ("text", "json", "github")
+FORMATS = ("text", "json", "github", "sarif")
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 70
 # Room under --prefix for the longest path joshuac writes there (systemd/joshua-<64>-<128>.service).
 PREFIX_ROOM = "x" * 255
@@ -65,6 +65,10 @@ def report(results, output_format: str, stream) -> None:
         click.echo(format_json(diagnostics), file=stream, nl=False)
     elif output_format == "github":
         click.echo(format_github(diagnostics), file=stream, nl=False)
+    elif output_format == "sarif":
+        from joshua_codegen.sarif import format_sarif
+
+        click.echo(format_sarif(diagnostics), file=stream, nl=False)
     elif diagnostics:
         report_texts(diagnostics, {path: text for r in results for path, text in r.sources.items()}, stream)
 
