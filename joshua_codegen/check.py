@@ -31,6 +31,7 @@ class CheckResult:
     diagnostics: list[Diagnostic]
     overrides: tuple[str, ...] = field(default=())
     robot: Robot | None = None  # the planned model, when the description had no error before planning
+    context: RuleContext | None = None  # what the rules read (topic index, names), when they ran
 
     @property
     def has_errors(self) -> bool:
@@ -75,9 +76,9 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
     context = RuleContext(description, source, sources, prefix)
     diagnostics += run_rules(context)
     if any(d.is_error for d in diagnostics):
-        return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides)
+        return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context=context)
     diagnostics += run_rules(context, stage="plan")
-    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context.robot)
+    return CheckResult(path, text, description, sort_diagnostics(diagnostics), overrides, context.robot, context)
 
 
 def _check_partial(
@@ -91,7 +92,7 @@ def _check_partial(
     sources = CheckResult(path, text, partial, [], overrides).sources
     context = RuleContext(partial, source, sources, prefix, loaded.unknown_nodes)
     diagnostics = loaded.diagnostics + diagnostics + run_rules(context)
-    return CheckResult(path, text, None, sort_diagnostics(diagnostics), overrides)
+    return CheckResult(path, text, None, sort_diagnostics(diagnostics), overrides, context=context)
 
 
 def decode(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:

@@ -226,6 +226,14 @@ def _rewrite(config: str, text: str, formatted: str) -> bool:
     return True
 
 
+@cli.command()
+def lsp() -> None:
+    """Serve the Language Server Protocol on standard input and output, for editors."""
+    from joshua_codegen.lsp.server import serve
+
+    serve()
+
+
 @cli.command(context_settings={"ignore_unknown_options": True})
 @config_argument
 @set_option
