@@ -142,9 +142,11 @@ def build(config, out, prefix, check_only, bundle, overrides, output_format) -> 
     if check_only:
         difference = diff_tree(compilation.files, Path(out))
         if difference:
-            click.echo(difference, nl=False)
+            click.echo(difference.text, nl=False)
             click.echo(
-                f"joshuac: {out} is not up to date with {config}; run: joshuac build {config} -o {out}", err=True
+                f"joshuac: {out} is not up to date with {config} ({difference.summary()}); "
+                f"run: joshuac build {config} -o {out}",
+                err=True,
             )
             sys.exit(EXIT_ERRORS)
         return

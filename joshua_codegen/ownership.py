@@ -1,7 +1,8 @@
 """Proof that joshuac wrote an output directory: the stamp file, its check, and stale staging directories.
 
 `OUT/.joshuac-stamp` lists every file joshuac wrote into OUT with its SHA-256, in the format of
-`sha256sum` (`sha256sum -c .joshuac-stamp` checks a tree by hand). A build replaces OUT only when
+`sha256sum` (`sha256sum -c .joshuac-stamp` checks a tree by hand), after a first line `# joshuac VERSION`
+naming the joshuac that wrote it (GNU sha256sum skips lines starting with `#`; stamps without it are read too). A build replaces OUT only when
 OUT is missing, empty, or holds exactly files listed in its stamp with unchanged content; anything
 else (a file joshuac did not write, an edited generated file, a symbolic link) is refused.
 
@@ -20,7 +21,10 @@ import shutil
 import stat
 from pathlib import Path
 
+from joshua_codegen.version import VERSION
+
 STAMP = ".joshuac-stamp"
+STAMP_COMMENT = "# "
 _STAMP_LINE = re.compile(r"([0-9a-f]{64})  (.+)")
 # Longest list of offending paths printed in a refusal.
 SHOWN_PATHS = 10
@@ -36,8 +40,9 @@ def content_bytes(content: str | bytes) -> bytes:
 
 
 def stamp_text(files: dict[str, str | bytes]) -> str:
-    """The stamp of a set of rendered files: one `<sha256>  <path>` line per file, sorted by path."""
-    return "".join(f"{_digest(content_bytes(text))}  {path}\n" for path, text in sorted(files.items()))
+    """The stamp of a set of rendered files: the version line, then one `<sha256>  <path>` line per file, by path."""
+    listed = "".join(f"{_digest(content_bytes(text))}  {path}\n" for path, text in sorted(files.items()))
+    return f"{STAMP_COMMENT}joshuac {VERSION}\n{listed}"
 
 
 def read_stamp(directory: Path) -> dict[str, str] | None:
@@ -51,6 +56,8 @@ def read_stamp(directory: Path) -> dict[str, str] | None:
         return None
     listed = {}
     for line in text.splitlines():
+        if line.startswith(STAMP_COMMENT):
+            continue
         match = _STAMP_LINE.fullmatch(line)
         if match is None:
             return None

@@ -18,7 +18,6 @@ def manifest(robot: Robot, context: Context) -> dict:
     return {
         "generator": "joshuac",
         "format": MANIFEST_FORMAT,
-        "joshuac_version": context.version,
         "source": robot.source,
         "prefix": context.prefix,
         "robot": {
