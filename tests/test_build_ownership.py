@@ -99,6 +99,8 @@ def test_the_stamp_lists_every_written_file_with_its_sha256(tmp_path):
     out = tmp_path / "out"
     assert joshuac("build", CONFIG, "-o", out).returncode == 0
     lines = (out / ".joshuac-stamp").read_text().splitlines()
+    assert lines[0].startswith("# joshuac ")  # the version line, which sha256sum -c skips
+    lines = lines[1:]
     listed = dict(reversed(line.split("  ", 1)) for line in lines)
     written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()} - {".joshuac-stamp"}
     assert set(listed) == written
