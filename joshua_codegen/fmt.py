@@ -8,6 +8,10 @@ of robot_config, at most one blank line kept elsewhere and none at the start or 
 Comments stay on their line (`value  # comment`) or above the field they precede; comments inside
 a value list move above its field. Formatting is idempotent and never changes what the file means.
 It needs only valid syntax and valid string escapes (unknown fields are formatted as written).
+
+The text starts with the header of the text-format specification, `# proto-file: ...` and
+`# proto-message: ...`, which tells editors and other tools the schema of the file; other comments
+at the top follow it, and header lines naming another schema are replaced.
 """
 
 from __future__ import annotations
@@ -18,12 +22,15 @@ from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, load_text, syntax_diagn
 from joshua_codegen.source_file import SourceProblem, read_description
 from joshua_codegen.syntax import Block, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, parse_syntax
 from joshua_codegen.values import ValueProblem, unquote
+from joshua_core.schema import RobotDescription
 
 INDENT = "  "
 TRAILING_COMMENT_GAP = "  "
 ROBOT_BLOCK = "robot_config"
 NODE_FIELD = "node"
 _ESCAPES = {'"': '\\"', "\\": "\\\\", "\n": "\\n", "\r": "\\r", "\t": "\\t"}
+HEADER_KEYS = ("# proto-file:", "# proto-message:")
+HEADER = (f"{HEADER_KEYS[0]} joshua/v1/robot_config.proto", f"{HEADER_KEYS[1]} {RobotDescription.DESCRIPTOR.full_name}")
 
 
 def quote(data: bytes) -> str:
@@ -141,7 +148,16 @@ def render(document: Document) -> str:
         if last is not None and document.dangling[0].line - last > 1:
             printer.blank()
         printer.comments(document.dangling, "", None)
-    return "".join(line + "\n" for line in printer.lines)
+    return "".join(line + "\n" for line in _with_header(printer.lines))
+
+
+def _with_header(lines: list[str]) -> list[str]:
+    """The lines with the schema header first, in place of any header lines among the comments at the top."""
+    top = 0
+    while top < len(lines) and lines[top].startswith("#"):
+        top += 1
+    kept = [line for line in lines[:top] if not line.startswith(HEADER_KEYS)]
+    return [*HEADER, *kept, *lines[top:]]
 
 
 def _check_strings(fields: list[Field], path: str, problems: list[Diagnostic]) -> None:

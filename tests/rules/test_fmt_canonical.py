@@ -39,6 +39,8 @@ robot_config <  # the robot
 """
 
 CANONICAL = """\
+# proto-file: joshua/v1/robot_config.proto
+# proto-message: joshua.v1.RobotDescription
 # Header comment.
 
 robot_config {  # the robot
@@ -70,8 +72,15 @@ robot_config {  # the robot
 """
 
 
+HEADER = ["proto-file: joshua/v1/robot_config.proto", "proto-message: joshua.v1.RobotDescription"]
+
+
 def comments(text):
     return [line.split("#", 1)[1].strip() for line in text.splitlines() if "#" in line]
+
+
+def without_header(found):
+    return [comment for comment in found if comment not in HEADER]
 
 
 def test_messy_text_gets_the_canonical_layout():
@@ -86,7 +95,8 @@ def test_formatting_is_idempotent_and_keeps_meaning_and_comments(path):
     formatted, diagnostics = format_description(text, path.name)
     assert diagnostics == []
     assert format_description(formatted, path.name) == (formatted, [])
-    assert comments(formatted) == comments(text)
+    assert comments(formatted)[:2] == HEADER  # the schema header comes first
+    assert comments(formatted)[2:] == without_header(comments(text))
     try:
         original = text_format.Parse(text, RobotDescription())
     except text_format.ParseError:
@@ -119,6 +129,13 @@ def test_unformattable_text_gives_diagnostics(text, code, line, column):
     formatted, diagnostics = format_description(text, "r.pbtxt")
     assert formatted is None
     assert [(d.code, d.line, d.column) for d in diagnostics] == [(code, line, column)]
+
+
+def test_the_header_is_written_once_and_replaces_another_schema():
+    text = "# proto-message: other.Message\n# mine\nrobot_config {}\n"
+    formatted, _ = format_description(text, "r.pbtxt")
+    assert formatted.splitlines() == [f"# {HEADER[0]}", f"# {HEADER[1]}", "# mine", "robot_config {}"]
+    assert format_description(formatted, "r.pbtxt")[0] == formatted
 
 
 def test_quote_escapes_canonically():

@@ -18,10 +18,10 @@ def test_so100_arm_only_warns_that_nothing_publishes_its_commands_and_its_camera
     monkeypatch.chdir(SEEDS)
     result = check_file("so100_arm.pbtxt")
     assert format_text(result.diagnostics, result.sources) == (
-        f"so100_arm.pbtxt:13:5: warning[W102]: {CAMERA_HAS_NO_BINARY}\n"
+        f"so100_arm.pbtxt:15:5: warning[W102]: {CAMERA_HAS_NO_BINARY}\n"
         "    preferred_backend: CPP\n"
         "    ^~~~~~~~~~~~~~~~~~~~~~\n"
-        'so100_arm.pbtxt:18:5: warning[W202]: nothing in this description publishes "/arm/commands"\n'
+        'so100_arm.pbtxt:20:5: warning[W202]: nothing in this description publishes "/arm/commands"\n'
         '    topic_name: "/arm/commands"\n'
         "    ^~~~~~~~~~~~~~~~~~~~~~~~~~~\n"
         "0 errors, 2 warnings\n"
@@ -33,7 +33,7 @@ def test_so100_leader_follower_only_warns_that_its_camera_has_no_binary(monkeypa
     monkeypatch.chdir(SEEDS)
     result = check_file("so100_leader_follower.pbtxt")
     assert [(d.line, d.column, d.code, d.message) for d in result.diagnostics] == [
-        (39, 5, "W102", CAMERA_HAS_NO_BINARY)
+        (41, 5, "W102", CAMERA_HAS_NO_BINARY)
     ]
     assert [n.type for n in result.description.robot_config.node] == [2, 4, 1, 6]
 
