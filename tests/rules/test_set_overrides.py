@@ -138,7 +138,7 @@ def test_a_failed_override_changes_nothing():
 def test_rule_findings_on_an_overridden_value_point_at_the_override():
     result = check_text("r.pbtxt", FOLLOWER, ["mode=MODE_SIMULATION", "actuator_subscriber.qos_depth=0"])
     located = [(d.path, d.line, d.column, d.code) for d in result.diagnostics]
-    assert located == [("--set", 1, 1, "E502"), ("--set", 2, 1, "E304"), ("r.pbtxt", 39, 5, "W102")]
+    assert located == [("--set", 1, 1, "E502"), ("--set", 2, 1, "E304"), ("r.pbtxt", 41, 5, "W102")]
     assert result.sources["--set"] == "mode=MODE_SIMULATION\nactuator_subscriber.qos_depth=0"
 
 
