@@ -23,7 +23,7 @@ CPP_BIN_DIR = "/opt/joshua/bin"
 PYTHON_EXECUTABLE = "python3"
 SIMULATION_NAME = SIMULATION_ENGINE.name.lower()
 FOXGLOVE_NAME = FOXGLOVE_BRIDGE.name.lower()  # the process name `foxglove { }` reserves (E130)
-FOXGLOVE_PORT, FOXGLOVE_HOST = 8765, "0.0.0.0"
+FOXGLOVE_PORT, FOXGLOVE_BIND = 8765, "0.0.0.0"
 
 NodeType = pb.NodeType
 # Node-type numbers of the schema -> registry entries. Every set below is derived from the registry.

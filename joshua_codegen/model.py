@@ -3,10 +3,11 @@
 `plan(description)` is pure; it assumes the rules found no error, so every value is valid here.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
+from joshua_core.discovery import PROCESS_TYPE as DISCOVERY_TYPE
 from joshua_core.node_types import FOXGLOVE_BRIDGE, SIMULATION_ENGINE
 from joshua_core.settings import FORMAT_VERSION, NodeSettings
 
@@ -81,6 +82,8 @@ class Process:
     env: tuple[tuple[str, str], ...]
     devices: tuple[Device, ...]
     carries_images: bool  # publishes or subscribes images, so DDS must fit them in shared memory
+    host: str = ""  # the computer it runs on ("" without hosts)
+    starts_first: bool = False  # the supervisor starts the others once it is ready (the Discovery Server)
 
 
 @dataclass(frozen=True)
@@ -94,6 +97,26 @@ class NodeModel:
     subscribes: tuple[Endpoint, ...]
     devices: tuple[Device, ...]
     settings: NodeSettings = field(hash=False, compare=False)  # written into its entrypoint (node_settings.py)
+    host: str = ""  # the computer it runs on ("" without hosts)
+
+
+@dataclass(frozen=True)
+class Host:
+    """One computer of a robot on several (`host { }`)."""
+
+    name: str
+    address: str
+    ros_from_system: bool
+    python: str  # the interpreter its install.sh makes the environment with ("" for the bundle's default)
+
+
+@dataclass(frozen=True)
+class DiscoveryServer:
+    """The Fast DDS Discovery Server every process uses (`discovery { }`)."""
+
+    host: str
+    address: str
+    port: int
 
 
 @dataclass(frozen=True)
@@ -112,6 +135,25 @@ class Robot:
     env: tuple[tuple[str, str], ...]
     simulation: NodeSettings | None = field(hash=False, compare=False)  # the engine's settings in MODE_SIMULATION
     foxglove: NodeSettings | None = field(default=None, hash=False, compare=False)  # the Foxglove bridge's
+    hosts: tuple[Host, ...] = ()  # the computers it runs on; () for one computer
+    discovery: DiscoveryServer | None = None
+    host: str = ""  # the one host this model's processes are restricted to (for_host), else ""
+    # The host of every process of the whole robot by process name, in start order (kept by for_host).
+    placement: dict[str, str] = field(default_factory=dict, hash=False, compare=False)
+
+    @property
+    def this_host(self) -> Host | None:
+        """The host a part made by for_host runs on (None for the whole robot)."""
+        return next((host for host in self.hosts if host.name == self.host), None)
+
+    def for_host(self, name: str) -> "Robot":
+        """The part of the robot one host runs: its nodes and processes (topics stay whole)."""
+        return replace(
+            self,
+            nodes=tuple(node for node in self.nodes if node.host == name),
+            processes=tuple(process for process in self.processes if process.host == name),
+            host=name,
+        )
 
     def node(self, name: str) -> NodeModel:
         return self._nodes_by_name[name]
@@ -133,11 +175,15 @@ class Robot:
         return simulated
 
     def process_settings(self, process: Process) -> NodeSettings:
-        """The settings of a python process (a node's, or the simulation engine's); the dashboard's
-        name only its process (its entrypoint holds command-line arguments instead)."""
-        if process.node_type == DASHBOARD_TYPE:
+        """The settings of a python process (a node's, or the simulation engine's); the dashboard's and the
+        Discovery Server's name only their process (their entrypoints hold command-line arguments instead)."""
+        if process.node_type in (DASHBOARD_TYPE, DISCOVERY_TYPE):
             return NodeSettings(
-                format_version=FORMAT_VERSION, robot=self.name, mode=self.mode, name=process.name, type=DASHBOARD_TYPE
+                format_version=FORMAT_VERSION,
+                robot=self.name,
+                mode=self.mode,
+                name=process.name,
+                type=process.node_type,
             )
         if process.node_type == SIMULATION_ENGINE.name:
             return self.simulation

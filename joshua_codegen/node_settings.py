@@ -108,7 +108,7 @@ def for_foxglove(config: pb.RobotConfig, name: str, topics: list[Endpoint]) -> N
     settings = _common(config, name, FOXGLOVE_BRIDGE.name)
     foxglove = config.foxglove
     settings.foxglove.port = foxglove.port if foxglove.HasField("port") else defaults.FOXGLOVE_PORT
-    settings.foxglove.host = foxglove.host or defaults.FOXGLOVE_HOST
+    settings.foxglove.host = foxglove.bind or defaults.FOXGLOVE_BIND
     settings.inputs.extend(_topic(endpoint) for endpoint in topics)
     return settings
 

@@ -2,11 +2,13 @@
 
 import json
 import os
+from dataclasses import replace
 
-from joshua_codegen import defaults, escape, node_settings, topology
-from joshua_codegen.model import Device, Endpoint, NodeModel, Process, QoS, Robot, Topic
+from joshua_codegen import defaults, escape, node_settings, placement, topology
+from joshua_codegen.model import Device, DiscoveryServer, Endpoint, Host, NodeModel, Process, QoS, Robot, Topic
 from joshua_codegen.positions import node_path
 from joshua_core import dashboard as dashboard_facts
+from joshua_core import discovery as discovery_facts
 from joshua_core.models import REGISTRY_PREFIX
 from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
 from joshua_core.schema import robot_config_pb2 as pb
@@ -54,6 +56,9 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         processes += (_foxglove_process(foxglove.name, any(t.message_type in IMAGE_TYPES for t in topics)),)
     if config.HasField("dashboard"):
         processes += (_dashboard_process(config, any(_carries_images(model) for model in nodes)),)
+    hosts, discovery = (), None
+    if placement.has_hosts(config):
+        hosts, discovery, processes = _placed(config, processes)
     return Robot(
         name=config.name,
         mode=mode,
@@ -69,7 +74,42 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         env=tuple(sorted(config.env.items())),
         simulation=simulation,
         foxglove=foxglove,
+        hosts=hosts,
+        discovery=discovery,
+        placement={process.name: process.host for process in processes} if hosts else {},
     )
+
+
+def _placed(config: pb.RobotConfig, processes: tuple[Process, ...]):
+    """(hosts, Discovery Server, processes each with its host, the server's first) of a robot on several hosts."""
+    hosts = tuple(Host(h.name, h.address, h.ros_from_system, placement.host_python(h)) for h in config.host)
+    services = {
+        defaults.SIMULATION_NAME: "simulation",
+        defaults.FOXGLOVE_NAME: "foxglove",
+        dashboard_facts.PROCESS_NAME: "dashboard",
+    }
+    nodes = {name: node for node, name in zip(config.node, defaults.node_names(config))}
+    placed = []
+    for process in processes:
+        if process.name in nodes:
+            host = placement.node_host(config, nodes[process.name])
+        else:
+            host = placement.service_host(config, services[process.name])
+        placed.append(replace(process, host=host))
+    discovery = None
+    if config.HasField("discovery"):
+        server = next(h for h in hosts if h.name == config.discovery.server_host)
+        discovery = DiscoveryServer(server.name, server.address, placement.discovery_port(config))
+        placed.insert(0, _discovery_process(discovery))
+    return hosts, discovery, tuple(placed)
+
+
+def _discovery_process(server: DiscoveryServer) -> Process:
+    """The Fast DDS Discovery Server: critical (no process of any host finds another without it), started
+    before the other processes of its host."""
+    args = ["--address", server.address, "--port", str(server.port)]
+    process = _service_process(discovery_facts.PROCESS_NAME, discovery_facts.PROCESS_TYPE, True, False, args)
+    return replace(process, host=server.host, starts_first=True)
 
 
 def _grace(shutdown: pb.Shutdown, field: str, default: float) -> float:
@@ -133,6 +173,7 @@ def _node(
     devices = tuple(_devices(node, name))
     settings = node_settings.for_node(config, node, name, topic, state, inputs, odom)
     return NodeModel(
+        host=placement.node_host(config, node),
         name=name,
         type=defaults.type_name(node.type),
         index=index,

@@ -72,14 +72,38 @@ def effective_prefix(robot_name: str, prefix: str | None) -> str:
 
 
 def render(robot: Robot, prefix: str | None = None) -> dict[str, str]:
-    """Every output file of a robot, by path relative to the output directory."""
-    from joshua_codegen.emitters import EMITTERS
+    """Every output file of a robot, by path relative to the output directory.
+
+    A robot on several hosts gets the whole graph (manifest.json, topology.*) at the top and one complete
+    output per host in `hosts/<name>/`, each for the same prefix on its own computer."""
+    from joshua_codegen.emitters import EMITTERS, WHOLE_ROBOT
 
     context = Context(prefix=effective_prefix(robot.name, prefix))
     files: dict[str, str] = {}
-    for emit in EMITTERS:
-        files.update(emit(robot, context))
+    if not robot.hosts:
+        for emit in EMITTERS:
+            files.update(emit(robot, context))
+        return dict(sorted(files.items()))
+    whole: dict[str, str] = {}
+    for emit in WHOLE_ROBOT:
+        whole.update(emit(robot, context))
+    files.update(whole)
+    for host in robot.hosts:
+        part = robot.for_host(host.name)
+        host_files = dict(whole)  # the graph of the whole robot; manifest.json is the host's own below
+        for emit in EMITTERS:
+            if emit not in WHOLE_ROBOT or emit is WHOLE_ROBOT[0]:
+                host_files.update(emit(part, context))
+        files.update({host_path(host.name, path): text for path, text in host_files.items()})
     return dict(sorted(files.items()))
+
+
+HOSTS_DIR = "hosts"
+
+
+def host_path(host: str, path: str = "") -> str:
+    """Where a file of one host's output is, relative to the output directory."""
+    return f"{HOSTS_DIR}/{host}/{path}" if path else f"{HOSTS_DIR}/{host}"
 
 
 def is_executable(path: str) -> bool:

@@ -11,3 +11,7 @@ EMITTERS = [
     systemd.emit,
     supervisord.emit,
 ]
+
+# What a robot on several hosts writes once for the whole robot (the manifest first: each host's output also
+# gets its own; the graph is copied into every host's output as it is).
+WHOLE_ROBOT = [manifest.emit, topology.emit]

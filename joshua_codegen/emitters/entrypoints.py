@@ -1,8 +1,9 @@
 """nodes/<name>.py: one executable entrypoint per Python process, holding its resolved settings
-(the dashboard's holds its command-line arguments instead)."""
+(the dashboard's and the Discovery Server's hold their command-line arguments instead)."""
 
 from joshua_codegen.model import Robot
 from joshua_codegen.render import Context, template
+from joshua_core import discovery
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
 from joshua_core.settings import to_literal
 
@@ -14,6 +15,11 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
             continue
         if process.node_type == DASHBOARD_TYPE:
             files[process.entrypoint] = template("dashboard_entrypoint.py.j2", robot=robot, process=process)
+            continue
+        if process.node_type == discovery.PROCESS_TYPE:
+            files[process.entrypoint] = template(
+                "discovery_server_entrypoint.py.j2", robot=robot, process=process, module=discovery.RUNTIME_MODULE
+            )
             continue
         files[process.entrypoint] = template(
             "node_entrypoint.py.j2", robot=robot, process=process, settings=to_literal(robot.process_settings(process))

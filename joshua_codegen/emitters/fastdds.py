@@ -4,6 +4,7 @@ from dataclasses import dataclass
 
 from joshua_codegen.model import Process, Robot
 from joshua_codegen.render import Context, template
+from joshua_core import discovery as discovery_facts
 
 PROFILE_PATH = "fastdds_profile.xml"  # processes that carry no images
 IMAGES_PROFILE_PATH = "fastdds_profile_images.xml"  # processes that publish or subscribe images
@@ -26,7 +27,24 @@ def profile_path(process: Process) -> str:
     return IMAGES_PROFILE_PATH if process.carries_images else PROFILE_PATH
 
 
+@dataclass(frozen=True)
+class ServerClient:
+    """How a process reaches the robot's Discovery Server (Fast DDS 2.14 `discoveryServersList`).
+
+    Every process is a SUPER_CLIENT: it learns every participant and endpoint the server knows, as tools
+    that show the whole graph (the dashboard, joshua-topic, ros2 topic list) need; a robot's few dozen
+    participants make the extra discovery traffic negligible. A client that has not reached its
+    server yet asks again every announcement_ms."""
+
+    address: str
+    port: int
+    prefix: str = discovery_facts.server_prefix()
+    role: str = "SUPER_CLIENT"
+    announcement_ms: int = 250  # Fast DDS's default: 450 ms
+
+
 def emit(robot: Robot, context: Context) -> dict[str, str]:
+    server = ServerClient(robot.discovery.address, robot.discovery.port) if robot.discovery else None
     return {
         path: template(
             "fastdds_profile.xml.j2",
@@ -34,6 +52,7 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
             images=path == IMAGES_PROFILE_PATH,
             segment_size=IMAGE_SEGMENT_BYTES,
             discovery=Discovery(),
+            server=server,
         )
         for path in PROFILE_PATHS
     }

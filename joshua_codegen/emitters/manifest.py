@@ -13,7 +13,42 @@ def _endpoint(endpoint: Endpoint) -> dict:
 
 
 def manifest(robot: Robot, context: Context) -> dict:
-    """The manifest as plain data."""
+    """The manifest as plain data; with hosts, each node and process says which host runs it."""
+    data = _manifest(robot, context)
+    if robot.hosts:
+        _add_placement(robot, data)
+    return data
+
+
+def _add_placement(robot: Robot, data: dict) -> None:
+    """The hosts (with the processes each runs, so that every host's supervisor knows where the others are),
+    the Discovery Server, and each node's and process's host; in one host's output, which host it is."""
+    if robot.host:
+        data["host"] = robot.host
+    data["hosts"] = [
+        {
+            "name": host.name,
+            "address": host.address,
+            "ros_from_system": host.ros_from_system,
+            "processes": [p for p in robot.placement if robot.placement[p] == host.name],
+        }
+        for host in robot.hosts
+    ]
+    data["discovery"] = (
+        {"host": robot.discovery.host, "address": robot.discovery.address, "port": robot.discovery.port}
+        if robot.discovery
+        else None
+    )
+    hosts = {node.name: node.host for node in robot.nodes}
+    for node in data["nodes"]:
+        node["host"] = hosts[node["name"]]
+    for process in data["processes"]:
+        process["host"] = robot.placement[process["name"]]
+    for device in data["devices"]:
+        device["host"] = hosts[device["node"]]
+
+
+def _manifest(robot: Robot, context: Context) -> dict:
     processes = {process.name: process for process in robot.processes}
     return {
         "generator": "joshuac",

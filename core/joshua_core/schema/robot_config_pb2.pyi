@@ -128,29 +128,33 @@ class Shutdown(_message.Message):
     def __init__(self, sigint_grace_s: _Optional[float] = ..., sigterm_grace_s: _Optional[float] = ...) -> None: ...
 
 class Simulation(_message.Message):
-    __slots__ = ("model", "timestep_s", "realtime_factor", "camera", "gl_backend")
+    __slots__ = ("model", "timestep_s", "realtime_factor", "camera", "gl_backend", "host")
     MODEL_FIELD_NUMBER: _ClassVar[int]
     TIMESTEP_S_FIELD_NUMBER: _ClassVar[int]
     REALTIME_FACTOR_FIELD_NUMBER: _ClassVar[int]
     CAMERA_FIELD_NUMBER: _ClassVar[int]
     GL_BACKEND_FIELD_NUMBER: _ClassVar[int]
+    HOST_FIELD_NUMBER: _ClassVar[int]
     model: str
     timestep_s: float
     realtime_factor: float
     camera: str
     gl_backend: str
-    def __init__(self, model: _Optional[str] = ..., timestep_s: _Optional[float] = ..., realtime_factor: _Optional[float] = ..., camera: _Optional[str] = ..., gl_backend: _Optional[str] = ...) -> None: ...
+    host: str
+    def __init__(self, model: _Optional[str] = ..., timestep_s: _Optional[float] = ..., realtime_factor: _Optional[float] = ..., camera: _Optional[str] = ..., gl_backend: _Optional[str] = ..., host: _Optional[str] = ...) -> None: ...
 
 class Foxglove(_message.Message):
-    __slots__ = ("port", "host")
+    __slots__ = ("port", "bind", "host")
     PORT_FIELD_NUMBER: _ClassVar[int]
+    BIND_FIELD_NUMBER: _ClassVar[int]
     HOST_FIELD_NUMBER: _ClassVar[int]
     port: int
+    bind: str
     host: str
-    def __init__(self, port: _Optional[int] = ..., host: _Optional[str] = ...) -> None: ...
+    def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., host: _Optional[str] = ...) -> None: ...
 
 class RobotConfig(_message.Message):
-    __slots__ = ("name", "mode", "node", "shutdown", "simulation", "ros_domain_id", "cpp_bin_dir", "python_executable", "env", "foxglove", "dashboard")
+    __slots__ = ("name", "mode", "node", "shutdown", "simulation", "ros_domain_id", "cpp_bin_dir", "python_executable", "env", "foxglove", "dashboard", "host", "discovery")
     class EnvEntry(_message.Message):
         __slots__ = ("key", "value")
         KEY_FIELD_NUMBER: _ClassVar[int]
@@ -169,6 +173,8 @@ class RobotConfig(_message.Message):
     ENV_FIELD_NUMBER: _ClassVar[int]
     FOXGLOVE_FIELD_NUMBER: _ClassVar[int]
     DASHBOARD_FIELD_NUMBER: _ClassVar[int]
+    HOST_FIELD_NUMBER: _ClassVar[int]
+    DISCOVERY_FIELD_NUMBER: _ClassVar[int]
     name: str
     mode: Mode
     node: _containers.RepeatedCompositeFieldContainer[Node]
@@ -180,10 +186,32 @@ class RobotConfig(_message.Message):
     env: _containers.ScalarMap[str, str]
     foxglove: Foxglove
     dashboard: Dashboard
-    def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ..., foxglove: _Optional[_Union[Foxglove, _Mapping]] = ..., dashboard: _Optional[_Union[Dashboard, _Mapping]] = ...) -> None: ...
+    host: _containers.RepeatedCompositeFieldContainer[Host]
+    discovery: Discovery
+    def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ..., foxglove: _Optional[_Union[Foxglove, _Mapping]] = ..., dashboard: _Optional[_Union[Dashboard, _Mapping]] = ..., host: _Optional[_Iterable[_Union[Host, _Mapping]]] = ..., discovery: _Optional[_Union[Discovery, _Mapping]] = ...) -> None: ...
+
+class Host(_message.Message):
+    __slots__ = ("name", "address", "ros_from_system", "python")
+    NAME_FIELD_NUMBER: _ClassVar[int]
+    ADDRESS_FIELD_NUMBER: _ClassVar[int]
+    ROS_FROM_SYSTEM_FIELD_NUMBER: _ClassVar[int]
+    PYTHON_FIELD_NUMBER: _ClassVar[int]
+    name: str
+    address: str
+    ros_from_system: bool
+    python: str
+    def __init__(self, name: _Optional[str] = ..., address: _Optional[str] = ..., ros_from_system: _Optional[bool] = ..., python: _Optional[str] = ...) -> None: ...
+
+class Discovery(_message.Message):
+    __slots__ = ("server_host", "port")
+    SERVER_HOST_FIELD_NUMBER: _ClassVar[int]
+    PORT_FIELD_NUMBER: _ClassVar[int]
+    server_host: str
+    port: int
+    def __init__(self, server_host: _Optional[str] = ..., port: _Optional[int] = ...) -> None: ...
 
 class Dashboard(_message.Message):
-    __slots__ = ("port", "bind", "zenoh_connect", "allowed_host", "zenoh_password_file", "zenoh_tls_ca", "zenoh_tls_certificate", "zenoh_tls_private_key")
+    __slots__ = ("port", "bind", "zenoh_connect", "allowed_host", "zenoh_password_file", "zenoh_tls_ca", "zenoh_tls_certificate", "zenoh_tls_private_key", "host")
     PORT_FIELD_NUMBER: _ClassVar[int]
     BIND_FIELD_NUMBER: _ClassVar[int]
     ZENOH_CONNECT_FIELD_NUMBER: _ClassVar[int]
@@ -192,6 +220,7 @@ class Dashboard(_message.Message):
     ZENOH_TLS_CA_FIELD_NUMBER: _ClassVar[int]
     ZENOH_TLS_CERTIFICATE_FIELD_NUMBER: _ClassVar[int]
     ZENOH_TLS_PRIVATE_KEY_FIELD_NUMBER: _ClassVar[int]
+    HOST_FIELD_NUMBER: _ClassVar[int]
     port: int
     bind: str
     zenoh_connect: str
@@ -200,10 +229,11 @@ class Dashboard(_message.Message):
     zenoh_tls_ca: str
     zenoh_tls_certificate: str
     zenoh_tls_private_key: str
-    def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., zenoh_connect: _Optional[str] = ..., allowed_host: _Optional[_Iterable[str]] = ..., zenoh_password_file: _Optional[str] = ..., zenoh_tls_ca: _Optional[str] = ..., zenoh_tls_certificate: _Optional[str] = ..., zenoh_tls_private_key: _Optional[str] = ...) -> None: ...
+    host: str
+    def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., zenoh_connect: _Optional[str] = ..., allowed_host: _Optional[_Iterable[str]] = ..., zenoh_password_file: _Optional[str] = ..., zenoh_tls_ca: _Optional[str] = ..., zenoh_tls_certificate: _Optional[str] = ..., zenoh_tls_private_key: _Optional[str] = ..., host: _Optional[str] = ...) -> None: ...
 
 class Node(_message.Message):
-    __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes", "bag_max_size_mb", "bag_max_duration_s", "robot_description", "preset", "on_command_timeout", "diagnostics_rate_hz")
+    __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes", "bag_max_size_mb", "bag_max_duration_s", "robot_description", "preset", "on_command_timeout", "diagnostics_rate_hz", "host")
     class EnvEntry(_message.Message):
         __slots__ = ("key", "value")
         KEY_FIELD_NUMBER: _ClassVar[int]
@@ -259,6 +289,7 @@ class Node(_message.Message):
     PRESET_FIELD_NUMBER: _ClassVar[int]
     ON_COMMAND_TIMEOUT_FIELD_NUMBER: _ClassVar[int]
     DIAGNOSTICS_RATE_HZ_FIELD_NUMBER: _ClassVar[int]
+    HOST_FIELD_NUMBER: _ClassVar[int]
     name: str
     type: NodeType
     topic_name: str
@@ -307,7 +338,8 @@ class Node(_message.Message):
     preset: _containers.RepeatedCompositeFieldContainer[Preset]
     on_command_timeout: CommandTimeoutAction
     diagnostics_rate_hz: float
-    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[NodeType, str]] = ..., topic_name: _Optional[str] = ..., message_type: _Optional[str] = ..., qos_depth: _Optional[int] = ..., qos_reliability: _Optional[_Union[Reliability, str]] = ..., qos_durability: _Optional[_Union[Durability, str]] = ..., qos_history: _Optional[_Union[History, str]] = ..., preferred_backend: _Optional[_Union[Backend, str]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., state_topic: _Optional[str] = ..., input_topics: _Optional[_Iterable[str]] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., restart: _Optional[_Union[Restart, str]] = ..., max_restarts: _Optional[int] = ..., executable: _Optional[str] = ..., args: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., critical: _Optional[bool] = ..., joint_names: _Optional[_Iterable[str]] = ..., env: _Optional[_Mapping[str, str]] = ..., keep_torque_on_exit: _Optional[bool] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[str] = ..., ble_transport: _Optional[str] = ..., publishes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., subscribes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., robot_description: _Optional[str] = ..., preset: _Optional[_Iterable[_Union[Preset, _Mapping]]] = ..., on_command_timeout: _Optional[_Union[CommandTimeoutAction, str]] = ..., diagnostics_rate_hz: _Optional[float] = ...) -> None: ...
+    host: str
+    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[NodeType, str]] = ..., topic_name: _Optional[str] = ..., message_type: _Optional[str] = ..., qos_depth: _Optional[int] = ..., qos_reliability: _Optional[_Union[Reliability, str]] = ..., qos_durability: _Optional[_Union[Durability, str]] = ..., qos_history: _Optional[_Union[History, str]] = ..., preferred_backend: _Optional[_Union[Backend, str]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., state_topic: _Optional[str] = ..., input_topics: _Optional[_Iterable[str]] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., restart: _Optional[_Union[Restart, str]] = ..., max_restarts: _Optional[int] = ..., executable: _Optional[str] = ..., args: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., critical: _Optional[bool] = ..., joint_names: _Optional[_Iterable[str]] = ..., env: _Optional[_Mapping[str, str]] = ..., keep_torque_on_exit: _Optional[bool] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[str] = ..., ble_transport: _Optional[str] = ..., publishes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., subscribes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., robot_description: _Optional[str] = ..., preset: _Optional[_Iterable[_Union[Preset, _Mapping]]] = ..., on_command_timeout: _Optional[_Union[CommandTimeoutAction, str]] = ..., diagnostics_rate_hz: _Optional[float] = ..., host: _Optional[str] = ...) -> None: ...
 
 class TopicDeclaration(_message.Message):
     __slots__ = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")

@@ -15,7 +15,7 @@ ARM = "/arm/joint_states"
 
 def description(port: int) -> str:
     return f'''robot_config {{ name: "fx" mode: MODE_TELEOPERATION
-      foxglove {{ port: {port} host: "127.0.0.1" }}
+      foxglove {{ port: {port} bind: "127.0.0.1" }}
       node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "{ARM}" rate_hz: 20 }}
       node {{ name: "state" type: ROBOT_STATE_PUBLISHER topic_name: "{ARM}" }} }}'''
 

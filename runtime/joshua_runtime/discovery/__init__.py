@@ -1,0 +1,1 @@
+"""Fast DDS Discovery Server for robots on several computers: launching it, and telling whether it answers."""

