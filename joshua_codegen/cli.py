@@ -242,16 +242,22 @@ def lsp() -> None:
 @click.option("--duration", type=float, default=None, help="Stop with the shutdown cascade after this many seconds.")
 @click.option("--skip-preflight", is_flag=True, help="Start even when devices or models are missing.")
 @click.option("--status-interval", type=float, default=None, help="Print one status line per node this often.")
-def run(config, overrides, duration, skip_preflight, status_interval) -> None:
+@click.option("--host", "host", default=None, metavar="NAME", help="Run one host's part of a robot on several hosts.")
+def run(config, overrides, duration, skip_preflight, status_interval, host) -> None:
     """Build into a temporary directory and run the supervisor in the foreground."""
-    from joshua_codegen.run import run_supervisor
+    from joshua_codegen.run import HostChoiceError, host_directory, run_supervisor
     from joshua_codegen.write import write_tree
 
     with tempfile.TemporaryDirectory(prefix="joshuac-run-") as tmp:
-        out = Path(tmp) / "out"
-        compilation = compile_or_exit(config, overrides, "text", prefix=str(out))
-        write_tree(compilation.files, out)
-        _print_dashboard_url(compilation)
+        built = Path(tmp) / "out"
+        compilation = compile_or_exit(config, overrides, "text", prefix=str(built))
+        try:
+            out = host_directory(compilation.robot, built, host)
+        except HostChoiceError as exc:
+            click.echo(f"joshuac: error: {exc}", err=True)
+            sys.exit(EXIT_USAGE)
+        write_tree(compilation.files, built)
+        _print_dashboard_url(compilation, host)
         extra = []
         if duration is not None:
             extra += ["--duration", str(duration)]
@@ -262,14 +268,14 @@ def run(config, overrides, duration, skip_preflight, status_interval) -> None:
         sys.exit(run_supervisor(out, extra))
 
 
-def _print_dashboard_url(compilation) -> None:
+def _print_dashboard_url(compilation, host: str | None = None) -> None:
     """The dashboard's address with its token, on this command's own output: never in a node's log."""
     from joshua_codegen.run import dashboard_address
     from joshua_core.dashboard_token import TokenFileError
 
     config = compilation.check.description.robot_config
     try:
-        address = dashboard_address(config)
+        address = dashboard_address(config, host)
     except TokenFileError as exc:
         click.echo(f"joshuac: error: {exc}", err=True)
         sys.exit(EXIT_ERRORS)

@@ -145,6 +145,9 @@ STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait f
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+# A process that starts first (a robot's Discovery Server) is waited for this long to be ready before the
+# others start anyway (they keep asking it, so they find each other once it serves).
+FIRST_READY_TIMEOUT_S = 10.0
 RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may take to report its runtime
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
@@ -1769,8 +1772,14 @@ class ControlSocketError(Exception):
     """Why the control socket cannot be served: one line."""
 
 
+def control_name(robot: dict) -> str:
+    """What names a supervisor's control socket: the robot, and on a robot of several hosts `<robot>.<host>`
+    (one supervisor per host, and several may run on one computer)."""
+    return f"{robot['name']}.{robot['host']}" if robot.get("host") else robot["name"]
+
+
 def default_control_socket(robot: str) -> str:
-    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock."""
+    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock (`robot`: a control_name)."""
     runtime_dir = os.environ.get("XDG_RUNTIME_DIR")
     directory = os.path.join(runtime_dir, "joshua") if runtime_dir else f"/tmp/joshua-{os.getuid()}"
     return os.path.join(directory, f"{robot}.sock")
@@ -2526,6 +2535,8 @@ class Supervisor(StopCascade):
         self.readiness = Readiness(self.nodes, ROBOT["name"])
         self.control = None  # the ControlPlane while the control socket is served
         self.logs = open_node_logs(options.log_dir, [node.name for node in self.nodes])  # empty: output not kept
+        self.first = [node for node in self.nodes if node.spec.get("starts_first")]  # the others wait for them
+        self.held_until = None  # while the others wait: when they start even if the first are not ready
 
     # Setup
 
@@ -2578,7 +2589,11 @@ class Supervisor(StopCascade):
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
-        for node in self.nodes:
+        if self.first:
+            names = ", ".join(node.name for node in self.first)
+            log("supervisor", f"starting {names} first; the others once it is ready")
+            self.held_until = time.monotonic() + FIRST_READY_TIMEOUT_S
+        for node in self.first or self.nodes:
             if self.requests:
                 break  # asked to stop while starting: the rest stay pending
             self.launch(node)
@@ -2590,6 +2605,19 @@ class Supervisor(StopCascade):
         )
         if not self.requests:
             self.readiness.check_all(time.monotonic())  # CUSTOM programs are ready at once: the loop may sleep long
+
+    def start_held(self, now):
+        """Start the nodes that wait for the first ones, once those are ready (or waited for long enough)."""
+        if self.held_until is None or self.stopping:
+            return
+        if not all(node.ready for node in self.first) and now < self.held_until:
+            return
+        if now >= self.held_until and not all(node.ready for node in self.first):
+            log("supervisor", f"warning: not ready after {FIRST_READY_TIMEOUT_S:g} s: starting the other nodes anyway")
+        self.held_until = None
+        for node in self.nodes:
+            if node.state == "pending" and not node.stop_requested:
+                self.launch(node)
 
     def turn(self):
         """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
@@ -2767,6 +2795,7 @@ class Supervisor(StopCascade):
 
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
+        moments.append(self.held_until)
         moments.append(self.control.deadline() if self.control is not None else None)
         moments.append(self.containment.before_sleep())
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
@@ -2798,6 +2827,7 @@ class Supervisor(StopCascade):
             self.request_stop(f"duration of {self.options.duration} s elapsed")
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
+        self.start_held(now)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet
@@ -2887,7 +2917,7 @@ def ctl_arguments(argv):
     )
     parser.add_argument(
         "--control-socket",
-        default=default_control_socket(ROBOT["name"]),
+        default=default_control_socket(control_name(ROBOT)),
         metavar="PATH",
         help="the supervisor's socket (default: %(default)s)",
     )
@@ -3029,7 +3059,7 @@ def parse_arguments(argv):
     )
     parser.add_argument(
         "--control-socket",
-        default=default_control_socket(ROBOT["name"]),
+        default=default_control_socket(control_name(ROBOT)),
         metavar="PATH",
         help="serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
         "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",

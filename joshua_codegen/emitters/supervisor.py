@@ -44,13 +44,16 @@ def process_data(robot: Robot, process: Process) -> dict:
         "devices": [{"kind": device.kind, "path": device.path} for device in process.devices],
         "model_reference": model_path if model_path.startswith(REGISTRY_PREFIX) else "",
         "output_directory": settings.output_directory,
+        **({"starts_first": True} if process.starts_first else {}),
     }
 
 
 def supervisor_data(robot: Robot) -> dict:
-    """The one literal the generated supervisor reads; paths are relative to its directory."""
+    """The one literal the generated supervisor reads; paths are relative to its directory. One host's
+    supervisor of a robot on several also knows its host (which names its control socket)."""
     return {
         "name": robot.name,
+        **({"host": robot.host} if robot.host else {}),
         "env": process_launch.robot_environment(robot),
         "cpp_bin_dir": robot.cpp_bin_dir,
         "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,

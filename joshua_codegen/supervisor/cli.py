@@ -8,7 +8,7 @@ import traceback
 
 from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
-from joshua_codegen.supervisor.control_socket import default_control_socket
+from joshua_codegen.supervisor.control_socket import control_name, default_control_socket
 from joshua_codegen.supervisor.ctl import ctl
 from joshua_codegen.supervisor.loop import Supervisor
 from joshua_codegen.supervisor.node_log import default_log_dir
@@ -52,7 +52,7 @@ def parse_arguments(argv):
     )
     parser.add_argument(
         "--control-socket",
-        default=default_control_socket(ROBOT["name"]),
+        default=default_control_socket(control_name(ROBOT)),
         metavar="PATH",
         help="serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
         "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",

@@ -16,8 +16,14 @@ class ControlSocketError(Exception):
     """Why the control socket cannot be served: one line."""
 
 
+def control_name(robot: dict) -> str:
+    """What names a supervisor's control socket: the robot, and on a robot of several hosts `<robot>.<host>`
+    (one supervisor per host, and several may run on one computer)."""
+    return f"{robot['name']}.{robot['host']}" if robot.get("host") else robot["name"]
+
+
 def default_control_socket(robot: str) -> str:
-    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock."""
+    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock (`robot`: a control_name)."""
     runtime_dir = os.environ.get("XDG_RUNTIME_DIR")
     directory = os.path.join(runtime_dir, "joshua") if runtime_dir else f"/tmp/joshua-{os.getuid()}"
     return os.path.join(directory, f"{robot}.sock")

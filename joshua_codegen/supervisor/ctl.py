@@ -8,7 +8,7 @@ import sys
 import time
 
 from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT, CONTROL_LOG_LINES_MAX
-from joshua_codegen.supervisor.control_socket import default_control_socket, may_control, peer_credentials
+from joshua_codegen.supervisor.control_socket import control_name, default_control_socket, may_control, peer_credentials
 from joshua_codegen.supervisor.robot import ROBOT
 
 CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
@@ -39,7 +39,7 @@ def ctl_arguments(argv):
     )
     parser.add_argument(
         "--control-socket",
-        default=default_control_socket(ROBOT["name"]),
+        default=default_control_socket(control_name(ROBOT)),
         metavar="PATH",
         help="the supervisor's socket (default: %(default)s)",
     )

@@ -26,6 +26,7 @@ from joshua_codegen.supervisor.notify import Readiness
 from joshua_codegen.supervisor.outcome import Outcome
 from joshua_codegen.supervisor.policy import (
     EXIT_PREFLIGHT,
+    FIRST_READY_TIMEOUT_S,
     LEFTOVER_POLL_S,
     RESTART_DELAY_CAP_S,
     RESTART_DELAY_FACTOR,
@@ -68,6 +69,8 @@ class Supervisor(StopCascade):
         self.readiness = Readiness(self.nodes, ROBOT["name"])
         self.control = None  # the ControlPlane while the control socket is served
         self.logs = open_node_logs(options.log_dir, [node.name for node in self.nodes])  # empty: output not kept
+        self.first = [node for node in self.nodes if node.spec.get("starts_first")]  # the others wait for them
+        self.held_until = None  # while the others wait: when they start even if the first are not ready
 
     # Setup
 
@@ -120,7 +123,11 @@ class Supervisor(StopCascade):
         self.install_signals()
         self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
         log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
-        for node in self.nodes:
+        if self.first:
+            names = ", ".join(node.name for node in self.first)
+            log("supervisor", f"starting {names} first; the others once it is ready")
+            self.held_until = time.monotonic() + FIRST_READY_TIMEOUT_S
+        for node in self.first or self.nodes:
             if self.requests:
                 break  # asked to stop while starting: the rest stay pending
             self.launch(node)
@@ -132,6 +139,19 @@ class Supervisor(StopCascade):
         )
         if not self.requests:
             self.readiness.check_all(time.monotonic())  # CUSTOM programs are ready at once: the loop may sleep long
+
+    def start_held(self, now):
+        """Start the nodes that wait for the first ones, once those are ready (or waited for long enough)."""
+        if self.held_until is None or self.stopping:
+            return
+        if not all(node.ready for node in self.first) and now < self.held_until:
+            return
+        if now >= self.held_until and not all(node.ready for node in self.first):
+            log("supervisor", f"warning: not ready after {FIRST_READY_TIMEOUT_S:g} s: starting the other nodes anyway")
+        self.held_until = None
+        for node in self.nodes:
+            if node.state == "pending" and not node.stop_requested:
+                self.launch(node)
 
     def turn(self):
         """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
@@ -309,6 +329,7 @@ class Supervisor(StopCascade):
 
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
+        moments.append(self.held_until)
         moments.append(self.control.deadline() if self.control is not None else None)
         moments.append(self.containment.before_sleep())
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
@@ -340,6 +361,7 @@ class Supervisor(StopCascade):
             self.request_stop(f"duration of {self.options.duration} s elapsed")
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
+        self.start_held(now)
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet

@@ -16,6 +16,9 @@ STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait f
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+# A process that starts first (a robot's Discovery Server) is waited for this long to be ready before the
+# others start anyway (they keep asking it, so they find each other once it serves).
+FIRST_READY_TIMEOUT_S = 10.0
 RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may take to report its runtime
 
 EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
