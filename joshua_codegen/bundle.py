@@ -16,17 +16,25 @@ not copied: install.sh takes them from PyPI, checked against the hashes; options
 after the environment directory reach the installer (`--find-links DIR`, `--index-url URL`).
 
 Building needs this source tree (uv.lock and the workspace members) and uv, a dependency of joshuac.
+
+A robot on several hosts gets one bundle per host, in OUT/hosts/<name>/, each with the extras of that
+host's processes only (a Raspberry Pi running the servos does not get torch). A host with
+`ros_from_system` takes ROS 2 from apt: its requirements leave the ROS wheels out, its environment is
+made with --system-site-packages by the host's `python`, and install.sh sources the ROS setup first.
 """
 
 import hashlib
 import os
+import re
 import subprocess
 import tempfile
+from functools import cache
 from pathlib import Path
 
 from joshua_codegen.model import Robot
 from joshua_codegen.ownership import STAMP
-from joshua_codegen.render import template
+from joshua_codegen.placement import ROS_SYSTEM_SETUP
+from joshua_codegen.render import host_path, template
 from joshua_core.node_types import spec
 from joshua_core.settings import FORMAT_VERSION
 
@@ -41,6 +49,7 @@ LOCAL_REQUIREMENTS = f"{WHEEL_DIR}/{LOCAL_REQUIREMENTS_NAME}"
 DEFAULT_VENV = "/opt/joshua/venv"
 PYTHON = "python3.11"  # the interpreter the locked dependencies are resolved for
 UV_TIMEOUT_S = 600.0
+ROS_WHEEL_PREFIX = "ros-"  # the ROS 2 packages on PyPI (ros-jazzy-rclpy, ros-rcl, ...), from apt with ros_from_system
 
 
 class BundleError(Exception):
@@ -83,9 +92,44 @@ def wheels() -> dict[str, bytes]:
         return {path.name: path.read_bytes() for path in sorted(Path(directory).glob("*.whl"))}
 
 
-def requirements(robot: Robot) -> str:
-    """The runtime's third-party dependencies (with the robot's extras), pinned with hashes from uv.lock."""
-    extra_options = [word for extra in extras(robot) for word in ("--extra", extra)]
+def requirements(robot: Robot, without_ros: bool = False) -> str:
+    """The runtime's third-party dependencies (with the robot's extras), pinned with hashes from uv.lock;
+    `without_ros`: the ROS wheels left out."""
+    text = _exported(tuple(extras(robot)))
+    return _without_ros_wheels(text) if without_ros else text
+
+
+def _without_ros_wheels(text: str) -> str:
+    """An exported requirements file without the ROS wheels and the packages only they need (each entry is a
+    line, its indented hashes and its `# via` lines, which name the packages that need it)."""
+    entries: list[tuple[str, list[str], list[str]]] = []  # (name, lines, the packages that need it)
+    for line in text.splitlines(keepends=True):
+        if not line[:1].isspace() and not line.startswith("#"):
+            entries.append((re.split(r"[=\s;\[]", line, maxsplit=1)[0].lower(), [line], []))
+            continue
+        if entries:
+            name, lines, needed_by = entries[-1]
+            lines.append(line)
+            comment = line.strip()
+            if comment.startswith("# via"):
+                needed_by += comment.removeprefix("# via").split()  # `# via a`, or `# via` then `#   a` lines
+            elif comment.startswith("#") and len(lines) > 1 and lines[-2].strip().startswith("#"):
+                needed_by += comment.removeprefix("#").split()
+    ros = {name for name, _, _ in entries if name.startswith(ROS_WHEEL_PREFIX)}
+    grew = True
+    while grew:
+        grew = False
+        for name, _, needed_by in entries:
+            if name not in ros and needed_by and all(parent in ros for parent in needed_by):
+                ros.add(name)
+                grew = True
+    head = text[: len(text) - len("".join(line for _, lines, _ in entries for line in lines))]
+    return head + "".join("".join(lines) for name, lines, _ in entries if name not in ros)
+
+
+@cache
+def _exported(extras_needed: tuple[str, ...]) -> str:
+    extra_options = [word for extra in extras_needed for word in ("--extra", extra)]
     return uv(
         "export",
         "--frozen",
@@ -111,7 +155,19 @@ def local_requirements(built: dict[str, bytes]) -> str:
 
 
 def bundle_files(robot: Robot) -> dict[str, str | bytes]:
-    """The bundle's files by path relative to the output directory."""
+    """The bundle's files by path relative to the output directory (one bundle per host when it has hosts)."""
+    _check_source_tree()
+    built = wheels()
+    if not robot.hosts:
+        return _bundle(robot, built)
+    files: dict[str, str | bytes] = {}
+    for host in robot.hosts:
+        part = _bundle(robot.for_host(host.name), built)
+        files.update({host_path(host.name, path): data for path, data in part.items()})
+    return files
+
+
+def _check_source_tree() -> None:
     if not (SOURCE_ROOT / "uv.lock").is_file() or not all(
         (SOURCE_ROOT / d / "pyproject.toml").is_file() for d in ("core", "runtime")
     ):
@@ -119,12 +175,17 @@ def bundle_files(robot: Robot) -> dict[str, str | bytes]:
             f"--bundle builds the runtime from joshuac's source tree, which {SOURCE_ROOT} is not; "
             "run the joshuac of a checkout of the repository"
         )
-    built = wheels()
+
+
+def _bundle(robot: Robot, built: dict[str, bytes]) -> dict[str, str | bytes]:
+    host = robot.this_host
+    ros_system = host is not None and host.ros_from_system
     script = template(
         "install.sh.j2",
         robot=robot,
         venv=DEFAULT_VENV,
-        python=PYTHON,
+        python=(host.python if host is not None and host.python else PYTHON),
+        ros_setup=ROS_SYSTEM_SETUP if ros_system else "",
         wheels=sorted(built),
         wheel_dir=WHEEL_DIR,
         stamp=STAMP,
@@ -135,7 +196,7 @@ def bundle_files(robot: Robot) -> dict[str, str | bytes]:
         format_version=FORMAT_VERSION,
     )
     files: dict[str, str | bytes] = {f"{WHEEL_DIR}/{name}": data for name, data in built.items()}
-    files[REQUIREMENTS] = requirements(robot)
+    files[REQUIREMENTS] = requirements(robot, without_ros=ros_system)
     files[LOCAL_REQUIREMENTS] = local_requirements(built)
     files[INSTALL_SCRIPT] = script
     return files

@@ -36,6 +36,7 @@ def for_node(
     state: Endpoint | None,
     inputs: list[Endpoint],
     odom: Endpoint | None = None,
+    compressed: Endpoint | None = None,
 ) -> NodeSettings:
     """The settings of one described node; fields its type does not read are left at their zero value."""
     settings = _common(config, name, defaults.type_name(node.type))
@@ -45,6 +46,8 @@ def for_node(
         settings.state_topic.CopyFrom(_topic(state))
     if odom is not None:
         settings.odom_topic.CopyFrom(_topic(odom))
+    if compressed is not None:
+        settings.compressed_topic.CopyFrom(_topic(compressed))
     settings.inputs.extend(_topic(endpoint) for endpoint in inputs)
     settings.qos.CopyFrom(QosSettings(**defaults.qos(node)))
     ids = defaults.device_ids(node)

@@ -4,7 +4,7 @@ import json
 import os
 from dataclasses import replace
 
-from joshua_codegen import defaults, escape, node_settings, placement, topology
+from joshua_codegen import defaults, escape, image_transport, node_settings, placement, topology
 from joshua_codegen.model import Device, DiscoveryServer, Endpoint, Host, NodeModel, Process, QoS, Robot, Topic
 from joshua_codegen.positions import node_path
 from joshua_core import dashboard as dashboard_facts
@@ -24,7 +24,7 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
     simulating = config.mode == pb.MODE_SIMULATION
     hardware = any(node.type in defaults.HARDWARE for node in config.node)
     engine = defaults.SIMULATION_NAME if simulating and hardware else ""  # a reserved name there (E205)
-    declared = topology.declarations(config, names)
+    declared = image_transport.across_hosts(config, topology.declarations(config, names))
     publishers = _publishers(declared)
     by_node: dict[int, list[topology.Declaration]] = {}
     for item in declared:
@@ -171,7 +171,8 @@ def _node(
             fields[item.at[-1]] = endpoint
     topic, state, odom = fields.get("topic_name"), fields.get("state_topic"), fields.get("odom_topic")
     devices = tuple(_devices(node, name))
-    settings = node_settings.for_node(config, node, name, topic, state, inputs, odom)
+    compressed = fields.get(image_transport.COMPRESSED_FIELD)
+    settings = node_settings.for_node(config, node, name, topic, state, inputs, odom, compressed)
     return NodeModel(
         host=placement.node_host(config, node),
         name=name,

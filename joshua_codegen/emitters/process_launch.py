@@ -7,6 +7,7 @@ import shlex
 
 from joshua_codegen.escape import shell_word
 from joshua_codegen.model import Process, Robot
+from joshua_codegen.placement import ROS_SYSTEM_SETUP
 from joshua_codegen.supervisor.policy import (  # the backoff the three process managers share
     CPP_FALLBACK_WARNING,
     RESTART_DELAY_CAP_S,
@@ -65,9 +66,20 @@ def fallback_warning(process: Process, binary: str) -> str:
 
 
 def launch_words(robot: Robot, process: Process, base: str, bare: list[str], workdir: str) -> list[str]:
-    """The argv that starts one node, resolving paths against `base` (the output directory on the robot).
+    """The argv that starts one node, resolving paths against `base` (the output directory on the robot);
+    on a host with ROS 2 from apt, run after sourcing its setup script (with_system_ros)."""
+    words = _node_words(robot, process, base, bare, workdir)
+    host = robot.this_host
+    return with_system_ros(words) if host is not None and host.ros_from_system else words
 
-    A node with a C++ binary is started through `/bin/sh -c` so that the binary is chosen when it
+
+def with_system_ros(words: list[str]) -> list[str]:
+    """`words` run by sh after it sourced the ROS setup script; `exec` keeps the node the main process."""
+    return [SHELL, "-c", f'. {shlex.quote(ROS_SYSTEM_SETUP)} && exec "$0" "$@"', *words]
+
+
+def _node_words(robot: Robot, process: Process, base: str, bare: list[str], workdir: str) -> list[str]:
+    """A node with a C++ binary is started through `/bin/sh -c` so that the binary is chosen when it
     exists and is executable at launch time, like supervisor.py does; otherwise the Python entrypoint
     runs after one warning line. `exec` keeps the node itself as the main process.
     """

@@ -10,6 +10,7 @@ from joshua_codegen.render import Context, template
 CONF_PATH = "supervisord.conf"
 HERE = "\x01here\x01"  # stands for supervisord's %(here)s (the directory of the conf) until escaping is done
 STARTSECS = 1  # a node must run this long to count as started; earlier exits use up startretries
+FIRST_PRIORITY = 1  # started before the others (supervisord's default priority is 999)
 
 
 def group_name(robot: Robot) -> str:
@@ -43,6 +44,7 @@ def program(robot: Robot, process: Process) -> dict:
         else {"RESTART_ON_FAILURE": "unexpected", "RESTART_ALWAYS": "true"}[process.restart],
         "startsecs": 0 if never else STARTSECS,
         "startretries": 0 if never else process.max_restarts,
+        "priority": FIRST_PRIORITY if process.starts_first else None,
     }
 
 

@@ -84,6 +84,7 @@ def service(robot: Robot, process: Process, prefix: str) -> dict:
         "ready_timeout": timespan(READY_TIMEOUT_S),
         "watchdog": timespan(WATCHDOG_S),
         "cpp_binary": process_launch.cpp_binary_path(robot, process, prefix) if process.cpp_binary else "",
+        "after": [service_name(robot, first) for first in robot.processes if first.starts_first and first != process],
     }
 
 

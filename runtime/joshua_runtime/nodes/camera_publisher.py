@@ -1,4 +1,5 @@
-"""CAMERA_PUBLISHER: frames of an OpenCV camera (device index or video_source) as Image or CompressedImage.
+"""CAMERA_PUBLISHER: frames of an OpenCV camera (device index or video_source) as Image or CompressedImage
+(and a JPEG copy for other hosts, camera_output.py).
 
 A reader thread reads one frame every 1/rate_hz at width x height and publishes it on `topic`,
 stamped when it was read, with the node's frame_id; the executor stays free to notice a stop signal.
@@ -12,11 +13,11 @@ import threading
 import time
 
 from joshua_core.device_link import DEVICE_SILENCE_S
-from joshua_runtime.convert.image import check_message_type, packet_to_message
 from joshua_runtime.drivers.camera import CameraDriver
 from joshua_runtime.errors import DeviceError, JoshuaError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.camera_output import CameraOutput
 
 # A camera may take this long to deliver its first frame after it was opened (exposure, USB start-up).
 FIRST_FRAME_TIMEOUT_S = 5.0
@@ -32,8 +33,7 @@ class CameraPublisher(JoshuaNode):
         topic = settings_checks.topic(self.settings)
         self.period = settings_checks.period_s(self.settings)
         width, height = settings_checks.image_size(self.settings)
-        self.message_type = topic.message_type
-        check_message_type(self.message_type)
+        self.output = CameraOutput(self, topic, self.settings.compressed_topic)
         self.camera = CameraDriver(
             camera_index=self.settings.camera_index,
             video_source=self.settings.video_source,
@@ -43,7 +43,6 @@ class CameraPublisher(JoshuaNode):
             frame_id=self.settings.frame_id,
         )
         self.camera.open()
-        self.images = self.publisher(topic)
         self.stopping = threading.Event()
         self.failure: JoshuaError | None = None
         self.reading_since: float | None = None  # time.monotonic() when the read in progress began
@@ -59,7 +58,7 @@ class CameraPublisher(JoshuaNode):
                 self.reading_since = time.monotonic()
                 packet = self.camera.read()
                 self.reading_since = None
-                self.images.publish(packet_to_message(packet, self.message_type))
+                self.output.publish(packet)
                 next_read = max(next_read, time.monotonic() - self.period)  # no burst after a slow read
         except JoshuaError as exc:
             self.failure = exc

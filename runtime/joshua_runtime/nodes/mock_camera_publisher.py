@@ -8,10 +8,10 @@ import time
 
 import numpy as np
 
-from joshua_runtime.convert.image import check_message_type, packet_to_message
 from joshua_runtime.drivers.camera import frame_to_packet
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.nodes import settings_checks
+from joshua_runtime.nodes.camera_output import CameraOutput
 
 SCROLL_PX = 8
 RED_LEVEL = 128
@@ -36,16 +36,14 @@ class MockCameraPublisher(JoshuaNode):
         topic = settings_checks.topic(self.settings)
         period = settings_checks.period_s(self.settings)
         width, height = settings_checks.image_size(self.settings)
-        self.message_type = topic.message_type
-        check_message_type(self.message_type)
+        self.output = CameraOutput(self, topic, self.settings.compressed_topic)
         self.frame_id = self.settings.frame_id
         self.base = gradient(width, height)
         self.frame_number = 0
-        self.images = self.publisher(topic)
         self.ros.create_timer(period, self._publish)
 
     def _publish(self) -> None:
         frame = pattern_frame(self.base, self.frame_number)
         self.frame_number += 1
         packet = frame_to_packet(frame, self.frame_id, time.time_ns())
-        self.images.publish(packet_to_message(packet, self.message_type))
+        self.output.publish(packet)
