@@ -10,7 +10,7 @@ What it checks:
 
 Why it matters:
     A 640x480 camera at 30 Hz sends 27.6 MB/s of raw pixels: more than Wi-Fi carries, and a large
-    share of a wired 1 Gbit/s link. The same frames as JPEG are about a tenth of that.
+    share of a wired 1 Gbit/s link; on one host they go through shared memory, between hosts over UDP.
 
 Example:
     robot_config {
