@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from joshua_codegen.ownership import STAMP, content_bytes, refusal, remove_stale_staging, stamp_text
-from joshua_codegen.render import is_executable
+from joshua_codegen.render import HOSTS_DIR, host_path, is_executable
 from joshua_codegen.version import VERSION
 from joshua_core.atomic import exchange_directories
 
@@ -28,7 +28,14 @@ def _file_mode(path: str) -> int:
 
 
 def stamped(files: dict[str, str | bytes]) -> dict[str, str | bytes]:
-    """The files a build writes: the rendered ones and the stamp that proves joshuac wrote them."""
+    """The files a build writes: the rendered ones and the stamp that proves joshuac wrote them. Each host's
+    output of a robot on several hosts gets its own stamp too, since it is deployed (and its install.sh
+    checks it) on its own; the stamp of OUT lists those stamps as well."""
+    files = dict(files)
+    for host in sorted({path.split("/")[1] for path in files if path.startswith(f"{HOSTS_DIR}/")}):
+        prefix = host_path(host) + "/"
+        part = {path[len(prefix) :]: text for path, text in files.items() if path.startswith(prefix)}
+        files[prefix + STAMP] = stamp_text(part)
     return {**files, STAMP: stamp_text(files)}
 
 

@@ -267,3 +267,20 @@ def test_each_hosts_bundle_installs_only_what_its_processes_need():
         "setup.sh" not in bundle["hosts/pi/install.sh"]
         and "--system-site-packages" not in bundle["hosts/pi/install.sh"]
     )
+
+
+def test_each_hosts_output_carries_a_stamp_of_its_own_that_sha256sum_accepts(tmp_path):
+    source = tmp_path / "split.pbtxt"
+    source.write_text(SPLIT)
+    out = tmp_path / "out"
+    assert joshuac("build", source, "-o", out).returncode == 0
+    for host in ("arm", "gpu", "pi"):
+        copy = tmp_path / host
+        shutil.copytree(out / "hosts" / host, copy)
+        checked = subprocess.run(["sha256sum", "--check", "--strict", "--quiet", ".joshuac-stamp"], cwd=copy)
+        assert checked.returncode == 0, host
+        lines = (copy / ".joshuac-stamp").read_text().splitlines()
+        listed = {line.split("  ", 1)[1] for line in lines if not line.startswith("#")}
+        assert listed == {str(p.relative_to(copy)) for p in copy.rglob("*") if p.is_file()} - {".joshuac-stamp"}
+    again = joshuac("build", source, "-o", out)  # the output is joshuac's own, so it is replaced
+    assert again.returncode == 0, again.stderr

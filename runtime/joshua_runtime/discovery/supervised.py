@@ -25,6 +25,7 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WAKE_S = 1.0  # how often the watchdog is looked at while the server runs
 STOP_TIMEOUT_S = 5.0  # the server's own shutdown, after which it is killed
 EXIT_USAGE = 2
+PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
 
 
 def _arguments(argv: list[str] | None) -> argparse.Namespace:
@@ -57,9 +58,11 @@ def main(argv: list[str] | None = None) -> int:
     signal.set_wakeup_fd(write_signal, warn_on_full_buffer=False)
     for number in STOP_SIGNALS:
         signal.signal(number, lambda number, _frame: stop_requested.append(number))
+    environment = server.environment(dict(os.environ))
+    environment.pop(PROFILE_VARIABLE, None)  # the nodes' client profile: the server takes its role from its options
     child = subprocess.Popen(
         server.command(args.address, args.port, args.server_id),
-        env=server.environment(dict(os.environ)),
+        env=environment,
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         stdin=subprocess.DEVNULL,
