@@ -38,6 +38,9 @@ def joints(names, positions):
     [
         ("/camera/image_raw", "camera"),
         ("/arm/wrist/image", "arm_wrist"),
+        ("/camera/image_raw/compressed", "camera"),  # image_transport's JPEG copy names the same camera
+        ("/front/compressed", "front"),
+        ("/compressed", "compressed"),
         ("/front", "front"),
         ("/cam.left/image_rect", "cam_left"),
         ("/image_raw", "image_raw"),
