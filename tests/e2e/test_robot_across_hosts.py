@@ -141,3 +141,34 @@ def test_the_leader_on_one_host_drives_the_follower_on_another_through_the_disco
     assert arm.index("discovery_server: ready after") < arm.index("follower: started pid"), arm
     assert "leader: started pid" in outputs["bench"] and "discovery_server" not in outputs["bench"]
     assert "state_publisher: ready after" in outputs["station"], outputs["station"]
+
+
+def test_a_discovery_server_that_cannot_listen_holds_the_other_nodes_then_stops_its_host(tmp_path, ros_env):
+    taken = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    taken.bind(("127.0.0.1", 0))
+    source = tmp_path / "split_arm.pbtxt"
+    source.write_text(
+        DESCRIPTION.format(port=taken.getsockname()[1], leader=tmp_path / "ttyNONE", follower=tmp_path / "ttyNONE2")
+    )
+    out = tmp_path / "out"
+    assert joshuac("build", source, "-o", out).returncode == 0
+    try:
+        done = subprocess.run(
+            [sys.executable, str(out / "hosts" / "arm" / "supervisor.py"), "--skip-preflight", "--no-control"],
+            capture_output=True,
+            text=True,
+            env=ros_env,
+            timeout=READY_TIMEOUT_S,
+        )
+    finally:
+        taken.close()
+    assert done.returncode == 4, done.stderr  # a critical node failed for good
+    assert "Discovery Server wasn't able to allocate the specified listening port" in done.stdout + done.stderr
+    assert "discovery_server: failed for good" in done.stderr
+    log = done.stderr
+    # held while the server restarts, started once the wait for it is over
+    assert (
+        log.index("discovery_server: restarting")
+        < log.index("warning: not ready after 10 s")
+        < log.index("follower: started")
+    ), log
