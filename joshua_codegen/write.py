@@ -175,12 +175,14 @@ def _as_current(text: str) -> str:
 def diff_tree(files: dict[str, str | bytes], out: Path) -> TreeDifference:
     """How `out` differs from what it should hold, the version in the files' headers aside.
 
-    The stamp is compared only for being there: its hashes follow the files, which are compared themselves."""
+    The stamp (and each host's) is compared only for being there: its hashes follow the files, which are
+    compared themselves."""
     current = read_tree(out)
     chunks, differing = [], []
-    if out.is_dir() and STAMP not in current:
-        differing.append((STAMP, "missing"))
-    for relative in sorted((set(files) | set(current)) - {STAMP}):
+    stamps = {path for path in stamped(files) if path.rpartition("/")[2] == STAMP}
+    if out.is_dir():
+        differing += [(path, "missing") for path in sorted(stamps) if path not in current]
+    for relative in sorted((set(files) | set(current)) - stamps):
         want = files.get(relative)
         if isinstance(want, bytes):
             have_bytes = (out / relative).read_bytes() if relative in current else None

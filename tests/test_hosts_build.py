@@ -284,3 +284,17 @@ def test_each_hosts_output_carries_a_stamp_of_its_own_that_sha256sum_accepts(tmp
         assert listed == {str(p.relative_to(copy)) for p in copy.rglob("*") if p.is_file()} - {".joshuac-stamp"}
     again = joshuac("build", source, "-o", out)  # the output is joshuac's own, so it is replaced
     assert again.returncode == 0, again.stderr
+
+
+def test_build_check_compares_every_hosts_output(tmp_path):
+    source = tmp_path / "split.pbtxt"
+    source.write_text(SPLIT)
+    out = tmp_path / "out"
+    assert joshuac("build", source, "-o", out).returncode == 0
+    same = joshuac("build", source, "-o", out, "--check")
+    assert (same.returncode, same.stdout) == (0, ""), same.stderr
+    (out / "hosts" / "pi" / "nodes" / "leader.py").write_text("edited\n")
+    (out / "hosts" / "gpu" / ".joshuac-stamp").unlink()
+    changed = joshuac("build", source, "-o", out, "--check")
+    assert changed.returncode == 1
+    assert "(2 files differ: hosts/gpu/.joshuac-stamp (missing), hosts/pi/nodes/leader.py (changed))" in changed.stderr
