@@ -83,3 +83,11 @@ def test_fleet_credentials_reach_the_dashboard_as_paths():
         "--zenoh-tls-private-key",
         "/etc/joshua/r.key",
     ]
+
+
+def test_the_manifest_tells_which_processes_are_critical():
+    files = build(
+        'dashboard { port: 9000 }\n  node { name: "helper" type: CUSTOM executable: "/bin/true" critical: false }'
+    )
+    critical = {p["name"]: p["critical"] for p in json.loads(files["manifest.json"])["processes"]}
+    assert critical == {"leader": True, "helper": False, "dashboard": False}

@@ -87,6 +87,7 @@ def _manifest(robot: Robot, context: Context) -> dict:
                 "args": list(process.args),
                 "cpp_binary": process.cpp_binary or None,
                 "simulates": [node.name for node in robot.simulated_by(process.name)],
+                "critical": process.critical,
             }
             for process in robot.processes
         ],
