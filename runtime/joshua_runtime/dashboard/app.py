@@ -2,16 +2,22 @@
 
 Routes (all under /api/ answer 401 without the owner's bearer token; any route answers 403 to a Host
 header outside the allow-list, see security.py):
-- `GET /`: the page (web/dist, built by set-up); `GET /api/robot`: topology, streams, recorders, inference nodes;
+- `GET /`: the page (web/dist, built by set-up); `GET /api/robot`: topology, streams, processes, recorders, inference nodes;
 - `GET /api/status`: the supervisor's status (the JSON of `ctl status --json`); 503 when unreachable;
-- `GET /api/events`: Server-Sent Events `status`, `rates`, `joints`, `image`, `scan`, `recorder`, `inference`;
+- `GET /api/events`: Server-Sent Events `status`, `actions`, `rates`, `joints`, `image`, `scan`, `recorder`,
+  `inference`, each with the server's `server_time_s`, and `clock` (the server's time, every CLOCK_PERIOD_S);
 - `GET /api/nodes/<name>/logs?lines=N`: the last lines of a node's log;
-- `POST /api/nodes/<name>/restart|stop|start`: a supervisor action; the reply is the supervisor's;
+- `POST /api/nodes/<name>/restart|stop|start`: a supervisor action; the reply is the supervisor's, but 202
+  for a restart or stop of this dashboard's own process (it stops before the supervisor can answer);
 - `POST /api/recorders/<node>/episode/start|stop|discard` (start takes `{"task": TEXT}`): recorder episodes.
-No GET changes anything.
+No GET changes anything. A refusal or failure of the supervisor answers `{"error": LINE, "kind": KIND}`
+with the status of CONTROL_ERROR_STATUS.
 """
 
 import asyncio
+import json
+import os
+import time
 from pathlib import Path
 
 from starlette.applications import Starlette
@@ -24,11 +30,25 @@ from starlette.responses import (
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
+from joshua_runtime.dashboard import control_client as control
 from joshua_runtime.dashboard.control_client import NODE_ACTIONS, ControlError
 from joshua_runtime.dashboard.security import ApiGuard, HostAllowList, HostGuard
 
 STATUS_POLL_S = 1.0
-SSE_KEEPALIVE_S = 15.0
+# The stream sends the server's clock this often (the page measures the age of what it shows against it);
+# it also keeps an idle stream open.
+CLOCK_PERIOD_S = 1.0
+# The HTTP status of each kind of ControlError.
+CONTROL_ERROR_STATUS = {
+    control.CONFLICT: 409,
+    control.REFUSED: 409,
+    control.NOT_FOUND: 404,
+    control.BAD_REQUEST: 400,
+    control.STOPPING: 503,
+    control.UNREACHABLE: 503,
+    control.TIMEOUT: 504,
+    control.BROKEN: 502,
+}
 DEFAULT_LOG_LINES = 100
 MAX_LOG_LINES = 2000
 EPISODE_ACTIONS = ("start", "stop", "discard")
@@ -45,6 +65,8 @@ class Dashboard:
         self.telemetry = telemetry
         self.web_dir = web_dir
         self.last_status: dict = {"error": "no status yet"}
+        self.pending: dict[str, str] = {}  # node -> the action asked through this dashboard and not answered yet
+        self.stopping = asyncio.Event()  # set once this server was asked to stop (note_stopping)
         routes = [
             Route("/", self.page),
             Route("/api/robot", self.robot),
@@ -66,6 +88,9 @@ class Dashboard:
         class Lifespan:
             async def __aenter__(self):
                 dashboard.broadcaster.attach(asyncio.get_running_loop())
+                # Replayed to every page that connects: none of this server's actions is under way (a
+                # page that saw a restart of the dashboard itself under way learns that it ended).
+                dashboard.broadcaster.publish("actions", "actions", {"pending": {}})
                 self.poller = asyncio.create_task(dashboard._poll_status())
 
             async def __aexit__(self, *exc_info):
@@ -73,12 +98,17 @@ class Dashboard:
 
         return Lifespan()
 
+    def note_stopping(self) -> None:
+        """This server is about to stop (called from the event loop's thread): requests waiting for the
+        supervisor get their answer now rather than be cut by the shutdown."""
+        self.stopping.set()
+
     async def _poll_status(self) -> None:
         while True:
             try:
                 self.last_status = await self.control.status()
             except ControlError as exc:
-                self.last_status = {"error": str(exc)}
+                self.last_status = {"error": str(exc), "kind": exc.kind}
             self.broadcaster.publish("status", "status", self.last_status)
             await asyncio.sleep(STATUS_POLL_S)
 
@@ -95,21 +125,27 @@ class Dashboard:
         try:
             return JSONResponse(await self.control.status())
         except ControlError as exc:
-            return JSONResponse({"error": str(exc)}, status_code=503)
+            return _control_error(exc, unavailable=True)
 
     async def events(self, request):
         mailbox = self.broadcaster.subscribe()
+        loop = asyncio.get_running_loop()
 
         async def stream():
             try:
                 yield b"retry: 1000\n\n"
+                yield _clock_event()
+                next_clock = loop.time() + CLOCK_PERIOD_S
                 while True:
                     try:
-                        event = await asyncio.wait_for(mailbox.get(), SSE_KEEPALIVE_S)
+                        event = await asyncio.wait_for(mailbox.get(), max(0.0, next_clock - loop.time()))
                     except TimeoutError:
-                        yield b": keepalive\n\n"
-                        continue
-                    yield event.sse()
+                        event = None
+                    if loop.time() >= next_clock:
+                        yield _clock_event()
+                        next_clock = loop.time() + CLOCK_PERIOD_S
+                    if event is not None:
+                        yield event.sse()
             finally:
                 self.broadcaster.unsubscribe(mailbox)
 
@@ -125,7 +161,7 @@ class Dashboard:
         try:
             return JSONResponse({"lines": await self.control.logs(request.path_params["name"], lines)})
         except ControlError as exc:
-            return JSONResponse({"error": str(exc)}, status_code=502)
+            return _control_error(exc)
 
     async def node_action(self, request):
         action = request.path_params["action"]
@@ -133,11 +169,44 @@ class Dashboard:
             return JSONResponse(
                 {"error": f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})"}, status_code=404
             )
+        node = request.path_params["name"]
+        first = node not in self.pending  # a second action meanwhile is the supervisor's to refuse
+        if first:
+            self._note_pending(node, action)
         try:
-            reply = await self.control.node_action(action, request.path_params["name"])
+            reply = await self._unless_stopping(self.control.node_action(action, node))
         except ControlError as exc:
-            return JSONResponse({"error": str(exc)}, status_code=502)
-        return JSONResponse(reply)
+            return _control_error(exc)
+        finally:
+            if first:
+                self._note_pending(node, None)
+        if reply is not None:
+            return JSONResponse(reply)
+        if node == self.view.dashboard_process:  # stopping as asked: the supervisor carries on without us
+            return JSONResponse({"node": node, "state": "stopping", "pid": os.getpid()}, status_code=202)
+        return JSONResponse({"error": "the dashboard is stopping", "kind": control.STOPPING}, status_code=503)
+
+    async def _unless_stopping(self, request) -> dict | None:
+        """The supervisor's answer to `request`, or None when this server began to stop first (the
+        request reached the supervisor, which carries it out)."""
+        answer = asyncio.ensure_future(request)
+        stopping = asyncio.ensure_future(self.stopping.wait())
+        try:
+            await asyncio.wait({answer, stopping}, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            stopping.cancel()
+        if answer.done():
+            return answer.result()
+        answer.cancel()
+        return None
+
+    def _note_pending(self, node: str, action: str | None) -> None:
+        """Note an action asked through this dashboard (None: it was answered) and tell every page."""
+        if action is None:
+            self.pending.pop(node, None)
+        else:
+            self.pending[node] = action
+        self.broadcaster.publish("actions", "actions", {"pending": dict(self.pending)})
 
     async def episode_action(self, request):
         node, action = request.path_params["node"], request.path_params["action"]
@@ -161,6 +230,19 @@ class Dashboard:
             command = f"start {task}".strip()
         self.telemetry.send_episode_command(node, command)
         return JSONResponse({"node": node, "command": command})
+
+
+def _control_error(exc: ControlError, unavailable: bool = False) -> JSONResponse:
+    """The reply to a refusal or failure of the supervisor; `unavailable`: a refusal of a status request
+    means no status is available (503)."""
+    status = CONTROL_ERROR_STATUS.get(exc.kind, 502)
+    if unavailable and status != 502:
+        status = 503
+    return JSONResponse({"error": str(exc), "kind": exc.kind}, status_code=status)
+
+
+def _clock_event() -> bytes:
+    return f"event: clock\ndata: {json.dumps({'server_time_s': round(time.time(), 3)})}\n\n".encode()
 
 
 async def _task_text(request) -> str | None:

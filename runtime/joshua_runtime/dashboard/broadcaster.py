@@ -3,10 +3,13 @@
 A key names one stream (`joints:/leader/joint_states`, `image:/camera/image_raw`, `status`): a client
 that reads slower than a stream publishes gets the newest frame and skips the ones in between, so a
 stalled browser holds at most one event per key and never slows the publisher or grows memory.
+Every event carries `server_time_s`, the server's clock (Unix time) when it was published: for a
+stream, when its message arrived, so the page can tell how old what it shows is.
 """
 
 import asyncio
 import json
+import time
 from collections import OrderedDict
 from typing import NamedTuple
 
@@ -90,7 +93,8 @@ class Broadcaster:
         loop = self.loop
         if loop is None or loop.is_closed():
             return
-        payload = Event(kind, json.dumps(data, separators=(",", ":"), allow_nan=False))
+        stamped = {**data, "server_time_s": round(time.time(), 3)}
+        payload = Event(kind, json.dumps(stamped, separators=(",", ":"), allow_nan=False))
         try:
             loop.call_soon_threadsafe(self._deliver, key, payload)
         except RuntimeError:  # the server is shutting down

@@ -97,6 +97,7 @@ async def serve(args) -> None:
     from joshua_runtime.dashboard.log_limit import configure_logging
     from joshua_runtime.dashboard.robot_view import load_robot_view
     from joshua_runtime.dashboard.security import HostAllowList
+    from joshua_runtime.dashboard.server import StoppingAwareServer
     from joshua_runtime.dashboard.telemetry import Telemetry
     from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint, credentials_of, robot_settings
 
@@ -134,7 +135,7 @@ async def serve(args) -> None:
         timeout_keep_alive=KEEP_ALIVE_S,
         backlog=ACCEPT_BACKLOG,
     )
-    server = uvicorn.Server(config)
+    server = StoppingAwareServer(config, dashboard.note_stopping)
     notifier = Notifier.from_environment()
     notify_task = asyncio.create_task(notify_manager(server, notifier, url))
     try:

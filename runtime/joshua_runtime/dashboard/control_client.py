@@ -2,11 +2,13 @@
 
 The protocol (requests `status`, `restart`/`stop`/`start` NODE, `logs` NODE) is the supervisor's;
 every call opens its own connection, so a supervisor restarted meanwhile is simply found again.
+Every failure is a ControlError with a `kind` (one of ERROR_KINDS) that says what went wrong.
 """
 
 import asyncio
 import json
 import os
+import re
 import socket
 import struct
 from pathlib import Path
@@ -21,8 +23,44 @@ SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"
 PEER_CREDENTIALS = struct.Struct("3i")  # SO_PEERCRED: pid, uid, gid
 
 
+# What a ControlError can be. The first four are refusals by the supervisor; a supervisor that says so
+# in its error reply (`"error_kind": KIND`) is taken at its word, else its message is read.
+CONFLICT = "conflict"  # the node is already in the state asked for, or being stopped or restarted
+NOT_FOUND = "not_found"  # no node of that name
+STOPPING = "stopping"  # the robot is stopping
+BAD_REQUEST = "bad_request"  # a request the supervisor does not understand
+REFUSED = "refused"  # any other refusal
+UNREACHABLE = "unreachable"  # no supervisor serves the socket
+TIMEOUT = "timeout"  # it did not answer in time
+BROKEN = "broken"  # it answered something that is not the control protocol
+ERROR_KINDS = (CONFLICT, NOT_FOUND, STOPPING, BAD_REQUEST, REFUSED, UNREACHABLE, TIMEOUT, BROKEN)
+# How the supervisor words its refusals, for one that does not name their kind.
+_REFUSAL_PATTERNS = (
+    (re.compile(r"^no node named "), NOT_FOUND),
+    (re.compile(r"\bthe robot is stopping\b"), STOPPING),
+    (re.compile(r"\bis already\b"), CONFLICT),
+    (re.compile(r"^(unknown command|lines must be|a request is one JSON object)"), BAD_REQUEST),
+)
+
+
 class ControlError(Exception):
-    """The supervisor could not be reached or answered with an error (the message is one line)."""
+    """The supervisor could not be reached or answered with an error (the message is one line); `kind` is
+    one of ERROR_KINDS."""
+
+    def __init__(self, message: str, kind: str = REFUSED):
+        super().__init__(message)
+        self.kind = kind
+
+
+def refusal_kind(reply: dict) -> str:
+    """The kind of an error reply of the supervisor: the one it names, else the one its message reads as."""
+    named = reply.get("error_kind")
+    if named in ERROR_KINDS:
+        return named
+    if named is not None:
+        return REFUSED
+    message = str(reply.get("error") or "")
+    return next((kind for pattern, kind in _REFUSAL_PATTERNS if pattern.search(message)), REFUSED)
 
 
 def default_socket_path(robot: str) -> Path:
@@ -41,7 +79,9 @@ def check_server(connection, path: Path) -> None:
         connection.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, PEER_CREDENTIALS.size)
     )
     if uid not in (os.geteuid(), 0):
-        raise ControlError(f"control socket {path} is served by uid {uid}, not by uid {os.geteuid()} or root")
+        raise ControlError(
+            f"control socket {path} is served by uid {uid}, not by uid {os.geteuid()} or root", UNREACHABLE
+        )
 
 
 class ControlClient:
@@ -56,29 +96,36 @@ class ControlClient:
             return await asyncio.wait_for(self._exchange(message), REQUEST_TIMEOUT_S)
         except TimeoutError as exc:
             raise ControlError(
-                f"the supervisor did not answer {message['command']!r} within {REQUEST_TIMEOUT_S:g} s"
+                f"the supervisor did not answer {message['command']!r} within {REQUEST_TIMEOUT_S:g} s", TIMEOUT
             ) from exc
 
     async def _exchange(self, message: dict) -> dict:
         try:
             reader, writer = await asyncio.open_unix_connection(str(self.path), limit=REPLY_LIMIT_BYTES)
         except OSError as exc:
-            raise ControlError(f"control socket {self.path}: {exc.strerror or exc}") from exc
+            raise ControlError(f"control socket {self.path}: {exc.strerror or exc}", UNREACHABLE) from exc
         try:
             check_server(writer.get_extra_info("socket"), self.path)
             writer.write(json.dumps(message).encode() + b"\n")
             await writer.drain()
             line = await reader.readline()
-        except (OSError, ValueError) as exc:
-            raise ControlError(f"control socket {self.path}: {exc}") from exc
+        except OSError as exc:
+            raise ControlError(f"control socket {self.path}: {exc.strerror or exc}", UNREACHABLE) from exc
+        except ValueError as exc:  # a line longer than REPLY_LIMIT_BYTES
+            raise ControlError(f"control socket {self.path}: {exc}", BROKEN) from exc
         finally:
             writer.close()
+        if not line:
+            raise ControlError(f"control socket {self.path}: the supervisor closed it without answering", UNREACHABLE)
         try:
             reply = json.loads(line)
-        except ValueError as exc:
-            raise ControlError(f"control socket {self.path} answered {line[:80]!r}, not a JSON line") from exc
+        except ValueError:
+            reply = None
+        if not isinstance(reply, dict):
+            raise ControlError(f"control socket {self.path} answered {line[:80]!r}, not a JSON object line", BROKEN)
         if not reply.get("ok"):
-            raise ControlError(str(reply.get("error") or "the supervisor refused the request"))
+            error = " ".join(str(reply.get("error") or "the supervisor refused the request").split())
+            raise ControlError(error, refusal_kind(reply))
         reply.pop("ok")
         return reply
 
@@ -87,7 +134,7 @@ class ControlClient:
 
     async def node_action(self, action: str, node: str) -> dict:
         if action not in NODE_ACTIONS:
-            raise ControlError(f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})")
+            raise ControlError(f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})", BAD_REQUEST)
         return await self.request({"command": action, "node": node})
 
     async def logs(self, node: str, lines: int) -> list[str]:

@@ -16,15 +16,37 @@ LASER_SCAN = "sensor_msgs/msg/LaserScan"
 STREAM_KINDS = {JOINT_STATE: "joints", IMAGE: "image", COMPRESSED_IMAGE: "image", LASER_SCAN: "scan"}
 RECORDER_TYPE = "DATA_SUBSCRIBER"
 INFERENCE_TYPE = "INFERENCE"
+# A stream counts as stale once its newest message is older than STALE_PERIODS of its publisher's
+# `rate_hz`, and never sooner than STALE_FLOOR_S; STALE_UNKNOWN_RATE_S when no publisher states a rate.
+STALE_PERIODS = 5
+STALE_FLOOR_S = 1.5
+STALE_UNKNOWN_RATE_S = 3.0
 
 
 @dataclass(frozen=True)
 class Stream:
-    """One topic the dashboard subscribes to, and how it is shown (`joints`, `image`, `scan` or `rate`)."""
+    """One topic the dashboard subscribes to, how it is shown (`joints`, `image`, `scan` or `rate`), and
+    the rate its publishers state (None when none does)."""
 
     topic: str
     message_type: str
     kind: str
+    expected_hz: float | None = None
+
+    @property
+    def stale_after_s(self) -> float:
+        if not self.expected_hz:
+            return STALE_UNKNOWN_RATE_S
+        return max(STALE_FLOOR_S, STALE_PERIODS / self.expected_hz)
+
+
+@dataclass(frozen=True)
+class Process:
+    """One process of the supervisor: `critical` ones stop the robot when they fail for good."""
+
+    name: str
+    type: str
+    critical: bool
 
 
 @dataclass(frozen=True)
@@ -57,13 +79,24 @@ class RobotView:
     streams: tuple[Stream, ...]
     recorders: tuple[Recorder, ...] = field(default=())
     inferences: tuple[Inference, ...] = field(default=())
+    processes: tuple[Process, ...] = field(default=())
+
+    @property
+    def dashboard_process(self) -> str | None:
+        """The process serving the dashboard (stopping it closes the page's connection)."""
+        return next((p.name for p in self.processes if p.type == DASHBOARD_TYPE), None)
 
     def summary(self) -> dict:
         """The JSON the page receives first: everything static about the robot."""
         return {
             "robot": self.robot,
             "topology": self.topology,
-            "streams": [{"topic": s.topic, "message_type": s.message_type, "kind": s.kind} for s in self.streams],
+            "streams": [
+                {"topic": s.topic, "message_type": s.message_type, "kind": s.kind, "stale_after_s": s.stale_after_s}
+                for s in self.streams
+            ],
+            "processes": [{"name": p.name, "type": p.type, "critical": p.critical} for p in self.processes],
+            "dashboard_process": self.dashboard_process,
             "recorders": [{"node": r.node, "output_directory": r.output_directory} for r in self.recorders],
             "inferences": [
                 {"node": i.node, "model": i.model, "rate_hz": i.rate_hz, "inputs": list(i.inputs), "output": i.output}
@@ -83,12 +116,17 @@ def load_robot_view(manifest_path: Path) -> RobotView:
     except (ValueError, KeyError, TypeError) as exc:
         raise SettingsError(f"{manifest_path} is not a joshuac manifest: {exc}") from exc
     entrypoints = {p["name"]: p.get("entrypoint") for p in processes}
-    streams = tuple(Stream(t["name"], t["message_type"], STREAM_KINDS.get(t["message_type"], "rate")) for t in topics)
+    settings_of = _settings_reader(manifest_path.parent, nodes, entrypoints)
+    streams = tuple(
+        Stream(t["name"], t["message_type"], kind, _stated_rate(t, settings_of) if kind != "rate" else None)
+        for t in topics
+        for kind in [STREAM_KINDS.get(t["message_type"], "rate")]
+    )
     recorders, inferences = [], []
     for node in nodes:
         if node["type"] not in (RECORDER_TYPE, INFERENCE_TYPE):
             continue
-        settings = _entrypoint_settings(manifest_path.parent, entrypoints.get(node["name"]))
+        settings = settings_of(node["name"])
         if node["type"] == RECORDER_TYPE:
             recorders.append(
                 Recorder(
@@ -108,7 +146,42 @@ def load_robot_view(manifest_path: Path) -> RobotView:
                     (node["publishes"] or [""])[0],
                 )
             )
-    return RobotView(robot, topology(nodes, processes, topics), streams, tuple(recorders), tuple(inferences))
+    return RobotView(
+        robot,
+        topology(nodes, processes, topics),
+        streams,
+        tuple(recorders),
+        tuple(inferences),
+        tuple(Process(p["name"], p["type"], bool(p.get("critical", p["type"] != DASHBOARD_TYPE))) for p in processes),
+    )
+
+
+def _settings_reader(build_directory: Path, nodes: list[dict], entrypoints: dict):
+    """settings_of(node name) -> the node's resolved settings: its entrypoint's SETTINGS, or its entry in
+    the SETTINGS of the process that simulates it; empty when neither has them. Each file is read once."""
+    simulated_by = {n["name"]: n.get("simulated_by") for n in nodes}
+    read: dict[str, dict] = {}
+
+    def process_settings(process: str) -> dict:
+        if process not in read:
+            read[process] = _entrypoint_settings(build_directory, entrypoints.get(process))
+        return read[process]
+
+    def settings_of(node: str) -> dict:
+        host = simulated_by.get(node)
+        if not host:
+            return process_settings(node)
+        simulates = (process_settings(host).get("simulation") or {}).get("simulates") or []
+        return next((s for s in simulates if isinstance(s, dict) and s.get("name") == node), {})
+
+    return settings_of
+
+
+def _stated_rate(topic: dict, settings_of) -> float | None:
+    """The highest `rate_hz` the topic's publishers state, or None."""
+    rates = [settings_of(p["node"]).get("rate_hz") for p in topic.get("publishers", [])]
+    rates = [float(r) for r in rates if isinstance(r, int | float) and r > 0]
+    return max(rates, default=None)
 
 
 def topology(nodes: list[dict], processes: list[dict], topics: list[dict]) -> dict:

@@ -75,7 +75,7 @@ def test_errors_are_one_line_json(supervised, tmp_path):
     with client_for(supervised, tmp_path) as client:
         unknown = client.post("/api/nodes/nobody/restart")
         bad_action = client.post("/api/nodes/leader/explode")
-    assert unknown.status_code == 502 and unknown.json() == {"error": "no node named 'nobody'"}
+    assert unknown.status_code == 404 and unknown.json() == {"error": "no node named 'nobody'", "kind": "not_found"}
     assert bad_action.status_code == 404 and "unknown action" in bad_action.json()["error"]
 
 
