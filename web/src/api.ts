@@ -34,7 +34,8 @@ export function authHeaders(): Record<string, string> {
 }
 
 export class ApiError extends Error {
-  constructor(message: string, readonly status: number) {
+  /** `kind`: what the dashboard says went wrong (`conflict`, `not_found`, `unreachable`, ...), when it says. */
+  constructor(message: string, readonly status: number, readonly kind?: string) {
     super(message);
   }
 }
@@ -46,7 +47,9 @@ export function isUnauthorized(error: unknown): boolean {
 
 async function reply<T>(response: Response): Promise<T> {
   const body = await response.json().catch(() => ({}));
-  if (!response.ok) throw new ApiError(body.error ?? `${response.status} ${response.statusText}`, response.status);
+  if (!response.ok) {
+    throw new ApiError(body.error ?? `${response.status} ${response.statusText}`, response.status, body.kind);
+  }
   return body as T;
 }
 

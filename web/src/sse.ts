@@ -24,11 +24,17 @@ export function parseEvents(buffer: string): { events: ServerEvent[]; rest: stri
 
 export type Listener = (data: unknown) => void;
 
-/** One connection to /api/events shared by every hook; reconnects after a drop. */
+/** The event with the server's clock, sent on connection and every second after. */
+export const CLOCK_EVENT = "clock";
+
+/** One connection to /api/events shared by every hook; reconnects after a drop. It also keeps the
+ * difference between the server's clock and this browser's, so that ages are measured on the server's. */
 export class EventHub {
   private listeners = new Map<string, Set<Listener>>();
   private stopped = false;
+  private running = false;
   private abort: AbortController | null = null;
+  private clockOffsetS = 0;
   connected = false;
   onConnection: ((connected: boolean) => void) | null = null;
 
@@ -42,13 +48,23 @@ export class EventHub {
 
   dispatch(event: ServerEvent): void {
     const listeners = this.listeners.get(event.kind);
-    if (!listeners || listeners.size === 0) return;
+    if (event.kind !== CLOCK_EVENT && (!listeners || listeners.size === 0)) return;
     const data = JSON.parse(event.data);
-    listeners.forEach((listener) => listener(data));
+    if (event.kind === CLOCK_EVENT) this.clockOffsetS = data.server_time_s - Date.now() / 1000;
+    listeners?.forEach((listener) => listener(data));
   }
 
+  /** The server's clock now, in seconds (Unix time), as far as its last clock event tells. */
+  serverNow(): number {
+    return Date.now() / 1000 + this.clockOffsetS;
+  }
+
+  /** Connects (once; a second call while connected does nothing). */
   start(): void {
-    void this.loop();
+    this.stopped = false;
+    if (this.running) return;
+    this.running = true;
+    void this.loop().finally(() => { this.running = false; });
   }
 
   stop(): void {

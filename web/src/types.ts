@@ -6,28 +6,50 @@ export interface Topology {
   topics: { name: string; message_type: string }[];
   edges: { from: string; to: string }[];
 }
-export interface StreamInfo { topic: string; message_type: string; kind: "joints" | "image" | "scan" | "rate" }
+/** A topic the page draws; it counts as stale once its newest message is older than `stale_after_s`. */
+export interface StreamInfo {
+  topic: string;
+  message_type: string;
+  kind: "joints" | "image" | "scan" | "rate";
+  stale_after_s: number;
+}
 export interface RecorderInfo { node: string; output_directory: string }
 export interface InferenceInfo { node: string; model: string; rate_hz: number; inputs: string[]; output: string }
+/** A process of the supervisor; a critical one stops the robot when it fails for good. */
+export interface ProcessInfo { name: string; type: string; critical: boolean }
 export interface RobotSummary {
   robot: string;
   topology: Topology;
   streams: StreamInfo[];
+  processes: ProcessInfo[];
+  /** The process serving this page (null when it is served otherwise). */
+  dashboard_process: string | null;
   recorders: RecorderInfo[];
   inferences: InferenceInfo[];
 }
+
+export type NodeAction = "restart" | "stop" | "start";
 
 export interface NodeStatus {
   name: string;
   state: string;
   pid: number | null;
+  /** Restarts the supervisor made by itself (its restart policy); all restarts when
+   * `manual_restarts` is absent (a supervisor that does not tell them apart). */
   restarts: number;
+  /** Restarts asked for (ctl, this page), when the supervisor counts them apart. */
+  manual_restarts?: number;
   ready: boolean;
   since_s: number;
 }
-export interface RobotStatus { robot?: string; nodes?: NodeStatus[]; error?: string }
+export interface RobotStatus { robot?: string; nodes?: NodeStatus[]; error?: string; kind?: string }
 
-export interface JointStateEvent {
+/** Every event of /api/events carries the server's clock when it was published. */
+export interface Stamped { server_time_s: number }
+/** The node actions asked through the dashboard and not answered yet. */
+export interface ActionsEvent extends Stamped { pending: Record<string, NodeAction> }
+
+export interface JointStateEvent extends Stamped {
   topic: string;
   stamp_ns: number;
   name: string[];
@@ -35,8 +57,8 @@ export interface JointStateEvent {
   velocity: (number | null)[];
   effort: (number | null)[];
 }
-export interface ImageEvent { topic: string; stamp_ns: number; width: number; height: number; jpeg: string }
-export interface ScanEvent {
+export interface ImageEvent extends Stamped { topic: string; stamp_ns: number; width: number; height: number; jpeg: string }
+export interface ScanEvent extends Stamped {
   topic: string;
   stamp_ns: number;
   angle_min: number;

@@ -5,7 +5,7 @@ export function Header({ robot, status, connected }: { robot: string; status: Ro
   const nodes = status?.nodes ?? [];
   const running = nodes.filter((node) => node.state === "running").length;
   return (
-    <header className="flex flex-wrap items-center justify-between gap-3 border-b border-slate-800 bg-slate-900/80 px-6 py-3">
+    <header className="flex flex-wrap items-center justify-between gap-3 border-b border-slate-800 bg-slate-900/80 px-4 py-3 sm:px-6">
       <div className="flex items-center gap-3">
         <div className="grid h-8 w-8 place-items-center rounded-lg bg-indigo-500/20 font-bold text-indigo-300">J</div>
         <div>
@@ -13,9 +13,9 @@ export function Header({ robot, status, connected }: { robot: string; status: Ro
           <p className="text-xs text-slate-400">Robot dashboard</p>
         </div>
       </div>
-      <div className="flex items-center gap-4 text-sm">
+      <div className="flex min-w-0 flex-wrap items-center gap-x-4 gap-y-1 text-sm">
         {status?.error ? (
-          <span className="text-rose-300" data-testid="status-error">supervisor: {status.error}</span>
+          <span className="break-words text-rose-300" data-testid="status-error">supervisor: {status.error}</span>
         ) : (
           <span className="text-slate-300">{running} / {nodes.length} processes running</span>
         )}

@@ -1,71 +1,81 @@
 import { useState } from "react";
-import { postJson } from "../api";
-import { formatDuration } from "../format";
-import type { NodeStatus } from "../types";
+import { ApiError, postJson } from "../api";
+import { usePendingActions } from "../hooks/streams";
+import { type Confirmation, confirmation, type ProcessRole } from "../nodeActions";
+import type { NodeAction, NodeStatus, ProcessInfo } from "../types";
+import { ConfirmDialog } from "./ConfirmDialog";
 import { LogDialog } from "./LogDialog";
-import { StateBadge } from "./StateBadge";
+import { NodeRow } from "./NodeRow";
 
-const ACTIONS = ["restart", "stop", "start"] as const;
+const HEAD = "pb-2 font-medium";
 
-/** The supervisor's processes with restart / stop / start buttons and a log tail each. */
-export function NodeTable({ nodes }: { nodes: NodeStatus[] }) {
-  const [busy, setBusy] = useState<string | null>(null);
-  const [error, setError] = useState<string | null>(null);
+/** The supervisor's processes with restart / stop / start buttons and a log tail each. Buttons that
+ * cannot apply are disabled; stopping a critical process or the dashboard itself asks first; an action
+ * under way (from any page) shows until the supervisor answers. */
+export function NodeTable({ nodes, processes = [], dashboardProcess = null, connected = true }: {
+  nodes: NodeStatus[]; processes?: ProcessInfo[]; dashboardProcess?: string | null; connected?: boolean;
+}) {
+  const announced = usePendingActions();
+  const [asked, setAsked] = useState<Record<string, NodeAction>>({});
+  const [question, setQuestion] = useState<{ node: string; action: NodeAction; confirmation: Confirmation } | null>(null);
+  const [message, setMessage] = useState<{ text: string; error: boolean } | null>(null);
   const [logNode, setLogNode] = useState<string | null>(null);
+  const critical = new Map(processes.map((process) => [process.name, process.critical]));
+  const roleOf = (name: string): ProcessRole => ({
+    critical: critical.get(name) ?? false, servesThisPage: name === dashboardProcess,
+  });
+  // What a lost connection announced may have ended since: only this page's own requests count then.
+  const pendingOf = (name: string) => asked[name] ?? (connected ? announced[name] : undefined);
 
-  async function act(node: string, action: (typeof ACTIONS)[number]) {
-    setBusy(`${node}:${action}`);
-    setError(null);
+  function press(node: string, action: NodeAction) {
+    const question = confirmation(action, node, roleOf(node));
+    if (question) setQuestion({ node, action, confirmation: question });
+    else void act(node, action);
+  }
+
+  async function act(node: string, action: NodeAction) {
+    setAsked((previous) => ({ ...previous, [node]: action }));
+    setMessage(null);
+    const leaving = node === dashboardProcess && action !== "start";
+    const farewell = action === "restart" ? `${node} is restarting: this page reconnects by itself`
+      : `${node} is stopping: this page is offline until it is started again`;
     try {
       await postJson(`/api/nodes/${encodeURIComponent(node)}/${action}`);
+      if (leaving) setMessage({ text: farewell, error: false });
     } catch (e) {
-      setError(`${action} ${node}: ${(e as Error).message}`);
+      // The dashboard serving this page may end before its answer is out: its connection goes with it.
+      const lost = leaving && !(e instanceof ApiError);
+      setMessage(lost ? { text: farewell, error: false } : { text: `${action} ${node}: ${(e as Error).message}`, error: true });
     } finally {
-      setBusy(null);
+      setAsked(({ [node]: _done, ...others }) => others);
     }
   }
 
   return (
     <div>
-      <table className="w-full text-left text-sm">
-        <thead className="text-xs uppercase tracking-wider text-slate-500">
+      <table className="block w-full text-left text-sm md:table">
+        <thead className="hidden text-xs uppercase tracking-wider text-slate-500 md:table-header-group">
           <tr>
-            <th className="pb-2 font-medium">Process</th><th className="pb-2 font-medium">State</th>
-            <th className="pb-2 font-medium">PID</th><th className="pb-2 font-medium">Restarts</th>
-            <th className="pb-2 font-medium">Since</th><th className="pb-2 text-right font-medium">Actions</th>
+            <th className={HEAD}>Process</th><th className={HEAD}>State</th><th className={HEAD}>PID</th>
+            <th className={HEAD}>Restarts</th><th className={HEAD}>Since</th><th className={`${HEAD} text-right`}>Actions</th>
           </tr>
         </thead>
-        <tbody className="divide-y divide-slate-800">
+        <tbody className="block divide-y divide-slate-800 md:table-row-group">
           {nodes.map((node) => (
-            <tr key={node.name} data-testid={`node-row-${node.name}`} className="text-slate-300">
-              <td className="py-2 font-medium text-slate-100">
-                {node.name}
-                {node.ready && <span className="ml-2 text-xs text-emerald-400" title="ready">●</span>}
-              </td>
-              <td className="py-2"><StateBadge state={node.state} /></td>
-              <td className="py-2 font-mono text-xs" data-testid={`node-pid-${node.name}`}>{node.pid ?? "—"}</td>
-              <td className="py-2">{node.restarts}</td>
-              <td className="py-2 text-slate-400">{formatDuration(node.since_s)}</td>
-              <td className="py-2">
-                <div className="flex justify-end gap-1.5">
-                  {ACTIONS.map((action) => (
-                    <button key={action} type="button" onClick={() => act(node.name, action)}
-                            disabled={busy !== null} data-testid={`node-${action}-${node.name}`}
-                            className="rounded-md border border-slate-700 px-2 py-1 text-xs capitalize text-slate-200 hover:bg-slate-800 disabled:opacity-40">
-                      {action}
-                    </button>
-                  ))}
-                  <button type="button" onClick={() => setLogNode(node.name)} data-testid={`node-logs-${node.name}`}
-                          className="rounded-md bg-slate-800 px-2 py-1 text-xs text-slate-200 hover:bg-slate-700">
-                    Logs
-                  </button>
-                </div>
-              </td>
-            </tr>
+            <NodeRow key={node.name} node={node} role={roleOf(node.name)} pending={pendingOf(node.name)}
+                     connected={connected} onAction={(action) => press(node.name, action)}
+                     onLogs={() => setLogNode(node.name)} />
           ))}
         </tbody>
       </table>
-      {error && <p className="mt-3 text-sm text-rose-300" role="alert">{error}</p>}
+      {message && (
+        <p className={`mt-3 text-sm ${message.error ? "text-rose-300" : "text-sky-300"}`}
+           role={message.error ? "alert" : "status"} data-testid="node-action-message">{message.text}</p>
+      )}
+      <ConfirmDialog question={question?.confirmation ?? null} onAnswer={(yes) => {
+        if (yes && question) void act(question.node, question.action);
+        setQuestion(null);
+      }} />
       <LogDialog node={logNode} onClose={() => setLogNode(null)} />
     </div>
   );

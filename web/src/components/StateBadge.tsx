@@ -13,7 +13,8 @@ const COLORS: Record<string, string> = {
 export function StateBadge({ state }: { state: string }) {
   const color = COLORS[state] ?? COLORS.pending;
   return (
-    <span className={`inline-flex items-center rounded-full px-2 py-0.5 text-xs font-medium ring-1 ring-inset ${color}`}>
+    <span data-testid="state"
+          className={`inline-flex items-center rounded-full px-2 py-0.5 text-xs font-medium ring-1 ring-inset ${color}`}>
       {state}
     </span>
   );

@@ -6,6 +6,8 @@ const COLUMN_WIDTH = 210;
 const ROW_HEIGHT = 58;
 const BOX_WIDTH = 170;
 const BOX_HEIGHT = 40;
+// Below this width the graph's labels would be too small to read: its frame scrolls sideways instead.
+const MIN_READABLE_WIDTH = 560;
 
 export interface PlacedBox { id: string; label: string; kind: "node" | "topic"; column: number; row: number }
 
@@ -47,7 +49,9 @@ export function TopologyGraph({ topology, rates, nodes }: {
   const x = (box: PlacedBox) => 10 + box.column * COLUMN_WIDTH;
   const y = (box: PlacedBox) => 10 + box.row * ROW_HEIGHT;
   return (
-    <svg viewBox={`0 0 ${columns * COLUMN_WIDTH} ${rows * ROW_HEIGHT + 10}`} className="w-full" style={{ maxWidth: columns * COLUMN_WIDTH }} role="img"
+    <div className="overflow-x-auto" data-scrolls="sideways">
+    <svg viewBox={`0 0 ${columns * COLUMN_WIDTH} ${rows * ROW_HEIGHT + 10}`} className="w-full" role="img"
+         style={{ maxWidth: columns * COLUMN_WIDTH, minWidth: Math.min(columns * COLUMN_WIDTH, MIN_READABLE_WIDTH) }}
          aria-label="topology">
       {topology.edges.map((edge) => {
         const from = position.get(edge.from), to = position.get(edge.to);
@@ -78,6 +82,7 @@ export function TopologyGraph({ topology, rates, nodes }: {
         );
       })}
     </svg>
+    </div>
   );
 }
 

@@ -5,14 +5,33 @@ import { EventHub, type Listener } from "../sse";
 
 const HubContext = createContext<EventHub | null>(null);
 
+const AGE_TICK_MS = 250; // how often shown ages move on
+
+/** Holds the page's event stream; it connects once a component asks for it (useEventStream). */
 export function EventHubProvider({ hub, children }: { hub?: EventHub; children: ReactNode }) {
   const [value] = useState(() => hub ?? new EventHub("/api/events", authHeaders));
-  useEffect(() => {
-    if (hub) return;
-    value.start();
-    return () => value.stop();
-  }, [hub, value]);
+  useEffect(() => (hub ? undefined : () => value.stop()), [hub, value]);
   return <HubContext.Provider value={value}>{children}</HubContext.Provider>;
+}
+
+/** Connects the event stream once `enabled` (the robot answered with this tab's token: a stream
+ * opened without it would only be refused). */
+export function useEventStream(enabled: boolean): void {
+  const hub = useContext(HubContext);
+  useEffect(() => {
+    if (enabled) hub?.start();
+  }, [hub, enabled]);
+}
+
+/** The server's clock (seconds, Unix time), moving on every `periodMs` while the component is mounted. */
+export function useServerNow(periodMs = AGE_TICK_MS): number {
+  const hub = useContext(HubContext);
+  const [, setTick] = useState(0);
+  useEffect(() => {
+    const timer = setInterval(() => setTick((n) => n + 1), periodMs);
+    return () => clearInterval(timer);
+  }, [periodMs]);
+  return hub ? hub.serverNow() : Date.now() / 1000;
 }
 
 /** Calls `listener` with every event of `kind` while the component is mounted. */

@@ -1,15 +1,19 @@
 // One hook per stream of /api/events (and per documented GET route).
 import { useCallback, useEffect, useRef, useState } from "react";
-import { getJson, isUnauthorized } from "../api";
+import { apiToken, getJson, isUnauthorized } from "../api";
+import { PLOT_WINDOW_S } from "../plotScale";
 import type {
-  ImageEvent, InferenceEvent, JointStateEvent, RecorderEvent, RobotStatus, RobotSummary, ScanEvent,
+  ActionsEvent, ImageEvent, InferenceEvent, JointStateEvent, NodeAction, RecorderEvent, RobotStatus, RobotSummary,
+  ScanEvent,
 } from "../types";
 import { useEventListener, useLatest } from "./EventHubContext";
 
-export const HISTORY_LENGTH = 150;
+/** At most this many joint states are kept per topic (PLOT_WINDOW_S at the server's 60 Hz cap, twice over). */
+export const HISTORY_LIMIT = 1200;
 
-/** The robot's static summary; `unauthorized` when the robot refused this tab's token (or it has none).
- * `retry` asks again (after a token was entered). */
+/** The robot's static summary; `unauthorized` when the robot refused this tab's token, or it has none
+ * (then nothing is asked: a request without the token would only be refused). `retry` asks again
+ * (after a token was entered). */
 export function useRobotSummary(): {
   robot: RobotSummary | null; error: string | null; unauthorized: boolean; retry: () => void;
 } {
@@ -17,6 +21,10 @@ export function useRobotSummary(): {
   const [error, setError] = useState<{ message: string; unauthorized: boolean } | null>(null);
   const [attempt, setAttempt] = useState(0);
   useEffect(() => {
+    if (apiToken() === null) {
+      setError({ message: "no access token", unauthorized: true });
+      return;
+    }
     setError(null);
     getJson<RobotSummary>("/api/robot").then(setRobot,
       (e: Error) => setError({ message: e.message, unauthorized: isUnauthorized(e) }));
@@ -27,6 +35,11 @@ export function useRobotSummary(): {
 
 export function useNodeStatus(): RobotStatus | null {
   return useLatest<RobotStatus>("status");
+}
+
+/** The node actions asked through the dashboard (by any page) and not answered yet. */
+export function usePendingActions(): Record<string, NodeAction> {
+  return useLatest<ActionsEvent>("actions")?.pending ?? {};
 }
 
 export function useTopicRates(): Record<string, number> {
@@ -49,7 +62,7 @@ export function useInferenceStatus(node: string): InferenceEvent | null {
   return useLatest<InferenceEvent>("inference", "node", node);
 }
 
-/** The latest joint state of `topic` and the recent ones (oldest first, at most HISTORY_LENGTH). */
+/** The latest joint state of `topic` and those of the PLOT_WINDOW_S before it (oldest first, at most HISTORY_LIMIT). */
 export function useJointStates(topic: string): { latest: JointStateEvent | null; history: JointStateEvent[] } {
   const [state, setState] = useState<{ latest: JointStateEvent | null; history: JointStateEvent[] }>({
     latest: null, history: [],
@@ -57,22 +70,30 @@ export function useJointStates(topic: string): { latest: JointStateEvent | null;
   const listener = useCallback((data: unknown) => {
     const event = data as JointStateEvent;
     if (event.topic !== topic) return;
-    setState((previous) => ({ latest: event, history: [...previous.history, event].slice(-HISTORY_LENGTH) }));
+    setState((previous) => {
+      const since = event.server_time_s - PLOT_WINDOW_S;
+      const kept = previous.history.filter((old) => old.server_time_s >= since && old.server_time_s <= event.server_time_s);
+      return { latest: event, history: [...kept, event].slice(-HISTORY_LIMIT) };
+    });
   }, [topic]);
   useEventListener("joints", listener);
   return state;
 }
 
-/** The last `lines` lines of a node's log, refreshed every `periodMs` while `enabled`. */
+/** The last `lines` lines of a node's log, refreshed every `periodMs` while `enabled`; `loads` counts
+ * the answers received since it was enabled. */
 export function useNodeLog(node: string, enabled: boolean, lines = 200, periodMs = 1000) {
-  const [log, setLog] = useState<{ lines: string[]; error: string | null }>({ lines: [], error: null });
+  const [log, setLog] = useState<{ lines: string[]; error: string | null; loads: number }>({
+    lines: [], error: null, loads: 0,
+  });
   const alive = useRef(true);
   useEffect(() => {
     if (!enabled) return;
     alive.current = true;
+    setLog({ lines: [], error: null, loads: 0 });
     const load = () =>
       getJson<{ lines: string[] }>(`/api/nodes/${encodeURIComponent(node)}/logs?lines=${lines}`).then(
-        (reply) => alive.current && setLog({ lines: reply.lines, error: null }),
+        (reply) => alive.current && setLog((previous) => ({ lines: reply.lines, error: null, loads: previous.loads + 1 })),
         (e: Error) => alive.current && setLog((previous) => ({ ...previous, error: e.message })),
       );
     void load();

@@ -31,7 +31,9 @@ describe("formatValue", () => {
 describe("JointStatePanel", () => {
   it("shows the latest values of the joint-state stream", () => {
     const events = hub();
-    render(<EventHubProvider hub={events}><JointStatePanel topics={["/leader/joint_states"]} rates={{}} /></EventHubProvider>);
+    const stream = { topic: "/leader/joint_states", message_type: "sensor_msgs/msg/JointState", kind: "joints" as const,
+                     stale_after_s: 1.5 };
+    render(<EventHubProvider hub={events}><JointStatePanel streams={[stream]} rates={{}} /></EventHubProvider>);
     expect(screen.getByText("waiting for /leader/joint_states")).toBeTruthy();
     send(events, "joints", { topic: "/leader/joint_states", stamp_ns: 1, name: ["gripper"], position: [0.25],
                              velocity: [-1], effort: [null] });
