@@ -1,7 +1,15 @@
 """A running robot for the dashboard tests: a build by joshuac, its nodes under a control-socket peer,
-the dashboard server, and Debian's headless Chromium driven by Playwright."""
+the dashboard server, and Debian's headless Chromium driven by Playwright.
 
+Every page opened through `browser()` is watched: an uncaught exception or a console error in it fails
+the test (at the end of the `with` block, or at `errors.check()`), unless the test said it provokes
+that error on purpose (`errors.expect(PATTERN)`). Screenshots go to test-artifacts/dashboard/ at the
+root of the checkout (ignored by git, kept between runs), one file per name.
+"""
+
+import itertools
 import json
+import re
 import signal
 import socket
 import subprocess
@@ -34,11 +42,12 @@ def free_port() -> int:
         return sock.getsockname()[1]
 
 
-def build(description: str, directory: Path) -> Path:
-    """Build a description text with joshuac into `directory`/out; return the manifest's path."""
+def build(description: str, directory: Path, overrides=()) -> Path:
+    """Build a description text with joshuac (and `--set` each of `overrides`) into `directory`/out;
+    return the manifest's path."""
     source = directory / "robot.pbtxt"
     source.write_text(description)
-    result = joshuac("build", source, "-o", directory / "out")
+    result = joshuac("build", source, "-o", directory / "out", *[arg for item in overrides for arg in ("--set", item)])
     assert result.returncode == 0, result.stderr
     return directory / "out" / "manifest.json"
 
@@ -96,11 +105,11 @@ def node_pid(control_socket: Path, name: str) -> int | None:
 
 
 @contextmanager
-def running_robot(description: str, directory: Path, env: dict, dashboard_port: int | None = None):
+def running_robot(description: str, directory: Path, env: dict, dashboard_port: int | None = None, overrides=()):
     """The robot's generated supervisor.py, run with a control socket in `directory` (the dashboard's
-    token file beside it); waits for its dashboard at `dashboard_port` when given. Yields the control
-    socket's path."""
-    manifest = build(description, directory)
+    token file beside it); waits for its dashboard at `dashboard_port` when given. `overrides` are
+    joshuac's `--set` values. Yields the control socket's path."""
+    manifest = build(description, directory, overrides)
     control_socket = directory / "run" / "robot.sock"
     output = directory / "supervisor.log"
     with open(output, "w") as log:
@@ -132,15 +141,73 @@ def running_robot(description: str, directory: Path, env: dict, dashboard_port: 
         stop(supervisor)
 
 
+class PageErrors:
+    """The uncaught exceptions and console errors of the pages a test opens."""
+
+    def __init__(self):
+        self.pages = []
+        self.errors: list[str] = []
+        self.expected: list[re.Pattern] = []
+        self.shots = itertools.count()
+
+    def watch(self, page):
+        """Record `page`'s uncaught exceptions (`pageerror`), console errors and crash; returns it."""
+        self.pages.append(page)
+        page.on("pageerror", lambda error: self.errors.append(f"uncaught {error.name}: {error.message}\n{error.stack}"))
+        page.on("console", lambda message: self._console(message))
+        page.on("crash", lambda _page: self.errors.append("the page crashed"))
+        return page
+
+    def _console(self, message) -> None:
+        if message.type == "error":
+            self.errors.append(f"console error: {message.text} (at {message.location.get('url')})")
+
+    def expect(self, pattern: str) -> None:
+        """Errors matching `pattern` (a regular expression) are provoked on purpose: they do not fail the test."""
+        self.expected.append(re.compile(pattern))
+
+    def unexpected(self) -> list[str]:
+        return [error for error in self.errors if not any(pattern.search(error) for pattern in self.expected)]
+
+    def check(self) -> None:
+        """Fail (with a screenshot of each page) when a page reported an error nobody expected."""
+        for page in self.pages:
+            if not page.is_closed():
+                page.evaluate("0")  # a round trip: events the page sent before are delivered
+        unexpected = self.unexpected()
+        if unexpected:
+            for page in self.pages:
+                if not page.is_closed():
+                    screenshot(page, f"page_error_{next(self.shots)}")
+            raise AssertionError(
+                "the page reported errors (screenshots: test-artifacts/dashboard/page_error_*.png):\n"
+                + "\n".join(unexpected)
+            )
+
+
+class WatchedBrowser:
+    """A Playwright browser whose every page is watched by `errors`."""
+
+    def __init__(self, instance, errors: PageErrors):
+        self.instance = instance
+        self.errors = errors
+
+    def new_page(self, **options):
+        return self.errors.watch(self.instance.new_page(**options))
+
+
 @contextmanager
 def browser():
-    """Debian's headless Chromium under Playwright (never a downloaded browser)."""
+    """Debian's headless Chromium under Playwright (never a downloaded browser). Yields a WatchedBrowser:
+    a page error nobody expected fails the test when the block ends."""
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
         instance = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_FLAGS)
+        watched = WatchedBrowser(instance, PageErrors())
         try:
-            yield instance
+            yield watched
+            watched.errors.check()
         finally:
             instance.close()
 

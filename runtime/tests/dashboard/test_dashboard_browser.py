@@ -51,11 +51,17 @@ def robot(tmp_path, ros_env):
 
 
 @pytest.fixture
-def page():
-    with browser() as chromium:
-        page = chromium.new_page(viewport={"width": 1400, "height": 1000})
-        page.set_default_timeout(PAGE_TIMEOUT_MS)
-        yield page
+def chromium():
+    """The browser: a page error nobody expected fails the test (see dashboard_support.PageErrors)."""
+    with browser() as instance:
+        yield instance
+
+
+@pytest.fixture
+def page(chromium):
+    page = chromium.new_page(viewport={"width": 1400, "height": 1000})
+    page.set_default_timeout(PAGE_TIMEOUT_MS)
+    return page
 
 
 def probe_message() -> JointState:
@@ -68,6 +74,7 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
     page.goto(f"{url}/#token={token}")
     page.get_by_test_id("node-stop-probe").click()
+    page.get_by_test_id("confirm-action").click()  # probe is critical (the default): the page asks first
     page.get_by_test_id("node-row-probe").get_by_text("stopped").wait_for()
     assert node_pid(control_socket, "probe") is None
     nodes = {node["name"]: node for node in control_request(control_socket, {"command": "status"})["nodes"]}
@@ -119,15 +126,13 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     assert TASK in set(tasks.index) | set(tasks.get("task", []))
 
 
-def test_the_address_with_the_token_opens_the_page_which_drops_it_and_keeps_working(tmp_path, ros_env, page):
+def test_the_address_with_the_token_opens_the_page_which_drops_it_and_keeps_working(tmp_path, ros_env, chromium, page):
     port = free_port()
     description = f"""robot_config {{ name: "token_robot" mode: MODE_TELEOPERATION
   node {{ name: "leader" type: CUSTOM executable: "/bin/sleep" args: ["600"] }}
   dashboard {{ port: {port} }}
 }}
 """
-    errors = []
-    page.on("pageerror", lambda error: errors.append(error))
     with running_robot(description, tmp_path, ros_env, port) as control_socket:
         token = dashboard_token(control_socket)
         url = f"http://127.0.0.1:{port}/"
@@ -138,13 +143,16 @@ def test_the_address_with_the_token_opens_the_page_which_drops_it_and_keeps_work
         page.get_by_test_id("node-row-leader").get_by_text("running").wait_for()
         assert page.url == url
         page.get_by_test_id("node-stop-leader").click()
+        page.get_by_test_id("confirm-action").click()  # leader is critical (the default): the page asks first
         page.get_by_test_id("node-row-leader").get_by_text("stopped").wait_for()
         assert node_pid(control_socket, "leader") is None
 
         # Another browser without the token (a bookmark, the fleet view's link) is asked for it.
-        other = page.context.browser.new_page()
-        other.on("pageerror", lambda error: errors.append(error))
+        other = chromium.new_page()
         other.goto(url)
+        other.get_by_test_id("token-input").wait_for()
+        chromium.errors.check()  # a tab without a token asks for it and sends nothing to be refused
+        chromium.errors.expect(r"status of 401 \(Unauthorized\)")  # the wrong token, refused on purpose
         other.get_by_test_id("token-input").fill("not-the-token-of-this-robot")
         other.get_by_test_id("token-submit").click()
         other.get_by_text("The token this tab had was refused.").wait_for()
@@ -155,7 +163,9 @@ def test_the_address_with_the_token_opens_the_page_which_drops_it_and_keeps_work
         other.get_by_test_id("node-row-leader").get_by_text("running").wait_for()
         assert node_pid(control_socket, "leader") is not None
         screenshot(other, "robot_page_after_token_prompt")
-    assert not errors
+        chromium.errors.check()
+        for tab in (page, other):
+            tab.close()  # before the robot stops: its pages would log their lost connection
 
 
 def _wait(page, ros_client, condition, timeout_ms: int = PAGE_TIMEOUT_MS) -> None:

@@ -1,0 +1,98 @@
+"""The robots of config/robots/ that run without hardware, each with a dashboard on a free port: in
+simulation, of mock nodes, or with `joshua-emulate` standing in for their devices."""
+
+import subprocess
+import sys
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[3]
+CONFIGS = ROOT / "config" / "robots"
+CPP_BIN_DIR = ROOT / "build" / "bin"
+EMULATOR = [sys.executable, "-m", "joshua_runtime.emulators.cli"]
+SERVO_IDS = "1,2,3,4,5,6"
+HUB_ADDRESS = "F4:B8:5E:00:00:01"  # the emulated hub's (joshua_runtime.emulators.pybricks)
+EMULATOR_STOP_TIMEOUT_S = 10
+
+
+@dataclass(frozen=True)
+class ConfigRobot:
+    """A description of config/robots/ and how it runs here: `--set` overrides, and emulators to start
+    first (`emulators(directory, stack) -> overrides`)."""
+
+    config: str
+    overrides: tuple[str, ...] = ()
+    emulators: object = None
+
+    @property
+    def description(self) -> str:
+        return (CONFIGS / f"{self.config}.pbtxt").read_text()
+
+
+def _start(stack: ExitStack, argv: list[str]) -> str:
+    """Start an emulator; return the first line it prints (once it serves)."""
+    process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    stack.callback(_stop, process)
+    line = process.stdout.readline()
+    assert process.poll() is None, f"{argv} exited: {line}{process.stdout.read()}"
+    return line
+
+
+def _stop(process: subprocess.Popen) -> None:
+    process.terminate()
+    try:
+        process.wait(EMULATOR_STOP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+
+
+def _leader_follower_devices(directory: Path, stack: ExitStack) -> list[str]:
+    """Two emulated servo buses, a video file for the camera, the recorder's dataset under `directory`."""
+    leader, follower = directory / "ttyLEADER", directory / "ttyFOLLOWER"
+    for link in (leader, follower):
+        _start(stack, [*EMULATOR, "sts3215", "--ids", SERVO_IDS, "--link", str(link)])
+    video = directory / "camera.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 10, (160, 120))
+    for frame in range(20):
+        writer.write(np.full((120, 160, 3), 10 * frame, np.uint8))
+    writer.release()
+    return [
+        f"encoder_publisher.serial_port={leader}",
+        f"actuator_subscriber.serial_port={follower}",
+        f"camera_publisher.video_source={video}",
+        f"data_subscriber.output_directory={directory / 'episodes'}",
+        f"cpp_bin_dir={CPP_BIN_DIR}",
+    ]
+
+
+def _pybricks_hub(directory: Path, stack: ExitStack) -> list[str]:
+    """An emulated Pybricks hub behind an HCI on a free TCP port."""
+    from dashboard_support import free_port
+
+    port = free_port()
+    _start(stack, [*EMULATOR, "pybricks", "--port", str(port)])
+    return [f"base.ble_transport=tcp-client:127.0.0.1:{port}", f"base.hub={HUB_ADDRESS}"]
+
+
+ROBOTS = {
+    "so100_sim": ConfigRobot("so100_sim"),
+    "mock_arm": ConfigRobot("mock_arm"),
+    "lego_bot_simulated": ConfigRobot("lego_bot", ("mode=MODE_SIMULATION",)),
+    "lego_bot_emulated_hub": ConfigRobot("lego_bot", emulators=_pybricks_hub),
+    "so100_leader_follower_emulated": ConfigRobot("so100_leader_follower", emulators=_leader_follower_devices),
+}
+
+
+@contextmanager
+def devices(robot: ConfigRobot, directory: Path):
+    """Start the robot's emulators; yields the `--set` overrides that point the robot at them."""
+    with ExitStack() as stack:
+        overrides = list(robot.overrides)
+        if robot.emulators is not None:
+            overrides += robot.emulators(directory, stack)
+        yield overrides
