@@ -52,12 +52,23 @@ class RobotPage:
         deadline = time.monotonic() + timeout_ms / 1000
         while time.monotonic() < deadline:
             if self.errors.unexpected():
-                self.errors.check()  # the page broke meanwhile: say how, without waiting any longer
+                try:
+                    self.errors.check()  # the page broke meanwhile: say how, without waiting any longer
+                except AssertionError as exc:
+                    raise AssertionError(f"{exc}\n{self.robot_state()}") from None
             if condition():
                 return
             self.page.wait_for_timeout(POLL_S * 1000)  # lets the page's events reach the listeners meanwhile
         self.shot(f"timeout_{what}")
-        raise AssertionError(f"{self.name}: {what} did not happen within {timeout_ms / 1000:g} s")
+        raise AssertionError(f"{self.name}: {what} did not happen within {timeout_ms / 1000:g} s\n{self.robot_state()}")
+
+    def robot_state(self) -> str:
+        """What the supervisor says of each process (a robot stopped by a critical failure explains a lost page)."""
+        try:
+            nodes = control_request(self.control_socket, {"command": "status"})["nodes"]
+        except OSError as exc:
+            return f"the supervisor does not answer ({exc}): the robot stopped"
+        return "supervisor: " + ", ".join(f"{n['name']} {n['state']} ({n['restarts']} restarts)" for n in nodes)
 
     # What the page shows
 
@@ -96,6 +107,12 @@ class RobotPage:
     def stale_marker(self, topic: str, kind: str):
         self.show(topic, kind)
         return self.page.get_by_test_id(f"stale-{topic}")
+
+    def wait_until_ready(self, process: str) -> None:
+        """The process told the supervisor it is ready, and the page shows it (as someone would wait for
+        before the next action: a node stopped while it connects to its device is another test's matter)."""
+        ready = self.page.get_by_test_id(f"node-ready-{process}")
+        self.wait(lambda: self.node(process)["ready"] and ready.count() == 1, f"{process}_ready")
 
     def wait_for_live_data(self, process: str) -> None:
         for topic, kind in self.streams_of[process]:
@@ -141,6 +158,7 @@ class RobotPage:
         )
         pid = self.node(process)["pid"]
         self.wait(lambda: self.live() and self.shows(process, "running", pid), f"page_after_restart_of_{process}")
+        self.wait_until_ready(process)
         self.check(f"restarted_{process}")
 
     def stop(self, process: str) -> None:
@@ -169,6 +187,7 @@ class RobotPage:
         pid = self.node(process)["pid"]
         self.wait(lambda: self.live() and self.shows(process, "running", pid), f"page_after_start_of_{process}")
         assert self.button("start", process).is_disabled()
+        self.wait_until_ready(process)
         self.wait_for_live_data(process)
         self.check(f"started_{process}")
 

@@ -17,7 +17,7 @@ export function NodeRow({ node, role, pending, connected, onAction, onLogs }: {
         className="flex flex-wrap items-center gap-x-4 gap-y-1.5 py-3 text-slate-300 md:table-row md:py-0">
       <td className={`min-w-0 basis-full break-all font-medium text-slate-100 md:basis-auto ${CELL}`}>
         {node.name}
-        {node.ready && <span className="ml-2 text-xs text-emerald-400" title="ready">●</span>}
+        {node.ready && <span className="ml-2 text-xs text-emerald-400" title="ready" data-testid={`node-ready-${node.name}`}>●</span>}
         {role.critical && (
           <span className="ml-2 rounded bg-slate-800 px-1.5 py-0.5 text-[10px] uppercase tracking-wide text-slate-400"
                 data-testid={`node-critical-${node.name}`} title="the robot stops when it fails for good">critical</span>
