@@ -44,6 +44,8 @@ CONTROL_ERROR_STATUS = {
     control.REFUSED: 409,
     control.NOT_FOUND: 404,
     control.BAD_REQUEST: 400,
+    control.FORBIDDEN: 403,
+    control.BUSY: 503,
     control.STOPPING: 503,
     control.UNREACHABLE: 503,
     control.TIMEOUT: 504,

@@ -8,7 +8,6 @@ Every failure is a ControlError with a `kind` (one of ERROR_KINDS) that says wha
 import asyncio
 import json
 import os
-import re
 import socket
 import struct
 from pathlib import Path
@@ -23,24 +22,20 @@ SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"
 PEER_CREDENTIALS = struct.Struct("3i")  # SO_PEERCRED: pid, uid, gid
 
 
-# What a ControlError can be. The first four are refusals by the supervisor; a supervisor that says so
-# in its error reply (`"error_kind": KIND`) is taken at its word, else its message is read.
+# What a ControlError can be. The first six are the supervisor's refusals, named in its error reply's
+# `kind` (REFUSAL_KINDS of its control_request module); the rest are failures to get an answer at all.
 CONFLICT = "conflict"  # the node is already in the state asked for, or being stopped or restarted
 NOT_FOUND = "not_found"  # no node of that name
 STOPPING = "stopping"  # the robot is stopping
 BAD_REQUEST = "bad_request"  # a request the supervisor does not understand
-REFUSED = "refused"  # any other refusal
+FORBIDDEN = "forbidden"  # the supervisor refuses this process's user
+BUSY = "busy"  # too many control clients are connected
+REFUSED = "refused"  # a refusal of a kind this client does not know
 UNREACHABLE = "unreachable"  # no supervisor serves the socket
 TIMEOUT = "timeout"  # it did not answer in time
 BROKEN = "broken"  # it answered something that is not the control protocol
-ERROR_KINDS = (CONFLICT, NOT_FOUND, STOPPING, BAD_REQUEST, REFUSED, UNREACHABLE, TIMEOUT, BROKEN)
-# How the supervisor words its refusals, for one that does not name their kind.
-_REFUSAL_PATTERNS = (
-    (re.compile(r"^no node named "), NOT_FOUND),
-    (re.compile(r"\bthe robot is stopping\b"), STOPPING),
-    (re.compile(r"\bis already\b"), CONFLICT),
-    (re.compile(r"^(unknown command|lines must be|a request is one JSON object)"), BAD_REQUEST),
-)
+REFUSAL_KINDS = (CONFLICT, NOT_FOUND, STOPPING, BAD_REQUEST, FORBIDDEN, BUSY)
+ERROR_KINDS = (*REFUSAL_KINDS, REFUSED, UNREACHABLE, TIMEOUT, BROKEN)
 
 
 class ControlError(Exception):
@@ -53,14 +48,9 @@ class ControlError(Exception):
 
 
 def refusal_kind(reply: dict) -> str:
-    """The kind of an error reply of the supervisor: the one it names, else the one its message reads as."""
-    named = reply.get("error_kind")
-    if named in ERROR_KINDS:
-        return named
-    if named is not None:
-        return REFUSED
-    message = str(reply.get("error") or "")
-    return next((kind for pattern, kind in _REFUSAL_PATTERNS if pattern.search(message)), REFUSED)
+    """The kind of an error reply of the supervisor, as it names it (REFUSED for a kind unknown here)."""
+    named = reply.get("kind")
+    return named if named in REFUSAL_KINDS else REFUSED
 
 
 def default_socket_path(robot: str) -> Path:

@@ -151,11 +151,21 @@ def fake_supervisor(path, answer: bytes):
         (b"garbage, not the protocol\n", 502, "broken"),
         (b"[1, 2]\n", 502, "broken"),
         (b"", 503, "unreachable"),  # it closed the connection without a word (it is going away)
-        (json.dumps({"ok": False, "error": "leader is already stopped"}).encode() + b"\n", 409, "conflict"),
-        # A supervisor that names the kind of its refusal is taken at its word, whatever the message says.
-        (json.dumps({"ok": False, "error": "nope", "error_kind": "not_found"}).encode() + b"\n", 404, "not_found"),
-        (json.dumps({"ok": False, "error": "busy", "error_kind": "stopping"}).encode() + b"\n", 503, "stopping"),
-        (json.dumps({"ok": False, "error": "odd", "error_kind": "no-such-kind"}).encode() + b"\n", 409, "refused"),
+        # The supervisor names the kind of its refusal; the message is only shown.
+        (
+            json.dumps({"ok": False, "kind": "conflict", "error": "leader is already stopped"}).encode() + b"\n",
+            409,
+            "conflict",
+        ),
+        (json.dumps({"ok": False, "kind": "not_found", "error": "nope"}).encode() + b"\n", 404, "not_found"),
+        (json.dumps({"ok": False, "kind": "stopping", "error": "busy"}).encode() + b"\n", 503, "stopping"),
+        (
+            json.dumps({"ok": False, "kind": "forbidden", "error": "uid 65534 may not"}).encode() + b"\n",
+            403,
+            "forbidden",
+        ),
+        (json.dumps({"ok": False, "kind": "busy", "error": "too many"}).encode() + b"\n", 503, "busy"),
+        (json.dumps({"ok": False, "kind": "no-such-kind", "error": "odd"}).encode() + b"\n", 409, "refused"),
     ],
 )
 def test_replies_of_a_supervisor_map_to_their_status(tmp_path, answer, status, kind):
