@@ -66,6 +66,8 @@ class Process:
     `python` processes run `nodes/<name>.py`; `custom` ones run `executable` with `args`. When
     `cpp_binary` is set, the supervisor prefers `<cpp_bin_dir>/<cpp_binary>` with `cpp_args`.
     A custom process counts as carrying images: the topics it declares need not be all it uses.
+    `inputs` are the files it reads as it starts (as the description names them, relative to the
+    directory the robot runs in): a reload restarts it when one of them changed since its start.
     """
 
     name: str
@@ -84,6 +86,7 @@ class Process:
     carries_images: bool  # publishes or subscribes images, so DDS must fit them in shared memory
     host: str = ""  # the computer it runs on ("" without hosts)
     starts_first: bool = False  # the supervisor starts the others once it is ready (the Discovery Server)
+    inputs: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -9,8 +9,8 @@ from joshua_codegen.model import Device, DiscoveryServer, Endpoint, Host, NodeMo
 from joshua_codegen.positions import node_path
 from joshua_core import dashboard as dashboard_facts
 from joshua_core import discovery as discovery_facts
-from joshua_core.models import REGISTRY_PREFIX
-from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE
+from joshua_core.models import BUILTIN_PREFIX, REGISTRY_PREFIX
+from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE, Family
 from joshua_core.schema import robot_config_pb2 as pb
 
 SUBSCRIBE_DEPTH = 10  # history of a subscription whose publishers state none (or are outside the description)
@@ -41,15 +41,17 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         )
         for index, (node, name) in enumerate(zip(config.node, names))
     )
+    written = _written_files(config, nodes)
     processes = tuple(
-        _process(config, node, model) for node, model in zip(config.node, nodes) if not model.simulated_by
+        _process(config, node, model, written) for node, model in zip(config.node, nodes) if not model.simulated_by
     )
     simulation = None
     if engine:
         simulated = [model for model in nodes if model.simulated_by]
         section = node_settings.for_simulation(config, [model.settings for model in simulated])
         simulation = node_settings.for_engine(config, engine, section)
-        processes += (_engine_process(engine, any(_carries_images(model) for model in simulated)),)
+        model_file = _file_named(section.model)
+        processes += (_engine_process(engine, any(_carries_images(model) for model in simulated), model_file),)
     topics = _topics(nodes)
     foxglove = _foxglove_settings(config, topics) if config.HasField("foxglove") else None
     if foxglove is not None:
@@ -200,7 +202,31 @@ def _devices(node: pb.Node, name: str):
         yield Device("model", node.model_path, name)
 
 
-def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel) -> Process:
+def _written_files(config: pb.RobotConfig, nodes: tuple[NodeModel, ...]) -> frozenset[str]:
+    """Files a node of the robot writes while it runs (a calibration node's calibration_file): never an input,
+    or every save would restart the nodes that read it."""
+    return frozenset(
+        model.settings.calibration_file
+        for node, model in zip(config.node, nodes)
+        if defaults.entry(node).family == Family.CALIBRATION and model.settings.calibration_file
+    )
+
+
+def _file_named(reference: str) -> tuple[str, ...]:
+    """The file a model reference names (a URDF or MJCF path), none for a `builtin:` one."""
+    return (reference,) if reference and not reference.startswith(BUILTIN_PREFIX) else ()
+
+
+def _inputs(node: pb.Node, settings, written: frozenset[str]) -> tuple[str, ...]:
+    """The files a node reads as it starts: its calibration, its URDF, a CUSTOM program given by path."""
+    files = [settings.calibration_file] if settings.calibration_file else []
+    files += _file_named(settings.robot_description)
+    if node.type == pb.CUSTOM and "/" in node.executable:
+        files.append(node.executable)
+    return tuple(dict.fromkeys(path for path in files if path not in written))
+
+
+def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel, written: frozenset[str]) -> Process:
     custom = node.type == pb.CUSTOM
     env = dict(config.env)
     env.update(node.env)
@@ -219,6 +245,7 @@ def _process(config: pb.RobotConfig, node: pb.Node, model: NodeModel) -> Process
         env=tuple(sorted(env.items())),
         devices=model.devices,
         carries_images=custom or _carries_images(model),
+        inputs=_inputs(node, model.settings, written),
     )
 
 
@@ -250,7 +277,9 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
     return tuple(args)
 
 
-def _service_process(name: str, node_type: str, critical: bool, carries_images: bool, args=(), env=()) -> Process:
+def _service_process(
+    name: str, node_type: str, critical: bool, carries_images: bool, args=(), env=(), inputs=()
+) -> Process:
     """A Python process joshuac adds beside the described nodes, restarted on failure."""
     return Process(
         name=name,
@@ -267,12 +296,13 @@ def _service_process(name: str, node_type: str, critical: bool, carries_images: 
         env=tuple(env),
         devices=(),
         carries_images=carries_images,
+        inputs=tuple(inputs),
     )
 
 
-def _engine_process(name: str, carries_images: bool) -> Process:
-    """The simulation engine: critical, as the simulated robot is nothing without it."""
-    return _service_process(name, SIMULATION_ENGINE.name, True, carries_images)
+def _engine_process(name: str, carries_images: bool, inputs: tuple[str, ...]) -> Process:
+    """The simulation engine: critical, as the simulated robot is nothing without it. Its input: the MJCF file."""
+    return _service_process(name, SIMULATION_ENGINE.name, True, carries_images, inputs=inputs)
 
 
 def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):

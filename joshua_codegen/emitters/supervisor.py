@@ -6,6 +6,7 @@ order of its `MODULES` (see that package's docstring for the conventions joining
 """
 
 import ast
+import hashlib
 from functools import cache
 from pathlib import Path
 
@@ -21,6 +22,7 @@ from joshua_core.settings import FORMAT_VERSION
 SUPERVISOR_PATH = "supervisor.py"
 PACKAGE_DIR = Path(package.__file__).parent
 PACKAGE_PREFIX = f"{package.__name__}."
+SUPERVISOR_CODE_DIGITS = 16
 
 
 def process_data(robot: Robot, process: Process) -> dict:
@@ -45,6 +47,7 @@ def process_data(robot: Robot, process: Process) -> dict:
         "model_reference": model_path if model_path.startswith(REGISTRY_PREFIX) else "",
         "output_directory": settings.output_directory,
         **({"starts_first": True} if process.starts_first else {}),
+        "inputs": list(process.inputs),
     }
 
 
@@ -54,6 +57,7 @@ def supervisor_data(robot: Robot) -> dict:
     return {
         "name": robot.name,
         **({"host": robot.host} if robot.host else {}),
+        "supervisor_code": supervisor_code(),
         "env": process_launch.robot_environment(robot),
         "cpp_bin_dir": robot.cpp_bin_dir,
         "fastdds_profile_variable": process_launch.FASTDDS_PROFILE_VARIABLE,
@@ -108,6 +112,14 @@ def joined_code() -> tuple[str, str]:
         codes.append(code)
     ordered = sorted(imports, key=lambda line: (line.startswith("from "), line))
     return "\n".join(ordered) + "\n", "\n\n".join(codes)
+
+
+@cache
+def supervisor_code() -> str:
+    """What tells one version of the supervisor's code from another (a reload takes only builds of its own code):
+    the first SUPERVISOR_CODE_DIGITS hex digits of the SHA-256 of the joined modules."""
+    imports, code = joined_code()
+    return hashlib.sha256((imports + code).encode()).hexdigest()[:SUPERVISOR_CODE_DIGITS]
 
 
 def emit(robot: Robot, context: Context) -> dict[str, str]:

@@ -1,4 +1,4 @@
-"""The control socket: status, restart / stop / start of one node and its log, one JSON line each way."""
+"""The control socket: status, restart / stop / start of one node and its log, reload, one JSON line each way."""
 
 import errno
 import json
@@ -17,7 +17,8 @@ from joshua_codegen.supervisor.control_connection import (
 )
 from joshua_codegen.supervisor.control_request import RequestError, parse_request, refusal
 from joshua_codegen.supervisor.control_socket import SocketFile, may_control, peer_credentials
-from joshua_codegen.supervisor.robot import ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
+from joshua_codegen.supervisor.reload import begin_reload
+from joshua_codegen.supervisor.robot import ROBOT
 
 CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
 CONTROL_CLIENTS_MAX = 1024  # clients connected at once; one more is answered "too many" and closed
@@ -41,11 +42,13 @@ class ControlPlane:
     escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
     Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
-    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}. Replies:
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}, {"command":
+    "reload", "path": BUILD DIRECTORY} (reload.py). Replies:
     {"ok": true, ...} or {"ok": false, "kind": one of REFUSAL_KINDS, "error": "one line"}; a stop or restart
     is answered once it has been done (a stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after
-    sigterm_grace_s more). A start of a node that runs and a stop of one that does not (stopped, finished,
-    failed) are both refused as conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
+    sigterm_grace_s more), a reload once the nodes it stops are gone and their successors started. A start
+    of a node that runs and a stop of one that does not (stopped, finished, failed) are both refused as
+    conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
     this user's, mode 0700 (control_socket.py); only clients of the same user or root are served, the others
     get one error line.
     """
@@ -60,7 +63,8 @@ class ControlPlane:
         self.backlog = {}  # fd -> ControlConnection with request lines left for the next turn
         self.followers = LogFollowers()
         self.buffered = 0  # reply bytes every connection holds unsent
-        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [connection]}
+        self.pending = {}  # node name -> {"stage", "deadline", "then": callable or None, "waiters": [connection]}
+        self.reloading = None  # the Reload under way (reload.py), which answers once its nodes have stopped
         self.since = {}  # node name -> (state, monotonic time it was entered)
         self.accept_resume_at = None  # while out of descriptors: when accepting is tried again
         self.accept_failing = False
@@ -159,7 +163,7 @@ class ControlPlane:
             return
         reply = self.handle(connection, request)
         if reply is None:
-            connection.waiting += request["command"] in ("restart", "stop")
+            connection.waiting += request["command"] in ("restart", "stop", "reload")
         else:
             connection.send(reply)
 
@@ -169,6 +173,12 @@ class ControlPlane:
         command = request["command"]
         if command == "status":
             return {"ok": True, **self.status()}
+        if command == "reload":
+            if self.supervisor.stopping:
+                return refusal("stopping", "the robot is stopping")
+            if self.pending or self.reloading is not None:
+                return refusal("conflict", "a stop, restart or reload is under way: try again once it is done")
+            return begin_reload(self, connection, request["path"])
         node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
         if node is None:
             return refusal("not_found", f"no node named {request['node']!r:.80}")
@@ -176,6 +186,8 @@ class ControlPlane:
             return self.logs(connection, node, request)
         if self.supervisor.stopping:
             return refusal("stopping", "the robot is stopping")
+        if self.reloading is not None:
+            return refusal("conflict", "a reload is under way: try again once it is done")
         if node.name in self.pending:
             return refusal("conflict", f"{node.name} is already being stopped or restarted")
         if command == "start":
@@ -194,17 +206,29 @@ class ControlPlane:
             else:  # nothing runs and nothing is due: stopped, finished or failed
                 return refusal("conflict", f"{node.name} is already {node.state}")
             return self.action_reply(node)
+        then = self.start_again if command == "restart" else None
+        self.stop_node(node, f"{command} requested over the control socket", [connection], then)
+        return None
+
+    def stop_node(self, node, reason: str, waiters=(), then=None) -> None:
+        """Stop `node` with its cascade (SIGINT now, SIGTERM and SIGKILL after the grace periods); once nothing
+        it started is left, call `then(node)` when given and answer the `waiters`."""
         self.pending[node.name] = {
             "stage": "SIGINT",
-            "deadline": time.monotonic() + SIGINT_GRACE_S,
-            "then_start": command == "restart",
-            "waiters": [connection],
+            "deadline": time.monotonic() + self.supervisor.build.sigint_grace_s,
+            "then": then,
+            "waiters": list(waiters),
         }
         node.stop_requested = True
         node.state = "stopping"
-        log(node.name, f"{command} requested over the control socket: sending SIGINT")
+        log(node.name, f"{reason}: sending SIGINT")
         self.supervisor.signal_node(node, signal.SIGINT)
-        return None
+
+    def start_again(self, node) -> None:
+        """The second half of a restart asked for over the socket."""
+        if not self.supervisor.stopping:
+            node.manual_restarts += 1
+            self.start(node)
 
     def start(self, node) -> None:
         node.stop_requested = False
@@ -274,23 +298,21 @@ class ControlPlane:
                 break  # the first always gets a line: lines left are handled, however busy the socket
             del self.backlog[connection.fd]
             connection.handle_lines(at_least_one=not index)
-        for node in self.supervisor.nodes:
+        for node in list(self.supervisor.nodes):  # a reload's `then` may take a node out of the list
             item = self.pending.get(node.name)
             if item is None:
                 continue
             if not node.alive():
                 del self.pending[node.name]
                 node.state = "stopped"
-                if item["then_start"] and not self.supervisor.stopping:
-                    node.manual_restarts += 1
-                    self.start(node)
+                if item["then"] is not None:
+                    item["then"](node)
                 for connection in item["waiters"]:
                     connection.answer(self.action_reply(node))
             elif now >= item["deadline"]:
-                stage, number, grace = (
-                    ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
-                    if item["stage"] == "SIGINT"
-                    else ("SIGKILL", signal.SIGKILL, SIGTERM_GRACE_S)
+                grace = self.supervisor.build.sigterm_grace_s
+                stage, number = (
+                    ("SIGTERM", signal.SIGTERM) if item["stage"] == "SIGINT" else ("SIGKILL", signal.SIGKILL)
                 )
                 log(node.name, f"still running: escalating to {stage}")
                 item.update(stage=stage, deadline=now + grace)

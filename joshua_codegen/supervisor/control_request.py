@@ -9,14 +9,16 @@ CONTROL_REQUEST_DEPTH = 4  # deepest nesting of arrays and objects (a real reque
 CONTROL_NUMBER_DIGITS = 20  # longest number literal
 CONTROL_LOG_LINES_MAX = 10000  # most lines one `logs` request may ask for
 CONTROL_LOG_LINES_DEFAULT = 100
+CONTROL_PATH_MAX = 1024  # longest directory path a `reload` may name, in characters (its JSON fits the line)
 
-# The fields each command takes; "node" is required wherever it is taken, the others have defaults.
+# The fields each command takes; "node" and "path" are required wherever they are taken, the others have defaults.
 CONTROL_COMMANDS = {
     "status": (),
     "restart": ("node",),
     "stop": ("node",),
     "start": ("node",),
     "logs": ("node", "lines", "follow", "all"),
+    "reload": ("path",),
 }
 FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False}
 # The kinds of refusal an error reply names in its "kind" field, for clients that act on them (a web server
@@ -25,9 +27,12 @@ REFUSAL_KINDS = {
     "bad_request": "the request line is not a request this supervisor takes",  # 400
     "forbidden": "the client is of another user than the supervisor's and not root",  # 403
     "not_found": "no node has that name, or its output is not kept (no log directory)",  # 404
-    "conflict": "the node is already in the state asked for, or a stop or restart of it is under way",  # 409
+    "conflict": "the node is already in the state asked for, or a stop, restart or reload is under way",  # 409
     "stopping": "the robot is stopping: its nodes are started, stopped and restarted no more",  # 503
     "busy": "too many clients are connected: try again later",  # 503
+    "invalid_build": "the build to reload is not one of this robot: another robot's, changed since it was built, "
+    "not a build, or built by another joshuac",  # 422
+    "preflight": "a node the reload would start cannot start: a device, model, program or entrypoint is missing",  # 422
 }
 FIELD_RULES = {
     "node": (lambda value: isinstance(value, str), "node must be a string"),
@@ -37,6 +42,12 @@ FIELD_RULES = {
     ),
     "follow": (lambda value: isinstance(value, bool), "follow must be true or false"),
     "all": (lambda value: isinstance(value, bool), "all must be true or false"),
+    "path": (
+        lambda value: (
+            isinstance(value, str) and value.startswith("/") and len(value) <= CONTROL_PATH_MAX and "\0" not in value
+        ),
+        f"path must be an absolute path of at most {CONTROL_PATH_MAX} characters, without NUL",
+    ),
 }
 JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 JSON_BRACKET = re.compile(r"[\[\]{}]")

@@ -10,8 +10,9 @@ import time
 from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT, CONTROL_LOG_LINES_MAX
 from joshua_codegen.supervisor.control_socket import control_name, default_control_socket, may_control, peer_credentials
 from joshua_codegen.supervisor.robot import ROBOT
+from joshua_codegen.supervisor.run_mark import BUILD_SHOWN_DIGITS
 
-CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
+CTL_TIMEOUT_S = 30.0  # a restart or a reload waits for the nodes' stop cascades
 CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
 # Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
 # start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.
@@ -57,13 +58,19 @@ def ctl_arguments(argv):
     logs.add_argument(
         "--all", action="store_true", help="from earlier runs too (each begins with its header line), as far as kept"
     )
+    reload = commands.add_parser(
+        "reload", help="apply a newer build of this robot: restart what changed, start what is new, stop what is gone"
+    )
+    reload.add_argument("build", metavar="OUT", help="the new build's directory (where its supervisor.py is)")
     return parser.parse_args(argv)
 
 
 def ctl(argv) -> int:
     options = ctl_arguments(argv)
     request = {"command": options.command}
-    if options.command != "status":
+    if options.command == "reload":
+        request["path"] = os.path.abspath(options.build)
+    elif options.command != "status":
         request["node"] = options.node
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow, all=options.all)
@@ -140,5 +147,24 @@ def print_reply(options, reply: dict) -> None:
     elif options.command == "logs":
         for line in reply["lines"]:
             print(line)
+    elif options.command == "reload":
+        print_reload(reply)
     else:
         print(f"{reply['node']}: {reply['state']}" + (f" (pid {reply['pid']})" if reply["pid"] else ""))
+
+
+def print_reload(reply: dict) -> None:
+    """A reload's answer: the builds, then one line per node it restarted, started, stopped or updated."""
+    builds = " -> ".join((digest or "unknown")[:BUILD_SHOWN_DIGITS] for digest in (reply["previous"], reply["build"]))
+    print(f"reloaded robot {reply['robot']}: build {builds}")
+    for node in reply["restarted"]:
+        print(f"restarted {node['name']} ({node['why']})")
+    for name in reply["started"]:
+        print(f"started {name}")
+    for name in reply["stopped"]:
+        print(f"stopped {name}")
+    for node in reply["updated"]:
+        print(f"updated {node['name']} ({node['what']})")
+    print(f"unchanged: {', '.join(reply['unchanged']) or 'none'}")
+    for note in reply["notes"]:
+        print(f"note: {note}")

@@ -5,6 +5,7 @@ import shlex
 import signal
 import time
 
+from joshua_codegen.supervisor.build import running_build
 from joshua_codegen.supervisor.children import child_exec
 from joshua_codegen.supervisor.common import (
     PR_SET_CHILD_SUBREAPER,
@@ -36,6 +37,7 @@ from joshua_codegen.supervisor.policy import (
     STOP_SIGNALS,
 )
 from joshua_codegen.supervisor.poller import Poller
+from joshua_codegen.supervisor.reload_plan import input_marks
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.run_mark import RunMark
 from joshua_codegen.supervisor.shm import remove_abandoned_segments
@@ -47,7 +49,8 @@ class Supervisor(StopCascade):
         self.options = options
         self.run_mark = RunMark()
         log("supervisor", self.run_mark.header())
-        self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
+        self.build = running_build()  # where the nodes' files are and what they run: a reload replaces it
+        self.nodes = [Node(spec, options.python, self.build) for spec in ROBOT["processes"]]
         self.by_pid = {}
         self.guard = Guard(None)
         self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
@@ -188,6 +191,7 @@ class Supervisor(StopCascade):
 
     def launch(self, node):
         argv, node.backend = node.command()
+        node.input_marks = input_marks(node.spec["inputs"])
         node_log = self.logs.get(node.name)
         read_end = write_end = None
         blocked = STOP_SIGNALS + (signal.SIGCHLD,)

@@ -3,7 +3,8 @@
 import os
 import shutil
 
-from joshua_codegen.supervisor.common import group_alive, log, under_script_dir
+from joshua_codegen.supervisor.build import running_build
+from joshua_codegen.supervisor.common import group_alive, log
 from joshua_codegen.supervisor.node_processes import NODE_MARK_VARIABLE, node_mark
 from joshua_codegen.supervisor.policy import (
     CPP_FALLBACK_WARNING,
@@ -15,10 +16,11 @@ from joshua_codegen.supervisor.robot import ROBOT
 class Node:
     """One node: how to launch it, its current process, and its restart bookkeeping."""
 
-    def __init__(self, spec, python):
+    def __init__(self, spec, python, build=None):
         self.spec = spec
         self.name = spec["name"]
         self.python = python
+        self.build = build or running_build()  # the Build its files are in (a reload moves it to the new one)
         self.pid = None  # the node's main process while it runs
         self.pgid = None  # its process group while any member may be alive
         self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
@@ -38,20 +40,30 @@ class Node:
         self.ready_deadline = None  # when it is warned about for not being ready
         self.status_text = ""  # its last STATUS= notification
         self.stop_requested = False  # stopped over the control socket: no restart until started again
+        self.input_marks = {}  # the file_mark of each of its inputs as it last launched (reload_plan.py)
         self.environment = self.make_environment()
 
     def make_environment(self):
         env = dict(os.environ)
-        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
-        env.update(ROBOT["env"])
+        env[ROBOT["fastdds_profile_variable"]] = self.build.path(self.spec["fastdds_profile"])
+        env.update(self.build.robot["env"])
         env.update(self.spec["env"])
         env[NODE_MARK_VARIABLE] = node_mark(os.getpid(), self.name)
         return env
 
+    def rebase(self, spec, build):
+        """Run as `spec` of `build` from its next launch on (a reload)."""
+        self.spec = spec
+        self.build = build
+        self.environment = self.make_environment()
+
+    def entrypoint(self):
+        return self.build.path(self.spec["entrypoint"])
+
     def cpp_binary(self):
         if not self.spec["cpp_binary"]:
             return None
-        return os.path.join(under_script_dir(ROBOT["cpp_bin_dir"]), self.spec["cpp_binary"])
+        return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
 
     def custom_program(self):
         executable = self.spec["executable"]
@@ -70,7 +82,7 @@ class Node:
                 self.warned_fallback = True
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
-        return [self.python, under_script_dir(self.spec["entrypoint"])], "Python"
+        return [self.python, self.entrypoint()], "Python"
 
     def alive(self):
         """Whether anything it started may still run: its process, its process group, its cgroup's or

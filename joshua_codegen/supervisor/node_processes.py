@@ -70,6 +70,19 @@ class CgroupContainment:
         for node in nodes:
             node.processes = NodeCgroup(os.path.join(path, node.name))
 
+    def adopt(self, node) -> None:
+        """Give a node a reload adds its own cgroup; raises OSError when it cannot be made."""
+        path = os.path.join(self.cgroup, node.name)
+        try:
+            os.mkdir(path)
+        except FileExistsError:
+            pass
+        node.processes = NodeCgroup(path)
+
+    def release(self, node) -> None:
+        """Remove the cgroup of a node a reload took away, once it is empty."""
+        remove_cgroup(node.processes.join)
+
     def pids(self) -> list[int]:
         """The processes of every node."""
         return cgroup_pids(self.cgroup)
@@ -131,6 +144,15 @@ class NodeTracker:
         self.stale = True  # processes may have come or gone since the last update (see before_sleep)
         for node in nodes:
             node.processes = NodeDescendants(self)
+
+    def adopt(self, node) -> None:
+        """Track a node a reload adds (it is in `nodes`, the supervisor's list, from then on)."""
+        node.processes = NodeDescendants(self)
+
+    def release(self, node) -> None:
+        """Forget a node a reload took away."""
+        for pid in list(node.processes.known):
+            node.processes.forget(pid)
 
     def owner(self, pid: int):
         """The NodeDescendants an orphan `pid` belongs to, or None."""

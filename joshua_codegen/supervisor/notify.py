@@ -55,9 +55,13 @@ class Readiness:
         self.socket.bind("\0" + name)
         self.address = "@" + name
         for node in nodes:
-            for variable in NOTIFY_VARIABLES:
-                node.environment.pop(variable, None)
-            node.environment["NOTIFY_SOCKET"] = self.address
+            self.adopt(node)
+
+    def adopt(self, node):
+        """Give a node (of the robot from the start, or of a reload) this socket in place of any of its own."""
+        for variable in NOTIFY_VARIABLES:
+            node.environment.pop(variable, None)
+        node.environment["NOTIFY_SOCKET"] = self.address
 
     def fileno(self):
         return self.socket.fileno()
@@ -102,11 +106,13 @@ class Readiness:
         log(node.name, f"ready after {now - node.started_at:.2f} s" + (f": {status}" if status else ""))
 
     def check_all(self, now):
-        """Log the robot's ready line when every running node is ready and none waits to start."""
+        """Log the robot's ready line when every running node is ready and none waits to start (or, after a reload,
+        to be stopped)."""
         if self.all_ready:
             return
         if any(
-            node.state in ("pending", "backoff") or (node.state == "running" and not node.ready) for node in self.nodes
+            node.state in ("pending", "backoff", "stopping") or (node.state == "running" and not node.ready)
+            for node in self.nodes
         ):
             return
         ready = sum(node.ready for node in self.nodes)

@@ -83,45 +83,43 @@ def output_problem(directory: str) -> str | None:
     return None
 
 
+def node_problems(node) -> list[str]:
+    """Every reason one node cannot start (its devices, model, output directory, program or entrypoint)."""
+    problems = []
+    spec = node.spec
+    for device in spec["devices"]:
+        path, kind = device["path"], device["kind"]
+        if kind == "model" and not os.path.isdir(path):
+            problems.append(f"{node.name}: model directory {path} does not exist")
+        elif kind == "file" and not os.path.isfile(path):
+            problems.append(f"{node.name}: video file {path} does not exist")
+        elif kind in ("serial", "camera") and not os.path.exists(path):
+            what = "serial port" if kind == "serial" else "camera device"
+            problems.append(f"{node.name}: {what} {path} does not exist")
+    if spec["model_reference"]:
+        problem = registry_problem(spec["model_reference"], node.environment)
+        if problem:
+            problems.append(f"{node.name}: {problem}")
+    if spec["output_directory"]:
+        problem = output_problem(spec["output_directory"])
+        if problem:
+            problems.append(f"{node.name}: {problem}")
+    binary = node.cpp_binary()
+    if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
+    if spec["kind"] == "custom":
+        program = node.custom_program()
+        if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
+            problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
+    elif not os.path.isfile(node.entrypoint()):
+        problems.append(f"{node.name}: entrypoint {node.entrypoint()} is missing")
+    return problems
+
+
 def preflight(nodes, python):
     """Every reason the robot cannot start, as lines; empty when it can."""
-    problems = []
-    needs_python = False
-    for node in nodes:
-        spec = node.spec
-        for device in spec["devices"]:
-            path, kind = device["path"], device["kind"]
-            if kind == "model" and not os.path.isdir(path):
-                problems.append(f"{node.name}: model directory {path} does not exist")
-            elif kind == "file" and not os.path.isfile(path):
-                problems.append(f"{node.name}: video file {path} does not exist")
-            elif kind in ("serial", "camera") and not os.path.exists(path):
-                what = "serial port" if kind == "serial" else "camera device"
-                problems.append(f"{node.name}: {what} {path} does not exist")
-        if spec["model_reference"]:
-            problem = registry_problem(spec["model_reference"], node.environment)
-            if problem:
-                problems.append(f"{node.name}: {problem}")
-        if spec["output_directory"]:
-            problem = output_problem(spec["output_directory"])
-            if problem:
-                problems.append(f"{node.name}: {problem}")
-        binary = node.cpp_binary()
-        if (
-            binary is not None
-            and os.path.lexists(binary)
-            and not (os.path.isfile(binary) and os.access(binary, os.X_OK))
-        ):
-            problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
-        if spec["kind"] == "custom":
-            program = node.custom_program()
-            if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
-                problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
-        else:
-            needs_python = True
-            entrypoint = under_script_dir(spec["entrypoint"])
-            if not os.path.isfile(entrypoint):
-                problems.append(f"{node.name}: entrypoint {entrypoint} is missing")
+    problems = [problem for node in nodes for problem in node_problems(node)]
+    needs_python = any(node.spec["kind"] != "custom" for node in nodes)
     if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
         problems.append(f"Python interpreter {python} is not an executable file")
     elif needs_python:

@@ -4,6 +4,7 @@ from typing import Any
 
 ROBOT: dict[str, Any] = {
     "name": "example",
+    "supervisor_code": "",
     "env": {"PYTHONUNBUFFERED": "1"},
     "cpp_bin_dir": "bin",
     "fastdds_profile_variable": "FASTRTPS_DEFAULT_PROFILES_FILE",

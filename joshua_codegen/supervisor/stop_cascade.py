@@ -9,12 +9,11 @@ import traceback
 from joshua_codegen.supervisor.common import log, signal_name
 from joshua_codegen.supervisor.containment import process_group
 from joshua_codegen.supervisor.policy import INTERNAL_ERRORS_MAX, KILL_WAIT_S
-from joshua_codegen.supervisor.robot import SIGINT_GRACE_S, SIGTERM_GRACE_S
 
 
 class StopCascade:
-    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome, stage, control
-    and internal_errors fields."""
+    """The Supervisor's stopping half: uses its nodes, build (the grace periods), by_pid, guard, containment, pid,
+    outcome, stage, control and internal_errors fields."""
 
     def request_stop(self, reason):
         if self.stopping:
@@ -25,13 +24,13 @@ class StopCascade:
         self.stopping = True
         log(
             "supervisor",
-            f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
-            f"SIGKILL after {SIGTERM_GRACE_S} s more)",
+            f"{reason}: stopping every node (SIGINT, SIGTERM after {self.build.sigint_grace_s} s, "
+            f"SIGKILL after {self.build.sigterm_grace_s} s more)",
         )
         for node in self.nodes:
             if node.state == "backoff":
                 node.state = "stopped"
-        self.enter_stage("SIGINT", signal.SIGINT, SIGINT_GRACE_S)
+        self.enter_stage("SIGINT", signal.SIGINT, self.build.sigint_grace_s)
 
     def enter_stage(self, stage, number, grace):
         self.stage = stage
@@ -50,7 +49,7 @@ class StopCascade:
 
     def escalate(self):
         if self.stage == "SIGINT":
-            self.enter_stage("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
+            self.enter_stage("SIGTERM", signal.SIGTERM, self.build.sigterm_grace_s)
         elif self.stage == "SIGTERM":
             self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
         else:
