@@ -243,7 +243,13 @@ def lsp() -> None:
 @click.option("--skip-preflight", is_flag=True, help="Start even when devices or models are missing.")
 @click.option("--status-interval", type=float, default=None, help="Print one status line per node this often.")
 @click.option("--host", "host", default=None, metavar="NAME", help="Run one host's part of a robot on several hosts.")
-def run(config, overrides, duration, skip_preflight, status_interval, host) -> None:
+@click.option(
+    "--watch",
+    is_flag=True,
+    help="Rebuild when the description or a file it names changes, and reload the running robot: only what "
+    "changed restarts.",
+)
+def run(config, overrides, duration, skip_preflight, status_interval, host, watch) -> None:
     """Build into a temporary directory and run the supervisor in the foreground."""
     from joshua_codegen.run import HostChoiceError, host_directory, run_supervisor
     from joshua_codegen.write import write_tree
@@ -265,7 +271,13 @@ def run(config, overrides, duration, skip_preflight, status_interval, host) -> N
             extra.append("--skip-preflight")
         if status_interval is not None:
             extra += ["--status-interval", str(status_interval)]
-        sys.exit(run_supervisor(out, extra))
+        follow = None
+        if watch:
+            from joshua_codegen.watch import Watcher
+
+            locate = lambda robot, directory: host_directory(robot, directory, host)  # noqa: E731
+            follow = Watcher(config, overrides, built, out, compilation.robot, locate).follow
+        sys.exit(run_supervisor(out, extra, follow))
 
 
 def _print_dashboard_url(compilation, host: str | None = None) -> None:

@@ -23,9 +23,10 @@ def _own_group_and_die_with_parent() -> None:
         pass
 
 
-def run_supervisor(out_dir: Path, extra_args: list[str]) -> int:
+def run_supervisor(out_dir: Path, extra_args: list[str], follow=None) -> int:
     """Run OUT/supervisor.py with this interpreter (so joshua_runtime is importable by the nodes),
-    forward SIGINT/SIGTERM/SIGHUP to it, and return its exit code."""
+    forward SIGINT/SIGTERM/SIGHUP to it, and return its exit code. `follow(process)`, when given, runs
+    while it does and returns its exit status (`joshuac run --watch`: watch.py)."""
     command = [sys.executable, str(Path(out_dir) / "supervisor.py"), *extra_args]
     process = subprocess.Popen(command, preexec_fn=_own_group_and_die_with_parent)  # noqa: PLW1509
 
@@ -35,7 +36,7 @@ def run_supervisor(out_dir: Path, extra_args: list[str]) -> int:
 
     previous = {number: signal.signal(number, forward) for number in FORWARDED_SIGNALS}
     try:
-        code = process.wait()
+        code = process.wait() if follow is None else follow(process)
     finally:
         for number, handler in previous.items():
             signal.signal(number, handler)
