@@ -5,7 +5,7 @@
 Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interval S] [--python PATH]
                             [--no-cgroup] [--control-socket PATH | --no-control] [--log-dir DIR]
        python3 supervisor.py ctl [--control-socket PATH] status [--json] | restart|stop|start NODE |
-                            logs NODE [-n N] [-f] [--all]
+                            logs NODE [-n N] [-f] [--all] | reload OUT2
 
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
 the directory can move. Nodes run in the directory the supervisor was started from.
@@ -35,15 +35,21 @@ the directory can move. Nodes run in the directory the supervisor was started fr
   else there is refused, and the supervisor does not start); only clients of the same user or root
   are served, and `ctl` talks only to a supervisor of the same user or root. Requests are bounded JSON
   lines; replies are never waited for: a client that leaves too much unread is dropped. A refusal names
-  its kind (bad_request, forbidden, not_found, conflict, stopping, busy); a start of a running node and a
-  stop of a stopped one are both conflicts. "restarts" counts the restart policy's restarts,
-  "manual_restarts" those asked for over the socket.
+  its kind (bad_request, forbidden, not_found, conflict, stopping, busy, invalid_build, preflight); a start
+  of a running node and a stop of a stopped one are both conflicts. "restarts" counts the restart policy's
+  restarts, "manual_restarts" those asked for over the socket.
 - Runs: each start is a run with a random id. Its header line, "-- run ID: robot NAME, build HASH,
   supervisor pid PID, started TIME --" (HASH: the first 12 hex digits of `sha256sum .joshuac-stamp`),
   begins the supervisor's output and each run's part of every node's log file (--log-dir DIR: DIR/<node>.log,
   rotated at 10 MiB, 3 older files kept), where each line begins with the time it was read, in ISO 8601
   with the local offset; the node's output on the supervisor's stderr stays as it came. `ctl logs`
   shows the current run, `ctl logs --all` the earlier ones too.
+- Reload: `ctl reload OUT2` applies OUT2, a newer build of this robot, read as data (never run) and checked
+  against its stamp: a process whose command line, environment, settings (entrypoint), DDS profile or a file
+  it reads at start changed is restarted through its cascade, a new one started, one no longer there stopped;
+  the others keep running. The nodes run from OUT2 from then on. A build of another robot (or host), one
+  changed since it was built or built by another joshuac is refused (kind invalid_build), and so is one whose
+  new or changed nodes fail preflight (kind preflight); nothing changes then.
 
 `ctl` exit codes: 0 done; 1 refused by the supervisor (the line says why); 2 bad command line; 3 no
 supervisor to talk to (no socket, nobody serving it, one of another user, no answer); 130 interrupted.
@@ -60,6 +66,7 @@ Exit codes (the first that applies):
 """
 
 import argparse
+import ast
 import ctypes
 import errno
 import hashlib
@@ -84,6 +91,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'so100_leader_follower',
+    'supervisor_code': 'c65ca0615554ac12',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -125,6 +133,7 @@ ROBOT = {
             ],
             'model_reference': '',
             'output_directory': '',
+            'inputs': [],
         },
         {
             'name': 'actuator_subscriber',
@@ -148,6 +157,7 @@ ROBOT = {
             ],
             'model_reference': '',
             'output_directory': '',
+            'inputs': [],
         },
         {
             'name': 'camera_publisher',
@@ -171,6 +181,7 @@ ROBOT = {
             ],
             'model_reference': '',
             'output_directory': '',
+            'inputs': [],
         },
         {
             'name': 'data_subscriber',
@@ -189,6 +200,7 @@ ROBOT = {
             'devices': [],
             'model_reference': '',
             'output_directory': '/data/episodes',
+            'inputs': [],
         },
     ],
 }
@@ -339,6 +351,280 @@ class RunMark:
     def as_dict(self) -> dict:
         """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null)}."""
         return {"id": self.id, "started": log_time(self.started), "build": self.build or None}
+
+
+# A build of the robot as data: its directory, its supervisor.py's data (read, never run) and its files' hashes.
+
+
+BUILD_SUPERVISOR = "supervisor.py"
+# The names supervisor.py holds as plain data (those of the placeholder robot.py): a reload reads their values.
+BUILD_DATA_NAMES = ("ROBOT", "SIGINT_GRACE_S", "SIGTERM_GRACE_S")
+BUILD_FILE_MAX_BYTES = 64 * 1024 * 1024  # the largest stamp, supervisor.py or node file a reload reads
+STAMP_ENTRY = re.compile(r"([0-9a-f]{64})  (.+)")
+
+
+class BuildError(Exception):
+    """Why a directory is not a build a reload can take: one line."""
+
+
+class Build:
+    """One build of the robot: `directory` (its files' paths are relative to it), `robot` (its ROBOT data),
+    the stop grace periods, `digest` (the SHA-256 of its stamp, "" when unknown) and `files`: the SHA-256 of
+    each file its processes run from it (entrypoints and DDS profiles; None when unreadable)."""
+
+    def __init__(self, directory: str, robot: dict, sigint_grace_s: float, sigterm_grace_s: float, digest: str, files):
+        self.directory = directory
+        self.robot = robot
+        self.sigint_grace_s = sigint_grace_s
+        self.sigterm_grace_s = sigterm_grace_s
+        self.digest = digest
+        self.files = files
+
+    def path(self, relative: str) -> str:
+        """A path of the build as the nodes use it: absolute as it is, else under the build's directory."""
+        return relative if os.path.isabs(relative) else os.path.join(self.directory, relative)
+
+
+def process_files(robot: dict) -> list[str]:
+    """The files of a build its processes run: each Python entrypoint and each DDS profile, once."""
+    files = []
+    for spec in robot["processes"]:
+        files += [spec["entrypoint"]] if spec["entrypoint"] else []
+        files.append(spec["fastdds_profile"])
+    return list(dict.fromkeys(files))
+
+
+def file_digest(path: str) -> str | None:
+    try:
+        with open(path, "rb") as handle:
+            return hashlib.sha256(handle.read(BUILD_FILE_MAX_BYTES + 1)).hexdigest()
+    except OSError:
+        return None
+
+
+def running_build() -> Build:
+    """The build this supervisor was started from, its files hashed as they are now."""
+    files = {relative: file_digest(os.path.join(SCRIPT_DIR, relative)) for relative in process_files(ROBOT)}
+    return Build(SCRIPT_DIR, ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S, build_hash(), files)
+
+
+def read_bounded(path: str, what: str) -> bytes:
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(BUILD_FILE_MAX_BYTES + 1)
+    except OSError as exc:
+        raise BuildError(f"cannot read {what}: {exc.strerror or exc}") from None
+    if len(data) > BUILD_FILE_MAX_BYTES:
+        raise BuildError(f"{what} is larger than {BUILD_FILE_MAX_BYTES} bytes")
+    return data
+
+
+def stamp_entries(data: bytes) -> dict[str, str] | None:
+    """{path: sha256} of a stamp's text (`sha256sum` lines after `#` comments), None when it is not one."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+    entries = {}
+    for line in text.splitlines():
+        if line.startswith("#"):
+            continue
+        match = STAMP_ENTRY.fullmatch(line)
+        if match is None:
+            return None
+        entries[match.group(2)] = match.group(1)
+    return entries
+
+
+def find_stamp(directory: str) -> tuple[dict[str, str], str]:
+    """(the entries, the SHA-256) of the stamp beside the build's supervisor.py (one host's part of a robot on
+    several hosts, OUT/hosts/NAME, has its own), which must list that file."""
+    path = os.path.join(directory, ROBOT["stamp_file"])
+    if os.path.isfile(path):
+        data = read_bounded(path, ROBOT["stamp_file"])
+        entries = stamp_entries(data)
+        if entries is not None and BUILD_SUPERVISOR in entries:
+            return entries, hashlib.sha256(data).hexdigest()
+    raise BuildError(f"no {ROBOT['stamp_file']} lists its {BUILD_SUPERVISOR}: it is not a joshuac build")
+
+
+def checked_file(directory: str, entries: dict[str, str], relative: str) -> tuple[bytes, str]:
+    """(content, sha256) of a build's file, which must be in its stamp with that hash."""
+    listed = entries.get(relative)
+    if listed is None:
+        raise BuildError(f"{relative} is not in the build's {ROBOT['stamp_file']}")
+    data = read_bounded(os.path.join(directory, relative), relative)
+    digest = hashlib.sha256(data).hexdigest()
+    if digest != listed:
+        raise BuildError(f"{relative} differs from the build's {ROBOT['stamp_file']} (changed after the build)")
+    return data, digest
+
+
+def build_data(source: bytes) -> dict:
+    """The values of BUILD_DATA_NAMES in a supervisor.py, read as literals: nothing in it runs."""
+    try:
+        tree = ast.parse(source, BUILD_SUPERVISOR)
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        raise BuildError(f"{BUILD_SUPERVISOR} is not Python") from None
+    values = {}
+    for statement in tree.body:
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+            continue
+        target = statement.targets[0]
+        if isinstance(target, ast.Name) and target.id in BUILD_DATA_NAMES:
+            try:
+                values[target.id] = ast.literal_eval(statement.value)
+            except (ValueError, TypeError, SyntaxError, RecursionError, MemoryError):
+                raise BuildError(f"{target.id} in {BUILD_SUPERVISOR} is not plain data") from None
+    missing = [name for name in BUILD_DATA_NAMES if name not in values]
+    if missing:
+        raise BuildError(f"{BUILD_SUPERVISOR} holds no {', '.join(missing)}: not a robot's supervisor")
+    return values
+
+
+def checked_robot(values: dict) -> dict:
+    """The ROBOT data, with the shape this supervisor reads: named processes, numbers for the grace periods."""
+    robot = values["ROBOT"]
+    processes = robot.get("processes") if isinstance(robot, dict) else None
+    if not isinstance(processes, list) or not all(isinstance(spec, dict) for spec in processes):
+        raise BuildError(f"ROBOT in {BUILD_SUPERVISOR} has no list of processes")
+    names = [spec.get("name") for spec in processes]
+    if not all(isinstance(name, str) and name for name in names) or len(set(names)) != len(names):
+        raise BuildError(f"the processes in {BUILD_SUPERVISOR} are not named one by one")
+    for name in BUILD_DATA_NAMES[1:]:
+        if type(values[name]) not in (int, float) or not values[name] >= 0:
+            raise BuildError(f"{name} in {BUILD_SUPERVISOR} is not a number of seconds")
+    return robot
+
+
+def read_build(path: str) -> Build:
+    """The build in directory `path` (symbolic links resolved: the nodes run from the files checked here), its
+    supervisor.py and every file its processes run checked against its stamp. Raises BuildError."""
+    directory = os.path.realpath(path)
+    if not os.path.isdir(directory):
+        raise BuildError("not a directory")
+    if not os.path.isfile(os.path.join(directory, BUILD_SUPERVISOR)):
+        raise BuildError(f"no {BUILD_SUPERVISOR} in it: not a robot's build directory")
+    entries, digest = find_stamp(directory)
+    source, _ = checked_file(directory, entries, BUILD_SUPERVISOR)
+    values = build_data(source)
+    robot = checked_robot(values)
+    try:
+        relatives = process_files(robot)
+    except (KeyError, TypeError):
+        raise BuildError(f"the processes in {BUILD_SUPERVISOR} are not of this supervisor's format") from None
+    files = {relative: checked_file(directory, entries, relative)[1] for relative in relatives}
+    return Build(directory, robot, values["SIGINT_GRACE_S"], values["SIGTERM_GRACE_S"], digest, files)
+
+
+# What a reload changes: every process of the running build and of the new one compared by name.
+
+
+# What a process runs with: a change to any restarts it. Its other fields (restart policy, critical, what
+# preflight checks) are taken over as they are, without a restart.
+COMMAND_KEYS = ("kind", "entrypoint", "executable", "args", "cpp_binary", "cpp_args")
+# The robot's data a reload applies besides the processes (through them: every process gets `env`, the
+# C++ nodes look in `cpp_bin_dir`). Any other difference (the supervisor's code, formats, names) needs a
+# restart of the robot.
+RELOADED_ROBOT_KEYS = ("env", "cpp_bin_dir", "processes")
+IDENTITY_KEYS = ("name", "host")  # which robot a build is of (a robot on several hosts: which host's part)
+
+
+def build_refusal(running, new) -> str | None:
+    """Why the build `new` cannot be reloaded into the robot running `running` (both Builds), or None."""
+    old_robot, new_robot = running.robot, new.robot
+    if any(old_robot.get(key) != new_robot.get(key) for key in IDENTITY_KEYS):
+        return f"a build of {robot_label(new_robot)}, not of {robot_label(old_robot)}"
+    if old_robot.get("supervisor_code") != new_robot.get("supervisor_code"):
+        return (
+            f"built by another joshuac (supervisor code {new_robot.get('supervisor_code')!s:.16}, this one runs "
+            f"{old_robot.get('supervisor_code')!s:.16}): restart the robot from it instead"
+        )
+    for key in sorted(set(old_robot) | set(new_robot)):
+        if key not in RELOADED_ROBOT_KEYS + IDENTITY_KEYS and old_robot.get(key) != new_robot.get(key):
+            return f"its {key} differs from the running build's: restart the robot from it instead"
+    return None
+
+
+def robot_label(robot: dict) -> str:
+    host = robot.get("host")
+    return f"robot {robot.get('name')!r:.80}" + (f" (host {host!r:.80})" if host else "")
+
+
+def file_mark(path: str):
+    """What tells a file's versions apart without reading it: device, inode, size, modification time; None when
+    it is missing. A file saved by renaming a new one over it, or written in place, gets a new mark."""
+    try:
+        info = os.stat(path)
+    except OSError:
+        return None
+    return (info.st_dev, info.st_ino, info.st_size, info.st_mtime_ns)
+
+
+def input_marks(paths) -> dict:
+    """The file_mark of every input of a node, taken as it launches."""
+    return {path: file_mark(path) for path in paths}
+
+
+def launch_changes(running, old: dict, new_build, new: dict) -> list[str]:
+    """What differs in how process `old` of Build `running` and `new` of `new_build` run, in words; [] when alike."""
+    changes = []
+    cpp_dirs = (running.robot["cpp_bin_dir"], new_build.robot["cpp_bin_dir"]) if new["cpp_binary"] else ("", "")
+    if [old[key] for key in COMMAND_KEYS] != [new[key] for key in COMMAND_KEYS] or cpp_dirs[0] != cpp_dirs[1]:
+        changes.append("command line")
+    if {**running.robot["env"], **old["env"]} != {**new_build.robot["env"], **new["env"]}:
+        changes.append("environment")
+    if new["entrypoint"] and running.files.get(old["entrypoint"]) != new_build.files.get(new["entrypoint"]):
+        changes.append("settings")
+    old_profile, new_profile = running.files.get(old["fastdds_profile"]), new_build.files.get(new["fastdds_profile"])
+    if old["fastdds_profile"] != new["fastdds_profile"] or old_profile != new_profile:
+        changes.append("DDS profile")
+    if old["inputs"] != new["inputs"]:
+        changes.append("files it reads")
+    return changes
+
+
+def changed_inputs(marks: dict) -> list[str]:
+    """The inputs whose file changed since `marks` (input_marks at the node's launch) were taken."""
+    return [path for path, mark in marks.items() if file_mark(path) != mark]
+
+
+class ReloadPlan:
+    """The processes of a reload, by name: `restart` ({name: what changed}), `start` and `stop` (names of added
+    and removed ones), `update` ({name: fields taken over without a restart}) and `keep` (names, unchanged)."""
+
+    def __init__(self):
+        self.restart: dict[str, str] = {}
+        self.start: list[str] = []
+        self.stop: list[str] = []
+        self.update: dict[str, str] = {}
+        self.keep: list[str] = []
+
+
+def plan_reload(running, nodes, new_build) -> ReloadPlan:
+    """The plan that turns the robot of Build `running` and its Nodes `nodes` (input marks of their last launch)
+    into the robot of `new_build`. Raises KeyError or TypeError when the new build's data has another shape."""
+    plan = ReloadPlan()
+    current = {node.name: node for node in nodes}
+    for new in new_build.robot["processes"]:
+        node = current.get(new["name"])
+        if node is None:
+            plan.start.append(new["name"])
+            continue
+        changes = launch_changes(running, node.spec, new_build, new) + [
+            f"{path} changed" for path in changed_inputs(node.input_marks) if path in new["inputs"]
+        ]
+        others = sorted(key for key in set(node.spec) | set(new) if node.spec.get(key) != new.get(key))
+        others = [key for key in others if key not in COMMAND_KEYS + ("env", "fastdds_profile", "inputs")]
+        if changes:
+            plan.restart[node.name] = ", ".join(changes)
+        elif others:
+            plan.update[node.name] = ", ".join(others)
+        else:
+            plan.keep.append(node.name)
+    names = {spec["name"] for spec in new_build.robot["processes"]}
+    plan.stop = [node.name for node in nodes if node.name not in names]
+    return plan
 
 
 # The open-file limit: raised for the supervisor's own clients, given back to every node before exec.
@@ -800,6 +1086,19 @@ class CgroupContainment:
         for node in nodes:
             node.processes = NodeCgroup(os.path.join(path, node.name))
 
+    def adopt(self, node) -> None:
+        """Give a node a reload adds its own cgroup; raises OSError when it cannot be made."""
+        path = os.path.join(self.cgroup, node.name)
+        try:
+            os.mkdir(path)
+        except FileExistsError:
+            pass
+        node.processes = NodeCgroup(path)
+
+    def release(self, node) -> None:
+        """Remove the cgroup of a node a reload took away, once it is empty."""
+        remove_cgroup(node.processes.join)
+
     def pids(self) -> list[int]:
         """The processes of every node."""
         return cgroup_pids(self.cgroup)
@@ -861,6 +1160,15 @@ class NodeTracker:
         self.stale = True  # processes may have come or gone since the last update (see before_sleep)
         for node in nodes:
             node.processes = NodeDescendants(self)
+
+    def adopt(self, node) -> None:
+        """Track a node a reload adds (it is in `nodes`, the supervisor's list, from then on)."""
+        node.processes = NodeDescendants(self)
+
+    def release(self, node) -> None:
+        """Forget a node a reload took away."""
+        for pid in list(node.processes.known):
+            node.processes.forget(pid)
 
     def owner(self, pid: int):
         """The NodeDescendants an orphan `pid` belongs to, or None."""
@@ -1022,10 +1330,11 @@ def remove_abandoned_segments(since: float) -> tuple[int, int]:
 class Node:
     """One node: how to launch it, its current process, and its restart bookkeeping."""
 
-    def __init__(self, spec, python):
+    def __init__(self, spec, python, build=None):
         self.spec = spec
         self.name = spec["name"]
         self.python = python
+        self.build = build or running_build()  # the Build its files are in (a reload moves it to the new one)
         self.pid = None  # the node's main process while it runs
         self.pgid = None  # its process group while any member may be alive
         self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
@@ -1045,20 +1354,30 @@ class Node:
         self.ready_deadline = None  # when it is warned about for not being ready
         self.status_text = ""  # its last STATUS= notification
         self.stop_requested = False  # stopped over the control socket: no restart until started again
+        self.input_marks = {}  # the file_mark of each of its inputs as it last launched (reload_plan.py)
         self.environment = self.make_environment()
 
     def make_environment(self):
         env = dict(os.environ)
-        env[ROBOT["fastdds_profile_variable"]] = under_script_dir(self.spec["fastdds_profile"])
-        env.update(ROBOT["env"])
+        env[ROBOT["fastdds_profile_variable"]] = self.build.path(self.spec["fastdds_profile"])
+        env.update(self.build.robot["env"])
         env.update(self.spec["env"])
         env[NODE_MARK_VARIABLE] = node_mark(os.getpid(), self.name)
         return env
 
+    def rebase(self, spec, build):
+        """Run as `spec` of `build` from its next launch on (a reload)."""
+        self.spec = spec
+        self.build = build
+        self.environment = self.make_environment()
+
+    def entrypoint(self):
+        return self.build.path(self.spec["entrypoint"])
+
     def cpp_binary(self):
         if not self.spec["cpp_binary"]:
             return None
-        return os.path.join(under_script_dir(ROBOT["cpp_bin_dir"]), self.spec["cpp_binary"])
+        return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
 
     def custom_program(self):
         executable = self.spec["executable"]
@@ -1077,7 +1396,7 @@ class Node:
                 self.warned_fallback = True
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
-        return [self.python, under_script_dir(self.spec["entrypoint"])], "Python"
+        return [self.python, self.entrypoint()], "Python"
 
     def alive(self):
         """Whether anything it started may still run: its process, its process group, its cgroup's or
@@ -1149,9 +1468,13 @@ class Readiness:
         self.socket.bind("\0" + name)
         self.address = "@" + name
         for node in nodes:
-            for variable in NOTIFY_VARIABLES:
-                node.environment.pop(variable, None)
-            node.environment["NOTIFY_SOCKET"] = self.address
+            self.adopt(node)
+
+    def adopt(self, node):
+        """Give a node (of the robot from the start, or of a reload) this socket in place of any of its own."""
+        for variable in NOTIFY_VARIABLES:
+            node.environment.pop(variable, None)
+        node.environment["NOTIFY_SOCKET"] = self.address
 
     def fileno(self):
         return self.socket.fileno()
@@ -1196,11 +1519,13 @@ class Readiness:
         log(node.name, f"ready after {now - node.started_at:.2f} s" + (f": {status}" if status else ""))
 
     def check_all(self, now):
-        """Log the robot's ready line when every running node is ready and none waits to start."""
+        """Log the robot's ready line when every running node is ready and none waits to start (or, after a reload,
+        to be stopped)."""
         if self.all_ready:
             return
         if any(
-            node.state in ("pending", "backoff") or (node.state == "running" and not node.ready) for node in self.nodes
+            node.state in ("pending", "backoff", "stopping") or (node.state == "running" and not node.ready)
+            for node in self.nodes
         ):
             return
         ready = sum(node.ready for node in self.nodes)
@@ -1313,45 +1638,43 @@ def output_problem(directory: str) -> str | None:
     return None
 
 
+def node_problems(node) -> list[str]:
+    """Every reason one node cannot start (its devices, model, output directory, program or entrypoint)."""
+    problems = []
+    spec = node.spec
+    for device in spec["devices"]:
+        path, kind = device["path"], device["kind"]
+        if kind == "model" and not os.path.isdir(path):
+            problems.append(f"{node.name}: model directory {path} does not exist")
+        elif kind == "file" and not os.path.isfile(path):
+            problems.append(f"{node.name}: video file {path} does not exist")
+        elif kind in ("serial", "camera") and not os.path.exists(path):
+            what = "serial port" if kind == "serial" else "camera device"
+            problems.append(f"{node.name}: {what} {path} does not exist")
+    if spec["model_reference"]:
+        problem = registry_problem(spec["model_reference"], node.environment)
+        if problem:
+            problems.append(f"{node.name}: {problem}")
+    if spec["output_directory"]:
+        problem = output_problem(spec["output_directory"])
+        if problem:
+            problems.append(f"{node.name}: {problem}")
+    binary = node.cpp_binary()
+    if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
+    if spec["kind"] == "custom":
+        program = node.custom_program()
+        if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
+            problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
+    elif not os.path.isfile(node.entrypoint()):
+        problems.append(f"{node.name}: entrypoint {node.entrypoint()} is missing")
+    return problems
+
+
 def preflight(nodes, python):
     """Every reason the robot cannot start, as lines; empty when it can."""
-    problems = []
-    needs_python = False
-    for node in nodes:
-        spec = node.spec
-        for device in spec["devices"]:
-            path, kind = device["path"], device["kind"]
-            if kind == "model" and not os.path.isdir(path):
-                problems.append(f"{node.name}: model directory {path} does not exist")
-            elif kind == "file" and not os.path.isfile(path):
-                problems.append(f"{node.name}: video file {path} does not exist")
-            elif kind in ("serial", "camera") and not os.path.exists(path):
-                what = "serial port" if kind == "serial" else "camera device"
-                problems.append(f"{node.name}: {what} {path} does not exist")
-        if spec["model_reference"]:
-            problem = registry_problem(spec["model_reference"], node.environment)
-            if problem:
-                problems.append(f"{node.name}: {problem}")
-        if spec["output_directory"]:
-            problem = output_problem(spec["output_directory"])
-            if problem:
-                problems.append(f"{node.name}: {problem}")
-        binary = node.cpp_binary()
-        if (
-            binary is not None
-            and os.path.lexists(binary)
-            and not (os.path.isfile(binary) and os.access(binary, os.X_OK))
-        ):
-            problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
-        if spec["kind"] == "custom":
-            program = node.custom_program()
-            if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
-                problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
-        else:
-            needs_python = True
-            entrypoint = under_script_dir(spec["entrypoint"])
-            if not os.path.isfile(entrypoint):
-                problems.append(f"{node.name}: entrypoint {entrypoint} is missing")
+    problems = [problem for node in nodes for problem in node_problems(node)]
+    needs_python = any(node.spec["kind"] != "custom" for node in nodes)
     if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
         problems.append(f"Python interpreter {python} is not an executable file")
     elif needs_python:
@@ -1721,14 +2044,16 @@ CONTROL_REQUEST_DEPTH = 4  # deepest nesting of arrays and objects (a real reque
 CONTROL_NUMBER_DIGITS = 20  # longest number literal
 CONTROL_LOG_LINES_MAX = 10000  # most lines one `logs` request may ask for
 CONTROL_LOG_LINES_DEFAULT = 100
+CONTROL_PATH_MAX = 1024  # longest directory path a `reload` may name, in characters (its JSON fits the line)
 
-# The fields each command takes; "node" is required wherever it is taken, the others have defaults.
+# The fields each command takes; "node" and "path" are required wherever they are taken, the others have defaults.
 CONTROL_COMMANDS = {
     "status": (),
     "restart": ("node",),
     "stop": ("node",),
     "start": ("node",),
     "logs": ("node", "lines", "follow", "all"),
+    "reload": ("path",),
 }
 FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False}
 # The kinds of refusal an error reply names in its "kind" field, for clients that act on them (a web server
@@ -1737,9 +2062,12 @@ REFUSAL_KINDS = {
     "bad_request": "the request line is not a request this supervisor takes",  # 400
     "forbidden": "the client is of another user than the supervisor's and not root",  # 403
     "not_found": "no node has that name, or its output is not kept (no log directory)",  # 404
-    "conflict": "the node is already in the state asked for, or a stop or restart of it is under way",  # 409
+    "conflict": "the node is already in the state asked for, or a stop, restart or reload is under way",  # 409
     "stopping": "the robot is stopping: its nodes are started, stopped and restarted no more",  # 503
     "busy": "too many clients are connected: try again later",  # 503
+    "invalid_build": "the build to reload is not one of this robot: another robot's, changed since it was built, "
+    "not a build, or built by another joshuac",  # 422
+    "preflight": "a node the reload would start cannot start: a device, model, program or entrypoint is missing",  # 422
 }
 FIELD_RULES = {
     "node": (lambda value: isinstance(value, str), "node must be a string"),
@@ -1749,6 +2077,12 @@ FIELD_RULES = {
     ),
     "follow": (lambda value: isinstance(value, bool), "follow must be true or false"),
     "all": (lambda value: isinstance(value, bool), "all must be true or false"),
+    "path": (
+        lambda value: (
+            isinstance(value, str) and value.startswith("/") and len(value) <= CONTROL_PATH_MAX and "\0" not in value
+        ),
+        f"path must be an absolute path of at most {CONTROL_PATH_MAX} characters, without NUL",
+    ),
 }
 JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 JSON_BRACKET = re.compile(r"[\[\]{}]")
@@ -2162,7 +2496,177 @@ def close_quietly(connection: socket.socket) -> None:
     connection.close()
 
 
-# The control socket: status, restart / stop / start of one node and its log, one JSON line each way.
+# `reload`: a newer build of the same robot applied to the running one; only what changed is restarted.
+
+
+RELOAD_SHOWN_PATH = 200  # characters of a build's path in a refusal
+
+
+def begin_reload(plane, connection, path: str):
+    """Refuse the reload of the build in `path` (one line), or apply it: its answer when no node had to be
+    stopped first, else None (the Reload answers once they have)."""
+    supervisor = plane.supervisor
+    shown = path if path.isprintable() else repr(path)
+    try:
+        build = read_build(path)
+        refused = build_refusal(supervisor.build, build)
+        if refused:
+            raise BuildError(refused)
+        plan = plan_reload(supervisor.build, supervisor.nodes, build)
+        starting = {
+            spec["name"]: Node(spec, supervisor.options.python, build)
+            for spec in build.robot["processes"]
+            if spec["name"] in plan.start or spec["name"] in plan.restart
+        }
+        problems = [] if supervisor.options.skip_preflight else [p for n in starting.values() for p in node_problems(n)]
+    except BuildError as exc:
+        return refusal("invalid_build", f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: {exc}")
+    except Exception as exc:  # noqa: BLE001 (data of another shape: refused before anything changed)
+        return refusal(
+            "invalid_build",
+            f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: its data is not of this supervisor's format "
+            f"({type(exc).__name__})",
+        )
+    if problems:
+        return refusal("preflight", f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: " + "; ".join(problems))
+    added = [starting[name] for name in plan.start]
+    for index, node in enumerate(added):
+        try:
+            supervisor.containment.adopt(node)
+        except OSError as exc:
+            for made in added[:index]:
+                supervisor.containment.release(made)
+            return refusal("preflight", f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: {node.name}: {exc}")
+    return Reload(plane, connection, build, plan, added).apply(shown)
+
+
+class Reload:
+    """One reload under way: `apply` takes the new build's processes over (restarted, started, stopped, updated,
+    kept as they run) and answers `connection` once the nodes it stopped are gone and their successors started."""
+
+    def __init__(self, plane, connection, build, plan, added):
+        self.plane = plane
+        self.supervisor = plane.supervisor
+        self.connection = connection
+        self.build = build
+        self.plan = plan
+        self.added = {node.name: node for node in added}
+        self.previous = self.supervisor.build
+        self.waiting = set()  # names of the nodes whose stop it waits for
+        self.notes = []  # lines for the client beyond the lists of nodes
+
+    def apply(self, shown: str):
+        supervisor, plan = self.supervisor, self.plan
+        current = {node.name: node for node in supervisor.nodes}
+        supervisor.build = self.build
+        supervisor.run_mark.build = self.build.digest
+        ordered = []
+        for spec in self.build.robot["processes"]:
+            node = self.added.get(spec["name"]) or current[spec["name"]]
+            node.rebase(spec, self.build)
+            supervisor.readiness.adopt(node)
+            ordered.append(node)
+        removed = [current[name] for name in plan.stop]
+        supervisor.nodes[:] = ordered + removed  # the same list the readiness and the tracking hold
+        supervisor.readiness.all_ready = False  # the ready line is logged again once every node is
+        for name, changes in list(plan.restart.items()):
+            if current[name].stop_requested and not current[name].alive():  # stopped with ctl stop: it stays so
+                del plan.restart[name]
+                plan.update[name] = f"{changes}, applied at its next start (stopped with ctl stop)"
+        grace = (self.build.sigint_grace_s, self.build.sigterm_grace_s)
+        if grace != (self.previous.sigint_grace_s, self.previous.sigterm_grace_s):
+            self.notes.append(f"stops now wait {grace[0]:g} s after SIGINT and {grace[1]:g} s more after SIGTERM")
+        log(
+            "supervisor",
+            f"reload of {shown:.{RELOAD_SHOWN_PATH}}: build {short_digest(self.previous.digest)} -> "
+            f"{short_digest(self.build.digest)}: {len(plan.restart)} to restart, {len(plan.start)} to start, "
+            f"{len(plan.stop)} to stop, {len(plan.update)} updated, {len(plan.keep)} unchanged",
+        )
+        for note in self.notes:
+            log("supervisor", f"reload: {note}")
+        for name, changes in plan.restart.items():
+            self.restart(current[name], changes)
+        for node in self.added.values():
+            self.start(node)
+        for node in removed:
+            self.remove(node)
+        if self.waiting:
+            self.plane.reloading = self
+            return None
+        return self.reply()
+
+    def restart(self, node, changes: str) -> None:
+        node.restarts, node.delay = 0, RESTART_DELAY_INITIAL_S  # a new program: its restart policy starts over
+        if node.alive():
+            self.waiting.add(node.name)
+            self.plane.stop_node(node, f"reload: {changes} changed", then=self.restarted)
+        else:
+            log(node.name, f"reload: {changes} changed; it was {node.state}: starting it")
+            self.plane.start(node)
+
+    def restarted(self, node) -> None:
+        if not self.supervisor.stopping:
+            self.plane.start(node)
+        self.done(node)
+
+    def start(self, node) -> None:
+        supervisor = self.supervisor
+        for name, node_log in open_node_logs(supervisor.options.log_dir, [node.name]).items():
+            node_log.begin_run(supervisor.run_mark.header())
+            supervisor.logs[name] = node_log
+        log(node.name, "reload: added")
+        supervisor.launch(node)
+
+    def remove(self, node) -> None:
+        if node.alive():
+            self.waiting.add(node.name)
+            self.plane.stop_node(node, "reload: not in the new build", then=self.removed)
+        else:
+            self.removed(node)
+
+    def removed(self, node) -> None:
+        supervisor = self.supervisor
+        if node in supervisor.nodes:
+            supervisor.nodes.remove(node)
+        supervisor.containment.release(node)
+        supervisor.logs.pop(node.name, None)
+        self.plane.since.pop(node.name, None)
+        if node.pgid is not None:
+            supervisor.guard.forget(node.pgid)
+            node.pgid = None
+        log(node.name, "reload: removed")
+        self.done(node)
+
+    def done(self, node) -> None:
+        """One node the reload waited for is handled; once none is left, the client gets its answer."""
+        self.waiting.discard(node.name)
+        if not self.waiting and self.plane.reloading is self:
+            self.plane.reloading = None
+            self.connection.answer(self.reply())
+
+    def reply(self) -> dict:
+        """{"robot", "build", "previous" (stamp hashes), "restarted": [{"name", "why"}], "started", "stopped",
+        "updated": [{"name", "what"}], "unchanged" (names), "notes" (lines)}."""
+        plan = self.plan
+        return {
+            "ok": True,
+            "robot": self.build.robot["name"],
+            "build": self.build.digest or None,
+            "previous": self.previous.digest or None,
+            "restarted": [{"name": name, "why": why} for name, why in plan.restart.items()],
+            "started": plan.start,
+            "stopped": plan.stop,
+            "updated": [{"name": name, "what": what} for name, what in plan.update.items()],
+            "unchanged": plan.keep,
+            "notes": self.notes,
+        }
+
+
+def short_digest(digest: str) -> str:
+    return digest[:BUILD_SHOWN_DIGITS] or "unknown"
+
+
+# The control socket: status, restart / stop / start of one node and its log, reload, one JSON line each way.
 
 
 CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
@@ -2187,11 +2691,13 @@ class ControlPlane:
     escalate their signals, resume accepting and handle request lines left from an earlier turn.
 
     Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
-    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}. Replies:
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}, {"command":
+    "reload", "path": BUILD DIRECTORY} (reload.py). Replies:
     {"ok": true, ...} or {"ok": false, "kind": one of REFUSAL_KINDS, "error": "one line"}; a stop or restart
     is answered once it has been done (a stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after
-    sigterm_grace_s more). A start of a node that runs and a stop of one that does not (stopped, finished,
-    failed) are both refused as conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
+    sigterm_grace_s more), a reload once the nodes it stops are gone and their successors started. A start
+    of a node that runs and a stop of one that does not (stopped, finished, failed) are both refused as
+    conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
     this user's, mode 0700 (control_socket.py); only clients of the same user or root are served, the others
     get one error line.
     """
@@ -2206,7 +2712,8 @@ class ControlPlane:
         self.backlog = {}  # fd -> ControlConnection with request lines left for the next turn
         self.followers = LogFollowers()
         self.buffered = 0  # reply bytes every connection holds unsent
-        self.pending = {}  # node name -> {"stage", "deadline", "then_start", "waiters": [connection]}
+        self.pending = {}  # node name -> {"stage", "deadline", "then": callable or None, "waiters": [connection]}
+        self.reloading = None  # the Reload under way (reload.py), which answers once its nodes have stopped
         self.since = {}  # node name -> (state, monotonic time it was entered)
         self.accept_resume_at = None  # while out of descriptors: when accepting is tried again
         self.accept_failing = False
@@ -2305,7 +2812,7 @@ class ControlPlane:
             return
         reply = self.handle(connection, request)
         if reply is None:
-            connection.waiting += request["command"] in ("restart", "stop")
+            connection.waiting += request["command"] in ("restart", "stop", "reload")
         else:
             connection.send(reply)
 
@@ -2315,6 +2822,12 @@ class ControlPlane:
         command = request["command"]
         if command == "status":
             return {"ok": True, **self.status()}
+        if command == "reload":
+            if self.supervisor.stopping:
+                return refusal("stopping", "the robot is stopping")
+            if self.pending or self.reloading is not None:
+                return refusal("conflict", "a stop, restart or reload is under way: try again once it is done")
+            return begin_reload(self, connection, request["path"])
         node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
         if node is None:
             return refusal("not_found", f"no node named {request['node']!r:.80}")
@@ -2322,6 +2835,8 @@ class ControlPlane:
             return self.logs(connection, node, request)
         if self.supervisor.stopping:
             return refusal("stopping", "the robot is stopping")
+        if self.reloading is not None:
+            return refusal("conflict", "a reload is under way: try again once it is done")
         if node.name in self.pending:
             return refusal("conflict", f"{node.name} is already being stopped or restarted")
         if command == "start":
@@ -2340,17 +2855,29 @@ class ControlPlane:
             else:  # nothing runs and nothing is due: stopped, finished or failed
                 return refusal("conflict", f"{node.name} is already {node.state}")
             return self.action_reply(node)
+        then = self.start_again if command == "restart" else None
+        self.stop_node(node, f"{command} requested over the control socket", [connection], then)
+        return None
+
+    def stop_node(self, node, reason: str, waiters=(), then=None) -> None:
+        """Stop `node` with its cascade (SIGINT now, SIGTERM and SIGKILL after the grace periods); once nothing
+        it started is left, call `then(node)` when given and answer the `waiters`."""
         self.pending[node.name] = {
             "stage": "SIGINT",
-            "deadline": time.monotonic() + SIGINT_GRACE_S,
-            "then_start": command == "restart",
-            "waiters": [connection],
+            "deadline": time.monotonic() + self.supervisor.build.sigint_grace_s,
+            "then": then,
+            "waiters": list(waiters),
         }
         node.stop_requested = True
         node.state = "stopping"
-        log(node.name, f"{command} requested over the control socket: sending SIGINT")
+        log(node.name, f"{reason}: sending SIGINT")
         self.supervisor.signal_node(node, signal.SIGINT)
-        return None
+
+    def start_again(self, node) -> None:
+        """The second half of a restart asked for over the socket."""
+        if not self.supervisor.stopping:
+            node.manual_restarts += 1
+            self.start(node)
 
     def start(self, node) -> None:
         node.stop_requested = False
@@ -2420,23 +2947,21 @@ class ControlPlane:
                 break  # the first always gets a line: lines left are handled, however busy the socket
             del self.backlog[connection.fd]
             connection.handle_lines(at_least_one=not index)
-        for node in self.supervisor.nodes:
+        for node in list(self.supervisor.nodes):  # a reload's `then` may take a node out of the list
             item = self.pending.get(node.name)
             if item is None:
                 continue
             if not node.alive():
                 del self.pending[node.name]
                 node.state = "stopped"
-                if item["then_start"] and not self.supervisor.stopping:
-                    node.manual_restarts += 1
-                    self.start(node)
+                if item["then"] is not None:
+                    item["then"](node)
                 for connection in item["waiters"]:
                     connection.answer(self.action_reply(node))
             elif now >= item["deadline"]:
-                stage, number, grace = (
-                    ("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
-                    if item["stage"] == "SIGINT"
-                    else ("SIGKILL", signal.SIGKILL, SIGTERM_GRACE_S)
+                grace = self.supervisor.build.sigterm_grace_s
+                stage, number = (
+                    ("SIGTERM", signal.SIGTERM) if item["stage"] == "SIGINT" else ("SIGKILL", signal.SIGKILL)
                 )
                 log(node.name, f"still running: escalating to {stage}")
                 item.update(stage=stage, deadline=now + grace)
@@ -2458,8 +2983,8 @@ def refuse(connection, kind: str, error: str) -> None:
 
 
 class StopCascade:
-    """The Supervisor's stopping half: uses its nodes, by_pid, guard, containment, pid, outcome, stage, control
-    and internal_errors fields."""
+    """The Supervisor's stopping half: uses its nodes, build (the grace periods), by_pid, guard, containment, pid,
+    outcome, stage, control and internal_errors fields."""
 
     def request_stop(self, reason):
         if self.stopping:
@@ -2470,13 +2995,13 @@ class StopCascade:
         self.stopping = True
         log(
             "supervisor",
-            f"{reason}: stopping every node (SIGINT, SIGTERM after {SIGINT_GRACE_S} s, "
-            f"SIGKILL after {SIGTERM_GRACE_S} s more)",
+            f"{reason}: stopping every node (SIGINT, SIGTERM after {self.build.sigint_grace_s} s, "
+            f"SIGKILL after {self.build.sigterm_grace_s} s more)",
         )
         for node in self.nodes:
             if node.state == "backoff":
                 node.state = "stopped"
-        self.enter_stage("SIGINT", signal.SIGINT, SIGINT_GRACE_S)
+        self.enter_stage("SIGINT", signal.SIGINT, self.build.sigint_grace_s)
 
     def enter_stage(self, stage, number, grace):
         self.stage = stage
@@ -2495,7 +3020,7 @@ class StopCascade:
 
     def escalate(self):
         if self.stage == "SIGINT":
-            self.enter_stage("SIGTERM", signal.SIGTERM, SIGTERM_GRACE_S)
+            self.enter_stage("SIGTERM", signal.SIGTERM, self.build.sigterm_grace_s)
         elif self.stage == "SIGTERM":
             self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
         else:
@@ -2582,7 +3107,8 @@ class Supervisor(StopCascade):
         self.options = options
         self.run_mark = RunMark()
         log("supervisor", self.run_mark.header())
-        self.nodes = [Node(spec, options.python) for spec in ROBOT["processes"]]
+        self.build = running_build()  # where the nodes' files are and what they run: a reload replaces it
+        self.nodes = [Node(spec, options.python, self.build) for spec in ROBOT["processes"]]
         self.by_pid = {}
         self.guard = Guard(None)
         self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
@@ -2723,6 +3249,7 @@ class Supervisor(StopCascade):
 
     def launch(self, node):
         argv, node.backend = node.command()
+        node.input_marks = input_marks(node.spec["inputs"])
         node_log = self.logs.get(node.name)
         read_end = write_end = None
         blocked = STOP_SIGNALS + (signal.SIGCHLD,)
@@ -2958,7 +3485,7 @@ def supervisord_listener():
 # `supervisor.py ctl ...`: the control socket's command-line client.
 
 
-CTL_TIMEOUT_S = 30.0  # a restart waits for the node's stop cascade
+CTL_TIMEOUT_S = 30.0  # a restart or a reload waits for the nodes' stop cascades
 CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
 # Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
 # start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.
@@ -3004,13 +3531,19 @@ def ctl_arguments(argv):
     logs.add_argument(
         "--all", action="store_true", help="from earlier runs too (each begins with its header line), as far as kept"
     )
+    reload = commands.add_parser(
+        "reload", help="apply a newer build of this robot: restart what changed, start what is new, stop what is gone"
+    )
+    reload.add_argument("build", metavar="OUT", help="the new build's directory (where its supervisor.py is)")
     return parser.parse_args(argv)
 
 
 def ctl(argv) -> int:
     options = ctl_arguments(argv)
     request = {"command": options.command}
-    if options.command != "status":
+    if options.command == "reload":
+        request["path"] = os.path.abspath(options.build)
+    elif options.command != "status":
         request["node"] = options.node
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow, all=options.all)
@@ -3087,8 +3620,27 @@ def print_reply(options, reply: dict) -> None:
     elif options.command == "logs":
         for line in reply["lines"]:
             print(line)
+    elif options.command == "reload":
+        print_reload(reply)
     else:
         print(f"{reply['node']}: {reply['state']}" + (f" (pid {reply['pid']})" if reply["pid"] else ""))
+
+
+def print_reload(reply: dict) -> None:
+    """A reload's answer: the builds, then one line per node it restarted, started, stopped or updated."""
+    builds = " -> ".join((digest or "unknown")[:BUILD_SHOWN_DIGITS] for digest in (reply["previous"], reply["build"]))
+    print(f"reloaded robot {reply['robot']}: build {builds}")
+    for node in reply["restarted"]:
+        print(f"restarted {node['name']} ({node['why']})")
+    for name in reply["started"]:
+        print(f"started {name}")
+    for name in reply["stopped"]:
+        print(f"stopped {name}")
+    for node in reply["updated"]:
+        print(f"updated {node['name']} ({node['what']})")
+    print(f"unchanged: {', '.join(reply['unchanged']) or 'none'}")
+    for note in reply["notes"]:
+        print(f"note: {note}")
 
 
 # The command line of supervisor.py: parse options, run preflight, run the loop (or the listener).
