@@ -21,7 +21,7 @@ from pathlib import Path
 from joshua_runtime.ai import episode_protocol as protocol
 
 EXIT_OK, EXIT_REFUSED, EXIT_USAGE, EXIT_NO_RECORDER = 0, 1, 2, 3
-DISCOVERY_TIMEOUT_S = 10.0  # how long to wait for the recorder to be found
+DISCOVERY_TIMEOUT_S = 10.0  # how long to wait for the recorder to be found (--discovery-timeout)
 ANSWER_TIMEOUT_S = 60.0  # how long saving an episode may take (video encoding is finished at save)
 SPIN_SLICE_S = 0.05
 RECORDER_TYPE = "DATA_SUBSCRIBER"
@@ -45,6 +45,13 @@ def parse_arguments(argv):
         default=ANSWER_TIMEOUT_S,
         metavar="SECONDS",
         help=f"how long to wait for the recorder's answer (default {ANSWER_TIMEOUT_S:g})",
+    )
+    parser.add_argument(
+        "--discovery-timeout",
+        type=float,
+        default=DISCOVERY_TIMEOUT_S,
+        metavar="SECONDS",
+        help=f"how long to look for the recorder before giving up (default {DISCOVERY_TIMEOUT_S:g})",
     )
     options = parser.parse_args(argv)
     if options.task and options.command != "start":
@@ -77,9 +84,11 @@ def command_text(options) -> str:
     return f"start {options.task}".strip() if options.command == "start" else options.command
 
 
-def exchange(node_name: str, domain: int | None, text: str, answers: tuple[str, ...], timeout_s: float):
-    """Send one command to the recorder and return its answering state; None when no recorder was found,
-    {} when it was found but did not answer in time."""
+def exchange(
+    node_name: str, domain: int | None, text: str, answers: tuple[str, ...], discovery_s: float, answer_s: float
+):
+    """Send one command to the recorder and return its answering state; None when no recorder was found within
+    `discovery_s`, {} when it was found but did not answer within `answer_s`."""
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from std_msgs.msg import String
@@ -104,7 +113,7 @@ def exchange(node_name: str, domain: int | None, text: str, answers: tuple[str, 
                 executor.spin_once(timeout_sec=SPIN_SLICE_S)
             return condition()
 
-        if not spin_until(lambda: publisher.get_subscription_count() > 0 and any(states), DISCOVERY_TIMEOUT_S):
+        if not spin_until(lambda: publisher.get_subscription_count() > 0 and any(states), discovery_s):
             return None
         baseline = max(state["seq"] for state in states if state)
         publisher.publish(String(data=text))
@@ -112,7 +121,7 @@ def exchange(node_name: str, domain: int | None, text: str, answers: tuple[str, 
         def answer():
             return next((s for s in states if s and s["seq"] > baseline and s["event"] in answers), None)
 
-        spin_until(answer, timeout_s)
+        spin_until(answer, answer_s)
         return answer() or {}
     finally:
         rclpy.try_shutdown(context=context)
@@ -131,11 +140,12 @@ def main(argv=None) -> int:
         print(f"joshua-episode: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     shown_domain = domain if domain is not None else os.environ.get("ROS_DOMAIN_ID", "0")
-    state = exchange(node, domain, command_text(options), protocol.ANSWERS[options.command], options.timeout)
+    answers = protocol.ANSWERS[options.command]
+    state = exchange(node, domain, command_text(options), answers, options.discovery_timeout, options.timeout)
     if state is None:
         print(
             f"joshua-episode: error: no recorder answers on /{node}/episode in ROS domain {shown_domain} within "
-            f"{DISCOVERY_TIMEOUT_S:g} s (is the robot running, and is {node} its DATA_SUBSCRIBER?)",
+            f"{options.discovery_timeout:g} s (is the robot running, and is {node} its DATA_SUBSCRIBER?)",
             file=sys.stderr,
         )
         return EXIT_NO_RECORDER

@@ -13,6 +13,7 @@ EPISODE = str(Path(sys.executable).parent / "joshua-episode")
 JOINTS = ["shoulder_pan", "gripper"]
 RECORDER = "episode_recorder"
 CLI_TIMEOUT_S = 120
+NO_RECORDER_WAIT_S = 1  # how long the "no recorder" case looks for one (the command's default: 10 s)
 
 
 def nodes(output: Path) -> str:
@@ -76,11 +77,11 @@ def test_start_stop_and_discard_report_what_the_recorder_did(tmp_path, ai_env, r
 
 
 def test_no_recorder_is_a_clear_error(ai_env):
-    missing = episode(ai_env, "stop", "--node", "nobody")
+    missing = episode(ai_env, "stop", "--node", "nobody", "--discovery-timeout", str(NO_RECORDER_WAIT_S))
     assert missing.returncode == 3
     assert missing.stderr.startswith(
         f"joshua-episode: error: no recorder answers on /nobody/episode in ROS domain "
-        f"{ai_env['ROS_DOMAIN_ID']} within 10 s"
+        f"{ai_env['ROS_DOMAIN_ID']} within {NO_RECORDER_WAIT_S} s"
     )
 
 
