@@ -1,14 +1,15 @@
-"""Fixtures shared by every test: an isolated ROS 2 environment per test, nodes started in it, a client.
+"""Fixtures shared by every test: an isolated ROS 2 environment per test, nodes started in it, a client,
+emulated devices on pseudo-terminals.
 
 Shared helpers live in the package testsupport/ beside this file, importable from every test.
 """
 
 import os
-import zlib
 
 import pytest
 
 from testsupport.node_process import NodeProcess
+from testsupport.ros_domains import claimed_domain
 
 # MuJoCo reads MUJOCO_GL once, at its first import in a process; tests that render in this process (the
 # training demonstrations) need EGL, as there is no display. Node processes choose their own.
@@ -27,17 +28,18 @@ def private_state_dirs(tmp_path_factory, monkeypatch) -> None:
 
 
 @pytest.fixture
-def ros_env(request) -> dict:
+def ros_env(request):
     """Environment for ROS processes of this test: its own domain id, discovery on localhost only.
 
-    The id mixes in the checkout's path, so two checkouts testing at once on one machine stay apart.
+    The id (testsupport/ros_domains.py) and the two after it are this test's alone while it runs, also
+    against parallel workers and other checkouts testing at once on this machine.
     """
-    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
-    env = dict(os.environ)
-    env["ROS_DOMAIN_ID"] = str(domain)
-    env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-    env["PYTHONUNBUFFERED"] = "1"
-    return env
+    with claimed_domain(f"{request.config.rootpath}::{request.node.nodeid}") as domain:
+        env = dict(os.environ)
+        env["ROS_DOMAIN_ID"] = str(domain)
+        env["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+        env["PYTHONUNBUFFERED"] = "1"
+        yield env
 
 
 @pytest.fixture
@@ -70,3 +72,38 @@ def ros_client(ros_domain):
 
     with RosClient("test_client") as client:
         yield client
+
+
+@pytest.fixture
+def emulators(tmp_path):
+    """Factory: emulators(name, **options) -> a started Sts3215Emulator (a servo bus; servos 1-6 unless
+    `ids=` says otherwise) at tmp_path/name; stopped at teardown."""
+    from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+
+    started = []
+
+    def make(name: str = "ttyBUS", **options) -> Sts3215Emulator:
+        emulator = Sts3215Emulator(tmp_path / name, **options).start()
+        started.append(emulator)
+        return emulator
+
+    yield make
+    for emulator in started:
+        emulator.stop()
+
+
+@pytest.fixture
+def lidars(tmp_path):
+    """Factory: lidars(name, **options) -> a started Lds01Emulator at tmp_path/name; stopped at teardown."""
+    from joshua_runtime.emulators.lds01 import Lds01Emulator
+
+    started = []
+
+    def make(name: str, **options) -> Lds01Emulator:
+        emulator = Lds01Emulator(tmp_path / name, **options).start()
+        started.append(emulator)
+        return emulator
+
+    yield make
+    for emulator in started:
+        emulator.stop()

@@ -1,13 +1,10 @@
-"""Fixtures of the C++ node tests: the binaries built once per session, C++ node processes, emulators."""
+"""Fixtures of the C++ node tests: the binaries built once per session, C++ node processes (emulators: root conftest)."""
 
 import json
 import subprocess
 
 import pytest
 from cpp_support import BIN_DIR, CALIBRATION, ROOT, CppNodeProcess
-
-from joshua_runtime.emulators.lds01 import Lds01Emulator
-from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 
 BINARIES = ("encoder_publisher", "actuator_subscriber", "lidar_publisher")
 
@@ -36,36 +33,6 @@ def start_cpp(ros_env, cpp_bin_dir):
     yield start
     for node in started:
         node.kill()
-
-
-@pytest.fixture
-def buses(tmp_path):
-    """Factory: buses(name, **options) -> a started Sts3215Emulator (servos 1-6) at tmp_path/name."""
-    started = []
-
-    def make(name: str, **options) -> Sts3215Emulator:
-        emulator = Sts3215Emulator(tmp_path / name, **options).start()
-        started.append(emulator)
-        return emulator
-
-    yield make
-    for emulator in started:
-        emulator.stop()
-
-
-@pytest.fixture
-def lidars(tmp_path):
-    """Factory: lidars(name) -> a started Lds01Emulator at tmp_path/name."""
-    started = []
-
-    def make(name: str) -> Lds01Emulator:
-        emulator = Lds01Emulator(tmp_path / name).start()
-        started.append(emulator)
-        return emulator
-
-    yield make
-    for emulator in started:
-        emulator.stop()
 
 
 @pytest.fixture
