@@ -1,4 +1,4 @@
-# joshuac: `make run` runs the demo robot, `make test` runs every test. Both set the machine up first.
+# joshuac: `make run` runs the demo robot, `make test` runs every test (`make test-fast` the unit tier). They set the machine up first.
 SHELL := /bin/bash
 export UV_PYTHON_DOWNLOADS := never
 export PATH := $(HOME)/.local/bin:$(PATH)
@@ -8,8 +8,10 @@ RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 STATUS_INTERVAL ?=
 PYTEST_ARGS ?=
+# pytest-xdist workers of `make test` (auto: one per core)
+TEST_WORKERS ?= auto
 
-.PHONY: setup install uninstall run test generate proto bench check cpp demo-train docs
+.PHONY: setup install uninstall run test test-fast generate proto bench check cpp demo-train docs
 
 setup:
 	@bash scripts/setup.sh
@@ -41,8 +43,13 @@ demo-train: setup
 	$(VENV)/python scripts/demo_train.py --output "$(DEMO_DIR)" --episodes $(DEMO_EPISODES) --steps $(DEMO_STEPS) \
 		--eval-episodes $(DEMO_EVAL_EPISODES) --seconds $(DEMO_SECONDS)
 
+## test: every test, in parallel workers; tests that must not overlap share an xdist_group (testsupport/tiers.py).
 test: setup
-	$(VENV)/pytest $(PYTEST_ARGS)
+	$(VENV)/pytest -n $(TEST_WORKERS) --dist loadgroup $(PYTEST_ARGS)
+
+## test-fast: the unit tier alone (compiler, rules, drivers against in-process emulators): no processes, no ROS.
+test-fast: setup
+	$(VENV)/pytest -m unit $(PYTEST_ARGS)
 
 ## generate: rebuild generated/<robot>/ for every description in config/robots/ (git keeps what it held).
 generate: setup

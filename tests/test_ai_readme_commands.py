@@ -7,6 +7,8 @@ Nothing may be downloaded: the home has no cached weights and the Hugging Face H
 
 import os
 
+import pytest
+
 from testsupport.joshuac_cli import ROOT
 from testsupport.readme_blocks import fresh_home, home_env, run_blocks, runnable_blocks
 
@@ -18,6 +20,8 @@ def test_every_command_block_is_marked_runnable():
     assert text.count("```sh\n") == len(runnable_blocks(AI_README)) >= 2
 
 
+@pytest.mark.ai
+@pytest.mark.process
 def test_every_ai_readme_block_succeeds_offline_in_a_fresh_directory(tmp_path):
     home = fresh_home(tmp_path)
     work = tmp_path / "work"

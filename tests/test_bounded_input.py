@@ -9,6 +9,8 @@ from joshua_codegen.diagnostics import Diagnostic, format_text
 from joshua_codegen.source_file import MAX_DESCRIPTION_BYTES
 from testsupport.joshuac_cli import CONFIGS, JOSHUAC, ROOT
 
+pytestmark = pytest.mark.process  # joshuac's command line
+
 COMMANDS = [("check",), ("build", "-o", "out"), ("fmt",), ("fmt", "--write"), ("fmt", "--check")]
 # Generous: a hang fails the test instead of blocking the suite; the refusal itself takes well under 1 s.
 HANG_TIMEOUT_S = 20

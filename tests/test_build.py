@@ -8,6 +8,8 @@ import pytest
 
 from testsupport.joshuac_cli import CONFIGS, ROOT, joshuac
 
+pytestmark = pytest.mark.process  # joshuac's command line
+
 
 def tree(directory):
     return {

@@ -7,7 +7,11 @@ import signal
 import subprocess
 import time
 
+import pytest
+
 from testsupport.joshuac_cli import JOSHUAC, ROOT, joshuac
+
+pytestmark = pytest.mark.process  # joshuac's command line
 
 CONFIG = ROOT / "config/robots/mock_arm.pbtxt"
 

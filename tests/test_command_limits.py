@@ -29,6 +29,7 @@ def codes(text: str, prefix: str | None = None) -> list[tuple[str, int, int]]:
     return [(d.code, d.line, d.column) for d in check_text("r.pbtxt", text, prefix=prefix).diagnostics]
 
 
+@pytest.mark.process
 def test_the_argument_limit_is_the_kernels():
     subprocess.run(["/bin/true", "a" * (MAX_ARG_STRLEN - 1)], check=True)
     with pytest.raises(OSError) as refused:
@@ -36,6 +37,7 @@ def test_the_argument_limit_is_the_kernels():
     assert refused.value.errno == errno.E2BIG
 
 
+@pytest.mark.process
 def test_the_line_limit_is_systemds(tmp_path):
     def verify(length: int) -> str:
         head = "ExecStart=/bin/true "
@@ -62,6 +64,7 @@ def test_quoting_that_makes_a_unit_line_too_long_is_an_error():
     assert codes(custom([quotes] * 8)) == [("E118", 8, 12)]
 
 
+@pytest.mark.process
 def test_build_refuses_before_writing(tmp_path):
     description = tmp_path / "robot.pbtxt"
     description.write_text(custom(["a" * MAX_ARG_STRLEN]))

@@ -8,7 +8,11 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from testsupport.joshuac_cli import ROOT
+
+pytestmark = [pytest.mark.ai, pytest.mark.process, pytest.mark.xdist_group("checkout")]  # `make setup`
 
 SMALL = ["DEMO_EPISODES=2", "DEMO_STEPS=20", "DEMO_EVAL_EPISODES=1", "DEMO_SECONDS=15"]
 MAKE_TIMEOUT_S = 300

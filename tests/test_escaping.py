@@ -2,6 +2,7 @@
 
 import ast
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -67,6 +68,7 @@ def test_source_names_cannot_break_the_xml_profile(source):
         max_size=4,
     )
 )
+@pytest.mark.process
 def test_shell_words_reach_the_program_unchanged(words):
     import subprocess
 

@@ -7,6 +7,8 @@ import pytest
 
 from testsupport.joshuac_cli import CONFIGS, ROOT, joshuac
 
+pytestmark = pytest.mark.process  # joshuac's command line
+
 REFRESH_GENERATED = "make generate"
 REFRESH_PROTO = "make proto"
 

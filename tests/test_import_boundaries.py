@@ -65,6 +65,7 @@ def test_distribution_does_not_depend_on_the_other_side(project, forbidden):
     assert not names & forbidden
 
 
+@pytest.mark.process
 def test_node_entrypoint_runs_without_the_compiler_installed():
     """Importing the runtime's entry, node base and a node class works with joshua_codegen, jinja2 and
     click made unimportable, as on a robot that installed only the runtime."""

@@ -7,6 +7,8 @@ the repository root, sharing one temporary HOME.
 import subprocess
 import tomllib
 
+import pytest
+
 from testsupport.joshuac_cli import ROOT
 from testsupport.readme_blocks import fresh_home, home_env, run_blocks, runnable_blocks
 
@@ -19,6 +21,8 @@ def test_the_marker_finds_the_set_up_blocks():
     assert any("joshuac " in block for block in blocks[1:])
 
 
+@pytest.mark.process
+@pytest.mark.xdist_group("checkout")  # `make install` sets the checkout up
 def test_every_runnable_readme_block_succeeds_in_a_new_login_shell(tmp_path):
     home = fresh_home(tmp_path)
     env = home_env(home)

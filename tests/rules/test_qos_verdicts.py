@@ -4,6 +4,7 @@ import itertools
 import subprocess
 import sys
 
+import pytest
 from rclpy.qos import (
     DurabilityPolicy,
     HistoryPolicy,
@@ -54,6 +55,7 @@ def test_the_failing_policy_is_named():
     assert incompatible_policies(strict, best_effort) == []
 
 
+@pytest.mark.process
 def test_the_compiler_does_not_import_rclpy():
     code = (
         "import sys\n"

@@ -67,6 +67,7 @@ def test_explain_accepts_lower_case_and_rejects_unknown_codes():
     assert explain("E999") is None
 
 
+@pytest.mark.process
 def test_explain_without_a_code_lists_every_code_with_its_name():
     from testsupport.joshuac_cli import joshuac
 

@@ -151,6 +151,7 @@ def test_two_nodes_with_one_name_cannot_be_addressed():
     ]
 
 
+@pytest.mark.process
 def test_the_help_says_how_lists_are_written():
     from testsupport.joshuac_cli import joshuac
 

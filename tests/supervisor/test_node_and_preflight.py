@@ -4,6 +4,8 @@ import os
 import signal
 import sys
 
+import pytest
+
 from joshua_codegen.supervisor.common import exit_text
 from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.preflight import PROBE_PREFIX, preflight
@@ -52,6 +54,7 @@ def test_a_custom_program_is_found_on_path():
     assert backend == "custom" and os.path.basename(argv[0]) == "true" and argv[1:] == ["-x"]
 
 
+@pytest.mark.process
 def test_preflight_lists_every_problem(tmp_path):
     nodes = [
         Node(spec(name="a", executable=str(tmp_path / "nothing")), sys.executable),
@@ -125,10 +128,12 @@ def python_node(tmp_path) -> Node:
     return Node(spec(kind="python", entrypoint=str(entrypoint)), sys.executable)
 
 
+@pytest.mark.process
 def test_preflight_accepts_an_interpreter_with_the_runtime_of_this_settings_format(tmp_path):
     assert preflight([python_node(tmp_path)], sys.executable) == []
 
 
+@pytest.mark.process
 def test_preflight_names_the_install_command_when_the_interpreter_lacks_the_runtime(tmp_path):
     base = sys._base_executable  # the interpreter this environment was made from: no joshua_runtime
     assert base != sys.executable
@@ -137,6 +142,7 @@ def test_preflight_names_the_install_command_when_the_interpreter_lacks_the_runt
     assert "joshuac build CONFIG -o OUT --bundle" in problem and "install.sh" in problem
 
 
+@pytest.mark.process
 def test_preflight_refuses_a_runtime_of_another_settings_format(tmp_path):
     old_runtime = tmp_path / "python"
     old_runtime.write_text("#!/bin/sh\necho 1\n")

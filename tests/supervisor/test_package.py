@@ -5,6 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from joshua_codegen import supervisor as package
 from joshua_codegen.emitters import supervisor as emitter
 from joshua_codegen.plan import plan
@@ -90,6 +92,7 @@ def test_generated_file_defines_exactly_the_names_of_the_placeholder_robot_modul
     assert "joshua_codegen" not in text
 
 
+@pytest.mark.process
 def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
     script = tmp_path / "supervisor.py"
     script.write_text(generated_supervisor())

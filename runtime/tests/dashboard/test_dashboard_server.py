@@ -17,6 +17,8 @@ from joshua_runtime.dashboard.control_client import ControlClient
 from joshua_runtime.dashboard.robot_view import load_robot_view
 from joshua_runtime.dashboard.security import HostAllowList, required_token
 
+pytestmark = pytest.mark.process  # a generated supervisor and the dashboard command
+
 ROOT = Path(__file__).resolve().parents[3]
 MOCK_ARM = ROOT / "generated" / "mock_arm" / "manifest.json"
 TOKEN = "s3cret-token-of-the-owner"

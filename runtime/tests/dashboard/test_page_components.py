@@ -4,6 +4,10 @@ import shutil
 import subprocess
 from pathlib import Path
 
+import pytest
+
+pytestmark = [pytest.mark.process, pytest.mark.xdist_group("checkout")]  # vitest on web/, which setup rebuilds
+
 WEB = Path(__file__).resolve().parents[3] / "web"
 VITEST_TIMEOUT_S = 180
 

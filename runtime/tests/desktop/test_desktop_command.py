@@ -20,6 +20,7 @@ def desktop(*argv):
     return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False)
 
 
+@pytest.mark.process
 def test_screenshot_of_the_emulated_demo(tmp_path):
     presets = tmp_path / "presets.json"
     presets.write_text(json.dumps({"wave": {"shoulder_pan": 0.8, "wrist_roll": -1.0}}))
@@ -31,12 +32,14 @@ def test_screenshot_of_the_emulated_demo(tmp_path):
     print(f"screenshot: {path}")
 
 
+@pytest.mark.process
 def test_a_port_that_is_not_there_exits_3_after_the_screenshot(tmp_path):
     path = tmp_path / "missing.png"
     result = desktop("--port", tmp_path / "ttyNONE", "--screenshot", path, "--quit-after", 1)
     assert result.returncode == 3 and path.exists()
 
 
+@pytest.mark.process
 def test_no_display_is_one_line(tmp_path, monkeypatch):
     for name in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"):
         monkeypatch.delenv(name, raising=False)
@@ -47,6 +50,7 @@ def test_no_display_is_one_line(tmp_path, monkeypatch):
     )
 
 
+@pytest.mark.process
 def test_bad_preset_file_is_one_line(tmp_path):
     presets = tmp_path / "presets.json"
     presets.write_text(json.dumps({"reach": {"elbow": 1.0}}))

@@ -3,12 +3,15 @@
 import asyncio
 import json
 
+import pytest
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
 
 from testsupport.compiled_settings import compiled_settings
 from testsupport.foxglove_client import first_messages, free_port
 from testsupport.joshuac_cli import joshuac
+
+pytestmark = pytest.mark.process
 
 ARM = "/arm/joint_states"
 

@@ -84,6 +84,7 @@ def test_joy_messages_become_twists(ros_env, ros_client):
         assert teleop.wait(10) == 0
 
 
+@pytest.mark.process
 def test_keys_need_a_terminal():
     result = subprocess.run(TELEOP, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=30)
     assert result.returncode == 2

@@ -88,6 +88,7 @@ def free_port() -> int:
         return sock.getsockname()[1]
 
 
+@pytest.mark.process
 def test_joshua_emulate_serves_the_hub_to_another_process(blob):
     port = free_port()
     emulator = subprocess.Popen(

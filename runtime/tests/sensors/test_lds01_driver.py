@@ -153,6 +153,7 @@ def test_read_scan_returns_none_when_asked_to_stop(tmp_path):
         assert lidar.read_scan(should_stop=lambda: time.monotonic() - started > 0.1) is None
 
 
+@pytest.mark.process
 def test_joshua_emulate_lds01_serves_until_sigint(tmp_path):
     link = tmp_path / "ttyCLI"
     process = subprocess.Popen(

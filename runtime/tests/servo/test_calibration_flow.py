@@ -7,9 +7,6 @@ import sys
 import time
 
 import pytest
-from lerobot.motors import Motor, MotorNormMode
-from lerobot.motors import MotorCalibration as LeRobotCalibration
-from lerobot.motors.feetech import FeetechMotorsBus
 from servo_helpers import SO100_IDS, SO100_JOINTS
 
 from joshua_runtime.drivers.calibration import calibration_for_bus, save_calibration
@@ -84,6 +81,10 @@ def read_ours(emulator, path):
 
 
 def read_lerobot(emulator, path):
+    from lerobot.motors import Motor, MotorNormMode  # torch: a second and more, paid only by the test using it
+    from lerobot.motors import MotorCalibration as LeRobotCalibration
+    from lerobot.motors.feetech import FeetechMotorsBus
+
     calibration = {name: LeRobotCalibration(**entry) for name, entry in json.loads(path.read_text()).items()}
     motors = {name: Motor(i, "sts3215", MotorNormMode.DEGREES) for name, i in zip(SO100_JOINTS, SO100_IDS)}
     bus = FeetechMotorsBus(str(emulator.link), motors, calibration=calibration)
@@ -103,6 +104,7 @@ def read_lerobot(emulator, path):
         bus.disconnect(disable_torque=False)
 
 
+@pytest.mark.ai  # LeRobot's bus
 def test_same_pose_reads_the_same_on_both_arms_through_both_stacks(emulators, tmp_path):
     readings, raw = {}, {}
     for role in ("follower", "leader"):
@@ -144,6 +146,7 @@ def test_a_sweep_across_the_wrap_point_is_refused(emulators):
             flow.result()
 
 
+@pytest.mark.process
 def test_terminal_calibration_driven_through_stdin(emulators, tmp_path):
     emulator = emulators("ttyTERMINAL", ids=SO100_IDS)
     person = Person(emulator, MOUNTS["leader"])

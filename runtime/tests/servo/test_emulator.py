@@ -250,6 +250,7 @@ def test_forced_and_seeded_faults(emulators):
         port.close()
 
 
+@pytest.mark.process
 def test_joshua_emulate_command_serves_until_sigint(tmp_path):
     link = tmp_path / "ttyCLI"
     process = subprocess.Popen(

@@ -1,8 +1,7 @@
 """The official Feetech SDK (scservo_sdk) and LeRobot's FeetechMotorsBus, unchanged, against the emulator."""
 
+import pytest
 import scservo_sdk as scs
-from lerobot.motors import Motor, MotorNormMode
-from lerobot.motors.feetech import FeetechMotorsBus
 from servo_helpers import SO100_IDS, SO100_JOINTS
 
 
@@ -52,7 +51,11 @@ def test_sdk_group_sync_read_and_write(emulators):
         port.closePort()
 
 
+@pytest.mark.ai  # LeRobot's bus
 def test_lerobot_feetech_bus_connects_and_sync_reads(emulators):
+    from lerobot.motors import Motor, MotorNormMode  # torch: a second and more, paid only by this test
+    from lerobot.motors.feetech import FeetechMotorsBus
+
     emulator = emulators("ttyLEROBOT", ids=SO100_IDS)
     for servo_id, ticks in zip(SO100_IDS, (1000, 1500, 2000, 2500, 3000, 3500)):
         emulator.move_by_hand(servo_id, ticks)

@@ -37,6 +37,7 @@ def test_scan_finds_servos_at_every_baud_rate(emulators, capsys):
     ]
 
 
+@pytest.mark.process
 def test_console_script_scans_the_joshua_emulate_bus(tmp_path):
     link = tmp_path / "ttyCLI"
     emulator = subprocess.Popen(

@@ -8,7 +8,6 @@ import mujoco
 import numpy as np
 
 from joshua_runtime.sim import arm_task as arm
-from joshua_runtime.train import mjx_reach
 
 ACTIONS = 4
 START = np.array([0.1, -0.2, 0.3, 0.2])
@@ -18,6 +17,8 @@ GRASP_TOLERANCE_M = 1e-3
 
 
 def test_mjx_steps_match_c_mujoco_within_tolerance():
+    from joshua_runtime.train import mjx_reach  # jax: a second and more, paid only by this test
+
     worlds = mjx_reach.MjxWorlds(2)
     worlds.reset(np.stack([START, -START]))
     model = worlds.model

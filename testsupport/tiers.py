@@ -1,0 +1,88 @@
+"""The tier of every test (what it needs to run), given as pytest marks so that `-m` selects by it, and the
+xdist group of tests that must share a worker of `make test`.
+
+A test's tiers come from the fixtures it uses (a fact: `ros_env` means a ROS domain) and from the
+default of its directory (`DIRECTORY_TIERS`). Tier marks written on a test or its module replace the
+directory's default; they are needed only where that default is wrong. `unit` means nothing else: a
+test with any other tier is not a unit test. A test whose directory has no default and whose
+fixtures say nothing has no tier: tests/test_tiers.py fails and names it.
+"""
+
+from pathlib import Path
+
+import pytest
+
+# Each tier, registered in pyproject.toml ([tool.pytest.ini_options] markers) with what it means.
+UNIT, PROCESS, ROS, BROWSER, AI, BENCH = "unit", "process", "ros", "browser", "ai", "bench"
+TIERS = (UNIT, PROCESS, ROS, BROWSER, AI, BENCH)
+
+# Fixtures that decide a tier wherever they are used (directly or through another fixture).
+FIXTURE_TIERS = {
+    "ros_env": (ROS,),  # also behind ros_domain, ros_client, start_node, ai_env, ros_peer, start_cpp
+    "start_node": (PROCESS,),
+    "start_cpp": (PROCESS,),
+    "chromium": (BROWSER,),
+    "ai_env": (AI,),
+    "lerobot_offline": (AI,),
+    "trained_reach": (AI,),
+}
+
+# The tier of a test file's directory (relative to the repository root) when its fixtures and marks say
+# nothing more. A new test directory gets a line here.
+DIRECTORY_TIERS = {
+    "tests": UNIT,
+    "tests/rules": UNIT,
+    "tests/supervisor": UNIT,
+    "tests/process": PROCESS,
+    "tests/e2e": PROCESS,
+    "runtime/tests": UNIT,
+    "runtime/tests/ai": AI,
+    "runtime/tests/bags": UNIT,
+    "runtime/tests/cpp": PROCESS,
+    "runtime/tests/dashboard": UNIT,
+    "runtime/tests/description": UNIT,
+    "runtime/tests/desktop": UNIT,
+    "runtime/tests/foxglove": UNIT,
+    "runtime/tests/interfaces": UNIT,
+    "runtime/tests/lego": UNIT,
+    "runtime/tests/sensors": UNIT,
+    "runtime/tests/servo": UNIT,
+    "runtime/tests/sim": UNIT,
+    "runtime/tests/tools": UNIT,
+    "runtime/tests/train": AI,
+}
+
+# Fixtures made once per worker process that cost more than the tests using them: those tests run on one
+# worker (an xdist_group named after the fixture), so that `make test` makes each once.
+SHARED_FIXTURES = ("trained_reach", "bundle")
+
+UNTIERED = pytest.StashKey[list]()  # node ids of the collected tests that got no tier
+
+
+def tiers_of(item: pytest.Item, root: Path) -> set[str]:
+    """The tiers of one collected test (see the module docstring)."""
+    tiers = {mark.name for mark in item.iter_markers() if mark.name in TIERS}
+    if not tiers:
+        directory = item.path.parent.relative_to(root).as_posix() if item.path.is_relative_to(root) else ""
+        tiers = {DIRECTORY_TIERS[directory]} if directory in DIRECTORY_TIERS else set()
+    for fixture in getattr(item, "fixturenames", ()):
+        tiers.update(FIXTURE_TIERS.get(fixture, ()))
+    if len(tiers) > 1:
+        tiers.discard(UNIT)
+    return tiers
+
+
+@pytest.hookimpl(tryfirst=True)  # before `-m` deselects: every collected test is tiered and checked
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    untiered = []
+    for item in items:
+        tiers = tiers_of(item, config.rootpath)
+        if not tiers:
+            untiered.append(item.nodeid)
+        for tier in sorted(tiers):
+            if not item.get_closest_marker(tier):
+                item.add_marker(tier)
+        shared = [name for name in SHARED_FIXTURES if name in getattr(item, "fixturenames", ())]
+        if shared and not item.get_closest_marker("xdist_group"):
+            item.add_marker(pytest.mark.xdist_group(shared[0]))
+    config.stash[UNTIERED] = untiered
