@@ -25,6 +25,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from support.ros_env import bench_environment  # noqa: E402
+
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
 from joshua_core.dashboard_token import token_path  # noqa: E402
 from testsupport.joshuac_cli import joshuac  # noqa: E402
@@ -234,11 +236,7 @@ def main() -> int:
         if built.returncode != 0:
             raise SystemExit(built.stderr)
         out = Path(directory) / "out"
-        os.environ.update(
-            ROS_DOMAIN_ID=str(100 + os.getpid() % 100),
-            ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-            FASTRTPS_DEFAULT_PROFILES_FILE=str(out / IMAGES_PROFILE_PATH),
-        )
+        os.environ.update(bench_environment("dashboard", FASTRTPS_DEFAULT_PROFILES_FILE=str(out / IMAGES_PROFILE_PATH)))
         with socket.socket() as probe:
             probe.bind(("127.0.0.1", 0))
             port = probe.getsockname()[1]

@@ -1,6 +1,7 @@
 """Every benchmark in bench/ runs end to end in its quick mode and prints figures, so none can rot.
 
 The figures are the benchmarks' business: only the exit code and that some figure was printed are checked.
+bench/suite.py times the test suite itself, so the suite leaves it out.
 """
 
 import re
@@ -13,9 +14,15 @@ import pytest
 BENCH = Path(__file__).resolve().parent.parent / "bench"
 BENCH_TIMEOUT_S = 300.0  # a quick run takes seconds; this only ends a hang
 FIGURE = re.compile(r"\d+\.\d+")
+NOT_IN_THE_SUITE = {"suite.py"}  # runs `make test`
+
+# One benchmark at a time: each loads the machine, and its figures say more without a neighbour.
+pytestmark = [pytest.mark.bench, pytest.mark.process, pytest.mark.xdist_group("bench")]
 
 
-@pytest.mark.parametrize("script", sorted(path.name for path in BENCH.glob("*.py")))
+@pytest.mark.parametrize(
+    "script", sorted(path.name for path in BENCH.glob("*.py") if path.name not in NOT_IN_THE_SUITE)
+)
 def test_bench_quick_mode_runs_and_prints_figures(script, ros_env):
     result = subprocess.run(
         [sys.executable, str(BENCH / script), "--quick"],

@@ -1,0 +1,57 @@
+"""How long the test tiers take: `make test-fast` and `make test`, each against its target on a 2-core machine.
+
+    .venv/bin/python bench/suite.py                 # both, fast tier first
+    .venv/bin/python bench/suite.py --only fast     # or --only full
+
+Not run by the test suite (it runs the suite). "wall" is what a developer waits; "cpu" the user+system
+seconds of make and everything it started, which other load on the machine changes little. The load
+average before and after says how busy the machine was: figures taken at a load above the core count are
+not the machine's own. Each make runs as it would by hand (setup included); a failing run is reported too.
+"""
+
+import argparse
+import os
+import resource
+import subprocess
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+TARGETS_S = {"test-fast": 60.0, "test": 360.0}  # on the 2-core machine the suite is written for
+ONLY = {"fast": ("test-fast",), "full": ("test",), "both": ("test-fast", "test")}
+
+
+def children_cpu_s() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed_make(target: str) -> tuple[int, float, float, str]:
+    """(exit code, wall seconds, cpu seconds, pytest's summary line) of `make -s TARGET`."""
+    cpu, started = children_cpu_s(), time.monotonic()
+    result = subprocess.run(["make", "-s", target], cwd=ROOT, capture_output=True, text=True, check=False)
+    wall, cpu = time.monotonic() - started, children_cpu_s() - cpu
+    lines = [line for line in result.stdout.splitlines() if line.strip()]
+    return result.returncode, wall, cpu, (lines[-1].strip("= ") if lines else result.stderr.strip()[-200:])
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--only", choices=sorted(ONLY), default="both", help="which tiers to time (default both)")
+    args = parser.parse_args()
+    print(f"{os.cpu_count()} cores; targets: " + ", ".join(f"make {t} {s:g} s" for t, s in TARGETS_S.items()))
+    failed = False
+    for target in ONLY[args.only]:
+        load = os.getloadavg()[0]
+        code, wall, cpu, summary = timed_make(target)
+        failed |= code != 0
+        verdict = "within" if wall <= TARGETS_S[target] else "over"
+        print(
+            f"make {target}: {wall:.1f} s wall ({wall / TARGETS_S[target]:.2f} of its {TARGETS_S[target]:g} s target, "
+            f"{verdict}), {cpu:.1f} CPU-s, load average {load:.1f} -> {os.getloadavg()[0]:.1f}, exit {code}: {summary}"
+        )
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
