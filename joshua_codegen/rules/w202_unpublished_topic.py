@@ -45,12 +45,11 @@ NEEDS_EVERY_NODE = True
 def check(ctx):
     for index in (ctx.subscribers, ctx.readers):
         for topic, endpoints in index.items():
-            if topic in ctx.publishers:
+            reported = [endpoint for endpoint in endpoints if not endpoint.implied]
+            if topic in ctx.publishers or not reported:
                 continue
-            hint = suggest(topic, ctx.publishers)
+            hint = suggest(topic, ctx.publishers)  # compares with every publisher: only for a warning given
             message = f'nothing in this description publishes "{topic}"'
             message += f'; did you mean "{hint}"?' if hint else ""
-            for endpoint in endpoints:
-                if endpoint.implied:
-                    continue
+            for endpoint in reported:
                 yield Finding(endpoint.at, message)
