@@ -17,6 +17,11 @@ pytest_plugins = ["testsupport.tiers"]  # marks every test with its tiers (unit,
 # training demonstrations) need EGL, as there is no display. Node processes choose their own.
 os.environ.setdefault("MUJOCO_GL", "egl")
 os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
+# One thread per process for the math libraries (OpenMP: torch, OpenBLAS), in this process and every one
+# it starts: `make test` runs a worker per core, and OpenMP threads spinning for cores that other processes
+# hold multiply torch's CPU time (ResNet-18 on a 64x48 image: 14 CPU-ms with one thread, 224 with two on a
+# busy 2-core machine; `joshua-train evaluate` of the AI README's ACT: 7.5 CPU-s against 30).
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
 @pytest.fixture(autouse=True)

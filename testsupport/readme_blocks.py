@@ -15,6 +15,7 @@ from pathlib import Path
 MARKER = "<!-- test: run -->"
 RUNNABLE = re.compile(r"^" + re.escape(MARKER) + r"\n```sh\n(.*?)^```$", re.MULTILINE | re.DOTALL)
 BLOCK_TIMEOUT_S = 300
+SUITE_SETTINGS = ("OMP_NUM_THREADS",)  # what the test suite sets for every process it starts (conftest.py)
 
 
 def runnable_blocks(readme: Path) -> list[str]:
@@ -31,12 +32,14 @@ def fresh_home(tmp_path: Path) -> Path:
 
 
 def home_env(home: Path, **extra: str) -> dict:
-    """A minimal environment of a user whose home is `home` (uv's cache shared with this machine's)."""
+    """A minimal environment of a user whose home is `home` (uv's cache shared with this machine's, the
+    suite's thread limit kept)."""
     return {
         "HOME": str(home),
         "USER": os.environ.get("USER", "root"),
         "LANG": "C.UTF-8",
         "UV_CACHE_DIR": os.environ.get("UV_CACHE_DIR", str(Path.home() / ".cache" / "uv")),
+        **{name: os.environ[name] for name in SUITE_SETTINGS if name in os.environ},
         **extra,
     }
 
