@@ -100,6 +100,12 @@ def emulators(tmp_path):
 
 
 @pytest.fixture
+def buses(emulators):
+    """The same factory as `emulators`, by the name the C++ node tests give it."""
+    return emulators
+
+
+@pytest.fixture
 def lidars(tmp_path):
     """Factory: lidars(name, **options) -> a started Lds01Emulator at tmp_path/name; stopped at teardown."""
     from joshua_runtime.emulators.lds01 import Lds01Emulator

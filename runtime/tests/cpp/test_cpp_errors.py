@@ -88,11 +88,11 @@ def test_a_lidar_that_stops_streaming_ends_both_nodes_alike(lidars, start_node, 
             f"no usable scan for {DEVICE_SILENCE_S:g} s")
 
 
-def test_a_calibration_file_without_the_joints_is_unusable_settings(tmp_path, emulators, start_node, start_cpp):
+def test_a_calibration_file_without_the_joints_is_unusable_settings(tmp_path, buses, start_node, start_cpp):
     calibration = tmp_path / "other_arm.json"
     calibration.write_text('{"elbow": {"id": 1, "drive_mode": 0, "homing_offset": 0, "range_min": 0, '
                            '"range_max": 4095}}')
-    emulators("ttyBUS-py"), emulators("ttyBUS-cpp")
+    buses("ttyBUS-py"), buses("ttyBUS-cpp")
     text = pair("ENCODER_PUBLISHER", f'{SO100_BUS} calibration_file: "{calibration}"', str(tmp_path / "ttyBUS"))
     python, cpp = run_pair(start_node, start_cpp, text)
     assert cpp == python
@@ -115,8 +115,8 @@ def test_unusable_parameters_exit_2_with_one_line(start_cpp, override, message):
 
 
 @pytest.mark.parametrize("quoted", ["'0042'", "'true'", "base_link"])
-def test_string_parameters_stay_strings(emulators, start_cpp, ros_client, quoted):
-    bus = emulators("ttyBUS")
+def test_string_parameters_stay_strings(buses, start_cpp, ros_client, quoted):
+    bus = buses("ttyBUS")
     argv = cpp_commands(pair("ENCODER_PUBLISHER"), [f"cpp_node.serial_port={bus.link}"])["cpp_node"]
     node = start_cpp(with_parameter(argv, f"frame_id:={quoted}"))
     ros_client.listen("/cpp", JointState, RELIABLE)
@@ -124,8 +124,8 @@ def test_string_parameters_stay_strings(emulators, start_cpp, ros_client, quoted
     assert ros_client.last("/cpp").header.frame_id == quoted.strip("'")
 
 
-def test_a_signal_during_start_up_ends_the_node_with_0(emulators, start_cpp):
-    silent = emulators("ttySILENT", ids=[7])  # answers nothing the node asks for: it retries every servo
+def test_a_signal_during_start_up_ends_the_node_with_0(buses, start_cpp):
+    silent = buses("ttySILENT", ids=[7])  # answers nothing the node asks for: it retries every servo
     node = start_cpp(cpp_commands(pair("ENCODER_PUBLISHER"), [f"cpp_node.serial_port={silent.link}"])["cpp_node"])
     time.sleep(0.2)
     code, seconds, stderr = node.stop(signal.SIGTERM)
@@ -133,8 +133,8 @@ def test_a_signal_during_start_up_ends_the_node_with_0(emulators, start_cpp):
     assert seconds < STOP_BOUND_S
 
 
-def test_the_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emulators, start_cpp, ros_client):
-    bus = emulators("ttyREPLUG")
+def test_the_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(buses, start_cpp, ros_client):
+    bus = buses("ttyREPLUG")
     node = start_cpp(cpp_commands(pair("ENCODER_PUBLISHER"), [f"cpp_node.serial_port={bus.link}"])["cpp_node"])
     ros_client.listen("/cpp", JointState, RELIABLE)
     assert ros_client.spin_until(lambda: ros_client.last("/cpp") is not None, NODE_START_TIMEOUT_S), node.failure()
@@ -159,8 +159,8 @@ def test_the_encoder_rides_out_a_replug_then_exits_3_when_the_bus_stays_gone(emu
     assert "[INFO]" in stderr and f"{bus.link}: reconnected" in stderr
 
 
-def test_the_encoder_retries_through_lost_and_corrupt_replies(emulators, start_cpp, ros_client):
-    noisy = emulators("ttyNOISY", drop_rate=0.1, corrupt_rate=0.05, seed=3)
+def test_the_encoder_retries_through_lost_and_corrupt_replies(buses, start_cpp, ros_client):
+    noisy = buses("ttyNOISY", drop_rate=0.1, corrupt_rate=0.05, seed=3)
     for servo_id, ticks in zip(range(1, 7), (1000, 1500, 2000, 2500, 3000, 3500)):
         noisy.move_by_hand(servo_id, ticks)
     node = start_cpp(cpp_commands(pair("ENCODER_PUBLISHER"), [f"cpp_node.serial_port={noisy.link}"])["cpp_node"])
@@ -174,8 +174,8 @@ def test_the_encoder_retries_through_lost_and_corrupt_replies(emulators, start_c
     assert code == 0, stderr
 
 
-def test_a_port_held_by_another_node_is_busy_for_both_backends(emulators, start_node, start_cpp, ros_client):
-    bus = emulators("ttyHELD")
+def test_a_port_held_by_another_node_is_busy_for_both_backends(buses, start_node, start_cpp, ros_client):
+    bus = buses("ttyHELD")
     text = pair("ENCODER_PUBLISHER")
     overrides = [f"py_node.serial_port={bus.link}", f"cpp_node.serial_port={bus.link}-other"]
     holder = start_cpp(cpp_commands(text, [f"cpp_node.serial_port={bus.link}"])["cpp_node"])
@@ -189,8 +189,8 @@ def test_a_port_held_by_another_node_is_busy_for_both_backends(emulators, start_
     assert holder.process.poll() is None
 
 
-def test_two_servos_sharing_an_id_stop_both_backends_alike(tmp_path, emulators, start_node, start_cpp):
+def test_two_servos_sharing_an_id_stop_both_backends_alike(tmp_path, buses, start_node, start_cpp):
     for suffix in ("-py", "-cpp"):
-        emulators(f"ttyTWINS{suffix}", ids=[1, 1, 2, 3, 4, 5, 6])
+        buses(f"ttyTWINS{suffix}", ids=[1, 1, 2, 3, 4, 5, 6])
     python, cpp = run_pair(start_node, start_cpp, pair("ENCODER_PUBLISHER", port=str(tmp_path / "ttyTWINS")))
     assert cpp == python == (3, f"{tmp_path / 'ttyTWINS'}: no answer from servo id 1")

@@ -40,8 +40,8 @@ def notified(ros_env, argv, name: str, **variables) -> tuple[socket.socket, CppN
     return listener, CppNodeProcess(argv, {**ros_env, "NOTIFY_SOCKET": f"@{name}", **variables})
 
 
-def test_an_encoder_says_ready_with_what_it_serves_feeds_the_watchdog_and_says_stopping(ros_env, cpp_bin_dir, emulators):
-    bus = emulators("ttyNOTIFY")
+def test_an_encoder_says_ready_with_what_it_serves_feeds_the_watchdog_and_says_stopping(ros_env, cpp_bin_dir, buses):
+    bus = buses("ttyNOTIFY")
     argv = cpp_argv(
         f'type: ENCODER_PUBLISHER preferred_backend: CPP topic_name: "/cpp/joint_states" rate_hz: 40 '
         f'serial_port: "{bus.link}"'

@@ -57,9 +57,9 @@ def stop_both(python, cpp, signum) -> None:
         assert seconds < STOP_BOUND_S
 
 
-def test_encoders_publish_the_same_calibrated_joint_states(emulators, calibration_file, start_node, start_cpp,
+def test_encoders_publish_the_same_calibrated_joint_states(buses, calibration_file, start_node, start_cpp,
                                                            ros_client):
-    python_bus, cpp_bus = emulators("ttyPY"), emulators("ttyCPP")
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
     fields = ('qos_reliability: RELIABLE qos_durability: TRANSIENT_LOCAL qos_depth: 3 rate_hz: 50 '
               'frame_id: "arm_base"')
     settings, argv = twins("leader", "ENCODER_PUBLISHER", "joint_states", fields, [
@@ -95,9 +95,9 @@ def test_encoders_publish_the_same_calibrated_joint_states(emulators, calibratio
     stop_both(python, cpp, signal.SIGTERM)
 
 
-def test_actuators_write_the_same_goals_and_report_the_same_state(emulators, calibration_file, start_node, start_cpp,
+def test_actuators_write_the_same_goals_and_report_the_same_state(buses, calibration_file, start_node, start_cpp,
                                                                    ros_client):
-    python_bus, cpp_bus = emulators("ttyPY"), emulators("ttyCPP")
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
     fields = 'rate_hz: 50 frame_id: "follower_base" keep_torque_on_exit: true'
     overrides = [f"py_follower.serial_port={python_bus.link}", f"cpp_follower.serial_port={cpp_bus.link}",
                  f"py_follower.calibration_file={calibration_file}", f"cpp_follower.calibration_file={calibration_file}",

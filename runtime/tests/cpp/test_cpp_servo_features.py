@@ -63,8 +63,8 @@ def stop(node) -> str:
     return stderr
 
 
-def test_encoders_report_the_same_diagnostics(emulators, start_node, start_cpp, ros_client):
-    python_bus, cpp_bus = emulators("ttyPY"), emulators("ttyCPP")
+def test_encoders_report_the_same_diagnostics(buses, start_node, start_cpp, ros_client):
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
     settings, argv = twins(
         "leader",
         "ENCODER_PUBLISHER",
@@ -107,9 +107,9 @@ def test_encoders_report_the_same_diagnostics(emulators, start_node, start_cpp, 
     stop(python), stop(cpp)
 
 
-def start_follower_twins(emulators, start_node, start_cpp, ros_client, fields: str, calibration_file):
+def start_follower_twins(buses, start_node, start_cpp, ros_client, fields: str, calibration_file):
     """Python and C++ actuators on their own buses, both following /command; started and subscribed."""
-    python_bus, cpp_bus = emulators("ttyPY"), emulators("ttyCPP")
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
     overrides = [
         f"py_follower.serial_port={python_bus.link}",
         f"cpp_follower.serial_port={cpp_bus.link}",
@@ -142,9 +142,9 @@ def torque(bus) -> list[int]:
     return [bus.read_register(i, "Torque_Enable") for i in IDS]
 
 
-def test_actuators_report_clamped_goals_alike(emulators, calibration_file, start_node, start_cpp, ros_client):
+def test_actuators_report_clamped_goals_alike(buses, calibration_file, start_node, start_cpp, ros_client):
     (python_bus, cpp_bus), (python, cpp) = start_follower_twins(
-        emulators, start_node, start_cpp, ros_client, "diagnostics_rate_hz: 20 keep_torque_on_exit: true", calibration_file
+        buses, start_node, start_cpp, ros_client, "diagnostics_rate_hz: 20 keep_torque_on_exit: true", calibration_file
     )
     ros_client.listen("/diagnostics", DiagnosticArray, READER_QOS, keep=KEPT_DIAGNOSTICS)
     commands = ros_client.publisher("/command", JointState, READER_QOS)
@@ -178,10 +178,10 @@ def test_actuators_report_clamped_goals_alike(emulators, calibration_file, start
 
 
 @pytest.mark.parametrize("action", ["RELEASE_TORQUE", "HOLD_POSITION"])
-def test_the_watchdog_stops_the_arm_when_goals_stop(action, emulators, calibration_file, start_node, start_cpp, ros_client):
+def test_the_watchdog_stops_the_arm_when_goals_stop(action, buses, calibration_file, start_node, start_cpp, ros_client):
     timeout_s = 0.4
     fields = f"command_timeout_s: {timeout_s} on_command_timeout: {action} diagnostics_rate_hz: 10"
-    buses_, nodes = start_follower_twins(emulators, start_node, start_cpp, ros_client, fields, calibration_file)
+    buses_, nodes = start_follower_twins(buses, start_node, start_cpp, ros_client, fields, calibration_file)
     ros_client.listen("/diagnostics", DiagnosticArray, READER_QOS, keep=KEPT_DIAGNOSTICS)
     for bus in buses_:  # slow enough that the arm is still on its way when the watchdog fires
         for servo_id in IDS:
@@ -232,12 +232,12 @@ def test_the_watchdog_stops_the_arm_when_goals_stop(action, emulators, calibrati
         assert ("goal received: torque on again" in stderr) == (action == "RELEASE_TORQUE")
 
 
-def test_presets_switch_torque_and_move_to_named_poses(emulators, calibration_file, start_node, start_cpp, ros_client):
+def test_presets_switch_torque_and_move_to_named_poses(buses, calibration_file, start_node, start_cpp, ros_client):
     fields = (
         'preset { name: "wave" joint { name: "elbow_flex" position: 0.5 } joint { name: "gripper" '
         "position: 1.0 } } keep_torque_on_exit: true"
     )
-    buses_, nodes = start_follower_twins(emulators, start_node, start_cpp, ros_client, fields, calibration_file)
+    buses_, nodes = start_follower_twins(buses, start_node, start_cpp, ros_client, fields, calibration_file)
     presets = ros_client.publisher("/command/preset", String, READER_QOS)
     motors = {name: MotorCalibration(**CALIBRATION[name]) for name in JOINTS}
 
@@ -272,8 +272,8 @@ def test_presets_switch_torque_and_move_to_named_poses(emulators, calibration_fi
         assert "unknown preset 'dance': known are torque_on, torque_off, home, rest, grip_open, wave" in stop(node)
 
 
-def test_encoders_report_a_lost_bus_alike(emulators, start_node, start_cpp, ros_client):
-    python_bus, cpp_bus = emulators("ttyPY"), emulators("ttyCPP")
+def test_encoders_report_a_lost_bus_alike(buses, start_node, start_cpp, ros_client):
+    python_bus, cpp_bus = buses("ttyPY"), buses("ttyCPP")
     settings, argv = twins(
         "leader",
         "ENCODER_PUBLISHER",

@@ -34,8 +34,8 @@ def write_video(path) -> None:
     writer.release()
 
 
-def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_client, emulators, cpp_bin_dir):
-    leader_bus, follower_bus = emulators("ttyLEADER"), emulators("ttyFOLLOWER")
+def test_leader_follower_runs_its_servo_nodes_in_cpp(tmp_path, ros_env, ros_client, buses, cpp_bin_dir):
+    leader_bus, follower_bus = buses("ttyLEADER"), buses("ttyFOLLOWER")
     video = tmp_path / "camera.avi"
     write_video(video)
     out = tmp_path / "out"
