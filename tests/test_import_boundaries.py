@@ -81,6 +81,7 @@ def test_node_entrypoint_runs_without_the_compiler_installed():
     assert result.returncode == 0, result.stderr
 
 
+@pytest.mark.process
 def test_import_linter_contracts_are_kept():
     lint_imports = Path(sys.executable).with_name("lint-imports")
     result = subprocess.run(

@@ -107,6 +107,7 @@ def test_preferred_backend_cpp_runs_the_binary_or_is_reported_at_check_time(name
         assert process.cpp_binary == "" and not process.cpp_args
 
 
+@pytest.mark.process
 def test_cpp_makefile_builds_exactly_the_binaries_of_the_registry():
     """cpp/Makefile reads the binaries from the registry, and each has its source with a main()."""
     made = subprocess.run(

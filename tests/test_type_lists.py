@@ -93,6 +93,7 @@ def without_rendered_parts(path: Path, text: str) -> str:
     return text
 
 
+@pytest.mark.process
 def test_no_code_doc_or_schema_comment_lists_node_types_by_hand():
     offenders = []
     for path in scanned_files():

@@ -21,7 +21,7 @@ FIXTURE_TIERS = {
     "ros_env": (ROS,),  # also behind ros_domain, ros_client, start_node, ai_env, ros_peer, start_cpp
     "start_node": (PROCESS,),
     "start_cpp": (PROCESS,),
-    "chromium": (BROWSER,),
+    "page": (BROWSER,),  # a Playwright page
     "ai_env": (AI,),
     "lerobot_offline": (AI,),
     "trained_reach": (AI,),

@@ -17,6 +17,8 @@ from mcap.exceptions import EndOfFile, McapError
 from mcap.reader import NonSeekingReader, make_reader
 from mcap_ros2.decoder import DecoderFactory
 
+pytestmark = pytest.mark.process
+
 SPLIT_S = 2
 WAIT_S = 20.0
 TOPIC_CLI = [sys.executable, "-m", "joshua_runtime.tools.topic_cli"]

@@ -9,6 +9,8 @@ import pytest
 from joshua_runtime.dashboard.control_client import ControlClient, ControlError
 from testsupport.other_user import OTHER_UID, as_other_user
 
+pytestmark = pytest.mark.process
+
 
 def test_a_socket_another_user_serves_gets_no_request(tmp_path):
     shared = tmp_path / "tmp"

@@ -19,6 +19,8 @@ from dashboard_support import (
 )
 from sensor_msgs.msg import JointState
 
+pytestmark = [pytest.mark.browser, pytest.mark.process]
+
 PAGE_TIMEOUT_MS = 30_000
 RECORDER_START_TIMEOUT_MS = 120_000  # LeRobot's import in a cold process on a busy machine
 PROBE_JOINTS = ["shoulder_pan", "gripper"]

@@ -14,6 +14,8 @@ from fleet_support import (
     zenoh_peer,
 )
 
+pytestmark = pytest.mark.process  # joshua-fleet
+
 PASSWORDS = {"arm_1": "first-SECRET-pw", "arm_2": "second-SECRET-pw"}
 READ_WAIT_S = 1.0
 

@@ -4,6 +4,7 @@ import subprocess
 import sys
 from contextlib import ExitStack
 
+import pytest
 from dashboard_support import (
     browser,
     dashboard_token,
@@ -14,6 +15,8 @@ from dashboard_support import (
     stop,
     wait_for_server,
 )
+
+pytestmark = [pytest.mark.browser, pytest.mark.process]
 
 PAGE_TIMEOUT_MS = 30_000
 ROBOTS = ("fleet_alpha", "fleet_beta")

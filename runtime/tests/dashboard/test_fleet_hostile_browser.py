@@ -3,8 +3,11 @@ http(s), the token out of reach, and a silent robot shown offline before it goes
 
 import json
 
+import pytest
 from dashboard_support import browser, screenshot
 from fleet_support import running_fleet, status, wait_linked, zenoh_peer
+
+pytestmark = [pytest.mark.browser, pytest.mark.process]
 
 PAGE_TIMEOUT_MS = 30_000
 TOKEN = "fleet-token-SECRET"

@@ -5,10 +5,13 @@ A real `joshua-fleet` on loopback (where it admits peers without credentials) an
 
 import json
 
+import pytest
 from fleet_support import running_fleet, status, wait_linked, zenoh_peer
 
 from joshua_runtime.dashboard.fleet_roster import MAX_ROBOTS
 from joshua_runtime.dashboard.fleet_status import MAX_STATUS_BYTES
+
+pytestmark = pytest.mark.process  # joshua-fleet
 
 JUNK = {
     "a_list": "[1,2,3]",

@@ -60,6 +60,7 @@ def test_an_unusable_password_file_is_one_clear_error(tmp_path, content, message
     assert str(error.value).startswith(message.format(path=path))
 
 
+@pytest.mark.process
 def test_the_dashboard_stops_with_one_line_when_a_credential_file_is_missing(tmp_path):
     missing = tmp_path / "absent.pem"
     result = subprocess.run(

@@ -13,7 +13,10 @@ import subprocess
 import sys
 import threading
 
+import pytest
 from servo_helpers import SO100_IDS, SO100_JOINTS
+
+pytestmark = pytest.mark.process
 
 # Encoder ticks of each joint at its homing pose, and its end stops in ticks from there.
 MOUNTS = dict(zip(SO100_JOINTS, [1900, 2200, 1700, 2400, 3000, 1000]))
