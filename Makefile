@@ -8,7 +8,7 @@ RUN_CONFIG ?= config/robots/so100_sim.pbtxt
 DURATION ?=
 STATUS_INTERVAL ?=
 PYTEST_ARGS ?=
-# pytest-xdist workers of `make test` (auto: one per core)
+# pytest-xdist workers of `make test` (auto: one per core; 0: none, the tests run in pytest's own process)
 TEST_WORKERS ?= auto
 
 .PHONY: setup install uninstall run test test-fast generate proto bench check cpp demo-train docs
