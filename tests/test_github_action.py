@@ -11,6 +11,8 @@ import yaml
 
 from testsupport.joshuac_cli import ROOT
 
+pytestmark = pytest.mark.process  # actionlint, shellcheck and the action's scripts
+
 BIN = ROOT / ".venv" / "bin"
 WORKFLOW = ROOT / ".github" / "workflows" / "ci.yml"
 ACTION = yaml.safe_load((ROOT / "action.yml").read_text())

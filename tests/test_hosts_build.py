@@ -175,6 +175,7 @@ def test_a_host_with_ros_from_apt_runs_its_nodes_after_sourcing_the_ros_setup():
     assert "After=" not in host_files(files, "pi")["systemd/joshua-split-leader.service"]
 
 
+@pytest.mark.process
 @pytest.mark.parametrize("host", ["arm", "gpu", "pi"])
 def test_each_hosts_units_pass_systemd_analyze_verify_where_they_are_deployed(tmp_path, host):
     source = tmp_path / "split.pbtxt"
@@ -225,6 +226,7 @@ def test_the_discovery_server_name_is_reserved_with_a_discovery_block():
     assert found == [("E205", 'node name "discovery_server" is reserved for the Discovery Server process')]
 
 
+@pytest.mark.process
 def test_joshuac_run_needs_one_of_the_hosts(tmp_path):
     source = tmp_path / "split.pbtxt"
     source.write_text(SPLIT)
@@ -243,6 +245,7 @@ def test_joshuac_run_needs_one_of_the_hosts(tmp_path):
     assert joshuac("run", plain, "--host", "arm").returncode == 2
 
 
+@pytest.mark.process
 def test_each_hosts_bundle_installs_only_what_its_processes_need():
     from joshua_codegen.bundle import bundle_files
 
@@ -269,6 +272,7 @@ def test_each_hosts_bundle_installs_only_what_its_processes_need():
     )
 
 
+@pytest.mark.process
 def test_each_hosts_output_carries_a_stamp_of_its_own_that_sha256sum_accepts(tmp_path):
     source = tmp_path / "split.pbtxt"
     source.write_text(SPLIT)
@@ -286,6 +290,7 @@ def test_each_hosts_output_carries_a_stamp_of_its_own_that_sha256sum_accepts(tmp
     assert again.returncode == 0, again.stderr
 
 
+@pytest.mark.process
 def test_build_check_compares_every_hosts_output(tmp_path):
     source = tmp_path / "split.pbtxt"
     source.write_text(SPLIT)

@@ -11,6 +11,8 @@ from pytest_lsp import ClientServerConfig, LanguageClient
 
 from testsupport.joshuac_cli import ROOT, joshuac
 
+pytestmark = pytest.mark.process  # joshuac lsp
+
 SERVER = [sys.executable, "-m", "joshua_codegen", "lsp"]
 DESCRIPTION = """\
 robot_config {

@@ -13,6 +13,8 @@ import pytest
 
 from testsupport.joshuac_cli import ROOT
 
+pytestmark = pytest.mark.process  # pre-commit
+
 BIN = ROOT / ".venv" / "bin"
 SEED = ROOT / "config" / "robots" / "so100_arm.pbtxt"
 HOOKS = ("joshuac-check", "joshuac-fmt", "joshuac-build-check")

@@ -70,6 +70,7 @@ def reference(tmp_path_factory):
     return out, _outputs(run)
 
 
+@pytest.mark.process
 @pytest.mark.parametrize("version", sorted(INTERPRETERS))
 def test_joshuac_on_each_python_matches_the_reference(version, reference, tmp_path):
     reference_builds, reference_answers = reference

@@ -9,6 +9,8 @@ import pytest
 from joshua_codegen.rules import all_rules, explain
 from testsupport.joshuac_cli import CONFIGS, ROOT, joshuac
 
+pytestmark = pytest.mark.process  # joshuac's command line
+
 RULES = ROOT / "tests" / "rules"
 # Fixtures whose diagnostics cover notes, several files and a warning.
 MIXED = [RULES / "E301" / "bad.pbtxt", RULES / "E001" / "bad.pbtxt", RULES / "W101" / "bad.pbtxt"]
