@@ -82,6 +82,7 @@ def wait_for_state(control_socket, node: str, state: str) -> None:
     raise AssertionError(f"{node} never became {state}")
 
 
+@pytest.mark.process
 def test_starting_a_running_node_is_409_and_an_unknown_node_is_404(supervised, tmp_path):
     with dashboard_client(supervised, tmp_path) as client:
         running = client.post("/api/nodes/plain/start")
@@ -96,6 +97,7 @@ def test_starting_a_running_node_is_409_and_an_unknown_node_is_404(supervised, t
     assert again.status_code == 200 and again.json()["state"] == "running"
 
 
+@pytest.mark.process
 def test_acting_on_a_node_being_restarted_is_409(supervised, tmp_path):
     old = node_pid(supervised, "stubborn")
     with dashboard_client(supervised, tmp_path) as client:
@@ -108,6 +110,7 @@ def test_acting_on_a_node_being_restarted_is_409(supervised, tmp_path):
     assert done.status_code == 200 and done.json()["pid"] not in (None, old)
 
 
+@pytest.mark.process
 def test_a_robot_stopping_answers_503(tmp_path):
     with running_robot(STUBBORN, tmp_path, dict(os.environ)) as control_socket:
         with dashboard_client(control_socket, tmp_path) as client:

@@ -9,6 +9,8 @@ from config_robots import ROBOTS, devices
 from dashboard_support import browser, dashboard_token, free_port, running_robot, screenshot
 from page_driver import PAGE_TIMEOUT_MS, RobotPage
 
+pytestmark = [pytest.mark.browser, pytest.mark.process]
+
 ROBOT_TIMEOUT_S = 900  # every process of a simulated robot restarted, stopped and started on a busy machine
 PHONE = {"width": 390, "height": 844}
 DESKTOP = {"width": 1400, "height": 1000}
