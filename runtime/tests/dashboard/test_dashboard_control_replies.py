@@ -144,6 +144,7 @@ def fake_supervisor(path, answer: bytes):
         yield
     finally:
         stop.set()
+        listener.shutdown(socket.SHUT_RDWR)  # wakes the accept() the thread waits in (close() alone does not)
         listener.close()
         thread.join(5)
 
