@@ -4,8 +4,8 @@ pids stayed.
 
     .venv/bin/python bench/reload.py [--quick]        # --quick: 2 saves, 1 of each floor (for the tests)
 
-The robot is three runtime nodes (rclpy): `leader` (MOCK_ENCODER_PUBLISHER), `follower`
-(MOCK_ACTUATOR_SUBSCRIBER) and `camera` (MOCK_CAMERA_PUBLISHER). Each save changes the leader's rate_hz (its
+The robot is three runtime nodes (rclpy, mock devices; see DESCRIPTION): a `leader` encoder, a `follower`
+actuator and a `camera`. Each save changes the leader's rate_hz (its
 settings); the time runs from the rename that saves the file to the status of the control socket (polled every
 POLL_S) showing a new leader pid that said READY=1. `ctl restart leader` runs from the request to the same; a
 full restart from SIGINT to `joshuac run` (the cascade, then a new run: build, preflight, every node started)

@@ -10,13 +10,22 @@ checks that the layers agree, tests/test_type_lists.py that no prose lists types
 
 import sys
 from dataclasses import dataclass, field
-from enum import StrEnum
+from enum import Enum
 
 from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
 from joshua_core.fixed_topics import ROBOT_DESCRIPTION, TF, TF_STATIC, FixedTopic
 
 
-class Family(StrEnum):
+class TextEnum(str, Enum):  # noqa: UP042 (joshua_core runs on Python 3.10, which has no StrEnum)
+    """An enum whose members are their text, also in str() and format() (enum.StrEnum, which needs Python 3.11)."""
+
+    def __str__(self) -> str:
+        return self.value
+
+    __format__ = str.__format__
+
+
+class Family(TextEnum):
     """What a node type is about. Behaviour that depends on it compares with these members, never with text."""
 
     CAMERA = "camera"
@@ -33,7 +42,7 @@ class Family(StrEnum):
     BRIDGE = "bridge"
 
 
-class TopicRole(StrEnum):
+class TopicRole(TextEnum):
     """What a node type does with its topic_name (NONE: it has none, CUSTOM declares its topics)."""
 
     PUBLISHES = "publishes"
