@@ -7,7 +7,7 @@ from pathlib import Path
 
 def latched_robot(domain: str, bags: Path, foxglove_port: int) -> str:
     return f'''robot_config {{ name: "latched" mode: MODE_TELEOPERATION ros_domain_id: {domain}
-      foxglove {{ port: {foxglove_port} host: "127.0.0.1" }}
+      foxglove {{ port: {foxglove_port} bind: "127.0.0.1" }}
       node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 50 }}
       node {{ name: "follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/leader/joint_states"
               state_topic: "/follower/joint_states" }}

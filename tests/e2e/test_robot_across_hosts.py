@@ -166,9 +166,10 @@ def test_a_discovery_server_that_cannot_listen_holds_the_other_nodes_then_stops_
     assert "Discovery Server wasn't able to allocate the specified listening port" in done.stdout + done.stderr
     assert "discovery_server: failed for good" in done.stderr
     log = done.stderr
-    # held while the server restarts, started once the wait for it is over
-    assert (
-        log.index("discovery_server: restarting")
-        < log.index("warning: not ready after 10 s")
-        < log.index("follower: started")
-    ), log
+    # The follower is held while the server restarts: it starts only once the 10 s wait for the server is
+    # over, and the server's five restarts (0.25 s to 4 s apart) usually end before that, so it never starts.
+    restarting = log.index("discovery_server: restarting")
+    if "follower: started" in log:
+        assert restarting < log.index("warning: not ready after 10 s") < log.index("follower: started"), log
+    else:
+        assert "follower: final state: pending" in log, log
