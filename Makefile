@@ -11,7 +11,7 @@ PYTEST_ARGS ?=
 # pytest-xdist workers of `make test` (auto: one per core; 0: none, the tests run in pytest's own process)
 TEST_WORKERS ?= auto
 
-.PHONY: setup install uninstall run test test-fast generate proto bench check cpp demo-train docs
+.PHONY: setup install uninstall run test test-fast generate proto bench check cpp demo-train docs image
 
 setup:
 	@bash scripts/setup.sh
@@ -42,6 +42,18 @@ DEMO_SECONDS ?= 20
 demo-train: setup
 	$(VENV)/python scripts/demo_train.py --output "$(DEMO_DIR)" --episodes $(DEMO_EPISODES) --steps $(DEMO_STEPS) \
 		--eval-episodes $(DEMO_EVAL_EPISODES) --seconds $(DEMO_SECONDS)
+
+## image: the container image of CONFIG (default the demo robot), tagged localhost/joshua/<robot>:<stamp hash>
+## and :latest in podman's (else docker's) own storage; BASE=IMAGE another base, SET="KEY=VALUE ..." overrides,
+## ENGINE=docker, CONTEXT=DIR for the build context (default build/image/<description>/). See docs/containers.md.
+CONFIG ?= $(RUN_CONFIG)
+BASE ?=
+SET ?=
+ENGINE ?=
+CONTEXT ?=
+image: setup
+	$(VENV)/python scripts/image.py $(CONFIG) $(if $(BASE),--base $(BASE)) $(if $(ENGINE),--engine $(ENGINE)) \
+		$(if $(CONTEXT),--context $(CONTEXT)) $(foreach override,$(SET),--set $(override))
 
 ## test: every test, in parallel workers; tests that must not overlap share an xdist_group (testsupport/tiers.py).
 test: setup

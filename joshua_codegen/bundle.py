@@ -35,6 +35,7 @@ from joshua_codegen.model import Robot
 from joshua_codegen.ownership import STAMP
 from joshua_codegen.placement import ROS_SYSTEM_SETUP
 from joshua_codegen.render import host_path, template
+from joshua_core import dashboard
 from joshua_core.node_types import spec
 from joshua_core.settings import FORMAT_VERSION
 
@@ -57,8 +58,11 @@ class BundleError(Exception):
 
 
 def extras(robot: Robot) -> list[str]:
-    """The joshua-runtime extras the robot's processes need, sorted."""
-    return sorted({spec(p.node_type).runtime_extra for p in robot.processes if spec(p.node_type)} - {""})
+    """The joshua-runtime extras the robot's processes need, sorted (the dashboard is no registry entry)."""
+    needed = {spec(p.node_type).runtime_extra for p in robot.processes if spec(p.node_type)}
+    if any(p.node_type == dashboard.PROCESS_TYPE for p in robot.processes):
+        needed.add(dashboard.RUNTIME_EXTRA)
+    return sorted(needed - {""})
 
 
 def uv(*arguments: str) -> str:

@@ -124,14 +124,30 @@ def check(configs, overrides, output_format) -> None:
     is_flag=True,
     help="Also write what a robot needs to run OUT without this repository: OUT/wheels/ and OUT/install.sh.",
 )
+@click.option(
+    "--image",
+    is_flag=True,
+    help="Also write a container image's build context: the bundle, OUT/Containerfile and OUT/.containerignore.",
+)
 @set_option
 @format_option
-def build(config, out, prefix, check_only, bundle, overrides, output_format) -> None:
+def build(config, out, prefix, check_only, bundle, image, overrides, output_format) -> None:
     """Generate entrypoints, units, manifest and supervisor into OUT."""
     from joshua_codegen.write import OutputError, diff_tree, write_tree
 
     compilation = compile_or_exit(config, overrides, output_format, prefix)
-    if bundle:
+    if image:
+        from joshua_codegen.image import ImageError, image_files
+        from joshua_codegen.render import effective_prefix
+
+        try:
+            compilation.files = image_files(
+                compilation.robot, effective_prefix(compilation.robot.name, prefix), compilation.files
+            )
+        except ImageError as exc:
+            click.echo(f"joshuac: error: {exc}", err=True)
+            sys.exit(EXIT_ERRORS)
+    elif bundle:
         from joshua_codegen.bundle import BundleError, bundle_files
 
         try:

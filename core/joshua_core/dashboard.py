@@ -6,6 +6,7 @@ import re
 
 PROCESS_NAME = "dashboard"
 PROCESS_TYPE = "DASHBOARD"
+RUNTIME_EXTRA = "dashboard"  # the extra of joshua-runtime the dashboard process needs installed
 DEFAULT_PORT = 8640
 DEFAULT_BIND = "127.0.0.1"
 LOOPBACK_NAMES = ("localhost",)

@@ -2,6 +2,7 @@
 
 import argparse
 import asyncio
+import os
 import socket
 import sys
 from pathlib import Path
@@ -12,8 +13,10 @@ from joshua_runtime.dashboard.zenoh_link import add_credential_arguments
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.notify import Notifier
 
-# The built page: web/dist of the checkout this package lives in (built by `make setup`).
-DEFAULT_WEB_DIR = Path(__file__).resolve().parents[3] / "web" / "dist"
+# The built page: $JOSHUA_WEB_DIR (a container image sets it to the copy it holds), else web/dist of the
+# checkout this package lives in (built by `make setup`).
+WEB_DIR_VARIABLE = "JOSHUA_WEB_DIR"
+DEFAULT_WEB_DIR = Path(os.environ.get(WEB_DIR_VARIABLE) or Path(__file__).resolve().parents[3] / "web" / "dist")
 SHUTDOWN_GRACE_S = 1
 NOTIFY_POLL_S = 0.05  # how often the start of the server is checked, then the watchdog pinged (it waits its half)
 

@@ -1,0 +1,66 @@
+"""compose.yaml, run with podman-compose: the simulated arm's image serving the checkout's code and dashboard page."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+from robot_container import ROOT, exit_code, logs, wait_for_log
+
+from testsupport.podman import BUILD_TIMEOUT_S
+
+pytestmark = pytest.mark.timeout(BUILD_TIMEOUT_S)
+COMPOSE = [sys.executable, "-m", "podman_compose", "--file", str(ROOT / "compose.yaml")]
+COMPOSE_TIMEOUT_S = 120.0
+PROJECT_LABEL = "com.docker.compose.project=joshua-dev"
+TOKEN_FILE = "/tmp/joshua-1000/so100_sim.token"
+PAGE = "http://127.0.0.1:8640/"
+FETCH = """
+import json, sys, urllib.request
+request = urllib.request.Request(sys.argv[1], headers={"Authorization": "Bearer " + sys.argv[2]})
+with urllib.request.urlopen(request, timeout=10) as response:
+    sys.stdout.write(response.read().decode())
+"""
+
+
+def compose(podman, netns, image, *args) -> subprocess.CompletedProcess:
+    """podman-compose with the session's storage, the image under test and the test's network namespace."""
+    env = podman.environment()
+    env.update(JOSHUA_DEV_IMAGE=image, JOSHUA_DEV_NETWORK=f"ns:{netns.path}")
+    done = subprocess.run(
+        [*COMPOSE, *args], cwd=ROOT, env=env, capture_output=True, text=True, timeout=COMPOSE_TIMEOUT_S
+    )
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    return done
+
+
+def fetch(netns, url: str, token: str) -> str:
+    done = netns.run(sys.executable, "-c", FETCH, url, token, capture_output=True, text=True, timeout=COMPOSE_TIMEOUT_S)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def test_compose_runs_the_simulated_arm_with_the_checkouts_code_and_page(podman, sim_image, netns):
+    compose(podman, netns, sim_image, "up", "--detach", "robot")
+    try:
+        robot = podman.run("ps", "--all", "--filter", f"label={PROJECT_LABEL}", "--format", "{{.Names}}").stdout.split()
+        assert len(robot) == 1, robot
+        robot = robot[0]
+        wait_for_log(podman, robot, "supervisor: ready: 3 of 3 nodes ready")
+        imported = podman.run("exec", robot, "python3", "-c", "import joshua_runtime; print(joshua_runtime.__file__)")
+        assert imported.stdout.strip() == "/src/runtime/joshua_runtime/__init__.py"
+
+        token = podman.run("exec", robot, "cat", TOKEN_FILE).stdout.strip()
+        assert fetch(netns, PAGE, token) == (ROOT / "web" / "dist" / "index.html").read_text()
+        status = json.loads(fetch(netns, PAGE + "api/status", token))
+        assert {node["name"]: node["state"] for node in status["nodes"]} == {
+            "leader": "running",
+            "simulation": "running",
+            "dashboard": "running",
+        }
+        compose(podman, netns, sim_image, "stop", "robot")
+        output = logs(podman, robot)
+        assert exit_code(podman, robot) == 0, output
+        assert "dashboard: final state: stopped (exited with code 0)" in output
+    finally:
+        compose(podman, netns, sim_image, "down")

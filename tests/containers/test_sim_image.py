@@ -1,0 +1,57 @@
+"""The simulated SO-100's image (`make image CONFIG=config/robots/so100_sim.pbtxt`) runs the robot and stops it
+with the cascade: a ROS peer beside it sees the simulation's joint states, `podman stop` ends it with exit 0."""
+
+import pytest
+from robot_container import exit_code, logs, peer_samples, start, stop, wait_for_log
+
+from joshua_core.so100 import SO100_JOINTS, SO100_RANGES
+from testsupport.podman import BUILD_TIMEOUT_S
+
+pytestmark = pytest.mark.timeout(BUILD_TIMEOUT_S)
+RECORD_S = 3.0
+NODES = ("leader", "simulation", "dashboard")
+MIN_SAMPLES = 50  # the simulation publishes joint states at 100 Hz
+MOVED_RAD = 0.01  # the mock leader sweeps every joint; the simulated arm follows
+TRACKING_RAD = 0.35  # the simulated arm's lag behind the leader's smooth sweep
+RANGE_SLACK_RAD = 0.05  # the physics may overshoot a limit a little
+
+
+def test_the_simulated_arm_runs_in_its_image_beside_a_ros_peer_and_stops_with_the_cascade(
+    podman, sim_image, netns, containers
+):
+    robot = containers("so100-sim")
+    timeout = int(podman.label(sim_image, "io.joshua.stop-timeout"))
+    assert timeout == 3 + 1 + 3  # the description's graces and the margin
+    start(podman, sim_image, robot, netns.network_option)
+    wait_for_log(podman, robot, "supervisor: ready: 3 of 3 nodes ready")
+
+    samples = peer_samples(
+        podman, sim_image, robot, netns.network_option, ["/follower/joint_states", "/leader/joint_states"], RECORD_S
+    )
+    follower, leader = samples["/follower/joint_states"], samples["/leader/joint_states"]
+    assert len(follower) >= MIN_SAMPLES, len(follower)
+    for sample in follower:
+        assert sample["name"] == list(SO100_JOINTS)
+        assert len(sample["velocity"]) == len(sample["effort"]) == len(SO100_JOINTS)
+        for joint, position in zip(SO100_JOINTS, sample["position"]):
+            low, high = SO100_RANGES[joint]
+            assert low - RANGE_SLACK_RAD <= position <= high + RANGE_SLACK_RAD, (joint, position)
+    first, last = follower[0]["position"], follower[-1]["position"]
+    assert max(abs(a - b) for a, b in zip(first, last)) > MOVED_RAD, (first, last)
+    # The simulated arm follows the leader: each joint near where the leader was at about that time.
+    for sample in follower[MIN_SAMPLES // 2 :]:
+        nearest = min(leader, key=lambda command: abs(command["t"] - sample["t"]))
+        for joint, position, goal in zip(SO100_JOINTS, sample["position"], nearest["position"]):
+            assert abs(position - goal) < TRACKING_RAD, (joint, position, goal)
+
+    took = stop(podman, robot, timeout)
+    output = logs(podman, robot)
+    assert exit_code(podman, robot) == 0, output
+    assert took < timeout, output
+    assert (
+        "supervisor: received SIGINT: stopping every node (SIGINT, SIGTERM after 3.0 s, SIGKILL after 1.0 s more)"
+        in (output)
+    )
+    for node in NODES:
+        assert f"{node}: final state: stopped (exited with code 0)" in output, output
+    assert "escalating to" not in output, output  # every node stopped on SIGINT
