@@ -55,7 +55,8 @@ def tarball_path() -> Path:
     return cache_root() / f"debootstrap-{SUITE}" / f"rootfs-{base_key()}.tar"
 
 
-def _debootstrap(tarball: Path) -> None:
+def build_tarball(tarball: Path) -> None:
+    """debootstrap the base and write its root file system to `tarball` (slow: minutes)."""
     with tempfile.TemporaryDirectory(prefix="rootfs-", dir=tarball.parent) as work:
         rootfs = Path(work) / "rootfs"
         subprocess.run(
@@ -84,7 +85,7 @@ def ensure_tarball() -> Path:
                 raise RuntimeError("debootstrap is not installed (make setup installs it)")
             for stale in tarball.parent.glob("rootfs-*.tar"):
                 stale.unlink()
-            _debootstrap(tarball)
+            build_tarball(tarball)
     return tarball
 
 

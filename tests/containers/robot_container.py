@@ -75,3 +75,18 @@ def stop(podman: Podman, name: str, timeout_s: int) -> float:
     started = time.monotonic()
     podman.run("stop", "--time", str(timeout_s), name, timeout=timeout_s + STOP_SLACK_S)
     return time.monotonic() - started
+
+
+def lag_violations(follower: list[dict], leader: list[dict], window_s: float, tolerance: float) -> list[tuple]:
+    """Follower positions outside what the leader commanded over the `window_s` before them (± tolerance).
+
+    An arm that follows a moving leader lags it; where it is must lie between the goals it was given lately."""
+    violations = []
+    for sample in follower:
+        recent = [goal["position"] for goal in leader if sample["t"] - window_s <= goal["t"] <= sample["t"]]
+        if not recent:
+            continue
+        for joint, position, goals in zip(sample["name"], sample["position"], zip(*recent)):
+            if not min(goals) - tolerance <= position <= max(goals) + tolerance:
+                violations.append((joint, position, min(goals), max(goals)))
+    return violations

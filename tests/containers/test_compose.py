@@ -13,7 +13,7 @@ pytestmark = pytest.mark.timeout(BUILD_TIMEOUT_S)
 COMPOSE = [sys.executable, "-m", "podman_compose", "--file", str(ROOT / "compose.yaml")]
 COMPOSE_TIMEOUT_S = 120.0
 PROJECT_LABEL = "com.docker.compose.project=joshua-dev"
-TOKEN_FILE = "/tmp/joshua-1000/so100_sim.token"
+TOKEN_FILE = "/tmp/joshua-1000/so100_sim.dashboard-token"
 PAGE = "http://127.0.0.1:8640/"
 FETCH = """
 import json, sys, urllib.request
