@@ -53,9 +53,8 @@ def page_files(robot: Robot) -> dict[str, bytes]:
 
 
 def cpp_binaries(robot: Robot) -> list[str]:
-    """The C++ binaries the robot's nodes run that joshuac's sources build (others fall back to Python)."""
-    wanted = {process.cpp_binary for process in robot.processes if process.cpp_binary}
-    return sorted(name for name in wanted if (CPP_SOURCE / "nodes" / f"{name}.cpp").is_file())
+    """The C++ binaries the robot's nodes run (cpp/Makefile builds every binary of the registry)."""
+    return sorted({process.cpp_binary for process in robot.processes if process.cpp_binary})
 
 
 def cpp_files(binaries: list[str]) -> dict[str, bytes]:
