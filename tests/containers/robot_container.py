@@ -1,6 +1,7 @@
 """Running a robot's image in the tests: start it in a network namespace, wait for its nodes, peek with a peer, stop it."""
 
 import json
+import statistics
 import time
 from pathlib import Path
 
@@ -77,16 +78,14 @@ def stop(podman: Podman, name: str, timeout_s: int) -> float:
     return time.monotonic() - started
 
 
-def lag_violations(follower: list[dict], leader: list[dict], window_s: float, tolerance: float) -> list[tuple]:
-    """Follower positions outside what the leader commanded over the `window_s` before them (± tolerance).
-
-    An arm that follows a moving leader lags it; where it is must lie between the goals it was given lately."""
-    violations = []
+def median_tracking_errors(follower: list[dict], leader: list[dict], window_s: float) -> dict[str, float]:
+    """Per joint, the median over the follower's samples of how far it is from the nearest goal the leader gave
+    in the `window_s` before: an arm that follows reaches its goals with a lag, most of the time."""
+    errors: dict[str, list[float]] = {}
     for sample in follower:
         recent = [goal["position"] for goal in leader if sample["t"] - window_s <= goal["t"] <= sample["t"]]
         if not recent:
             continue
         for joint, position, goals in zip(sample["name"], sample["position"], zip(*recent)):
-            if not min(goals) - tolerance <= position <= max(goals) + tolerance:
-                violations.append((joint, position, min(goals), max(goals)))
-    return violations
+            errors.setdefault(joint, []).append(min(abs(position - goal) for goal in goals))
+    return {joint: statistics.median(values) for joint, values in errors.items()}

@@ -2,7 +2,7 @@
 with the cascade: a ROS peer beside it sees the simulation's joint states, `podman stop` ends it with exit 0."""
 
 import pytest
-from robot_container import exit_code, lag_violations, logs, peer_samples, start, stop, wait_for_log
+from robot_container import exit_code, logs, median_tracking_errors, peer_samples, start, stop, wait_for_log
 
 from joshua_core.so100 import SO100_JOINTS, SO100_RANGES
 from testsupport.podman import BUILD_TIMEOUT_S
@@ -12,8 +12,9 @@ RECORD_S = 3.0
 NODES = ("leader", "simulation", "dashboard")
 MIN_SAMPLES = 50  # the simulation publishes joint states at 100 Hz
 MOVED_RAD = 0.01  # the mock leader sweeps every joint; the simulated arm follows
-LAG_WINDOW_S = 2.0  # the simulated arm lags the leader's smooth sweep by a fraction of this
-TRACKING_RAD = 0.05  # and may overshoot a goal a little
+LAG_WINDOW_S = 0.5  # the simulated arm lags the leader's sweep (up to 2.4 rad/s) by a fraction of this
+TRACKING_RAD = 0.05  # median distance to a recent goal (measured: 0.002 to 0.009 rad)
+HOLDING_EFFORT = 0.01  # N m: MuJoCo's actuators hold the arm up, where a mock actuator reports no effort
 RANGE_SLACK_RAD = 0.05  # the physics may overshoot a limit a little
 
 
@@ -39,8 +40,11 @@ def test_the_simulated_arm_runs_in_its_image_beside_a_ros_peer_and_stops_with_th
             assert low - RANGE_SLACK_RAD <= position <= high + RANGE_SLACK_RAD, (joint, position)
     first, last = follower[0]["position"], follower[-1]["position"]
     assert max(abs(a - b) for a, b in zip(first, last)) > MOVED_RAD, (first, last)
-    # The simulated arm follows the leader: each joint between the goals of the last moments.
-    assert lag_violations(follower[MIN_SAMPLES // 2 :], leader, LAG_WINDOW_S, TRACKING_RAD) == []
+    # The simulated arm follows the leader: most of the time each joint is at a goal of the last moments
+    # (not always: the physics holds the arm back where a goal is out of reach for its motors).
+    errors = median_tracking_errors(follower, leader, LAG_WINDOW_S)
+    assert sorted(errors) == sorted(SO100_JOINTS) and max(errors.values()) < TRACKING_RAD, errors
+    assert any(abs(effort) > HOLDING_EFFORT for effort in follower[-1]["effort"]), follower[-1]  # against gravity
 
     took = stop(podman, robot, timeout)
     output = logs(podman, robot)
