@@ -11,7 +11,7 @@ import posixpath
 import re
 from dataclasses import dataclass
 
-from joshua_codegen.bundle import extras
+from joshua_codegen.bundle import DEFAULT_VENV, extras
 from joshua_codegen.emitters import process_launch
 from joshua_codegen.model import Robot
 from joshua_codegen.render import template
@@ -19,7 +19,7 @@ from joshua_codegen.render import template
 CONTAINERFILE = "Containerfile"
 CONTAINERIGNORE = ".containerignore"
 DEFAULT_BASE = "debian:bookworm-slim"  # Debian 12: Python 3.11, what the locked requirements are resolved for
-VENV = "/opt/joshua/venv"
+VENV = DEFAULT_VENV  # install.sh's default
 PAGE_DIR = "web"  # the dashboard's page, in the build context and under the prefix in the image
 CPP_DIR = "cpp"  # the C++ nodes' sources, in the build context
 CPP_BUILD_DIR = "/tmp/joshua/build"

@@ -26,6 +26,8 @@ SERVO_FOLLOWER = (
     "follower.preferred_backend=CPP",
 )
 
+FLEET_LINK = "dashboard.zenoh_connect=tcp/127.0.0.1:7447"  # where compose.yaml's fleet view listens
+
 
 @pytest.fixture(scope="session")
 def podman(tmp_path_factory) -> Podman:
@@ -76,6 +78,13 @@ def make_image(podman: Podman, ca_bundle: Path, base: str, context: Path, config
 def sim_image(podman, build_ca_bundle, base_image, tmp_path_factory) -> str:
     context = tmp_path_factory.mktemp("context") / "so100_sim"
     return make_image(podman, build_ca_bundle, base_image, context, "config/robots/so100_sim.pbtxt")
+
+
+@pytest.fixture(scope="session")
+def sim_fleet_image(podman, build_ca_bundle, base_image, tmp_path_factory) -> str:
+    """The simulated arm whose dashboard reports to the fleet view compose.yaml runs beside it."""
+    context = tmp_path_factory.mktemp("context") / "so100_sim_fleet"
+    return make_image(podman, build_ca_bundle, base_image, context, "config/robots/so100_sim.pbtxt", FLEET_LINK)
 
 
 @pytest.fixture(scope="session")

@@ -1,8 +1,10 @@
-"""compose.yaml, run with podman-compose: the simulated arm's image serving the checkout's code and dashboard page."""
+"""compose.yaml, run with podman-compose: the simulated arm's image serving the checkout's code and dashboard page,
+and the fleet view (profile `fleet`) listing it."""
 
 import json
 import subprocess
 import sys
+import time
 
 import pytest
 from robot_container import ROOT, exit_code, logs, wait_for_log
@@ -15,9 +17,13 @@ COMPOSE_TIMEOUT_S = 120.0
 PROJECT_LABEL = "com.docker.compose.project=joshua-dev"
 TOKEN_FILE = "/tmp/joshua-1000/so100_sim.dashboard-token"
 PAGE = "http://127.0.0.1:8640/"
+FLEET = "http://127.0.0.1:8650/api/robots"
+FLEET_TIMEOUT_S = 60.0
+POLL_S = 0.5
 FETCH = """
 import json, sys, urllib.request
-request = urllib.request.Request(sys.argv[1], headers={"Authorization": "Bearer " + sys.argv[2]})
+headers = {"Authorization": "Bearer " + sys.argv[2]} if sys.argv[2] else {}
+request = urllib.request.Request(sys.argv[1], headers=headers)
 with urllib.request.urlopen(request, timeout=10) as response:
     sys.stdout.write(response.read().decode())
 """
@@ -40,12 +46,40 @@ def fetch(netns, url: str, token: str) -> str:
     return done.stdout
 
 
-def test_compose_runs_the_simulated_arm_with_the_checkouts_code_and_page(podman, sim_image, netns):
-    compose(podman, netns, sim_image, "up", "--detach", "robot")
+def service_container(podman, service: str) -> str:
+    names = podman.run(
+        "ps",
+        "--all",
+        "--filter",
+        f"label={PROJECT_LABEL}",
+        "--filter",
+        f"label=com.docker.compose.service={service}",
+        "--format",
+        "{{.Names}}",
+    ).stdout.split()
+    assert len(names) == 1, names
+    return names[0]
+
+
+def fleet_robots(netns) -> list[str]:
+    """The robots the fleet view lists, once it lists one (its API needs no token on loopback)."""
+    deadline = time.monotonic() + FLEET_TIMEOUT_S
+    while time.monotonic() < deadline:
+        done = netns.run(
+            sys.executable, "-c", FETCH, FLEET, "", capture_output=True, text=True, timeout=FLEET_TIMEOUT_S
+        )
+        if done.returncode == 0 and json.loads(done.stdout):
+            return [robot["name"] for robot in json.loads(done.stdout)]
+        time.sleep(POLL_S)
+    raise AssertionError(f"the fleet view listed no robot within {FLEET_TIMEOUT_S} s")
+
+
+def test_compose_runs_the_simulated_arm_and_the_fleet_view_with_the_checkouts_code_and_page(
+    podman, sim_fleet_image, netns
+):
+    compose(podman, netns, sim_fleet_image, "--profile", "fleet", "up", "--detach")
     try:
-        robot = podman.run("ps", "--all", "--filter", f"label={PROJECT_LABEL}", "--format", "{{.Names}}").stdout.split()
-        assert len(robot) == 1, robot
-        robot = robot[0]
+        robot = service_container(podman, "robot")
         wait_for_log(podman, robot, "supervisor: ready: 3 of 3 nodes ready")
         imported = podman.run("exec", robot, "python3", "-c", "import joshua_runtime; print(joshua_runtime.__file__)")
         assert imported.stdout.strip() == "/src/runtime/joshua_runtime/__init__.py"
@@ -58,9 +92,13 @@ def test_compose_runs_the_simulated_arm_with_the_checkouts_code_and_page(podman,
             "simulation": "running",
             "dashboard": "running",
         }
-        compose(podman, netns, sim_image, "stop", "robot")
+        assert fleet_robots(netns) == ["so100_sim"]
+
+        compose(podman, netns, sim_fleet_image, "--profile", "fleet", "stop")
         output = logs(podman, robot)
         assert exit_code(podman, robot) == 0, output
         assert "dashboard: final state: stopped (exited with code 0)" in output
+        fleet = service_container(podman, "fleet")
+        assert exit_code(podman, fleet) == 0, logs(podman, fleet)
     finally:
-        compose(podman, netns, sim_image, "down")
+        compose(podman, netns, sim_fleet_image, "--profile", "fleet", "down")
