@@ -67,6 +67,11 @@ def cpp_files(binaries: list[str]) -> dict[str, bytes]:
 
 def image_files(robot: Robot, prefix: str, files: dict[str, str | bytes]) -> dict[str, str | bytes]:
     """`files` (the rendered build) with the bundle and the image's files added."""
+    if robot.hosts:
+        raise ImageError(
+            "--image makes one container of the whole robot, and this robot runs on several computers (host blocks): "
+            "build an image of a description without them"
+        )
     try:
         binaries = cpp_binaries(robot)
         page = page_files(robot)

@@ -108,3 +108,21 @@ def test_make_image_without_podman_or_docker_says_which_to_install(tmp_path):
         "podman runc catatonit; `make setup` does) or Docker Engine with BuildKit (docker build --secret)\n"
     ) in done.stderr
     assert "Error 3" in done.stderr and not context.exists()
+
+
+def test_a_robot_on_several_computers_is_refused_with_one_line(tmp_path):
+    source = tmp_path / "split.pbtxt"
+    source.write_text(
+        'robot_config { name: "split" mode: MODE_TELEOPERATION host { name: "arm" address: "10.0.0.2" } '
+        'host { name: "bench" address: "10.0.0.3" } '
+        'node { name: "leader" type: MOCK_ENCODER_PUBLISHER host: "bench" topic_name: "/leader/joint_states" } '
+        'node { name: "follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/leader/joint_states" } }\n'
+    )
+    out = tmp_path / "out"
+    done = joshuac("build", source, "-o", out, "--image")
+    assert done.returncode == 1, done.stderr
+    assert done.stderr == (
+        "joshuac: error: --image makes one container of the whole robot, and this robot runs on several computers "
+        "(host blocks): build an image of a description without them\n"
+    )
+    assert not out.exists()
