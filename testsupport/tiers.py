@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 # Each tier, registered in pyproject.toml ([tool.pytest.ini_options] markers) with what it means.
-UNIT, PROCESS, ROS, BROWSER, AI, BENCH = "unit", "process", "ros", "browser", "ai", "bench"
-TIERS = (UNIT, PROCESS, ROS, BROWSER, AI, BENCH)
+UNIT, PROCESS, ROS, BROWSER, AI, BENCH, CONTAINER = "unit", "process", "ros", "browser", "ai", "bench", "container"
+TIERS = (UNIT, PROCESS, ROS, BROWSER, AI, BENCH, CONTAINER)
 
 # Fixtures that decide a tier wherever they are used (directly or through another fixture).
 FIXTURE_TIERS = {
@@ -35,6 +35,7 @@ DIRECTORY_TIERS = {
     "tests/supervisor": UNIT,
     "tests/process": PROCESS,
     "tests/e2e": PROCESS,
+    "tests/containers": CONTAINER,
     "runtime/tests": UNIT,
     "runtime/tests/ai": AI,
     "runtime/tests/bags": UNIT,
@@ -54,7 +55,7 @@ DIRECTORY_TIERS = {
 
 # Fixtures made once per worker process that cost more than the tests using them: those tests run on one
 # worker (an xdist_group named after the fixture), so that `make test` makes each once.
-SHARED_FIXTURES = ("trained_reach", "bundle")
+SHARED_FIXTURES = ("trained_reach", "bundle", "podman")  # podman: the container tests' images
 
 UNTIERED = pytest.StashKey[list]()  # node ids of the collected tests that got no tier
 
