@@ -2,7 +2,7 @@
 
 What it checks:
     Every `host:` of a node, of `dashboard { }`, `foxglove { }` and `simulation { }`, and
-    `discovery { server_host }` names a declared host. A `host:` in a description without any
+    `discovery { server_host }` and `control { host }` name a declared host. A `host:` in a description without any
     `host { }` block is an error too.
 
 Why it matters:
@@ -60,3 +60,6 @@ def check(ctx):
     server = ctx.config.discovery.server_host
     if ctx.config.HasField("discovery") and server and server not in declared:
         yield Finding(ROBOT + ("discovery", "server_host"), _problem(server, declared, "`discovery { }`"))
+    router = ctx.config.control.host
+    if ctx.config.HasField("control") and router and router not in declared:
+        yield Finding(ROBOT + ("control", "host"), _problem(router, declared, "`control { }`"))

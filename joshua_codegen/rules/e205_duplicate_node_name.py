@@ -4,8 +4,9 @@ What it checks:
     Node names, written or derived (an unnamed node is named after its type in lower case,
     suffixed _1, _2 ... when several share the type), are unique. In MODE_SIMULATION the name
     "simulation" is reserved for the simulation engine, with a `dashboard { }` block the name
-    "dashboard" is reserved for the dashboard process, and with a `discovery { }` block the name
-    "discovery_server" for the Discovery Server. The error is at the second node, with the first as
+    "dashboard" is reserved for the dashboard process, with a `discovery { }` block the name
+    "discovery_server" for the Discovery Server, and with `host { }` blocks the name "host_agent_H"
+    for the agent of host H. The error is at the second node, with the first as
     a note.
 
 Why it matters:
@@ -20,7 +21,7 @@ Example:
 from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core import discovery
+from joshua_core import control_plane, discovery
 from joshua_core.dashboard import PROCESS_NAME as DASHBOARD_NAME
 from joshua_core.schema import robot_config_pb2 as pb
 
@@ -48,6 +49,11 @@ def check(ctx):
             )
         elif ctx.config.HasField("dashboard") and view.name == DASHBOARD_NAME:
             yield Finding(view.at("name"), f'node name "{view.name}" is reserved for the dashboard process{derived}')
+        elif view.name in {control_plane.process_name(host.name) for host in ctx.config.host}:
+            yield Finding(
+                view.at("name"),
+                f'node name "{view.name}" is reserved for the agent of host "{view.name.removeprefix(control_plane.PROCESS_PREFIX)}"{derived}',
+            )
         elif ctx.config.HasField("discovery") and view.name == discovery.PROCESS_NAME:
             yield Finding(
                 view.at("name"), f'node name "{view.name}" is reserved for the Discovery Server process{derived}'

@@ -154,7 +154,7 @@ class Foxglove(_message.Message):
     def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., host: _Optional[str] = ...) -> None: ...
 
 class RobotConfig(_message.Message):
-    __slots__ = ("name", "mode", "node", "shutdown", "simulation", "ros_domain_id", "cpp_bin_dir", "python_executable", "env", "foxglove", "dashboard", "host", "discovery")
+    __slots__ = ("name", "mode", "node", "shutdown", "simulation", "ros_domain_id", "cpp_bin_dir", "python_executable", "env", "foxglove", "dashboard", "host", "discovery", "control")
     class EnvEntry(_message.Message):
         __slots__ = ("key", "value")
         KEY_FIELD_NUMBER: _ClassVar[int]
@@ -175,6 +175,7 @@ class RobotConfig(_message.Message):
     DASHBOARD_FIELD_NUMBER: _ClassVar[int]
     HOST_FIELD_NUMBER: _ClassVar[int]
     DISCOVERY_FIELD_NUMBER: _ClassVar[int]
+    CONTROL_FIELD_NUMBER: _ClassVar[int]
     name: str
     mode: Mode
     node: _containers.RepeatedCompositeFieldContainer[Node]
@@ -188,7 +189,8 @@ class RobotConfig(_message.Message):
     dashboard: Dashboard
     host: _containers.RepeatedCompositeFieldContainer[Host]
     discovery: Discovery
-    def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ..., foxglove: _Optional[_Union[Foxglove, _Mapping]] = ..., dashboard: _Optional[_Union[Dashboard, _Mapping]] = ..., host: _Optional[_Iterable[_Union[Host, _Mapping]]] = ..., discovery: _Optional[_Union[Discovery, _Mapping]] = ...) -> None: ...
+    control: Control
+    def __init__(self, name: _Optional[str] = ..., mode: _Optional[_Union[Mode, str]] = ..., node: _Optional[_Iterable[_Union[Node, _Mapping]]] = ..., shutdown: _Optional[_Union[Shutdown, _Mapping]] = ..., simulation: _Optional[_Union[Simulation, _Mapping]] = ..., ros_domain_id: _Optional[int] = ..., cpp_bin_dir: _Optional[str] = ..., python_executable: _Optional[str] = ..., env: _Optional[_Mapping[str, str]] = ..., foxglove: _Optional[_Union[Foxglove, _Mapping]] = ..., dashboard: _Optional[_Union[Dashboard, _Mapping]] = ..., host: _Optional[_Iterable[_Union[Host, _Mapping]]] = ..., discovery: _Optional[_Union[Discovery, _Mapping]] = ..., control: _Optional[_Union[Control, _Mapping]] = ...) -> None: ...
 
 class Host(_message.Message):
     __slots__ = ("name", "address", "ros_from_system", "python")
@@ -209,6 +211,24 @@ class Discovery(_message.Message):
     server_host: str
     port: int
     def __init__(self, server_host: _Optional[str] = ..., port: _Optional[int] = ...) -> None: ...
+
+class Control(_message.Message):
+    __slots__ = ("host", "port", "password_file", "users_file", "tls_ca", "tls_certificate", "tls_private_key")
+    HOST_FIELD_NUMBER: _ClassVar[int]
+    PORT_FIELD_NUMBER: _ClassVar[int]
+    PASSWORD_FILE_FIELD_NUMBER: _ClassVar[int]
+    USERS_FILE_FIELD_NUMBER: _ClassVar[int]
+    TLS_CA_FIELD_NUMBER: _ClassVar[int]
+    TLS_CERTIFICATE_FIELD_NUMBER: _ClassVar[int]
+    TLS_PRIVATE_KEY_FIELD_NUMBER: _ClassVar[int]
+    host: str
+    port: int
+    password_file: str
+    users_file: str
+    tls_ca: str
+    tls_certificate: str
+    tls_private_key: str
+    def __init__(self, host: _Optional[str] = ..., port: _Optional[int] = ..., password_file: _Optional[str] = ..., users_file: _Optional[str] = ..., tls_ca: _Optional[str] = ..., tls_certificate: _Optional[str] = ..., tls_private_key: _Optional[str] = ...) -> None: ...
 
 class Dashboard(_message.Message):
     __slots__ = ("port", "bind", "zenoh_connect", "allowed_host", "zenoh_password_file", "zenoh_tls_ca", "zenoh_tls_certificate", "zenoh_tls_private_key", "host")
