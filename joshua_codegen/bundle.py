@@ -36,6 +36,7 @@ from joshua_codegen.ownership import STAMP
 from joshua_codegen.placement import ROS_SYSTEM_SETUP
 from joshua_codegen.render import host_path, template
 from joshua_core import dashboard
+from joshua_core.control_plane import PROCESS_TYPE as HOST_AGENT_TYPE
 from joshua_core.node_types import spec
 from joshua_core.settings import FORMAT_VERSION
 
@@ -58,9 +59,11 @@ class BundleError(Exception):
 
 
 def extras(robot: Robot) -> list[str]:
-    """The joshua-runtime extras the robot's processes need, sorted (the dashboard is no registry entry)."""
+    """The joshua-runtime extras the robot's processes need, sorted: those of their node types, and the
+    dashboard's for the dashboard process and for host agents, which speak Zenoh with each other."""
     needed = {spec(p.node_type).runtime_extra for p in robot.processes if spec(p.node_type)}
-    if any(p.node_type == dashboard.PROCESS_TYPE for p in robot.processes):
+    services = {dashboard.PROCESS_TYPE, HOST_AGENT_TYPE}
+    if any(p.node_type in services for p in robot.processes):
         needed.add(dashboard.RUNTIME_EXTRA)
     return sorted(needed - {""})
 

@@ -6,6 +6,7 @@
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
+from joshua_core.control_plane import PROCESS_TYPE as HOST_AGENT_TYPE
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
 from joshua_core.discovery import PROCESS_TYPE as DISCOVERY_TYPE
 from joshua_core.node_types import FOXGLOVE_BRIDGE, SIMULATION_ENGINE
@@ -123,6 +124,14 @@ class DiscoveryServer:
 
 
 @dataclass(frozen=True)
+class ControlRouter:
+    """Where the hosts' agents meet (`control { }`): the host whose agent listens, and its Zenoh endpoint."""
+
+    host: str
+    endpoint: str
+
+
+@dataclass(frozen=True)
 class Robot:
     name: str
     mode: str
@@ -140,6 +149,7 @@ class Robot:
     foxglove: NodeSettings | None = field(default=None, hash=False, compare=False)  # the Foxglove bridge's
     hosts: tuple[Host, ...] = ()  # the computers it runs on; () for one computer
     discovery: DiscoveryServer | None = None
+    control: ControlRouter | None = None
     host: str = ""  # the one host this model's processes are restricted to (for_host), else ""
     # The host of every process of the whole robot by process name, in start order (kept by for_host).
     placement: dict[str, str] = field(default_factory=dict, hash=False, compare=False)
@@ -178,9 +188,10 @@ class Robot:
         return simulated
 
     def process_settings(self, process: Process) -> NodeSettings:
-        """The settings of a python process (a node's, or the simulation engine's); the dashboard's and the
-        Discovery Server's name only their process (their entrypoints hold command-line arguments instead)."""
-        if process.node_type in (DASHBOARD_TYPE, DISCOVERY_TYPE):
+        """The settings of a python process (a node's, or the simulation engine's); the dashboard's, the
+        Discovery Server's and the host agents' name only their process (their entrypoints hold command-line
+        arguments instead)."""
+        if process.node_type in (DASHBOARD_TYPE, DISCOVERY_TYPE, HOST_AGENT_TYPE):
             return NodeSettings(
                 format_version=FORMAT_VERSION,
                 robot=self.name,

@@ -7,7 +7,7 @@ service block that names no host runs on the first one.
 import ipaddress
 import re
 
-from joshua_core import discovery
+from joshua_core import control_plane, discovery
 from joshua_core.schema import robot_config_pb2 as pb
 
 HOST_NAME = re.compile(r"^[a-z][a-z0-9_]{0,31}$")
@@ -55,6 +55,16 @@ def address_problem(address: str) -> str | None:
 def discovery_port(config: pb.RobotConfig) -> int:
     block = config.discovery
     return block.port if block.HasField("port") else discovery.DEFAULT_PORT
+
+
+def control_host(config: pb.RobotConfig) -> str:
+    """The host whose agent the other hosts' agents connect to (`control { host }`, default the first host)."""
+    return config.control.host or default_host(config)
+
+
+def control_port(config: pb.RobotConfig) -> int:
+    block = config.control
+    return block.port if block.HasField("port") else control_plane.DEFAULT_PORT
 
 
 def host_python(host: pb.Host) -> str:

@@ -5,8 +5,20 @@ import os
 from dataclasses import replace
 
 from joshua_codegen import defaults, escape, image_transport, node_settings, placement, topology
-from joshua_codegen.model import Device, DiscoveryServer, Endpoint, Host, NodeModel, Process, QoS, Robot, Topic
+from joshua_codegen.model import (
+    ControlRouter,
+    Device,
+    DiscoveryServer,
+    Endpoint,
+    Host,
+    NodeModel,
+    Process,
+    QoS,
+    Robot,
+    Topic,
+)
 from joshua_codegen.positions import node_path
+from joshua_core import control_plane
 from joshua_core import dashboard as dashboard_facts
 from joshua_core import discovery as discovery_facts
 from joshua_core.models import BUILTIN_PREFIX, REGISTRY_PREFIX
@@ -58,9 +70,10 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         processes += (_foxglove_process(foxglove.name, any(t.message_type in IMAGE_TYPES for t in topics)),)
     if config.HasField("dashboard"):
         processes += (_dashboard_process(config, any(_carries_images(model) for model in nodes)),)
-    hosts, discovery = (), None
+    hosts, discovery, control = (), None, None
     if placement.has_hosts(config):
         hosts, discovery, processes = _placed(config, processes)
+        control = _control_router(config, hosts)
     return Robot(
         name=config.name,
         mode=mode,
@@ -78,6 +91,7 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         foxglove=foxglove,
         hosts=hosts,
         discovery=discovery,
+        control=control,
         placement={process.name: process.host for process in processes} if hosts else {},
     )
 
@@ -103,7 +117,36 @@ def _placed(config: pb.RobotConfig, processes: tuple[Process, ...]):
         server = next(h for h in hosts if h.name == config.discovery.server_host)
         discovery = DiscoveryServer(server.name, server.address, placement.discovery_port(config))
         placed.insert(0, _discovery_process(discovery))
+    placed += [_host_agent_process(config, host, hosts) for host in hosts]
     return hosts, discovery, tuple(placed)
+
+
+def _control_router(config: pb.RobotConfig, hosts: tuple[Host, ...]) -> ControlRouter | None:
+    """Where the hosts' agents meet, with `control { }`: the control host's address and port, over TLS when
+    the hosts hold certificates."""
+    if not config.HasField("control"):
+        return None
+    name = placement.control_host(config)
+    address = next(h.address for h in hosts if h.name == name)
+    credentials = {field: getattr(config.control, field) for field in control_plane.CREDENTIAL_FIELDS}
+    tls = control_plane.uses_tls(credentials)
+    return ControlRouter(name, control_plane.endpoint(address, placement.control_port(config), tls))
+
+
+def _host_agent_process(config: pb.RobotConfig, host: Host, hosts: tuple[Host, ...]) -> Process:
+    """The agent of one host: it reports the Discovery Server's reachability to its supervisor and, with
+    `control { }`, joins the other hosts' agents over Zenoh (the control host's agent listens, the others
+    connect), with the paths of its host's credentials; the router's dictionary only on the router's host."""
+    args = []
+    router = _control_router(config, hosts)
+    if router is not None:
+        args += ["--listen" if host.name == router.host else "--connect", router.endpoint]
+        for field in control_plane.CREDENTIAL_FIELDS:
+            path = getattr(config.control, field)
+            if path and (field != "users_file" or host.name == router.host):
+                args += [control_plane.credential_flag(field), path]
+    process = _service_process(control_plane.process_name(host.name), control_plane.PROCESS_TYPE, False, False, args)
+    return replace(process, host=host.name)
 
 
 def _discovery_process(server: DiscoveryServer) -> Process:

@@ -75,9 +75,9 @@ def test_each_host_gets_a_complete_output_with_only_its_own_processes():
         "topology.mmd",
     }
     processes = {
-        "arm": {"discovery_server", "camera", "local_policy_input", "follower"},
-        "gpu": {"policy", "dashboard"},
-        "pi": {"leader"},
+        "arm": {"discovery_server", "camera", "local_policy_input", "follower", "host_agent_arm"},
+        "gpu": {"policy", "dashboard", "host_agent_gpu"},
+        "pi": {"leader", "host_agent_pi"},
     }
     for host, names in processes.items():
         part = host_files(files, host)
@@ -104,9 +104,9 @@ def test_the_manifest_places_every_node_and_tells_each_host_where_the_others_are
     assert "host" not in whole
     assert whole["discovery"] == {"host": "arm", "address": "10.0.0.2", "port": 11811}
     assert [(h["name"], h["address"], h["processes"]) for h in whole["hosts"]] == [
-        ("arm", "10.0.0.2", ["discovery_server", "camera", "local_policy_input", "follower"]),
-        ("gpu", "10.0.0.3", ["policy", "dashboard"]),
-        ("pi", "10.0.0.4", ["leader"]),
+        ("arm", "10.0.0.2", ["discovery_server", "camera", "local_policy_input", "follower", "host_agent_arm"]),
+        ("gpu", "10.0.0.3", ["policy", "dashboard", "host_agent_gpu"]),
+        ("pi", "10.0.0.4", ["leader", "host_agent_pi"]),
     ]
     pi = json.loads(files["hosts/pi/manifest.json"])
     assert pi["host"] == "pi" and pi["hosts"] == whole["hosts"] and pi["discovery"] == whole["discovery"]

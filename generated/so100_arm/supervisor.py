@@ -91,7 +91,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': 'c65ca0615554ac12',
+    'supervisor_code': '5ed919f8728cc368',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -1374,6 +1374,49 @@ class Node:
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
 
 
+# What this host's agent last said of the Discovery Server (one of a robot on several hosts), for `ctl status`.
+
+
+# The sd_notify field through which a host's agent reports the server: `reachable` or `unreachable`.
+DISCOVERY_FIELD = "DISCOVERY_SERVER"
+DISCOVERY_STATES = {"reachable": True, "unreachable": False}
+
+
+class DiscoveryReport:
+    """The server's reachability as the host's agent last reported it (a DISCOVERY_SERVER= notification, with
+    its STATUS= line), and since when; unknown while no running agent has said anything."""
+
+    def __init__(self, server: str):
+        self.server = server
+        self.reporter = None  # the node (the host's agent) whose report this is
+        self.reachable = None
+        self.detail = "not reported yet (the host's agent probes the server)"
+        self.changed_at = None
+
+    @classmethod
+    def of_robot(cls):
+        """The report of this host's Discovery Server, or None when the robot has none."""
+        server = ROBOT.get("discovery_server")
+        return cls(server) if server else None
+
+    def record(self, node, state: str, detail: str, now: float) -> None:
+        reachable = DISCOVERY_STATES.get(state)
+        if reachable != self.reachable or self.changed_at is None:
+            self.changed_at = now
+        self.reporter, self.reachable, self.detail = node, reachable, detail
+
+    def forget(self, node, now: float) -> None:
+        """The reporting agent ended: nothing is known until it runs and reports again."""
+        if node is self.reporter:
+            self.reporter, self.reachable, self.changed_at = None, None, now
+            self.detail = f"{node.name} ended: the server is not watched until it runs again"
+
+    def as_dict(self, now: float) -> dict:
+        """{"server", "reachable" (true, false, or null when unknown), "since_s" (in that state), "detail"}."""
+        since = None if self.changed_at is None else round(now - self.changed_at, 3)
+        return {"server": self.server, "reachable": self.reachable, "since_s": since, "detail": self.detail}
+
+
 # Readiness: the sd_notify socket nodes send READY=1 to, the ready flag of each node, and the "ready" lines.
 
 
@@ -1419,6 +1462,7 @@ class Readiness:
         self.nodes = nodes
         self.upstream = os.environ.get("NOTIFY_SOCKET", "")
         self.all_ready = False
+        self.discovery = DiscoveryReport.of_robot()  # what the host's agent says of the Discovery Server
         self.socket = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK)
         self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
         name = f"joshua-notify-{robot_name}-{os.getpid()}"[:100]
@@ -1449,6 +1493,8 @@ class Readiness:
         node.ready = False
         node.ready_deadline = None
         self.all_ready = False
+        if self.discovery is not None:
+            self.discovery.forget(node, time.monotonic())
 
     def receive(self, node_of_pid, now):
         """Read every pending datagram; `node_of_pid(pid)` names the node whose main process sent it."""
@@ -1467,6 +1513,8 @@ class Readiness:
             fields = notify_fields(data)
             if "STATUS" in fields:
                 node.status_text = fields["STATUS"]
+            if DISCOVERY_FIELD in fields and self.discovery is not None:
+                self.discovery.record(node, fields[DISCOVERY_FIELD], node.status_text, now)
             if fields.get("READY") == "1" and not node.ready:
                 node.ready = True
                 node.ready_deadline = None
@@ -2846,11 +2894,15 @@ class ControlPlane:
 
     def status(self) -> dict:
         """{"robot", "run": {"id", "started", "build"}, "nodes": [{"name", "state", "pid", "restarts" (by the
-        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}."""
+        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a robot
+        on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
         now = time.monotonic()
         self.note_states(now)
+        discovery = self.supervisor.readiness.discovery
         return {
             "robot": ROBOT["name"],
+            **({"host": ROBOT["host"]} if ROBOT.get("host") else {}),
+            **({"discovery": discovery.as_dict(now)} if discovery is not None else {}),
             "run": self.supervisor.run_mark.as_dict(),
             "nodes": [
                 {
@@ -3439,6 +3491,61 @@ def supervisord_listener():
         stdout.flush()
 
 
+# `ctl --host NAME ...` and `ctl status --all-hosts`: other hosts of a robot on several, through this host's agent.
+
+
+HOSTS_SOCKET_VARIABLE = "JOSHUA_HOSTS_SOCKET"  # told to every node, so the host's agent and dashboard find it
+SOCKET_SUFFIX = ".sock"
+HOSTS_SOCKET_SUFFIX = ".hosts.sock"
+UNREACHABLE_KIND = "unreachable"
+
+
+def hosts_socket_path(control_socket: str) -> str:
+    """The agent's socket beside `control_socket`: `split.arm.hosts.sock` for `split.arm.sock`.
+
+    The agent (`host_agent_<host>`, joshua_runtime/hosts) serves it, owned and checked like the control socket.
+    It takes the control socket's requests with one more field: "host" (the host whose supervisor answers, over
+    the robot's authenticated Zenoh when it is another) or "all_hosts" (the status of every host at once, each
+    node with its host). Its refusals add the kind "unreachable": the host has not been heard from, or did not
+    answer in time.
+    """
+    return control_socket.removesuffix(SOCKET_SUFFIX) + HOSTS_SOCKET_SUFFIX
+
+
+def hosts_usage_problem(options) -> str | None:
+    """Why `--host` / `--all-hosts` cannot be used as given, or None."""
+    if not (options.host or getattr(options, "all_hosts", False)):
+        return None
+    if not ROBOT.get("host"):
+        return f"robot {ROBOT['name']} runs on one computer: --host and --all-hosts are for a robot on several"
+    if options.host and options.host not in ROBOT["hosts"]:
+        return f"robot {ROBOT['name']} has no host {options.host!r} (hosts: {', '.join(ROBOT['hosts'])})"
+    if options.command == "reload":
+        return "reload applies a build on the host it runs on: run it there, without --host"
+    if options.command == "logs" and options.follow:
+        return "logs -f follows a node of this host only: run it on that host"
+    return None
+
+
+def print_all_hosts(reply: dict) -> None:
+    """Every host's line (reachable or not, its Discovery Server), then every node with its host."""
+    for host in reply["hosts"]:
+        heard = "reachable" if host["reachable"] else f"unreachable ({host['detail']})"
+        discovery = host.get("discovery") or {}
+        server = ""
+        if discovery:
+            known = {True: "reachable", False: "unreachable", None: "unknown"}[discovery["reachable"]]
+            server = f", discovery server {discovery['server']} {known}"
+        print(f"host {host['name']:18} {heard}{server}")
+    for node in reply["nodes"]:
+        pid = f"pid {node['pid']}" if node["pid"] else "no process"
+        since = f"{node['since_s']:.0f} s" if node["since_s"] is not None else "-"
+        waiting = f", waiting for {', '.join(node['waiting_for'])}" if node.get("waiting_for") else ""
+        print(
+            f"{node['host']:12} {node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts, {since}{waiting}"
+        )
+
+
 # `supervisor.py ctl ...`: the control socket's command-line client.
 
 
@@ -3474,9 +3581,17 @@ def ctl_arguments(argv):
         metavar="PATH",
         help="the supervisor's socket (default: %(default)s)",
     )
+    parser.add_argument(
+        "--host",
+        metavar="NAME",
+        help="a robot on several hosts: ask the supervisor of host NAME, through this host's agent (ctl_hosts.py)",
+    )
     commands = parser.add_subparsers(dest="command", required=True)
     status = commands.add_parser("status", help="every node's state")
     status.add_argument("--json", action="store_true", help="print the status as one JSON object")
+    status.add_argument(
+        "--all-hosts", action="store_true", help="a robot on several hosts: every host's nodes, each with its host"
+    )
     for action in ("restart", "stop", "start"):
         commands.add_parser(action, help=f"{action} one node").add_argument("node")
     logs = commands.add_parser("logs", help="the last lines of a node's output in this run, each after its time")
@@ -3492,7 +3607,11 @@ def ctl_arguments(argv):
         "reload", help="apply a newer build of this robot: restart what changed, start what is new, stop what is gone"
     )
     reload.add_argument("build", metavar="OUT", help="the new build's directory (where its supervisor.py is)")
-    return parser.parse_args(argv)
+    options = parser.parse_args(argv)
+    problem = hosts_usage_problem(options)
+    if problem:
+        parser.error(problem)
+    return options
 
 
 def ctl(argv) -> int:
@@ -3504,13 +3623,17 @@ def ctl(argv) -> int:
         request["node"] = options.node
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow, all=options.all)
+    path, what = options.control_socket, "control socket"
+    if options.host or getattr(options, "all_hosts", False):
+        path, what = hosts_socket_path(options.control_socket), "the host agent's socket"
+        request.update({"host": options.host} if options.host else {"all_hosts": True})
     following = options.command == "logs" and options.follow
     try:
-        connection = ctl_connect(options.control_socket)
+        connection = ctl_connect(path)
         _, uid, _ = peer_credentials(connection)
         if not may_control(uid):
             print(
-                f"supervisor.py ctl: error: control socket {options.control_socket} is served by uid {uid}, "
+                f"supervisor.py ctl: error: {what} {path} is served by uid {uid}, "
                 f"not by uid {os.geteuid()} or root: not talking to it",
                 file=sys.stderr,
             )
@@ -3528,18 +3651,16 @@ def ctl(argv) -> int:
         reply = json.loads(answer)
         if not reply.get("ok"):
             print(f"supervisor.py ctl: error: {reply.get('error') or 'refused, without a reason'}", file=sys.stderr)
-            return CTL_EXIT_REFUSED
+            return CTL_EXIT_UNREACHABLE if reply.get("kind") == UNREACHABLE_KIND else CTL_EXIT_REFUSED
         print_reply(options, reply)
         if following:
             for line in replies:
                 print(json.loads(line).get("line", ""), flush=True)
     except OSError as exc:
-        print(
-            f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
-        )
+        print(f"supervisor.py ctl: error: {what} {path}: {exc.strerror or exc}", file=sys.stderr)
         return CTL_EXIT_UNREACHABLE
     except ValueError as exc:
-        print(f"supervisor.py ctl: error: control socket {options.control_socket}: no answer ({exc})", file=sys.stderr)
+        print(f"supervisor.py ctl: error: {what} {path}: no answer ({exc})", file=sys.stderr)
         return CTL_EXIT_UNREACHABLE
     except KeyboardInterrupt:
         return CTL_EXIT_DONE if following else CTL_EXIT_INTERRUPTED
@@ -3567,6 +3688,9 @@ def print_reply(options, reply: dict) -> None:
     if options.command == "status":
         if options.json:
             print(json.dumps(reply))
+            return
+        if options.all_hosts:
+            print_all_hosts(reply)
             return
         for node in reply["nodes"]:
             pid = f"pid {node['pid']}" if node["pid"] else "no process"
@@ -3673,6 +3797,8 @@ def supervise(options):
         options.control_socket = None
     else:
         os.environ[CONTROL_SOCKET_VARIABLE] = os.path.abspath(options.control_socket)
+        if ROBOT.get("host"):
+            os.environ[HOSTS_SOCKET_VARIABLE] = hosts_socket_path(os.environ[CONTROL_SOCKET_VARIABLE])
     if options.supervisord_listener:
         return supervisord_listener()
     supervisor = Supervisor(options)

@@ -1,9 +1,9 @@
 """nodes/<name>.py: one executable entrypoint per Python process, holding its resolved settings
-(the dashboard's and the Discovery Server's hold their command-line arguments instead)."""
+(the dashboard's, the Discovery Server's and the host agents' hold their command-line arguments instead)."""
 
 from joshua_codegen.model import Robot
 from joshua_codegen.render import Context, template
-from joshua_core import discovery
+from joshua_core import control_plane, discovery
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
 from joshua_core.settings import to_literal
 
@@ -15,6 +15,11 @@ def emit(robot: Robot, context: Context) -> dict[str, str]:
             continue
         if process.node_type == DASHBOARD_TYPE:
             files[process.entrypoint] = template("dashboard_entrypoint.py.j2", robot=robot, process=process)
+            continue
+        if process.node_type == control_plane.PROCESS_TYPE:
+            files[process.entrypoint] = template(
+                "host_agent_entrypoint.py.j2", robot=robot, process=process, module=control_plane.RUNTIME_MODULE
+            )
             continue
         if process.node_type == discovery.PROCESS_TYPE:
             files[process.entrypoint] = template(

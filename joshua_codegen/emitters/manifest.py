@@ -22,7 +22,8 @@ def manifest(robot: Robot, context: Context) -> dict:
 
 def _add_placement(robot: Robot, data: dict) -> None:
     """The hosts (with the processes each runs, so that every host's supervisor knows where the others are),
-    the Discovery Server, and each node's and process's host; in one host's output, which host it is."""
+    the Discovery Server, the control plane's router, and each node's and process's host; in one host's
+    output, which host it is."""
     if robot.host:
         data["host"] = robot.host
     data["hosts"] = [
@@ -39,6 +40,7 @@ def _add_placement(robot: Robot, data: dict) -> None:
         if robot.discovery
         else None
     )
+    data["control"] = {"host": robot.control.host, "endpoint": robot.control.endpoint} if robot.control else None
     hosts = {node.name: node.host for node in robot.nodes}
     for node in data["nodes"]:
         node["host"] = hosts[node["name"]]

@@ -53,10 +53,13 @@ def process_data(robot: Robot, process: Process) -> dict:
 
 def supervisor_data(robot: Robot) -> dict:
     """The one literal the generated supervisor reads; paths are relative to its directory. One host's
-    supervisor of a robot on several also knows its host (which names its control socket)."""
+    supervisor of a robot on several also knows its host (which names its control socket) and the Discovery
+    Server its agent watches (shown in `ctl status`)."""
+    server = robot.discovery if robot.host else None
     return {
         "name": robot.name,
-        **({"host": robot.host} if robot.host else {}),
+        **({"host": robot.host, "hosts": [host.name for host in robot.hosts]} if robot.host else {}),
+        **({"discovery_server": f"{server.address}:{server.port}"} if server else {}),
         "supervisor_code": supervisor_code(),
         "env": process_launch.robot_environment(robot),
         "cpp_bin_dir": robot.cpp_bin_dir,

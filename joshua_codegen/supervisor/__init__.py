@@ -24,6 +24,7 @@ MODULES = (
     "node_processes",
     "shm",
     "node",
+    "discovery_report",
     "notify",
     "preflight",
     "outcome",
@@ -37,6 +38,7 @@ MODULES = (
     "stop_cascade",
     "loop",
     "supervisord_listener",
+    "ctl_hosts",
     "ctl",
     "cli",
 )

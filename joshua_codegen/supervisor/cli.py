@@ -10,6 +10,7 @@ from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
 from joshua_codegen.supervisor.control_socket import control_name, default_control_socket
 from joshua_codegen.supervisor.ctl import ctl
+from joshua_codegen.supervisor.ctl_hosts import HOSTS_SOCKET_VARIABLE, hosts_socket_path
 from joshua_codegen.supervisor.loop import Supervisor
 from joshua_codegen.supervisor.node_log import default_log_dir
 from joshua_codegen.supervisor.policy import EXIT_INTERNAL, EXIT_PREFLIGHT
@@ -88,6 +89,8 @@ def supervise(options):
         options.control_socket = None
     else:
         os.environ[CONTROL_SOCKET_VARIABLE] = os.path.abspath(options.control_socket)
+        if ROBOT.get("host"):
+            os.environ[HOSTS_SOCKET_VARIABLE] = hosts_socket_path(os.environ[CONTROL_SOCKET_VARIABLE])
     if options.supervisord_listener:
         return supervisord_listener()
     supervisor = Supervisor(options)

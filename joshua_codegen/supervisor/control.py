@@ -240,11 +240,15 @@ class ControlPlane:
 
     def status(self) -> dict:
         """{"robot", "run": {"id", "started", "build"}, "nodes": [{"name", "state", "pid", "restarts" (by the
-        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}."""
+        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a robot
+        on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
         now = time.monotonic()
         self.note_states(now)
+        discovery = self.supervisor.readiness.discovery
         return {
             "robot": ROBOT["name"],
+            **({"host": ROBOT["host"]} if ROBOT.get("host") else {}),
+            **({"discovery": discovery.as_dict(now)} if discovery is not None else {}),
             "run": self.supervisor.run_mark.as_dict(),
             "nodes": [
                 {

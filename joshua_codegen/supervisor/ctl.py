@@ -9,6 +9,12 @@ import time
 
 from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT, CONTROL_LOG_LINES_MAX
 from joshua_codegen.supervisor.control_socket import control_name, default_control_socket, may_control, peer_credentials
+from joshua_codegen.supervisor.ctl_hosts import (
+    UNREACHABLE_KIND,
+    hosts_socket_path,
+    hosts_usage_problem,
+    print_all_hosts,
+)
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.run_mark import BUILD_SHOWN_DIGITS
 
@@ -44,9 +50,17 @@ def ctl_arguments(argv):
         metavar="PATH",
         help="the supervisor's socket (default: %(default)s)",
     )
+    parser.add_argument(
+        "--host",
+        metavar="NAME",
+        help="a robot on several hosts: ask the supervisor of host NAME, through this host's agent (ctl_hosts.py)",
+    )
     commands = parser.add_subparsers(dest="command", required=True)
     status = commands.add_parser("status", help="every node's state")
     status.add_argument("--json", action="store_true", help="print the status as one JSON object")
+    status.add_argument(
+        "--all-hosts", action="store_true", help="a robot on several hosts: every host's nodes, each with its host"
+    )
     for action in ("restart", "stop", "start"):
         commands.add_parser(action, help=f"{action} one node").add_argument("node")
     logs = commands.add_parser("logs", help="the last lines of a node's output in this run, each after its time")
@@ -62,7 +76,11 @@ def ctl_arguments(argv):
         "reload", help="apply a newer build of this robot: restart what changed, start what is new, stop what is gone"
     )
     reload.add_argument("build", metavar="OUT", help="the new build's directory (where its supervisor.py is)")
-    return parser.parse_args(argv)
+    options = parser.parse_args(argv)
+    problem = hosts_usage_problem(options)
+    if problem:
+        parser.error(problem)
+    return options
 
 
 def ctl(argv) -> int:
@@ -74,13 +92,17 @@ def ctl(argv) -> int:
         request["node"] = options.node
     if options.command == "logs":
         request.update(lines=options.lines, follow=options.follow, all=options.all)
+    path, what = options.control_socket, "control socket"
+    if options.host or getattr(options, "all_hosts", False):
+        path, what = hosts_socket_path(options.control_socket), "the host agent's socket"
+        request.update({"host": options.host} if options.host else {"all_hosts": True})
     following = options.command == "logs" and options.follow
     try:
-        connection = ctl_connect(options.control_socket)
+        connection = ctl_connect(path)
         _, uid, _ = peer_credentials(connection)
         if not may_control(uid):
             print(
-                f"supervisor.py ctl: error: control socket {options.control_socket} is served by uid {uid}, "
+                f"supervisor.py ctl: error: {what} {path} is served by uid {uid}, "
                 f"not by uid {os.geteuid()} or root: not talking to it",
                 file=sys.stderr,
             )
@@ -98,18 +120,16 @@ def ctl(argv) -> int:
         reply = json.loads(answer)
         if not reply.get("ok"):
             print(f"supervisor.py ctl: error: {reply.get('error') or 'refused, without a reason'}", file=sys.stderr)
-            return CTL_EXIT_REFUSED
+            return CTL_EXIT_UNREACHABLE if reply.get("kind") == UNREACHABLE_KIND else CTL_EXIT_REFUSED
         print_reply(options, reply)
         if following:
             for line in replies:
                 print(json.loads(line).get("line", ""), flush=True)
     except OSError as exc:
-        print(
-            f"supervisor.py ctl: error: control socket {options.control_socket}: {exc.strerror or exc}", file=sys.stderr
-        )
+        print(f"supervisor.py ctl: error: {what} {path}: {exc.strerror or exc}", file=sys.stderr)
         return CTL_EXIT_UNREACHABLE
     except ValueError as exc:
-        print(f"supervisor.py ctl: error: control socket {options.control_socket}: no answer ({exc})", file=sys.stderr)
+        print(f"supervisor.py ctl: error: {what} {path}: no answer ({exc})", file=sys.stderr)
         return CTL_EXIT_UNREACHABLE
     except KeyboardInterrupt:
         return CTL_EXIT_DONE if following else CTL_EXIT_INTERRUPTED
@@ -137,6 +157,9 @@ def print_reply(options, reply: dict) -> None:
     if options.command == "status":
         if options.json:
             print(json.dumps(reply))
+            return
+        if options.all_hosts:
+            print_all_hosts(reply)
             return
         for node in reply["nodes"]:
             pid = f"pid {node['pid']}" if node["pid"] else "no process"

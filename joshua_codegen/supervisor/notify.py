@@ -3,8 +3,10 @@
 import os
 import socket
 import struct
+import time
 
 from joshua_codegen.supervisor.common import START, log
+from joshua_codegen.supervisor.discovery_report import DISCOVERY_FIELD, DiscoveryReport
 from joshua_codegen.supervisor.policy import READY_TIMEOUT_S
 
 NOTIFY_VARIABLES = ("NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID")
@@ -49,6 +51,7 @@ class Readiness:
         self.nodes = nodes
         self.upstream = os.environ.get("NOTIFY_SOCKET", "")
         self.all_ready = False
+        self.discovery = DiscoveryReport.of_robot()  # what the host's agent says of the Discovery Server
         self.socket = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK)
         self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
         name = f"joshua-notify-{robot_name}-{os.getpid()}"[:100]
@@ -79,6 +82,8 @@ class Readiness:
         node.ready = False
         node.ready_deadline = None
         self.all_ready = False
+        if self.discovery is not None:
+            self.discovery.forget(node, time.monotonic())
 
     def receive(self, node_of_pid, now):
         """Read every pending datagram; `node_of_pid(pid)` names the node whose main process sent it."""
@@ -97,6 +102,8 @@ class Readiness:
             fields = notify_fields(data)
             if "STATUS" in fields:
                 node.status_text = fields["STATUS"]
+            if DISCOVERY_FIELD in fields and self.discovery is not None:
+                self.discovery.record(node, fields[DISCOVERY_FIELD], node.status_text, now)
             if fields.get("READY") == "1" and not node.ready:
                 node.ready = True
                 node.ready_deadline = None
