@@ -96,13 +96,14 @@ async def serve(args) -> None:
     from joshua_runtime.dashboard.app import Dashboard
     from joshua_runtime.dashboard.broadcaster import Broadcaster
     from joshua_runtime.dashboard.connections import ACCEPT_BACKLOG, KEEP_ALIVE_S, connection_limit, guarded_protocol
-    from joshua_runtime.dashboard.control_client import ControlClient, default_socket_path
+    from joshua_runtime.dashboard.control_client import default_socket_path
     from joshua_runtime.dashboard.log_limit import configure_logging
     from joshua_runtime.dashboard.robot_view import load_robot_view
     from joshua_runtime.dashboard.security import HostAllowList
     from joshua_runtime.dashboard.server import StoppingAwareServer
     from joshua_runtime.dashboard.telemetry import Telemetry
     from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint, credentials_of, robot_settings
+    from joshua_runtime.hosts.client import control_client
 
     view = load_robot_view(args.manifest)
     if args.zenoh_connect:
@@ -119,7 +120,7 @@ async def serve(args) -> None:
     url = args.public_url or page_url(args.bind, port)
     broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
-    control = ControlClient(control_socket)
+    control = control_client(args.manifest, control_socket)
     allowed = HostAllowList(args.bind, args.allowed_host)
     dashboard = Dashboard(view, control, broadcaster, telemetry, args.web_dir, token, allowed)
     link = FleetLink(view.robot, args.zenoh_connect, url, broadcaster, fleet_settings) if args.zenoh_connect else None

@@ -48,9 +48,10 @@ class ControlError(Exception):
 
 
 def refusal_kind(reply: dict) -> str:
-    """The kind of an error reply of the supervisor, as it names it (REFUSED for a kind unknown here)."""
+    """The kind of an error reply of the supervisor, as it names it (REFUSED for a kind unknown here); a host's
+    agent also names UNREACHABLE, for a host that did not answer (joshua_runtime/hosts)."""
     named = reply.get("kind")
-    return named if named in REFUSAL_KINDS else REFUSED
+    return named if named in (*REFUSAL_KINDS, UNREACHABLE) else REFUSED
 
 
 def default_socket_path(robot: str) -> Path:
@@ -82,6 +83,16 @@ class ControlClient:
 
     async def request(self, message: dict) -> dict:
         """Send one request; return its reply without "ok", or raise ControlError."""
+        reply = await self.reply(message)
+        if not reply.get("ok"):
+            error = " ".join(str(reply.get("error") or "the supervisor refused the request").split())
+            raise ControlError(error, refusal_kind(reply))
+        reply.pop("ok")
+        return reply
+
+    async def reply(self, message: dict) -> dict:
+        """Send one request; its reply as the supervisor wrote it (`ok` true, or false with its `kind` and
+        `error`: a host's agent passes refusals on as they are), or ControlError when none came."""
         try:
             return await asyncio.wait_for(self._exchange(message), REQUEST_TIMEOUT_S)
         except TimeoutError as exc:
@@ -113,10 +124,6 @@ class ControlClient:
             reply = None
         if not isinstance(reply, dict):
             raise ControlError(f"control socket {self.path} answered {line[:80]!r}, not a JSON object line", BROKEN)
-        if not reply.get("ok"):
-            error = " ".join(str(reply.get("error") or "the supervisor refused the request").split())
-            raise ControlError(error, refusal_kind(reply))
-        reply.pop("ok")
         return reply
 
     async def status(self) -> dict:
