@@ -11,7 +11,8 @@ export function formatRate(hz: number | undefined): string {
   return `${hz.toFixed(hz >= 10 ? 0 : 1)} Hz`;
 }
 
-export function formatDuration(seconds: number): string {
+export function formatDuration(seconds: number | null): string {
+  if (seconds === null) return "—";
   if (seconds < 60) return `${Math.floor(seconds)} s`;
   if (seconds < 3600) return `${Math.floor(seconds / 60)} min`;
   return `${Math.floor(seconds / 3600)} h ${Math.floor((seconds % 3600) / 60)} min`;

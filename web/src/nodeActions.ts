@@ -4,11 +4,11 @@ import type { NodeAction } from "./types";
 export const NODE_ACTIONS: readonly NodeAction[] = ["restart", "stop", "start"];
 
 /** The supervisor states (see its `status --json`) in which an action cannot apply: the supervisor
- * would refuse it, or it would do nothing. */
+ * would refuse it, or it would do nothing; `unknown` is a process of a host not heard from (none answers). */
 const INAPPLICABLE: Record<NodeAction, readonly string[]> = {
-  start: ["running", "stopping", "pending"],
-  stop: ["stopped", "finished", "failed", "stopping"],
-  restart: ["stopping"],
+  start: ["running", "stopping", "pending", "unknown"],
+  stop: ["stopped", "finished", "failed", "stopping", "unknown"],
+  restart: ["stopping", "unknown"],
 };
 
 export const PENDING_LABEL: Record<NodeAction, string> = {

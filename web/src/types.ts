@@ -40,9 +40,16 @@ export interface NodeStatus {
   /** Restarts asked for (ctl, this page), when the supervisor counts them apart. */
   manual_restarts?: number;
   ready: boolean;
-  since_s: number;
+  /** Seconds in this state; null for a process of a host never heard from. */
+  since_s: number | null;
+  /** The computer that runs it, on a robot on several hosts. */
+  host?: string;
+  /** The unreachable hosts that alone publish what it reads (its state is then `waiting`). */
+  waiting_for?: string[];
 }
-export interface RobotStatus { robot?: string; nodes?: NodeStatus[]; error?: string; kind?: string }
+/** A host of a robot on several, as its dashboard's host hears it. */
+export interface HostStatus { name: string; address: string; reachable: boolean; detail: string }
+export interface RobotStatus { robot?: string; nodes?: NodeStatus[]; hosts?: HostStatus[]; error?: string; kind?: string }
 
 /** Every event of /api/events carries the server's clock when it was published. */
 export interface Stamped { server_time_s: number }

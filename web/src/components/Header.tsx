@@ -1,6 +1,7 @@
 import type { RobotStatus } from "../types";
 
-/** The robot's name, whether the live stream is connected, and how many nodes run. */
+/** The robot's name, whether the live stream is connected, how many nodes run and, on a robot on several
+ * hosts, which hosts are heard from. */
 export function Header({ robot, status, connected }: { robot: string; status: RobotStatus | null; connected: boolean }) {
   const nodes = status?.nodes ?? [];
   const running = nodes.filter((node) => node.state === "running").length;
@@ -19,6 +20,13 @@ export function Header({ robot, status, connected }: { robot: string; status: Ro
         ) : (
           <span className="text-slate-300">{running} / {nodes.length} processes running</span>
         )}
+        {status?.hosts?.map((host) => (
+          <span key={host.name} data-testid={`host-${host.name}`} title={host.reachable ? host.address : host.detail}
+                className={`rounded-full px-2 py-0.5 font-mono text-xs ring-1 ring-inset ${
+                  host.reachable ? "text-emerald-300 ring-emerald-500/40" : "text-rose-300 ring-rose-500/40"}`}>
+            {host.name}{host.reachable ? "" : " unreachable"}
+          </span>
+        ))}
         <span className="flex items-center gap-1.5 text-slate-400" data-testid="connection">
           <span className={`h-2 w-2 rounded-full ${connected ? "bg-emerald-400" : "bg-rose-500"}`} />
           {connected ? "live" : "reconnecting"}

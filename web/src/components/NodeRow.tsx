@@ -6,10 +6,10 @@ import { StateBadge } from "./StateBadge";
 const CELL = "md:table-cell md:py-2";
 const SMALL_LABEL = "mr-1 text-slate-500 md:hidden"; // names a value where the table's header is hidden
 
-/** One process: its state (or the action under way), pid, restarts, uptime, its buttons. A table row
- * on wide screens, a wrapped card on narrow ones. */
-export function NodeRow({ node, role, pending, connected, onAction, onLogs }: {
-  node: NodeStatus; role: ProcessRole; pending?: NodeAction; connected: boolean;
+/** One process: its host (`showHost`), its state (or the action under way), pid, restarts, uptime, its buttons.
+ * A table row on wide screens, a wrapped card on narrow ones. */
+export function NodeRow({ node, showHost = false, role, pending, connected, onAction, onLogs }: {
+  node: NodeStatus; showHost?: boolean; role: ProcessRole; pending?: NodeAction; connected: boolean;
   onAction: (action: NodeAction) => void; onLogs: () => void;
 }) {
   return (
@@ -27,7 +27,12 @@ export function NodeRow({ node, role, pending, connected, onAction, onLogs }: {
                 title="the dashboard serving this page">this page</span>
         )}
       </td>
-      <td className={CELL}>
+      {showHost && (
+        <td className={`font-mono text-xs ${CELL}`}>
+          <span className={SMALL_LABEL}>host</span><span data-testid={`node-host-${node.name}`}>{node.host}</span>
+        </td>
+      )}
+      <td className={CELL} title={node.waiting_for?.length ? `waiting for ${node.waiting_for.join(", ")}` : undefined}>
         <span className="inline-flex items-center gap-2">
           <StateBadge state={node.state} />
           {pending && (

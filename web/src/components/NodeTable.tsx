@@ -9,9 +9,9 @@ import { NodeRow } from "./NodeRow";
 
 const HEAD = "pb-2 font-medium";
 
-/** The supervisor's processes with restart / stop / start buttons and a log tail each. Buttons that
- * cannot apply are disabled; stopping a critical process or the dashboard itself asks first; an action
- * under way (from any page) shows until the supervisor answers. */
+/** The supervisor's processes with restart / stop / start buttons and a log tail each; on a robot on several
+ * hosts, each process's host. Buttons that cannot apply are disabled; stopping a critical process or the
+ * dashboard itself asks first; an action under way (from any page) shows until the supervisor answers. */
 export function NodeTable({ nodes, processes = [], dashboardProcess = null, connected = true }: {
   nodes: NodeStatus[]; processes?: ProcessInfo[]; dashboardProcess?: string | null; connected?: boolean;
 }) {
@@ -20,6 +20,7 @@ export function NodeTable({ nodes, processes = [], dashboardProcess = null, conn
   const [question, setQuestion] = useState<{ node: string; action: NodeAction; confirmation: Confirmation } | null>(null);
   const [message, setMessage] = useState<{ text: string; error: boolean } | null>(null);
   const [logNode, setLogNode] = useState<string | null>(null);
+  const onHosts = nodes.some((node) => node.host !== undefined);
   const critical = new Map(processes.map((process) => [process.name, process.critical]));
   const roleOf = (name: string): ProcessRole => ({
     critical: critical.get(name) ?? false, servesThisPage: name === dashboardProcess,
@@ -56,13 +57,14 @@ export function NodeTable({ nodes, processes = [], dashboardProcess = null, conn
       <table className="block w-full text-left text-sm md:table">
         <thead className="hidden text-xs uppercase tracking-wider text-slate-500 md:table-header-group">
           <tr>
-            <th className={HEAD}>Process</th><th className={HEAD}>State</th><th className={HEAD}>PID</th>
+            <th className={HEAD}>Process</th>{onHosts && <th className={HEAD}>Host</th>}
+            <th className={HEAD}>State</th><th className={HEAD}>PID</th>
             <th className={HEAD}>Restarts</th><th className={HEAD}>Since</th><th className={`${HEAD} text-right`}>Actions</th>
           </tr>
         </thead>
         <tbody className="block divide-y divide-slate-800 md:table-row-group">
           {nodes.map((node) => (
-            <NodeRow key={node.name} node={node} role={roleOf(node.name)} pending={pendingOf(node.name)}
+            <NodeRow key={node.name} node={node} showHost={onHosts} role={roleOf(node.name)} pending={pendingOf(node.name)}
                      connected={connected} onAction={(action) => press(node.name, action)}
                      onLogs={() => setLogNode(node.name)} />
           ))}

@@ -7,6 +7,8 @@ const COLORS: Record<string, string> = {
   stopped: "bg-slate-500/15 text-slate-300 ring-slate-500/40",
   finished: "bg-slate-500/15 text-slate-300 ring-slate-500/40",
   failed: "bg-rose-500/15 text-rose-300 ring-rose-500/40",
+  waiting: "bg-amber-500/15 text-amber-300 ring-amber-500/40",
+  unknown: "bg-slate-500/15 text-slate-400 ring-slate-500/40",
 };
 
 /** A node's supervisor state as a coloured pill. */

@@ -54,6 +54,21 @@ describe("NodeTable", () => {
     await act(async () => fireEvent.click(screen.getByTestId("node-restart-leader")));
     expect(fetchMock).toHaveBeenCalledWith("/api/nodes/leader/restart", expect.objectContaining({ method: "POST" }));
   });
+
+  it("shows each process's host, and no host column on one computer", () => {
+    const { unmount } = render(<NodeTable nodes={[
+      { name: "leader", state: "unknown", pid: null, restarts: 0, ready: false, since_s: null, host: "arm" },
+      { name: "follower", state: "waiting", pid: 7, restarts: 0, ready: true, since_s: 4, host: "gpu", waiting_for: ["arm"] },
+    ]} />);
+    expect(screen.getByTestId("node-host-leader").textContent).toBe("arm");
+    expect(screen.getByTestId("node-host-follower").textContent).toBe("gpu");
+    expect(screen.getByTestId("node-row-leader").textContent).toContain("unknown");
+    expect(screen.getByTestId("node-row-follower").querySelector("[title='waiting for arm']")).not.toBeNull();
+    expect((screen.getByTestId("node-restart-leader") as HTMLButtonElement).disabled).toBe(true); // no host answers
+    unmount();
+    render(<NodeTable nodes={[{ name: "leader", state: "running", pid: 42, restarts: 1, ready: true, since_s: 3 }]} />);
+    expect(screen.queryByTestId("node-host-leader")).toBeNull();
+  });
 });
 
 describe("EpisodeControls", () => {
