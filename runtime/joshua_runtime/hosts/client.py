@@ -9,7 +9,7 @@ import os
 from pathlib import Path
 
 from joshua_core import control_plane
-from joshua_runtime.dashboard.control_client import NODE_ACTIONS, ControlClient, ControlError
+from joshua_runtime.dashboard.control_client import BAD_REQUEST, NODE_ACTIONS, NOT_FOUND, ControlClient, ControlError
 from joshua_runtime.errors import SettingsError
 
 
@@ -27,7 +27,7 @@ class HostsControlClient:
     def _host(self, node: str) -> str:
         host = self.placement.get(node)
         if host is None:
-            raise ControlError(f"no process named {node!r:.80} on any host")
+            raise ControlError(f"no process named {node!r:.80} on any host", NOT_FOUND)
         return host
 
     async def status(self) -> dict:
@@ -35,7 +35,7 @@ class HostsControlClient:
 
     async def node_action(self, action: str, node: str) -> dict:
         if action not in NODE_ACTIONS:
-            raise ControlError(f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})")
+            raise ControlError(f"unknown action {action!r} (use {', '.join(NODE_ACTIONS)})", BAD_REQUEST)
         return await self.agent.request({"command": action, "node": node, "host": self._host(node)})
 
     async def logs(self, node: str, lines: int) -> list[str]:

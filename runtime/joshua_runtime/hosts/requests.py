@@ -3,7 +3,7 @@
 A request is a control-socket request of the supervisor (`{"command": "status"}`, `{"command": "restart",
 "node": NAME}`, ...) with one more field: `"host": NAME` (whose supervisor answers; default this host's) or
 `"all_hosts": true` (the status of every host at once). Only what the agent needs is checked here (size,
-nesting, JSON, the two fields, no log following); the supervisor checks the rest itself.
+nesting, JSON, the two fields, the commands relayed, no log following); the supervisor checks the rest itself.
 """
 
 import json
@@ -16,6 +16,9 @@ REQUEST_DEPTH = 4
 JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 JSON_BRACKET = re.compile(r"[\[\]{}]")
 ROUTING_FIELDS = ("host", "all_hosts")
+# What one host may ask of another's supervisor: its status, and a node's restart, stop, start and log. A reload
+# names a build on the host that runs it, and stays there.
+RELAYED_COMMANDS = ("status", "restart", "stop", "start", "logs")
 FOLLOW_REFUSED = "logs -f follows a node through its host's control socket only: run `supervisor.py ctl logs -f` there"
 
 
@@ -80,8 +83,7 @@ def parse(line: bytes, own_host: str, hosts: tuple[str, ...]) -> Request:
         raise RequestRefused("bad_request", "all_hosts must be true or false")
     if all_hosts and ("host" in request or request.get("command") != "status"):
         raise RequestRefused("bad_request", "all_hosts goes with the status command alone, without host")
-    if request.get("follow") is True:
-        raise RequestRefused("bad_request", FOLLOW_REFUSED)
+    _check_relayed(request)
     forwarded = {key: value for key, value in request.items() if key not in ROUTING_FIELDS}
     return Request("" if all_hosts else host, all_hosts, forwarded)
 
@@ -91,6 +93,15 @@ def parse_remote(payload: bytes) -> dict:
     request = decode(payload)
     if any(field in request for field in ROUTING_FIELDS):
         raise RequestRefused("bad_request", "a request from another host names no host")
+    _check_relayed(request)
+    return request
+
+
+def _check_relayed(request: dict) -> None:
+    if request.get("command") not in RELAYED_COMMANDS:
+        raise RequestRefused(
+            "bad_request",
+            f"command {str(request.get('command'))!r:.40} is not relayed (only {', '.join(RELAYED_COMMANDS)})",
+        )
     if request.get("follow") is True:
         raise RequestRefused("bad_request", FOLLOW_REFUSED)
-    return request

@@ -93,6 +93,8 @@ def test_ctl_refuses_host_options_it_cannot_serve(robot):
     assert unknown.returncode == 2 and "has no host 'nowhere' (hosts: arm, gpu)" in unknown.stderr, unknown
     follow = robot.ctl("gpu", "--host", "arm", "logs", "leader", "-f")
     assert follow.returncode == 2 and "logs -f follows a node of this host only" in follow.stderr, follow
+    reload = robot.ctl("gpu", "--host", "arm", "reload", str(robot.parts["arm"]))
+    assert reload.returncode == 2 and "reload applies a build on the host it runs on" in reload.stderr, reload
 
 
 def test_a_stopped_discovery_server_is_reported_unreachable_then_reachable_again(robot):

@@ -119,10 +119,12 @@ def test_requests_name_a_host_of_the_robot_and_follow_no_log():
         (b"[" * 10 + b"]" * 10, "bad_request"),
         (json.dumps({"command": "status", "pad": "x" * REQUEST_LIMIT_BYTES}).encode(), "bad_request"),
         (b"\xff", "bad_request"),
+        (b'{"command": "reload", "path": "/tmp/out", "host": "arm"}', "bad_request"),  # a build of another host
     ]
     for line, kind in refused:
         with pytest.raises(RequestRefused) as refusal:
             parse(line, "gpu", hosts)
         assert refusal.value.kind == kind, line
-    with pytest.raises(RequestRefused):
-        parse_remote(b'{"command": "status", "host": "arm"}')
+    for payload in (b'{"command": "status", "host": "arm"}', b'{"command": "reload", "path": "/opt/joshua/evil"}'):
+        with pytest.raises(RequestRefused):
+            parse_remote(payload)
