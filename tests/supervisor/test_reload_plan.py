@@ -159,7 +159,7 @@ def test_one_hosts_part_is_a_build_of_its_own_and_another_hosts_part_is_refused(
     write_tree(files, out)
     arm, station = read_build(str(out / "hosts" / "arm")), read_build(str(out / "hosts" / "station"))
     assert arm.digest == hashlib.sha256((out / "hosts" / "arm" / ".joshuac-stamp").read_bytes()).hexdigest()
-    assert [spec["name"] for spec in arm.robot["processes"]] == ["arm"]
+    assert [spec["name"] for spec in arm.robot["processes"]] == ["arm", "host_agent_arm"]
     assert arm.files["nodes/arm.py"] == hashlib.sha256(files["hosts/arm/nodes/arm.py"].encode()).hexdigest()
     assert build_refusal(arm, arm) is None
     assert build_refusal(arm, station) == "a build of robot 'r' (host 'station'), not of robot 'r' (host 'arm')"
