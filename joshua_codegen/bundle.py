@@ -60,10 +60,10 @@ class BundleError(Exception):
 
 def extras(robot: Robot) -> list[str]:
     """The joshua-runtime extras the robot's processes need, sorted: those of their node types, and the
-    dashboard's for the dashboard process and for host agents, which speak Zenoh with each other."""
+    dashboard's for the dashboard process and for host agents of a control plane, which speak Zenoh."""
     needed = {spec(p.node_type).runtime_extra for p in robot.processes if spec(p.node_type)}
-    services = {dashboard.PROCESS_TYPE, HOST_AGENT_TYPE}
-    if any(p.node_type in services for p in robot.processes):
+    agents_talk = robot.control is not None and any(p.node_type == HOST_AGENT_TYPE for p in robot.processes)
+    if agents_talk or any(p.node_type == dashboard.PROCESS_TYPE for p in robot.processes):
         needed.add(dashboard.RUNTIME_EXTRA)
     return sorted(needed - {""})
 

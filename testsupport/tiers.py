@@ -44,6 +44,7 @@ DIRECTORY_TIERS = {
     "runtime/tests/description": UNIT,
     "runtime/tests/desktop": UNIT,
     "runtime/tests/foxglove": UNIT,
+    "runtime/tests/hosts": PROCESS,
     "runtime/tests/interfaces": UNIT,
     "runtime/tests/lego": UNIT,
     "runtime/tests/sensors": UNIT,
