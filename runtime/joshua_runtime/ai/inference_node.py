@@ -16,8 +16,9 @@ newest observation, and each call's whole chunk is published once, header stampe
 observation's time; the actuator executes it at its own rate while the next call runs.
 
 The policy is loaded and warmed up (one inference on a blank observation, then reset) in a
-background thread while the node keeps answering signals; the node announces itself ready (its
-"ready:" line and READY=1 to the process manager) after the warm-up.
+background thread while the node keeps answering signals, torch's worker threads set to sleep while
+they wait (`cpu_threads.py`); the node announces itself ready (its "ready:" line and READY=1 to the
+process manager) after the warm-up.
 At each tick, when an input has not published yet or its last message is older than
 `INPUT_STALE_AFTER_S`, nothing is published and the reason is logged (throttled); when inputs come
 back, the policy is reset first so that actions queued before the gap are never executed.
@@ -28,7 +29,7 @@ import threading
 import time
 
 from joshua_core.node_types import JOINT_COMMAND_TYPES
-from joshua_runtime.ai import data_only, model_files, registry, saved_policy
+from joshua_runtime.ai import cpu_threads, data_only, model_files, registry, saved_policy
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.chunked_inference import ChunkedInference
 from joshua_runtime.ai.latest_samples import LatestSamples
@@ -119,6 +120,9 @@ class InferenceNode(JoshuaNode):
 
     def _load(self) -> None:
         try:
+            not_prepared = cpu_threads.prepare()  # before torch is imported by the runner
+            if not_prepared:
+                self.log.warning(not_prepared)
             from joshua_runtime.ai.observation_mapper import ObservationMapper
 
             if self.policy_type == saved_policy.KIND_PPO:
