@@ -101,6 +101,11 @@ def connect(switch: str, bridge: str, port: str, host: str, interface: str, addr
     run("ip", "-n", host, "route", "add", "default", "dev", interface)
 
 
+def set_multicast_flood(switch: str, port: str, flood: bool) -> None:
+    """Whether the bridge floods multicast frames out of `port` (IGMP snooping is off: all multicast floods)."""
+    run("bridge", "-n", switch, "link", "set", "dev", port, "mcast_flood", "on" if flood else "off")
+
+
 def set_link(namespace: str, interface: str, up: bool) -> None:
     run("ip", "-n", namespace, "link", "set", interface, "up" if up else "down")
 

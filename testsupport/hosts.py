@@ -3,6 +3,7 @@
     with virtual_hosts("robot", "gpu") as hosts:
         talker = hosts["robot"].popen([...], env=env)      # runs inside host "robot"
         hosts["gpu"].link_down(); ...; hosts["gpu"].link_up()
+        hosts.block_multicast()                            # a network without multicast
 
 Each host is a network namespace (loopback up, `eth0` with ADDRESS_PREFIX.<i+1>/24 and a default route
 on it) plus a persistent mount namespace whose /dev/shm is a tmpfs of its own, so Fast DDS shared
@@ -129,6 +130,11 @@ class HostNetwork:
             ns.create_network_namespace(host.netns)
             ns.create_mount_namespace(host.mount_namespace)
             ns.connect(self.switch, BRIDGE, host.port, host.netns, HOST_INTERFACE, f"{host.address}/{PREFIX_LENGTH}")
+
+    def block_multicast(self, blocked: bool = True) -> None:
+        """Make the switch drop multicast (as many Wi-Fi and cloud networks do); unicast and broadcast still pass."""
+        for host in self:
+            ns.set_multicast_flood(self.switch, host.port, flood=not blocked)
 
     def close(self) -> None:
         """Kill every process of the hosts, then delete the namespaces and the set's directory."""

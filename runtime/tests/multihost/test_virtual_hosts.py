@@ -127,6 +127,23 @@ def test_a_link_down_stops_every_packet_until_it_is_up_again():
         assert received_lines(receiver, "after")
 
 
+def test_a_switch_can_drop_multicast_and_still_pass_unicast():
+    group = "239.255.0.1"
+    joined = RECEIVER.replace(
+        'print("listening"',
+        f'import struct; s.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, struct.pack("4s4s", socket.inet_aton("{group}"), socket.inet_aton("0.0.0.0")))\nprint("listening"',
+    )
+    with virtual_hosts("robot", "gpu") as hosts:
+        receiver = start_receiver(hosts["gpu"], joined)
+        send(hosts["robot"], group, "multicast")
+        assert received_lines(receiver, "multicast")
+        hosts.block_multicast()
+        send(hosts["robot"], group, "blocked")
+        send(hosts["robot"], hosts["gpu"].address, "unicast")
+        assert received_lines(receiver, "unicast")
+        assert "blocked\n" not in receiver.lines()
+
+
 def test_leaving_the_block_kills_the_hosts_processes_and_deletes_the_namespaces_also_after_an_error():
     with pytest.raises(RuntimeError, match="test body failed"):
         with virtual_hosts("robot", "gpu") as hosts:
