@@ -1,13 +1,15 @@
 """Run the Fast DDS Discovery Server shipped with the ROS wheels: `python -m joshua_runtime.discovery.server`.
 
-    python -m joshua_runtime.discovery.server --address 10.0.0.1 [--port 11811] [--server-id 0]
+    python -m joshua_runtime.discovery.server --address 10.0.0.1 [--port 11811] [--server-id 0] [--profile XML]
 
 The wheels put `fast-discovery-server` beside the Python interpreter, but its run path points into the
 wheel's build tree, so started as is it stops with "libfastrtps.so.2.14: cannot open shared object
 file". This launcher adds the two directories that hold its libraries to LD_LIBRARY_PATH and execs it
 in place (same pid: SIGINT from a process manager reaches the server, which then exits 0). The server
 listens on UDP ADDRESS:PORT; its GUID prefix follows from --server-id (clients name it in their
-profile). Exit code 2 with one line when the binary is missing or the arguments are bad.
+profile). --profile names a Fast DDS XML file for the rest (its participant must say SERVER; the server's
+lease and announcement period, see docs/multihost-dds.md). Exit code 2 with one line when the binary or
+the profile is missing or the arguments are bad.
 """
 
 import argparse
@@ -33,9 +35,18 @@ def library_path(existing: str = "") -> str:
     return os.pathsep.join([*map(str, directories), *([existing] if existing else [])])
 
 
-def command(address: str, port: int, server_id: int) -> list[str]:
-    """The server's argv: listen on UDP address:port with the GUID prefix of `server_id`."""
-    return [str(binary_path()), "-i", str(server_id), "-l", address, "-p", str(port)]
+def command(address: str, port: int, server_id: int, profile: str = "") -> list[str]:
+    """The server's argv: listen on UDP address:port with the GUID prefix of `server_id` (and `profile`'s settings)."""
+    return [
+        str(binary_path()),
+        "-i",
+        str(server_id),
+        "-l",
+        address,
+        "-p",
+        str(port),
+        *(["-x", profile] if profile else []),
+    ]
 
 
 def environment(base: dict[str, str]) -> dict[str, str]:
@@ -49,6 +60,7 @@ def _arguments(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--address", required=True, help="IPv4 address of this host the server listens on")
     parser.add_argument("--port", type=int, default=DEFAULT_PORT, help="UDP port (default %(default)s)")
     parser.add_argument("--server-id", type=int, default=0, help="0..255, names the server's GUID prefix")
+    parser.add_argument("--profile", default="", help="Fast DDS XML profile of the server (lease, announcements)")
     args = parser.parse_args(argv)
     try:
         ipaddress.IPv4Address(args.address)
@@ -65,7 +77,10 @@ def main(argv: list[str] | None = None) -> int:
     if not os.access(binary, os.X_OK):
         print(f"error: {binary} not found: the ROS wheels (ros-jazzy-rclpy[fastrtps]) ship it", file=sys.stderr)
         return EXIT_USAGE
-    os.execve(binary, command(args.address, args.port, args.server_id), environment(dict(os.environ)))
+    if args.profile and not os.path.isfile(args.profile):
+        print(f"error: the server profile {args.profile} does not exist", file=sys.stderr)
+        return EXIT_USAGE
+    os.execve(binary, command(args.address, args.port, args.server_id, args.profile), environment(dict(os.environ)))
     return EXIT_USAGE  # not reached: execve replaces this process or raises
 
 
