@@ -8,7 +8,7 @@ so only the server can make participants meet. Clients name it in their particip
 import signal
 import time
 
-from dds_support import (
+from testsupport.dds_processes import (
     ABSENCE_WINDOW_S,
     START_TIMEOUT_S,
     client_env,
@@ -19,7 +19,6 @@ from dds_support import (
     server_locator,
     start_server,
 )
-
 from testsupport.dds_profiles import write_profile
 
 SERVER_STOP_TIMEOUT_S = 10.0

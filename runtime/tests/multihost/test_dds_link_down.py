@@ -9,8 +9,8 @@ down for OUTAGE_S; messages are numbered, so the listener's numbers tell what wa
 import time
 
 import pytest
-from dds_support import DISCOVERY_TIMEOUT_S, client_env, probe, received
 
+from testsupport.dds_processes import DISCOVERY_TIMEOUT_S, client_env, probe, received
 from testsupport.dds_profiles import Timing, write_profile
 
 RATE_HZ = 20.0

@@ -1,7 +1,7 @@
 """Default (multicast) discovery between two hosts: it works over the subnet, not with the LOCALHOST range,
 and not on a network that drops multicast (the reason for a Discovery Server)."""
 
-from dds_support import ABSENCE_WINDOW_S, probe, ready, received
+from testsupport.dds_processes import ABSENCE_WINDOW_S, probe, ready, received
 
 
 def test_a_talker_and_a_listener_on_two_hosts_discover_each_other_by_multicast(hosts, subnet_env):

@@ -16,8 +16,8 @@ import signal
 import time
 
 import pytest
-from dds_support import DISCOVERY_TIMEOUT_S, client_env, probe, ready, received, start_server
 
+from testsupport.dds_processes import DISCOVERY_TIMEOUT_S, client_env, probe, ready, received, start_server
 from testsupport.dds_profiles import ServerTiming, server_profile, write_profile
 
 SERVER_TIMING = ServerTiming()

@@ -11,8 +11,8 @@ is its own: the other host's segments never appear in it.
 import time
 
 import pytest
-from dds_support import client_env, probe, received, start_server
 
+from testsupport.dds_processes import client_env, probe, received, start_server
 from testsupport.dds_profiles import write_profile
 
 IMAGE_BYTES = 640 * 480 * 3

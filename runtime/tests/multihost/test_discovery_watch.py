@@ -10,10 +10,10 @@ import subprocess
 import sys
 
 import pytest
-from dds_support import ROOT, SERVER_PORT, start_server
 
 from joshua_runtime.discovery import watch
 from joshua_runtime.discovery.probe import ProbeResult
+from testsupport.dds_processes import ROOT, SERVER_PORT, start_server
 from testsupport.probe_output import ProbeOutput
 
 PROBE_CODE = "import sys; from joshua_runtime.discovery.probe import probe; r = probe(sys.argv[1], int(sys.argv[2]), *map(int, sys.argv[3:])); print(r.answered, r.detail)"

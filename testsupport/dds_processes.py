@@ -1,4 +1,4 @@
-"""Helpers of the multi-host DDS tests: probe processes and a Discovery Server inside simulated hosts."""
+"""DDS processes inside simulated hosts (testsupport/hosts.py): dds_probe programs and a Discovery Server."""
 
 import subprocess
 import sys
@@ -6,7 +6,7 @@ from pathlib import Path
 
 from testsupport.probe_output import ProbeOutput
 
-ROOT = Path(__file__).resolve().parents[3]  # where `python -m testsupport.dds_probe` is found
+ROOT = Path(__file__).resolve().parents[1]  # where `python -m testsupport.dds_probe` is found
 SERVER_PORT = 11811  # inside the server host's own namespace: nothing else of the machine can hold it
 START_TIMEOUT_S = 60.0  # a cold rclpy process on a busy 2-core machine
 DISCOVERY_TIMEOUT_S = 30.0  # discovery that should happen, with room for a loaded machine
