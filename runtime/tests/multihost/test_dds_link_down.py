@@ -27,8 +27,8 @@ def run_outage(hosts, env, qos: list[str], outage_s: float):
     hosts["gpu"].link_down()
     down = time.monotonic()
     time.sleep(outage_s)
+    up = time.monotonic()  # before the link is up: what is sent while `ip link set up` runs may pass
     hosts["gpu"].link_up()
-    up = time.monotonic()
     last_sent_in_outage = max(event["seq"] for event in talker.of("sent") if event["t"] < up)
     assert listener.wait_for(lambda output: max(output.received_seqs()) > last_sent_in_outage, DISCOVERY_TIMEOUT_S), (
         listener.tail()
