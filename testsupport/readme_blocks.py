@@ -1,8 +1,10 @@
-"""The runnable command blocks of a README (marked `<!-- test: run -->`), run in order as written in a fresh home.
+"""The runnable command blocks of a document (marked `<!-- test: run -->`), run in order as written in a fresh home.
 
-A block is runnable when the line before its ```sh fence is the marker. The blocks of one README run
-in file order, each with `bash -e` (a login shell by default), sharing one temporary HOME, so a
-later block sees what an earlier one left there, as a new terminal would. The home gets only the uv
+A block is runnable when the line before its ```sh fence is the marker; a marker anywhere else is a
+mistake that `misplaced_markers` finds (the block after it would silently never run). The blocks of
+one document (README.md, CONTRIBUTING.md, docs/*.md: testsupport/documents.py) run in file order,
+each with `bash -e` (a login shell by default), sharing one temporary HOME, so a later block sees
+what an earlier one left there, as a new terminal would. The home gets only the uv
 the machine already has, and uv's cache is shared, so nothing is downloaded.
 """
 
@@ -18,8 +20,18 @@ BLOCK_TIMEOUT_S = 300
 SUITE_SETTINGS = ("OMP_NUM_THREADS",)  # what the test suite sets for every process it starts (conftest.py)
 
 
-def runnable_blocks(readme: Path) -> list[str]:
-    return RUNNABLE.findall(Path(readme).read_text())
+def runnable_blocks(document: Path) -> list[str]:
+    return RUNNABLE.findall(Path(document).read_text())
+
+
+def misplaced_markers(document: Path) -> list[int]:
+    """Line numbers of the markers not followed at once by a ```sh fence."""
+    lines = Path(document).read_text().splitlines()
+    return [
+        number
+        for number, line in enumerate(lines, 1)
+        if line.strip() == MARKER and (number == len(lines) or lines[number] != "```sh")
+    ]
 
 
 def fresh_home(tmp_path: Path) -> Path:
@@ -44,14 +56,14 @@ def home_env(home: Path, **extra: str) -> dict:
     }
 
 
-def run_blocks(readme: Path, cwd: Path, env: dict, login: bool = True) -> list[subprocess.CompletedProcess]:
-    """Run every runnable block of `readme` in order; fail the test at the first that fails."""
+def run_blocks(document: Path, cwd: Path, env: dict, login: bool = True) -> list[subprocess.CompletedProcess]:
+    """Run every runnable block of `document` in order; fail the test at the first that fails."""
     shell = ["bash", "-l", "-e", "-c"] if login else ["bash", "-e", "-c"]
     results = []
-    for block in runnable_blocks(readme):
+    for block in runnable_blocks(document):
         result = subprocess.run(
             [*shell, block], check=False, cwd=cwd, env=env, capture_output=True, text=True, timeout=BLOCK_TIMEOUT_S
         )
-        assert result.returncode == 0, f"README block failed:\n{block}\n{result.stdout}\n{result.stderr}"
+        assert result.returncode == 0, f"{Path(document).name} block failed:\n{block}\n{result.stdout}\n{result.stderr}"
         results.append(result)
     return results
