@@ -45,6 +45,18 @@ def start_server(host, env: dict, port: int = SERVER_PORT, profile: Path | None 
     return server
 
 
+PROBE_CODE = (
+    "import sys; from joshua_runtime.discovery.probe import probe; "
+    "r = probe(sys.argv[1], int(sys.argv[2]), *map(int, sys.argv[3:])); print(r.answered, r.detail)"
+)
+
+
+def probe_server_from(host, address: str, *server_id: int, port: int = SERVER_PORT) -> str:
+    """What the runtime's Discovery Server probe says, run inside `host`: "True ..." or "False <why>"."""
+    command = [sys.executable, "-c", PROBE_CODE, address, str(port), *map(str, server_id)]
+    return host.run(command, cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+
+
 def client_env(env: dict, profile: Path) -> dict:
     """`env` with a participant profile (FASTRTPS_DEFAULT_PROFILES_FILE)."""
     return dict(env, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))

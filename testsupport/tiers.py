@@ -47,6 +47,7 @@ DIRECTORY_TIERS = {
     "runtime/tests/hosts": PROCESS,
     "runtime/tests/interfaces": UNIT,
     "runtime/tests/lego": UNIT,
+    "runtime/tests/multihost": PROCESS,  # simulated computers: network namespaces and the processes in them
     "runtime/tests/sensors": UNIT,
     "runtime/tests/servo": UNIT,
     "runtime/tests/sim": UNIT,

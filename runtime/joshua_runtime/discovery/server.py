@@ -23,6 +23,7 @@ BINARY = "fast-discovery-server"
 DEFAULT_PORT = 11811
 LIBRARY_DIRS = ("lib", "ros_fastrtps.libs")  # under sys.prefix, and under site-packages
 EXIT_USAGE = 2
+PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
 
 
 def binary_path() -> Path:
@@ -50,13 +51,17 @@ def command(address: str, port: int, server_id: int, profile: str = "") -> list[
 
 
 def environment(base: dict[str, str]) -> dict[str, str]:
-    return dict(base, LD_LIBRARY_PATH=library_path(base.get("LD_LIBRARY_PATH", "")))
+    """The server's environment: its libraries found, and without the nodes' participant profile, which
+    would otherwise be its default profile and make it a client of itself (its role comes from its options
+    and --profile)."""
+    environment = dict(base, LD_LIBRARY_PATH=library_path(base.get("LD_LIBRARY_PATH", "")))
+    environment.pop(PROFILE_VARIABLE, None)
+    return environment
 
 
-def _arguments(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(
-        prog="python -m joshua_runtime.discovery.server", description=__doc__.splitlines()[0]
-    )
+def arguments(prog: str, description: str, argv: list[str] | None) -> argparse.Namespace:
+    """The server's options (also those of supervised.py), checked: exit code 2 with one line when bad."""
+    parser = argparse.ArgumentParser(prog=prog, description=description)
     parser.add_argument("--address", required=True, help="IPv4 address of this host the server listens on")
     parser.add_argument("--port", type=int, default=DEFAULT_PORT, help="UDP port (default %(default)s)")
     parser.add_argument("--server-id", type=int, default=0, help="0..255, names the server's GUID prefix")
@@ -71,15 +76,23 @@ def _arguments(argv: list[str] | None) -> argparse.Namespace:
     return args
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = _arguments(argv)
+def cannot_start(args: argparse.Namespace) -> str:
+    """Why the server cannot be started with these options ("" when it can)."""
     binary = binary_path()
     if not os.access(binary, os.X_OK):
-        print(f"error: {binary} not found: the ROS wheels (ros-jazzy-rclpy[fastrtps]) ship it", file=sys.stderr)
-        return EXIT_USAGE
+        return f"error: {binary} not found: the ROS wheels (ros-jazzy-rclpy[fastrtps]) ship it"
     if args.profile and not os.path.isfile(args.profile):
-        print(f"error: the server profile {args.profile} does not exist", file=sys.stderr)
+        return f"error: the server profile {args.profile} does not exist"
+    return ""
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = arguments("python -m joshua_runtime.discovery.server", __doc__.splitlines()[0], argv)
+    problem = cannot_start(args)
+    if problem:
+        print(problem, file=sys.stderr)
         return EXIT_USAGE
+    binary = binary_path()
     os.execve(binary, command(args.address, args.port, args.server_id, args.profile), environment(dict(os.environ)))
     return EXIT_USAGE  # not reached: execve replaces this process or raises
 

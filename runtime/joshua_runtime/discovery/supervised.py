@@ -1,6 +1,6 @@
 """The Discovery Server as a node of a supervisor: started, announced ready once it serves, stopped on a signal.
 
-    python -m joshua_runtime.discovery.supervised --address 10.0.0.2 [--port 11811]
+    python -m joshua_runtime.discovery.supervised --address 10.0.0.2 [--port 11811] [--server-id 0] [--profile XML]
 
 The generated entrypoint of the `discovery_server` process runs this. It starts `fast-discovery-server`
 as server.py would, passes its output on, sends READY=1 (sd_notify) when the server prints that it
@@ -9,8 +9,6 @@ and SIGTERM to the server; its exit code is the server's (0 when a stop signal e
 with one line when the binary is missing or the arguments are bad.
 """
 
-import argparse
-import ipaddress
 import os
 import selectors
 import signal
@@ -25,31 +23,13 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 WAKE_S = 1.0  # how often the watchdog is looked at while the server runs
 STOP_TIMEOUT_S = 5.0  # the server's own shutdown, after which it is killed
 EXIT_USAGE = 2
-PROFILE_VARIABLE = "FASTRTPS_DEFAULT_PROFILES_FILE"
-
-
-def _arguments(argv: list[str] | None) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(
-        prog="python -m joshua_runtime.discovery.supervised", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--address", required=True, help="IPv4 address of this host the server listens on")
-    parser.add_argument("--port", type=int, default=server.DEFAULT_PORT, help="UDP port (default %(default)s)")
-    parser.add_argument("--server-id", type=int, default=0, help="0..255, names the server's GUID prefix")
-    args = parser.parse_args(argv)
-    try:
-        ipaddress.IPv4Address(args.address)
-    except ValueError:
-        parser.error(f"--address {args.address!r} is not an IPv4 address")
-    if not 0 < args.port < 65536 or not 0 <= args.server_id <= 255:
-        parser.error("--port must be 1..65535 and --server-id 0..255")
-    return args
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = _arguments(argv)
-    binary = server.binary_path()
-    if not os.access(binary, os.X_OK):
-        print(f"error: {binary} not found: the ROS wheels (ros-jazzy-rclpy[fastrtps]) ship it", file=sys.stderr)
+    args = server.arguments("python -m joshua_runtime.discovery.supervised", __doc__.splitlines()[0], argv)
+    problem = server.cannot_start(args)
+    if problem:
+        print(problem, file=sys.stderr)
         return EXIT_USAGE
     notifier = Notifier.from_environment()
     stop_requested = []
@@ -58,11 +38,9 @@ def main(argv: list[str] | None = None) -> int:
     signal.set_wakeup_fd(write_signal, warn_on_full_buffer=False)
     for number in STOP_SIGNALS:
         signal.signal(number, lambda number, _frame: stop_requested.append(number))
-    environment = server.environment(dict(os.environ))
-    environment.pop(PROFILE_VARIABLE, None)  # the nodes' client profile: the server takes its role from its options
     child = subprocess.Popen(
-        server.command(args.address, args.port, args.server_id),
-        env=environment,
+        server.command(args.address, args.port, args.server_id, args.profile),
+        env=server.environment(dict(os.environ)),  # without the nodes' client profile
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         stdin=subprocess.DEVNULL,

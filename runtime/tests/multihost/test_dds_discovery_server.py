@@ -27,9 +27,9 @@ GRAPH_SETTLE_S = 5.0  # several discovery rounds after a super client saw the to
 
 def test_clients_named_in_their_profile_find_each_other_on_both_hosts_without_multicast(hosts, ros_env, tmp_path):
     hosts.block_multicast()
-    start_server(hosts["robot"], ros_env)
     profile = write_profile(tmp_path / "client.xml", server=(hosts["robot"].address, 11811))
     env = client_env(ros_env, profile)
+    start_server(hosts["robot"], env)  # in the nodes' environment, as a supervisor starts it
     probe(hosts["robot"], env, "talk")
     remote = probe(hosts["gpu"], env, "listen")
     beside = probe(hosts["robot"], env, "listen")

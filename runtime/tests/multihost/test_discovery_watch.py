@@ -13,33 +13,32 @@ import pytest
 
 from joshua_runtime.discovery import watch
 from joshua_runtime.discovery.probe import ProbeResult
-from testsupport.dds_processes import ROOT, SERVER_PORT, start_server
+from testsupport.dds_processes import ROOT, SERVER_PORT, probe_server_from, start_server
 from testsupport.probe_output import ProbeOutput
 
-PROBE_CODE = "import sys; from joshua_runtime.discovery.probe import probe; r = probe(sys.argv[1], int(sys.argv[2]), *map(int, sys.argv[3:])); print(r.answered, r.detail)"
 CHANGE_TIMEOUT_S = 30.0
 ANSWER = ProbeResult(True, "answered in 0.4 ms", 0.0004, 0)
 SILENCE = ProbeResult(False, "no answer within 1 s")
 
 
-def probe_from(host, address: str, *server_id: int) -> str:
-    command = [sys.executable, "-c", PROBE_CODE, address, str(SERVER_PORT), *map(str, server_id)]
-    return host.run(command, cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
-
-
 def test_the_probe_is_answered_by_a_running_server_and_names_it(hosts, ros_env):
     start_server(hosts["robot"], ros_env)
-    assert probe_from(hosts["gpu"], hosts["robot"].address).startswith("True discovery server 0 on 10.201.0.1:11811")
-    assert probe_from(hosts["gpu"], hosts["robot"].address, 0).startswith("True")
-    assert probe_from(hosts["gpu"], hosts["robot"].address, 1) == "False the server on 10.201.0.1:11811 has id 0, not 1"
+    assert probe_server_from(hosts["gpu"], hosts["robot"].address).startswith(
+        "True discovery server 0 on 10.201.0.1:11811"
+    )
+    assert probe_server_from(hosts["gpu"], hosts["robot"].address, 0).startswith("True")
+    assert (
+        probe_server_from(hosts["gpu"], hosts["robot"].address, 1)
+        == "False the server on 10.201.0.1:11811 has id 0, not 1"
+    )
 
 
 def test_the_probe_tells_a_host_without_server_from_a_host_out_of_reach(hosts):
-    assert probe_from(hosts["gpu"], hosts["robot"].address) == (
+    assert probe_server_from(hosts["gpu"], hosts["robot"].address) == (
         "False nothing listens on 10.201.0.1:11811 (its host answered: port unreachable)"
     )
     hosts["robot"].link_down()
-    assert probe_from(hosts["gpu"], hosts["robot"].address) == "False no answer from 10.201.0.1:11811 within 1 s"
+    assert probe_server_from(hosts["gpu"], hosts["robot"].address) == "False no answer from 10.201.0.1:11811 within 1 s"
 
 
 def feed(server_watch, results, start_s=0.0):
@@ -53,6 +52,7 @@ def feed(server_watch, results, start_s=0.0):
     return changes, now
 
 
+@pytest.mark.unit
 def test_a_server_that_never_answers_is_declared_unreachable_within_5_s():
     server_watch = watch.ServerWatch("10.0.0.1:11811", 0.0)
     changes, _ = feed(server_watch, [SILENCE] * 20)
@@ -60,6 +60,7 @@ def test_a_server_that_never_answers_is_declared_unreachable_within_5_s():
     assert len(changes) == 1
 
 
+@pytest.mark.unit
 def test_a_server_that_stops_answering_is_declared_unreachable_within_5_s_of_its_last_answer():
     server_watch = watch.ServerWatch("10.0.0.1:11811", 0.0)
     changes, _ = feed(server_watch, [ANSWER] * 3)
@@ -69,6 +70,7 @@ def test_a_server_that_stops_answering_is_declared_unreachable_within_5_s_of_its
     assert changes[0][0] - last_answer <= 5.0
 
 
+@pytest.mark.unit
 def test_an_unreachable_server_is_retried_with_doubling_back_off_and_found_again():
     server_watch = watch.ServerWatch("10.0.0.1:11811", 0.0)
     while server_watch.state != watch.UNREACHABLE:
