@@ -87,3 +87,11 @@ def test_a_killed_server_waits_out_twice_its_lease_and_a_stopped_one_starts_at_o
     assert not any(PAUSE_LINE in line for line in third.lines()), third.tail()
     third.process.send_signal(signal.SIGINT)
     assert third.process.wait(START_TIMEOUT_S) == 0
+
+
+@pytest.mark.unit
+def test_a_heartbeat_that_cannot_be_written_costs_only_the_pause(tmp_path):
+    heartbeat = restart_pause.heartbeat_path("10.0.0.1", 11811, tmp_path / "missing")
+    restart_pause.beat(heartbeat)
+    restart_pause.clear(heartbeat)
+    assert restart_pause.pause_needed_s(heartbeat, 2.0, now=0.0) == 0.0
