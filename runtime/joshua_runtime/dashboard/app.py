@@ -141,7 +141,7 @@ class Dashboard:
                 while True:
                     try:
                         event = await asyncio.wait_for(mailbox.get(), max(0.0, next_clock - loop.time()))
-                    except TimeoutError:
+                    except asyncio.TimeoutError:
                         event = None
                     if loop.time() >= next_clock:
                         yield _clock_event()

@@ -95,7 +95,7 @@ class ControlClient:
         `error`: a host's agent passes refusals on as they are), or ControlError when none came."""
         try:
             return await asyncio.wait_for(self._exchange(message), REQUEST_TIMEOUT_S)
-        except TimeoutError as exc:
+        except asyncio.TimeoutError as exc:
             raise ControlError(
                 f"the supervisor did not answer {message['command']!r} within {REQUEST_TIMEOUT_S:g} s", TIMEOUT
             ) from exc

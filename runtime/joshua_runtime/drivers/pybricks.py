@@ -20,6 +20,7 @@ import struct
 import threading
 import time
 from concurrent.futures import Future
+from concurrent.futures import TimeoutError as FutureTimeoutError
 
 from joshua_core.device_link import DEVICE_SILENCE_S
 from joshua_runtime.drivers.driver import Driver
@@ -117,7 +118,7 @@ class PybricksHub(Driver):
             pass
         try:
             asyncio.run_coroutine_threadsafe(_cancel_other_tasks(), self._loop).result(CANCEL_TIMEOUT_S)
-        except TimeoutError:  # a task that ignores cancellation dies with the daemon thread
+        except FutureTimeoutError:  # a task that ignores cancellation dies with the daemon thread
             pass
         self._loop.call_soon_threadsafe(self._loop.stop)
         self._thread.join(CANCEL_TIMEOUT_S)
@@ -129,7 +130,7 @@ class PybricksHub(Driver):
         future = asyncio.run_coroutine_threadsafe(asyncio.wait_for(coroutine, timeout), self._loop)
         try:
             return future.result(timeout + CANCEL_TIMEOUT_S)
-        except TimeoutError:
+        except (asyncio.TimeoutError, FutureTimeoutError):  # the coroutine's wait_for, or this wait
             future.cancel()
             raise DeviceError(f"Pybricks hub {self.hub!r} did not answer within {timeout:g} s") from None
 
@@ -161,7 +162,7 @@ class PybricksHub(Driver):
                 raise DeviceError(f"Pybricks hub {self.hub!r} did not start its program within {START_TIMEOUT_S:g} s")
         try:
             await asyncio.wait_for(self._reported.wait(), FIRST_REPORT_TIMEOUT_S)
-        except TimeoutError:
+        except asyncio.TimeoutError:
             raise DeviceError(
                 f"Pybricks hub {self.hub!r} runs a program that sends no wheel angles: is another program on the hub?"
             ) from None
@@ -181,7 +182,7 @@ class PybricksHub(Driver):
         if self._status is None:
             try:
                 await asyncio.wait_for(self._status_changed.wait(), timeout)
-            except TimeoutError:
+            except asyncio.TimeoutError:
                 pass
 
     async def _wait_running(self, timeout: float) -> bool:
@@ -190,7 +191,7 @@ class PybricksHub(Driver):
             self._status_changed.clear()
             try:
                 await asyncio.wait_for(self._status_changed.wait(), max(deadline - time.monotonic(), 0))
-            except TimeoutError:
+            except asyncio.TimeoutError:
                 return False
         return True
 
@@ -269,7 +270,7 @@ class PybricksHub(Driver):
                 return
             try:
                 await asyncio.wait_for(self._connect(), RECONNECT_ATTEMPT_TIMEOUT_S)
-            except TimeoutError:
+            except asyncio.TimeoutError:
                 self.last_attempt_error = f"no answer within {RECONNECT_ATTEMPT_TIMEOUT_S:g} s"
             except Exception as exc:  # DeviceError, or how a link dropping mid-attempt fails in a transport
                 self.last_attempt_error = str(exc) or type(exc).__name__

@@ -99,7 +99,7 @@ class BumbleTransport(HubTransport):
         try:
             await self.device.start_scanning(filter_duplicates=True)
             return await asyncio.wait_for(found, SCAN_TIMEOUT_S)
-        except TimeoutError:
+        except asyncio.TimeoutError:
             raise DeviceError(f"no Pybricks hub {name!r} found within {SCAN_TIMEOUT_S:g} s") from None
         finally:
             self.device.remove_listener(Device.EVENT_ADVERTISEMENT, on_advertisement)

@@ -1,0 +1,66 @@
+"""The dashboard's own timeouts end where it means them to, on every Python the runtime supports.
+
+asyncio.wait_for's timeout is asyncio.TimeoutError, which only Python 3.11 made the builtin TimeoutError: a
+supervisor that never answers must still be a ControlError of kind timeout, and the event stream's clock must
+keep ticking when nothing else happens (runtime/tests/interpreters/ runs this module on 3.10 and 3.12).
+"""
+
+import asyncio
+import socket
+from pathlib import Path
+
+import pytest
+
+from joshua_runtime.dashboard import app, control_client
+from joshua_runtime.dashboard.app import Dashboard
+from joshua_runtime.dashboard.broadcaster import Broadcaster
+from joshua_runtime.dashboard.robot_view import load_robot_view
+from joshua_runtime.dashboard.security import HostAllowList
+
+MOCK_ARM = Path(__file__).resolve().parents[3] / "generated" / "mock_arm" / "manifest.json"
+SHORT_TIMEOUT_S = 0.3  # the request timeout and clock period here, instead of seconds
+CLOCKS = 3  # clock events read from the stream: the first comes at once, the others each after a timeout
+TEST_TIMEOUT_S = 30
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_a_supervisor_that_never_answers_is_a_timeout_error(tmp_path, monkeypatch):
+    path = tmp_path / "silent.sock"
+    listener = socket.socket(socket.AF_UNIX)
+    listener.bind(str(path))
+    listener.listen()  # connections complete in the backlog; nothing ever reads or answers them
+    monkeypatch.setattr(control_client, "REQUEST_TIMEOUT_S", SHORT_TIMEOUT_S)
+    try:
+        with pytest.raises(control_client.ControlError) as raised:
+            asyncio.run(control_client.ControlClient(path).request({"command": "status"}))
+    finally:
+        listener.close()
+    assert raised.value.kind == control_client.TIMEOUT
+    assert str(raised.value) == f"the supervisor did not answer 'status' within {SHORT_TIMEOUT_S:g} s"
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_the_event_stream_keeps_its_clock_with_nothing_else_to_send(tmp_path, monkeypatch):
+    monkeypatch.setattr(app, "CLOCK_PERIOD_S", SHORT_TIMEOUT_S)
+    dashboard = Dashboard(
+        load_robot_view(MOCK_ARM),
+        control_client.ControlClient(tmp_path / "no.sock"),
+        Broadcaster(),
+        telemetry=None,
+        web_dir=tmp_path / "no-page",
+        token="owner-token",
+        allowed=HostAllowList("127.0.0.1"),
+    )
+
+    async def clock_events() -> list[bytes]:
+        response = await dashboard.events(None)
+        chunks = []
+        async for chunk in response.body_iterator:
+            if chunk.startswith(b"event: clock"):
+                chunks.append(chunk)
+            if len(chunks) == CLOCKS:
+                break
+        await response.body_iterator.aclose()
+        return chunks
+
+    assert len(asyncio.run(clock_events())) == CLOCKS
