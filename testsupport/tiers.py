@@ -46,6 +46,7 @@ DIRECTORY_TIERS = {
     "runtime/tests/foxglove": UNIT,
     "runtime/tests/hosts": PROCESS,
     "runtime/tests/interfaces": UNIT,
+    "runtime/tests/interpreters": PROCESS,  # fresh environments of other Pythons, install.sh runs
     "runtime/tests/lego": UNIT,
     "runtime/tests/multihost": PROCESS,  # simulated computers: network namespaces and the processes in them
     "runtime/tests/sensors": UNIT,

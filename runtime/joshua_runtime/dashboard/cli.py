@@ -101,7 +101,6 @@ async def serve(args) -> None:
     from joshua_runtime.dashboard.robot_view import load_robot_view
     from joshua_runtime.dashboard.security import HostAllowList
     from joshua_runtime.dashboard.server import StoppingAwareServer
-    from joshua_runtime.dashboard.telemetry import Telemetry
     from joshua_runtime.dashboard.zenoh_link import FleetLink, check_endpoint, credentials_of, robot_settings
     from joshua_runtime.hosts.client import control_client
 
@@ -118,6 +117,10 @@ async def serve(args) -> None:
     sock = listening_socket(args.bind, args.port)
     port = sock.getsockname()[1]
     url = args.public_url or page_url(args.bind, port)
+    # ROS is loaded once the settings are known to be good, so that a mistake in them is told in one line also
+    # where rclpy is not importable (apt's ROS not sourced).
+    from joshua_runtime.dashboard.telemetry import Telemetry
+
     broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
     control = control_client(args.manifest, control_socket)
