@@ -58,7 +58,7 @@ DIRECTORY_TIERS = {
 
 # Fixtures made once per worker process that cost more than the tests using them: those tests run on one
 # worker (an xdist_group named after the fixture), so that `make test` makes each once.
-SHARED_FIXTURES = ("trained_reach", "bundle", "podman")  # podman: the container tests' images
+SHARED_FIXTURES = ("trained_reach", "bundle", "podman", "runtime_environments")  # podman: the container tests' images
 
 UNTIERED = pytest.StashKey[list]()  # node ids of the collected tests that got no tier
 
