@@ -20,7 +20,10 @@ Building needs this source tree (uv.lock and the workspace members) and uv, a de
 A robot on several hosts gets one bundle per host, in OUT/hosts/<name>/, each with the extras of that
 host's processes only (a Raspberry Pi running the servos does not get torch). A host with
 `ros_from_system` takes ROS 2 from apt: its requirements leave the ROS wheels out, its environment is
-made with --system-site-packages by the host's `python`, and install.sh sources the ROS setup first.
+made with --system-site-packages by the host's `python` (3.10 to 3.12, as the runtime), and install.sh
+sources the ROS setup first. Every other host needs Python 3.11 on x86_64, the only platform the ROS wheels
+exist for: its install.sh refuses another, where the environment would install (uv.lock covers 3.10 to 3.12,
+x86_64 and aarch64) but without rclpy.
 """
 
 import hashlib
@@ -49,7 +52,10 @@ REQUIREMENTS = f"{WHEEL_DIR}/requirements.txt"
 LOCAL_REQUIREMENTS_NAME = "local-requirements.txt"
 LOCAL_REQUIREMENTS = f"{WHEEL_DIR}/{LOCAL_REQUIREMENTS_NAME}"
 DEFAULT_VENV = "/opt/joshua/venv"
-PYTHON = "python3.11"  # the interpreter the locked dependencies are resolved for
+# The ROS 2 wheels on PyPI are CPython 3.11's on x86_64 alone (runtime/pyproject.toml marks them so).
+ROS_WHEELS_PYTHON = "3.11"
+ROS_WHEELS_MACHINE = "x86_64"  # as platform.machine() names it
+PYTHON = f"python{ROS_WHEELS_PYTHON}"  # the interpreter of a host that takes them
 UV_TIMEOUT_S = 600.0
 ROS_WHEEL_PREFIX = "ros-"  # the ROS 2 packages on PyPI (ros-jazzy-rclpy, ros-rcl, ...), from apt with ros_from_system
 
@@ -193,6 +199,8 @@ def _bundle(robot: Robot, built: dict[str, bytes]) -> dict[str, str | bytes]:
         venv=DEFAULT_VENV,
         python=(host.python if host is not None and host.python else PYTHON),
         ros_setup=ROS_SYSTEM_SETUP if ros_system else "",
+        ros_wheels_python=ROS_WHEELS_PYTHON,
+        ros_wheels_platform=f"{ROS_WHEELS_PYTHON} on {ROS_WHEELS_MACHINE}",
         wheels=sorted(built),
         wheel_dir=WHEEL_DIR,
         stamp=STAMP,
