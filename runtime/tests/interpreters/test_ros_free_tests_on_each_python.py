@@ -40,6 +40,7 @@ ROS_FREE_TESTS = (
     "runtime/tests/description/test_so100_urdf.py",
     "runtime/tests/dashboard/test_dashboard_server.py",
     "runtime/tests/dashboard/test_dashboard_guards.py",
+    "runtime/tests/dashboard/test_dashboard_timeouts.py",
     "runtime/tests/dashboard/test_control_client_owner.py",
     "runtime/tests/dashboard/test_fleet_access.py",
     "runtime/tests/dashboard/test_fleet_schema_roster.py",
