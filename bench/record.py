@@ -1,7 +1,12 @@
-"""Sustained recording rate of the DATA_SUBSCRIBER node: frames per second written without drops.
+"""DATA_SUBSCRIBER: time from start to ready, and sustained recording rate (frames per second written without drops).
 
-    .venv/bin/python bench/record.py [--seconds 8] [--cases 320x240@30,640x480@30,320x240@60] [--formats lerobot,parquet]
-    .venv/bin/python bench/record.py --quick        # one 1 s episode of 160x120 at 10 fps, lerobot
+    .venv/bin/python bench/record.py [--starts 3] [--seconds 8] [--cases 320x240@30,640x480@30,320x240@60] [--formats lerobot,parquet]
+    .venv/bin/python bench/record.py --quick        # one start, one 1 s episode of 160x120 at 10 fps, lerobot
+
+Start: the recorder process is started --starts times with nothing publishing; reported are the times
+from its start to its ready line (READY=1) and to "dataset writer ready" (LeRobot imported in the
+writer process), next to the time `import lerobot.datasets.lerobot_dataset` takes in a fresh Python
+process in the same run (the floor of any recorder that imports LeRobot before it is ready).
 
 For each case, MOCK_CAMERA_PUBLISHER (bgr8, best effort) and two MOCK_ENCODER_PUBLISHERs (leader
 action and follower state, 6 joints) publish at the recording rate; a DATA_SUBSCRIBER process
@@ -15,6 +20,7 @@ Every process loads the Fast DDS profile joshuac writes for it.
 import argparse
 import re
 import signal
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -46,6 +52,9 @@ RECORDER = "recorder"
 STARTUP_TIMEOUT_S = 180.0
 SAVE_TIMEOUT_S = 120.0
 FIRST_FRAME = "first frame of the episode recorded"
+READY = re.compile(r"\bready: recording")
+WRITER_READY = re.compile(r"dataset writer ready")
+LEROBOT_IMPORT = "import lerobot.datasets.lerobot_dataset"
 STOPPED = re.compile(r"episode stopped after (\d+) frames \((\d+) skipped\) over ([\d.]+) s")
 SAVED = re.compile(r"episode (\d+) saved: (\d+) frames")
 
@@ -72,11 +81,22 @@ class Process:
         self.popen = subprocess.Popen(
             node_command(settings), env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
         )
+        self.started = time.monotonic()
         self.lines: list[str] = []
-        self.reader = threading.Thread(
-            target=lambda: self.lines.extend(line.rstrip() for line in self.popen.stdout), daemon=True
-        )
+        self.times: list[float] = []  # when each line arrived, seconds after the start
+        self.reader = threading.Thread(target=self._read, daemon=True)
         self.reader.start()
+
+    def _read(self) -> None:
+        for line in self.popen.stdout:
+            self.times.append(time.monotonic() - self.started)
+            self.lines.append(line.rstrip())
+
+    def seconds_until(self, pattern, timeout) -> float:
+        """Seconds from the start to the first line matching `pattern`."""
+        regex = re.compile(pattern) if isinstance(pattern, str) else pattern
+        self.wait_for(regex, timeout)
+        return next(t for t, line in zip(self.times, self.lines) if regex.search(line))
 
     def wait_for(self, pattern, timeout):
         regex = re.compile(pattern) if isinstance(pattern, str) else pattern
@@ -110,6 +130,7 @@ def run_case(settings: dict[str, dict], seconds, env, profiles: dict[str, Path])
     recorder = Process(settings[RECORDER], env, profiles)
     try:
         recorder.wait_for(FIRST_FRAME, STARTUP_TIMEOUT_S)
+        recorder.wait_for(WRITER_READY, STARTUP_TIMEOUT_S)  # the episode is saved, not lost, at SIGINT
         time.sleep(seconds)
         sent = time.monotonic()
         recorder.stop()
@@ -132,6 +153,42 @@ def run_case(settings: dict[str, dict], seconds, env, profiles: dict[str, Path])
     }
 
 
+def startup(settings: dict[str, dict], env, profiles: dict[str, Path]) -> tuple[float, float]:
+    """(seconds to the ready line, seconds to the writer's "ready") of one recorder start, nothing publishing."""
+    recorder = Process(settings[RECORDER], env, profiles)
+    try:
+        ready = recorder.seconds_until(READY, STARTUP_TIMEOUT_S)
+        writer = recorder.seconds_until(WRITER_READY, STARTUP_TIMEOUT_S)
+    finally:
+        recorder.stop()
+    return ready, writer
+
+
+def lerobot_import_s(env: dict) -> float:
+    """Seconds a fresh Python process takes to import LeRobot's dataset module (interpreter start included)."""
+    started = time.monotonic()
+    subprocess.run([PYTHON, "-c", LEROBOT_IMPORT], env=env, check=True, capture_output=True)
+    return time.monotonic() - started
+
+
+def report_startup(settings: dict[str, dict], starts: int, env, profiles: dict[str, Path]) -> None:
+    print(f"start -> ready of the recorder, {starts} starts (median); LeRobot's import in a fresh process alongside")
+    ready, writer, imports = [], [], []
+    for _ in range(starts):
+        imports.append(lerobot_import_s(env))
+        first, second = startup(settings, env, profiles)
+        ready.append(first)
+        writer.append(second)
+    median_ready, median_writer, median_import = (statistics.median(v) for v in (ready, writer, imports))
+    print(f"{'start -> ready (READY=1) s':<34} {median_ready:>8.2f}   (runs: {', '.join(f'{v:.2f}' for v in ready)})")
+    print(
+        f"{'start -> dataset writer ready s':<34} {median_writer:>8.2f}   (runs: {', '.join(f'{v:.2f}' for v in writer)})"
+    )
+    print(f"{'import of LeRobot alone s':<34} {median_import:>8.2f}   (runs: {', '.join(f'{v:.2f}' for v in imports)})")
+    print(f"{'ready / LeRobot import':<34} {median_ready / median_import:>8.2f}x")
+    print()
+
+
 def loaded_frames(root: Path, env: dict) -> int:
     code = (
         "import sys; from lerobot.datasets.lerobot_dataset import LeRobotDataset; "
@@ -149,13 +206,14 @@ def parse_case(text: str) -> tuple[int, int, float]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--starts", type=int, default=3, help="recorder starts timed to their ready line")
     parser.add_argument("--seconds", type=float, default=8.0, help="length of the recorded episode")
     parser.add_argument("--cases", default="320x240@30,640x480@30,320x240@60", help="WIDTHxHEIGHT@FPS,...")
     parser.add_argument("--formats", default="lerobot,parquet", help="output formats to measure")
     parser.add_argument("--quick", action="store_true", help="one 1 s episode of 160x120@10, lerobot (for the tests)")
     args = parser.parse_args()
     if args.quick:
-        args.seconds, args.cases, args.formats = 1.0, "160x120@10", "lerobot"
+        args.starts, args.seconds, args.cases, args.formats = 1, 1.0, "160x120@10", "lerobot"
     with tempfile.TemporaryDirectory(prefix="joshua-bench-record-") as tmp:
         workdir = Path(tmp)
         profiles = write_fastdds_profiles(
@@ -167,6 +225,7 @@ def main() -> int:
             for case in args.cases.split(",")
             for output_format in args.formats.split(",")
         ]
+        report_startup(cases[0], args.starts, env, profiles)
         print(f"episode of {args.seconds:g} s per case; rate = (frames - 1) / span of the episode")
         print(
             f"{'case':<26} {'frames':>6} {'expected':>8} {'skipped':>7} {'rate fps':>8} {'saved':>6} "

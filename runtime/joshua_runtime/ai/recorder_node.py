@@ -16,7 +16,8 @@ defaults to the robot name), `stop` saves the current one, `discard` drops it; t
 on `~/episode_state` (episode_protocol.py; `joshua-episode` is the command-line client). SIGINT/SIGTERM
 save the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
 
-The node is ready (its "ready:" line, READY=1) once the writing thread has opened the dataset directory.
+The node is ready (its "ready:" line, READY=1) as soon as it has subscribed: the dataset is written by a
+process of its own (writer_process.py), which imports LeRobot meanwhile; frames wait for it in a queue.
 
 output_format `mcap` records a ROS bag instead: constructing a RecorderNode with it gives a
 BagRecorderNode (joshua_runtime.bags), the registry's one class per type dispatching by format.
@@ -30,9 +31,9 @@ from pathlib import Path
 from joshua_core.models import BAG_FORMAT, OUTPUT_FORMATS
 from joshua_runtime.ai import episode_protocol as protocol
 from joshua_runtime.ai import features as keys
-from joshua_runtime.ai.episode_writer import EpisodeWriter
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
 from joshua_runtime.ai.latest_samples import LatestSamples
+from joshua_runtime.ai.writer_process import WriterProcess
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.graph import with_discovered_types
 from joshua_runtime.node import JoshuaNode
@@ -61,9 +62,7 @@ def check_output_directory(directory: Path, fps: int) -> None:
 
 
 class RecorderNode(JoshuaNode):
-    """Samples its topics at rate_hz into episodes written by an EpisodeWriter thread."""
-
-    ready_later = True  # ready once the writing thread has opened the dataset directory
+    """Samples its topics at rate_hz into episodes written by a WriterProcess."""
 
     def __new__(cls, settings, ros_node):
         if cls is RecorderNode and settings.output_format == BAG_FORMAT:
@@ -93,8 +92,7 @@ class RecorderNode(JoshuaNode):
         self.state_lock = threading.Lock()  # the ROS thread and the writing thread both publish states
         self.state_seq = 0
         self.recording = False
-        self.writer_opened = threading.Event()
-        self.writer = EpisodeWriter(
+        self.writer = WriterProcess(
             self.settings.output_directory, self.fps, self.settings.robot, use_videos, self.log, self._writer_event
         )
         self.sampler = FrameSampler(topic.name, inputs, use_videos)
@@ -112,12 +110,13 @@ class RecorderNode(JoshuaNode):
             f"{self.settings.output_directory} ({output_format}); episode commands on "
             f"{self.ros.resolve_topic_name(protocol.COMMAND_TOPIC)}"
         )
+        self.announce_ready(self.summary)
+        self._publish_state("ready", message=f"ready, recording into {self.settings.output_directory}")
 
     def _writer_event(self, event: str, **details) -> None:
-        """Called from the writing thread: note that the dataset is open (the next tick announces it),
-        answer episode commands."""
+        """Called from the writer's event thread: say when LeRobot is loaded, answer episode commands."""
         if event == "opened":
-            self.writer_opened.set()
+            self.log.info(f"dataset writer ready {details['after_s']:.2f} s after the start (LeRobot loaded)")
         else:
             self._publish_state(event, **details)
 
@@ -176,9 +175,6 @@ class RecorderNode(JoshuaNode):
             self.error_reported = True
             self.recording = False  # the writer ended the episode as lost: nothing left to save at close
             raise self.writer.error
-        if not self.is_ready and self.writer_opened.is_set():
-            self.announce_ready(self.summary)
-            self._publish_state("ready", message=f"ready, recording into {self.settings.output_directory}")
         if not self.recording:
             return
         problems = self.samples.problems(SAMPLE_STALE_AFTER_S)
