@@ -213,6 +213,11 @@ def output_format(node: pb.Node) -> str:
     return node.output_format or OUTPUT_FORMATS[0]
 
 
+def units(node: pb.Node) -> str:
+    """The convention of a recorder's joint values: SI unless the node says LEROBOT or LEROBOT_RANGE."""
+    return pb.Units.Name(node.units or pb.SI)
+
+
 def realtime_factor(simulation: pb.Simulation) -> float:
     return simulation.realtime_factor if simulation.HasField("realtime_factor") else REALTIME_FACTOR
 

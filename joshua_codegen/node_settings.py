@@ -79,6 +79,9 @@ def for_node(
         "ble_transport": node.ble_transport,
         "bag_max_size_mb": node.bag_max_size_mb,
         "bag_max_duration_s": node.bag_max_duration_s,
+        "units": defaults.units(node),
+        "episode_time_s": node.episode_time_s,
+        "reset_time_s": node.reset_time_s,
         "robot_description": node.robot_description or DEFAULT_ROBOT_DESCRIPTION,
     }
     for key, value in applicable.items():

@@ -305,7 +305,18 @@ DATA_SUBSCRIBER = NodeTypeSpec(
     message_types=(JOINT_STATE,),
     input_types=OBSERVATION_TYPES,
     fields=frozenset(
-        {"input_topics", "output_format", "output_directory", "rate_hz", "bag_max_size_mb", "bag_max_duration_s"}
+        {
+            "input_topics",
+            "output_format",
+            "output_directory",
+            "rate_hz",
+            "bag_max_size_mb",
+            "bag_max_duration_s",
+            "units",
+            "calibration_file",
+            "episode_time_s",
+            "reset_time_s",
+        }
     ),
     required=("output_directory", "input_topics"),
     rate_hz=30.0,

@@ -53,7 +53,7 @@ class FoxgloveSettings(_message.Message):
     def __init__(self, port: _Optional[int] = ..., host: _Optional[str] = ...) -> None: ...
 
 class NodeSettings(_message.Message):
-    __slots__ = ("format_version", "robot", "mode", "name", "type", "topic", "state_topic", "inputs", "qos", "serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "keep_torque_on_exit", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "model_path", "policy_type", "device", "output_format", "output_directory", "simulation", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "bag_max_size_mb", "bag_max_duration_s", "robot_description", "foxglove", "compressed_topic", "preset", "on_command_timeout", "diagnostics_rate_hz")
+    __slots__ = ("format_version", "robot", "mode", "name", "type", "topic", "state_topic", "inputs", "qos", "serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "keep_torque_on_exit", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "model_path", "policy_type", "device", "output_format", "output_directory", "simulation", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "bag_max_size_mb", "bag_max_duration_s", "units", "episode_time_s", "reset_time_s", "robot_description", "foxglove", "compressed_topic", "preset", "on_command_timeout", "diagnostics_rate_hz")
     FORMAT_VERSION_FIELD_NUMBER: _ClassVar[int]
     ROBOT_FIELD_NUMBER: _ClassVar[int]
     MODE_FIELD_NUMBER: _ClassVar[int]
@@ -89,6 +89,9 @@ class NodeSettings(_message.Message):
     BLE_TRANSPORT_FIELD_NUMBER: _ClassVar[int]
     BAG_MAX_SIZE_MB_FIELD_NUMBER: _ClassVar[int]
     BAG_MAX_DURATION_S_FIELD_NUMBER: _ClassVar[int]
+    UNITS_FIELD_NUMBER: _ClassVar[int]
+    EPISODE_TIME_S_FIELD_NUMBER: _ClassVar[int]
+    RESET_TIME_S_FIELD_NUMBER: _ClassVar[int]
     ROBOT_DESCRIPTION_FIELD_NUMBER: _ClassVar[int]
     FOXGLOVE_FIELD_NUMBER: _ClassVar[int]
     COMPRESSED_TOPIC_FIELD_NUMBER: _ClassVar[int]
@@ -130,13 +133,16 @@ class NodeSettings(_message.Message):
     ble_transport: str
     bag_max_size_mb: int
     bag_max_duration_s: float
+    units: str
+    episode_time_s: float
+    reset_time_s: float
     robot_description: str
     foxglove: FoxgloveSettings
     compressed_topic: TopicSettings
     preset: _containers.RepeatedCompositeFieldContainer[PresetSettings]
     on_command_timeout: str
     diagnostics_rate_hz: float
-    def __init__(self, format_version: _Optional[int] = ..., robot: _Optional[str] = ..., mode: _Optional[str] = ..., name: _Optional[str] = ..., type: _Optional[str] = ..., topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., state_topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., inputs: _Optional[_Iterable[_Union[TopicSettings, _Mapping]]] = ..., qos: _Optional[_Union[QosSettings, _Mapping]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., joint_names: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., keep_torque_on_exit: _Optional[bool] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., simulation: _Optional[_Union[SimulationSettings, _Mapping]] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., ble_transport: _Optional[str] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., robot_description: _Optional[str] = ..., foxglove: _Optional[_Union[FoxgloveSettings, _Mapping]] = ..., compressed_topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., preset: _Optional[_Iterable[_Union[PresetSettings, _Mapping]]] = ..., on_command_timeout: _Optional[str] = ..., diagnostics_rate_hz: _Optional[float] = ...) -> None: ...
+    def __init__(self, format_version: _Optional[int] = ..., robot: _Optional[str] = ..., mode: _Optional[str] = ..., name: _Optional[str] = ..., type: _Optional[str] = ..., topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., state_topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., inputs: _Optional[_Iterable[_Union[TopicSettings, _Mapping]]] = ..., qos: _Optional[_Union[QosSettings, _Mapping]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., joint_names: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., keep_torque_on_exit: _Optional[bool] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., simulation: _Optional[_Union[SimulationSettings, _Mapping]] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., ble_transport: _Optional[str] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., units: _Optional[str] = ..., episode_time_s: _Optional[float] = ..., reset_time_s: _Optional[float] = ..., robot_description: _Optional[str] = ..., foxglove: _Optional[_Union[FoxgloveSettings, _Mapping]] = ..., compressed_topic: _Optional[_Union[TopicSettings, _Mapping]] = ..., preset: _Optional[_Iterable[_Union[PresetSettings, _Mapping]]] = ..., on_command_timeout: _Optional[str] = ..., diagnostics_rate_hz: _Optional[float] = ...) -> None: ...
 
 class PresetSettings(_message.Message):
     __slots__ = ("name", "positions")

@@ -66,6 +66,13 @@ class Restart(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
     RESTART_ON_FAILURE: _ClassVar[Restart]
     RESTART_ALWAYS: _ClassVar[Restart]
 
+class Units(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
+    __slots__ = ()
+    UNITS_UNSPECIFIED: _ClassVar[Units]
+    SI: _ClassVar[Units]
+    LEROBOT: _ClassVar[Units]
+    LEROBOT_RANGE: _ClassVar[Units]
+
 class CommandTimeoutAction(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
     __slots__ = ()
     COMMAND_TIMEOUT_ACTION_UNSPECIFIED: _ClassVar[CommandTimeoutAction]
@@ -109,6 +116,10 @@ RESTART_UNSPECIFIED: Restart
 RESTART_NEVER: Restart
 RESTART_ON_FAILURE: Restart
 RESTART_ALWAYS: Restart
+UNITS_UNSPECIFIED: Units
+SI: Units
+LEROBOT: Units
+LEROBOT_RANGE: Units
 COMMAND_TIMEOUT_ACTION_UNSPECIFIED: CommandTimeoutAction
 HOLD_POSITION: CommandTimeoutAction
 RELEASE_TORQUE: CommandTimeoutAction
@@ -253,7 +264,7 @@ class Dashboard(_message.Message):
     def __init__(self, port: _Optional[int] = ..., bind: _Optional[str] = ..., zenoh_connect: _Optional[str] = ..., allowed_host: _Optional[_Iterable[str]] = ..., zenoh_password_file: _Optional[str] = ..., zenoh_tls_ca: _Optional[str] = ..., zenoh_tls_certificate: _Optional[str] = ..., zenoh_tls_private_key: _Optional[str] = ..., host: _Optional[str] = ...) -> None: ...
 
 class Node(_message.Message):
-    __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes", "bag_max_size_mb", "bag_max_duration_s", "robot_description", "preset", "on_command_timeout", "diagnostics_rate_hz", "host")
+    __slots__ = ("name", "type", "topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history", "preferred_backend", "serial_port", "baud_rate", "device_ids", "camera_index", "video_source", "width", "height", "rate_hz", "frame_id", "state_topic", "input_topics", "model_path", "policy_type", "device", "output_format", "output_directory", "restart", "max_restarts", "executable", "args", "calibration_file", "critical", "joint_names", "env", "keep_torque_on_exit", "wheel_radius_m", "track_width_m", "hub", "command_timeout_s", "odom_topic", "ble_transport", "publishes", "subscribes", "bag_max_size_mb", "bag_max_duration_s", "units", "episode_time_s", "reset_time_s", "robot_description", "preset", "on_command_timeout", "diagnostics_rate_hz", "host")
     class EnvEntry(_message.Message):
         __slots__ = ("key", "value")
         KEY_FIELD_NUMBER: _ClassVar[int]
@@ -305,6 +316,9 @@ class Node(_message.Message):
     SUBSCRIBES_FIELD_NUMBER: _ClassVar[int]
     BAG_MAX_SIZE_MB_FIELD_NUMBER: _ClassVar[int]
     BAG_MAX_DURATION_S_FIELD_NUMBER: _ClassVar[int]
+    UNITS_FIELD_NUMBER: _ClassVar[int]
+    EPISODE_TIME_S_FIELD_NUMBER: _ClassVar[int]
+    RESET_TIME_S_FIELD_NUMBER: _ClassVar[int]
     ROBOT_DESCRIPTION_FIELD_NUMBER: _ClassVar[int]
     PRESET_FIELD_NUMBER: _ClassVar[int]
     ON_COMMAND_TIMEOUT_FIELD_NUMBER: _ClassVar[int]
@@ -354,12 +368,15 @@ class Node(_message.Message):
     subscribes: _containers.RepeatedCompositeFieldContainer[TopicDeclaration]
     bag_max_size_mb: int
     bag_max_duration_s: float
+    units: Units
+    episode_time_s: float
+    reset_time_s: float
     robot_description: str
     preset: _containers.RepeatedCompositeFieldContainer[Preset]
     on_command_timeout: CommandTimeoutAction
     diagnostics_rate_hz: float
     host: str
-    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[NodeType, str]] = ..., topic_name: _Optional[str] = ..., message_type: _Optional[str] = ..., qos_depth: _Optional[int] = ..., qos_reliability: _Optional[_Union[Reliability, str]] = ..., qos_durability: _Optional[_Union[Durability, str]] = ..., qos_history: _Optional[_Union[History, str]] = ..., preferred_backend: _Optional[_Union[Backend, str]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., state_topic: _Optional[str] = ..., input_topics: _Optional[_Iterable[str]] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., restart: _Optional[_Union[Restart, str]] = ..., max_restarts: _Optional[int] = ..., executable: _Optional[str] = ..., args: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., critical: _Optional[bool] = ..., joint_names: _Optional[_Iterable[str]] = ..., env: _Optional[_Mapping[str, str]] = ..., keep_torque_on_exit: _Optional[bool] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[str] = ..., ble_transport: _Optional[str] = ..., publishes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., subscribes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., robot_description: _Optional[str] = ..., preset: _Optional[_Iterable[_Union[Preset, _Mapping]]] = ..., on_command_timeout: _Optional[_Union[CommandTimeoutAction, str]] = ..., diagnostics_rate_hz: _Optional[float] = ..., host: _Optional[str] = ...) -> None: ...
+    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[NodeType, str]] = ..., topic_name: _Optional[str] = ..., message_type: _Optional[str] = ..., qos_depth: _Optional[int] = ..., qos_reliability: _Optional[_Union[Reliability, str]] = ..., qos_durability: _Optional[_Union[Durability, str]] = ..., qos_history: _Optional[_Union[History, str]] = ..., preferred_backend: _Optional[_Union[Backend, str]] = ..., serial_port: _Optional[str] = ..., baud_rate: _Optional[int] = ..., device_ids: _Optional[_Iterable[int]] = ..., camera_index: _Optional[int] = ..., video_source: _Optional[str] = ..., width: _Optional[int] = ..., height: _Optional[int] = ..., rate_hz: _Optional[float] = ..., frame_id: _Optional[str] = ..., state_topic: _Optional[str] = ..., input_topics: _Optional[_Iterable[str]] = ..., model_path: _Optional[str] = ..., policy_type: _Optional[str] = ..., device: _Optional[str] = ..., output_format: _Optional[str] = ..., output_directory: _Optional[str] = ..., restart: _Optional[_Union[Restart, str]] = ..., max_restarts: _Optional[int] = ..., executable: _Optional[str] = ..., args: _Optional[_Iterable[str]] = ..., calibration_file: _Optional[str] = ..., critical: _Optional[bool] = ..., joint_names: _Optional[_Iterable[str]] = ..., env: _Optional[_Mapping[str, str]] = ..., keep_torque_on_exit: _Optional[bool] = ..., wheel_radius_m: _Optional[float] = ..., track_width_m: _Optional[float] = ..., hub: _Optional[str] = ..., command_timeout_s: _Optional[float] = ..., odom_topic: _Optional[str] = ..., ble_transport: _Optional[str] = ..., publishes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., subscribes: _Optional[_Iterable[_Union[TopicDeclaration, _Mapping]]] = ..., bag_max_size_mb: _Optional[int] = ..., bag_max_duration_s: _Optional[float] = ..., units: _Optional[_Union[Units, str]] = ..., episode_time_s: _Optional[float] = ..., reset_time_s: _Optional[float] = ..., robot_description: _Optional[str] = ..., preset: _Optional[_Iterable[_Union[Preset, _Mapping]]] = ..., on_command_timeout: _Optional[_Union[CommandTimeoutAction, str]] = ..., diagnostics_rate_hz: _Optional[float] = ..., host: _Optional[str] = ...) -> None: ...
 
 class TopicDeclaration(_message.Message):
     __slots__ = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")

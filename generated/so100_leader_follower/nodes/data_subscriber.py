@@ -52,6 +52,7 @@ SETTINGS = {
     'rate_hz': 30.0,
     'output_format': 'parquet',
     'output_directory': '/data/episodes',
+    'units': 'SI',
 }
 
 if __name__ == "__main__":
