@@ -4,13 +4,15 @@ The layout follows `features.py`: the recorded JointState `topic` is `action`, J
 are `observation.state` (in input order), Image inputs are `observation.images.<key>`. It is fixed
 by the first complete set of messages: joint names, joint order and image sizes. Later messages
 are read by joint name, so a publisher that reorders its joints is still recorded correctly; a
-missing joint or a changed image size makes the frame unavailable.
+missing joint or a changed image size makes the frame unavailable. Joint positions are written in the
+convention of `units` (lerobot_units.py; radians when none is given).
 """
 
 import numpy as np
 
 from joshua_core.settings import TopicSettings
 from joshua_runtime.ai import features as keys
+from joshua_runtime.ai.lerobot_units import SI, JointUnits
 from joshua_runtime.ai.ros_arrays import image_to_rgb, joint_positions
 
 IMAGE_NAMES = ["height", "width", "channels"]
@@ -23,8 +25,11 @@ class FrameUnavailable(ValueError):
 class FrameSampler:
     """Builds LeRobot feature definitions once, then a frame dict per call."""
 
-    def __init__(self, action_topic: str, inputs: list[TopicSettings], use_videos: bool):
+    def __init__(
+        self, action_topic: str, inputs: list[TopicSettings], use_videos: bool, units: JointUnits | None = None
+    ):
         self.action_topic = action_topic
+        self.units = units or JointUnits(SI)
         self.state_topics = [t.name for t in inputs if t.message_type == keys.JOINT_STATE]
         self.image_topics = {keys.image_feature(t.name): t.name for t in inputs if t.message_type in keys.IMAGE_TYPES}
         self.image_dtype = "video" if use_videos else "image"
@@ -58,19 +63,20 @@ class FrameSampler:
     def _positions(self, topic: str, message_of) -> np.ndarray:
         names, values = joint_positions(message_of(topic))
         wanted = self.joints[topic]
-        if names == wanted:
-            return values
-        by_name = dict(zip(names, values))
-        missing = [joint for joint in wanted if joint not in by_name]
-        if missing:
-            raise FrameUnavailable(f"{topic}: joint(s) {', '.join(missing)} missing")
-        return np.array([by_name[joint] for joint in wanted], dtype=np.float32)
+        if names != wanted:
+            by_name = dict(zip(names, values))
+            missing = [joint for joint in wanted if joint not in by_name]
+            if missing:
+                raise FrameUnavailable(f"{topic}: joint(s) {', '.join(missing)} missing")
+            values = np.array([by_name[joint] for joint in wanted], dtype=np.float32)
+        return self.units.from_radians(wanted, values)
 
     def _define(self, message_of) -> None:
         for topic in [self.action_topic, *self.state_topics]:
             names, values = joint_positions(message_of(topic))
             if not names or len(names) != len(values):
                 raise FrameUnavailable(f"{topic}: a JointState needs one name per position")
+            self.units.check_joints(names)
             self.joints[topic] = names
         features = {keys.ACTION: _vector(self.joints[self.action_topic])}
         if self.state_topics:
