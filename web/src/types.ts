@@ -73,6 +73,19 @@ export interface ScanEvent extends Stamped {
   range_max: number;
   ranges: (number | null)[];
 }
+/** A recorder's progress report (ai/episode_protocol.py): its phase, the episode or reset timer, frames. */
+export interface RecorderProgress {
+  phase: "recording" | "resetting" | "idle";
+  task: string;
+  /** Episodes saved in the dataset: also the index of the episode in progress. */
+  episodes: number;
+  elapsed_s: number;
+  /** Until episode_time_s or the end of the reset period; null when unlimited. */
+  remaining_s: number | null;
+  frames: number;
+  skipped: number;
+  writer: "loading" | "ready";
+}
 export interface RecorderEvent {
   node: string;
   known: boolean;
@@ -80,6 +93,7 @@ export interface RecorderEvent {
   event: string;
   message: string;
   episodes_saved: number;
+  progress?: RecorderProgress | null;
 }
 export interface InferenceEvent {
   node: string;

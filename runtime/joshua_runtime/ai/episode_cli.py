@@ -1,11 +1,16 @@
-"""`joshua-episode start|stop|discard`: control a running recorder's episodes from a shell and say what it did.
+"""`joshua-episode`: control a running recorder's episodes from a shell, see what it is doing, or drive it by keys.
 
     joshua-episode stop --robot /opt/joshua/so100_arm          # the robot's one DATA_SUBSCRIBER
     joshua-episode start --task "pick the cube" --node data_subscriber
+    joshua-episode next | rerecord | discard                   # see episode_protocol.py
+    joshua-episode status [--json]                             # phase, episode timer, frames, episodes saved
+    joshua-episode keys                                        # -> next, <- re-record, Esc stop (episode_keys.py)
 
 The command goes to the recorder's `/<node>/episode` topic in the robot's ROS domain (the manifest's
 `ros_domain_id` with --robot, else ROS_DOMAIN_ID); the answer comes from its `/<node>/episode_state`
 (episode_protocol.py) and is printed as one line, e.g. "saved episode 3 (412 frames) in /data/pick".
+`status` prints the recorder's last progress report, e.g. "rec: recording episode 3 (task: pick the
+cube): 12.3 s of 30 s, 368 frames; 3 episodes saved".
 
 Exit codes: 0 done, 1 the recorder ignored the command or could not save the episode, 2 bad command
 line or robot directory, 3 no recorder answered (none running under that name in that domain).
@@ -15,16 +20,15 @@ import argparse
 import json
 import os
 import sys
-import time
 from pathlib import Path
 
 from joshua_runtime.ai import episode_protocol as protocol
 
 EXIT_OK, EXIT_REFUSED, EXIT_USAGE, EXIT_NO_RECORDER = 0, 1, 2, 3
+ANSWER_TIMEOUT_S = 60.0  # how long saving an episode may take (a writer still loading LeRobot first loads it)
 DISCOVERY_TIMEOUT_S = 10.0  # how long to wait for the recorder to be found (--discovery-timeout)
-ANSWER_TIMEOUT_S = 60.0  # how long saving an episode may take (video encoding is finished at save)
-SPIN_SLICE_S = 0.05
 RECORDER_TYPE = "DATA_SUBSCRIBER"
+VIEWS = ("status", "keys")
 
 
 class UsageError(Exception):
@@ -33,12 +37,13 @@ class UsageError(Exception):
 
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(prog="joshua-episode", description=__doc__.split("\n")[0])
-    parser.add_argument("command", choices=protocol.COMMANDS)
+    parser.add_argument("command", choices=[*protocol.COMMANDS, *VIEWS])
     parser.add_argument("--task", default="", help="task text of the episode `start` begins (default: the robot name)")
     parser.add_argument(
         "--node", default="", help="the recorder's node name (default: the robot's only DATA_SUBSCRIBER)"
     )
     parser.add_argument("--robot", metavar="OUT", help="the robot's build directory: its manifest gives the ROS domain")
+    parser.add_argument("--json", action="store_true", help="status: print the progress report as JSON")
     parser.add_argument(
         "--timeout",
         type=float,
@@ -56,6 +61,8 @@ def parse_arguments(argv):
     options = parser.parse_args(argv)
     if options.task and options.command != "start":
         parser.error("--task goes with start")
+    if options.json and options.command != "status":
+        parser.error("--json goes with status")
     return options
 
 
@@ -84,47 +91,45 @@ def command_text(options) -> str:
     return f"start {options.task}".strip() if options.command == "start" else options.command
 
 
-def exchange(
-    node_name: str, domain: int | None, text: str, answers: tuple[str, ...], discovery_s: float, answer_s: float
-):
-    """Send one command to the recorder and return its answering state; None when no recorder was found within
-    `discovery_s`, {} when it was found but did not answer within `answer_s`."""
-    import rclpy
-    from rclpy.executors import SingleThreadedExecutor
-    from std_msgs.msg import String
+def no_recorder(node: str, domain: int | None, discovery_s: float) -> str:
+    shown = domain if domain is not None else os.environ.get("ROS_DOMAIN_ID", "0")
+    return (
+        f"joshua-episode: error: no recorder answers on /{node}/episode in ROS domain {shown} within "
+        f"{discovery_s:g} s (is the robot running, and is {node} its DATA_SUBSCRIBER?)"
+    )
 
-    context = rclpy.Context()
-    rclpy.init(context=context, **({"domain_id": domain} if domain is not None else {}))
-    try:
-        client = rclpy.create_node(f"joshua_episode_{os.getpid()}", context=context)
-        states = []
-        command_topic = f"/{node_name}/{protocol.COMMAND_TOPIC.removeprefix('~/')}"
-        state_topic = f"/{node_name}/{protocol.STATE_TOPIC.removeprefix('~/')}"
-        client.create_subscription(
-            String, state_topic, lambda msg: states.append(protocol.decode(msg.data)), protocol.state_qos()
+
+def status(node: str, domain: int | None, as_json: bool, discovery_s: float) -> int:
+    from joshua_runtime.ai.episode_client import RecorderClient, describe
+
+    with RecorderClient(node, domain) as client:
+        progress = client.wait_progress(discovery_s)
+    if progress is None:
+        print(no_recorder(node, domain, discovery_s), file=sys.stderr)
+        return EXIT_NO_RECORDER
+    print(json.dumps(dict(progress, node=node), sort_keys=True) if as_json else describe(node, progress))
+    return EXIT_OK
+
+
+def command(node: str, domain: int | None, text: str, discovery_s: float, timeout_s: float) -> int:
+    from joshua_runtime.ai.episode_client import RecorderClient
+
+    with RecorderClient(node, domain) as client:
+        state = client.exchange(text, timeout_s) if client.found(discovery_s) else None
+    if state is None:
+        print(no_recorder(node, domain, discovery_s), file=sys.stderr)
+        return EXIT_NO_RECORDER
+    if not state:
+        print(
+            f"joshua-episode: error: {node} took the command but did not answer within {timeout_s:g} s", file=sys.stderr
         )
-        publisher = client.create_publisher(String, command_topic, protocol.COMMAND_QOS_DEPTH)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(client)
-
-        def spin_until(condition, seconds):
-            deadline = time.monotonic() + seconds
-            while not condition() and time.monotonic() < deadline:
-                executor.spin_once(timeout_sec=SPIN_SLICE_S)
-            return condition()
-
-        if not spin_until(lambda: publisher.get_subscription_count() > 0 and any(states), discovery_s):
-            return None
-        baseline = max(state["seq"] for state in states if state)
-        publisher.publish(String(data=text))
-
-        def answer():
-            return next((s for s in states if s and s["seq"] > baseline and s["event"] in answers), None)
-
-        spin_until(answer, answer_s)
-        return answer() or {}
-    finally:
-        rclpy.try_shutdown(context=context)
+        return EXIT_NO_RECORDER
+    message = state.get("message") or state["event"]
+    if state["event"] in protocol.SUCCESS:
+        print(f"{node}: {message}")
+        return EXIT_OK
+    print(f"joshua-episode: {node}: {message}", file=sys.stderr)
+    return EXIT_REFUSED
 
 
 def main(argv=None) -> int:
@@ -139,28 +144,13 @@ def main(argv=None) -> int:
     except UsageError as exc:
         print(f"joshua-episode: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    shown_domain = domain if domain is not None else os.environ.get("ROS_DOMAIN_ID", "0")
-    answers = protocol.ANSWERS[options.command]
-    state = exchange(node, domain, command_text(options), answers, options.discovery_timeout, options.timeout)
-    if state is None:
-        print(
-            f"joshua-episode: error: no recorder answers on /{node}/episode in ROS domain {shown_domain} within "
-            f"{options.discovery_timeout:g} s (is the robot running, and is {node} its DATA_SUBSCRIBER?)",
-            file=sys.stderr,
-        )
-        return EXIT_NO_RECORDER
-    if not state:
-        print(
-            f"joshua-episode: error: {node} took the command but did not answer within {options.timeout:g} s",
-            file=sys.stderr,
-        )
-        return EXIT_NO_RECORDER
-    message = state.get("message") or state["event"]
-    if state["event"] in protocol.SUCCESS:
-        print(f"{node}: {message}")
-        return EXIT_OK
-    print(f"joshua-episode: {node}: {message}", file=sys.stderr)
-    return EXIT_REFUSED
+    if options.command == "status":
+        return status(node, domain, options.json, options.discovery_timeout)
+    if options.command == "keys":
+        from joshua_runtime.ai import episode_keys
+
+        return episode_keys.run(node, domain, options.discovery_timeout)
+    return command(node, domain, command_text(options), options.discovery_timeout, options.timeout)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,18 @@
-"""How a recorder is told to start, stop or discard episodes, and how it answers, over two std_msgs/String topics.
+"""How a recorder is told what to do with its episodes, how it answers, and how it reports its progress.
 
-Commands go to `/<recorder>/episode`: `start [task]`, `stop`, `discard`. The recorder answers on
+Three std_msgs/String topics. Commands go to `/<recorder>/episode`:
+- `start [task]`: record an episode (task text: the one given, else the robot name); during a reset
+  period, it ends the reset at once.
+- `stop`: save the episode in progress and record nothing more; during a reset period, end it.
+- `discard`: drop the episode in progress.
+- `next`: save the episode in progress, then, after the reset period (reset_time_s), record the next
+  one with the same task; during a reset period, start that next episode now (lerobot-record's right
+  arrow). An episode that has lasted episode_time_s ends this way by itself.
+- `rerecord`: drop the episode in progress and, after the reset period, record it again; with none in
+  progress, remove the episode this recorder saved last from the dataset and record it again at once
+  (lerobot-record's left arrow).
+
+The recorder answers on
 `/<recorder>/episode_state` with one JSON object per event, e.g.
 `{"seq": 4, "event": "saved", "recording": false, "episode": 3, "frames": 412, "episodes": 4,
 "message": "saved episode 3 (412 frames) in /data/pick"}`. `seq` counts the recorder's events; the
@@ -8,23 +20,36 @@ topic keeps the last one for late subscribers (TRANSIENT_LOCAL), so a client lea
 as soon as it connects, then waits for an event with a higher `seq` that answers its command.
 
 Events: `ready` (the recorder is ready and recording its first episode), `started`, `saved`, `empty`
-(an episode without frames: nothing saved), `discarded`, `ignored` (a command that did not apply, e.g.
-`stop` with no episode recording), `failed` (the episode could not be saved).
+(an episode without frames: nothing saved), `discarded`, `stopped` (a reset period ended by `stop`),
+`rerecording` (the episode in progress was dropped to be recorded again), `removed` (the last saved
+episode was removed to be recorded again), `ignored` (a command that did not apply, e.g. `stop` with no
+episode recording), `failed` (the episode could not be saved).
+
+Progress goes to `/<recorder>/episode_progress`, the last one kept for late subscribers, every
+PROGRESS_PERIOD_S and at each change: `{"phase": "recording" | "resetting" | "idle", "task",
+"episodes" (saved in the dataset: also the index the episode in progress will have),
+"elapsed_s" (of the episode or reset period), "remaining_s" (until episode_time_s or the end of the
+reset; null when unlimited), "frames", "skipped", "writer": "loading" | "ready"}`.
 """
 
 import json
 
 COMMAND_TOPIC = "~/episode"
 STATE_TOPIC = "~/episode_state"
+PROGRESS_TOPIC = "~/episode_progress"
+PROGRESS_PERIOD_S = 0.5
 COMMAND_QOS_DEPTH = 10
-COMMANDS = ("start", "stop", "discard")
+COMMANDS = ("start", "stop", "discard", "next", "rerecord")
+PHASES = ("recording", "resetting", "idle")
 # The events that answer each command (the first ones are success).
 ANSWERS = {
     "start": ("started", "ignored"),
-    "stop": ("saved", "empty", "ignored", "failed"),
+    "stop": ("saved", "empty", "stopped", "ignored", "failed"),
     "discard": ("discarded", "ignored", "failed"),
+    "next": ("saved", "empty", "started", "ignored", "failed"),
+    "rerecord": ("rerecording", "removed", "ignored", "failed"),
 }
-SUCCESS = ("started", "saved", "empty", "discarded")
+SUCCESS = ("started", "saved", "empty", "discarded", "stopped", "rerecording", "removed")
 
 
 def state_qos():
@@ -39,6 +64,11 @@ def state_qos():
     )
 
 
+def topic(node_name: str, relative: str) -> str:
+    """The absolute name of one of a recorder's topics: topic("rec", STATE_TOPIC) -> /rec/episode_state."""
+    return f"/{node_name}/{relative.removeprefix('~/')}"
+
+
 def encode(state: dict) -> str:
     return json.dumps(state, sort_keys=True)
 
@@ -50,3 +80,12 @@ def decode(text: str) -> dict | None:
     except ValueError:
         return None
     return state if isinstance(state, dict) and isinstance(state.get("seq"), int) else None
+
+
+def decode_progress(text: str) -> dict | None:
+    """The progress object of a message, or None when it is not one."""
+    try:
+        progress = json.loads(text)
+    except ValueError:
+        return None
+    return progress if isinstance(progress, dict) and progress.get("phase") in PHASES else None

@@ -57,6 +57,7 @@ class EpisodeWriter:
         self._images = None  # the CheckedImageWriter of an image dataset in progress
         self._task = ""
         self._frames = 0
+        self._last_save: tuple[int, int, bool] | None = None  # (episode, frames, had a previous version)
         self._cache = tempfile.mkdtemp(prefix="joshua-recorder-cache-")
         os.environ.setdefault(ENCODER_LOG_VARIABLE, QUIET_ENCODER_LOG_LEVEL)
         self._import_lerobot()
@@ -79,10 +80,15 @@ class EpisodeWriter:
     def discard_episode(self) -> None:
         self._commands.put(("discard", None))
 
+    def undo_last_episode(self) -> None:
+        """Remove the episode this writer saved last from the dataset (to record it again)."""
+        self._commands.put(("undo", None))
+
     def close(self) -> None:
         """Apply every queued command (saving the episode in progress if asked), then stop the thread."""
         self._commands.put(("close", None))
         self._thread.join()
+        staged_directory.drop_previous(self.target)
         shutil.rmtree(self._cache, ignore_errors=True)
 
     def _import_lerobot(self) -> None:
@@ -146,7 +152,7 @@ class EpisodeWriter:
         dataset.stop_image_writer()
         dataset.finalize()
         self._dataset = self._images = None
-        staged_directory.commit(self.target)
+        self._last_save = (episode, frames, staged_directory.commit(self.target))
         self._clear_cache()
         self.saved_episodes += 1
         self.log.info(f"episode {episode} saved: {frames} frames, {episode + 1} episodes in {self.target}")
@@ -163,6 +169,23 @@ class EpisodeWriter:
         self.log.info(f"episode discarded ({frames} frames)")
         self._drop_dataset()
         self.on_event("discarded", frames=frames, message=f"discarded the episode ({frames} frames)")
+
+    def _undo(self, _argument) -> None:
+        if self._last_save is None or self._dataset is not None:
+            reason = "an episode is being written" if self._last_save else "no episode saved since the recorder started"
+            self.on_event("ignored", message=f"nothing to re-record: {reason}")
+            return
+        episode, frames, had_previous = self._last_save
+        self._last_save = None
+        staged_directory.revert(self.target, had_previous)
+        self.log.info(f"episode {episode} removed ({frames} frames), to be recorded again")
+        self.on_event(
+            "removed",
+            episode=episode,
+            frames=frames,
+            episodes=episode,
+            message=f"removed episode {episode} ({frames} frames) from {self.target}; recording it again",
+        )
 
     def _drop_dataset(self) -> None:
         if self._dataset is not None:

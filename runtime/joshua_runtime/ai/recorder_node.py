@@ -6,15 +6,17 @@ JointState topics, recorded as `observation.images.<key>` / `observation.state`,
 - `lerobot`: images are video features (AV1 mp4 files, encoded while recording);
 - `parquet`: the same dataset with images stored as image features (PNG inside the parquet files),
   no video files. Without Image inputs both formats are identical.
+`units` (SI, LEROBOT, LEROBOT_RANGE) with `calibration_file`: the convention of the joint values
+(lerobot_units.py). `episode_time_s` and `reset_time_s`: the episode workflow (episode_session.py).
 
 Frames: at every tick the latest message of each topic is held; when one has not published yet or
 its last message is older than `SAMPLE_STALE_AFTER_S`, the frame is skipped and reported (throttled).
 
 Episodes: one starts when the node starts. Commands on the std_msgs/String topic `~/episode`
-(i.e. `/<node name>/episode`) control them: `start` or `start <task>` begins an episode (task text
-defaults to the robot name), `stop` saves the current one, `discard` drops it; the node answers each
-on `~/episode_state` (episode_protocol.py; `joshua-episode` is the command-line client). SIGINT/SIGTERM
-save the episode in progress before the process exits. See `episode_writer.py` for the crash guarantees.
+(i.e. `/<node name>/episode`) control them (`start [task]`, `stop`, `discard`, `next`, `rerecord`);
+the node answers each on `~/episode_state` and reports its progress on `~/episode_progress`
+(episode_protocol.py; `joshua-episode` is the command-line client). SIGINT/SIGTERM save the episode
+in progress before the process exits. See `episode_writer.py` for the crash guarantees.
 
 The node is ready (its "ready:" line, READY=1) as soon as it has subscribed: the dataset is written by a
 process of its own (writer_process.py), which imports LeRobot meanwhile; frames wait for it in a queue.
@@ -25,14 +27,15 @@ BagRecorderNode (joshua_runtime.bags), the registry's one class per type dispatc
 
 import json
 import threading
-import time
 from pathlib import Path
 
 from joshua_core.models import BAG_FORMAT, OUTPUT_FORMATS
 from joshua_runtime.ai import episode_protocol as protocol
 from joshua_runtime.ai import features as keys
+from joshua_runtime.ai.episode_session import IDLE, EpisodeSession
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
 from joshua_runtime.ai.latest_samples import LatestSamples
+from joshua_runtime.ai.lerobot_units import SI, JointUnits
 from joshua_runtime.ai.writer_process import WriterProcess
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.graph import with_discovered_types
@@ -43,22 +46,25 @@ SAMPLE_STALE_AFTER_S = 0.5
 PROBLEM_LOG_PERIOD_S = 2.0
 
 
-def check_output_directory(directory: Path, fps: int) -> None:
-    """Refuse a directory that holds something else than a LeRobot dataset, or one recorded at another fps."""
+def check_output_directory(directory: Path, fps: int) -> int:
+    """The episodes the dataset at `directory` holds (0 when there is none yet); refuse a directory that
+    holds something else than a LeRobot dataset, or one recorded at another fps."""
     info = directory / "meta" / "info.json"
     if info.is_file():
         try:
-            recorded_fps = json.loads(info.read_text()).get("fps")
+            meta = json.loads(info.read_text())
         except (OSError, ValueError) as exc:
             raise SettingsError(f"output_directory {directory}: unreadable {info}: {exc}") from exc
-        if recorded_fps != fps:
+        if meta.get("fps") != fps:
             raise SettingsError(
-                f"output_directory {directory} holds a dataset recorded at {recorded_fps} fps, not {fps}"
+                f"output_directory {directory} holds a dataset recorded at {meta.get('fps')} fps, not {fps}"
             )
-    elif directory.is_dir() and any(directory.iterdir()):
+        return int(meta.get("total_episodes") or 0)
+    if directory.is_dir() and any(directory.iterdir()):
         raise SettingsError(f"output_directory {directory} is not empty and holds no LeRobot dataset")
-    elif directory.exists() and not directory.is_dir():
+    if directory.exists() and not directory.is_dir():
         raise SettingsError(f"output_directory {directory} is not a directory")
+    return 0
 
 
 class RecorderNode(JoshuaNode):
@@ -83,99 +89,81 @@ class RecorderNode(JoshuaNode):
         if not self.settings.output_directory:
             raise SettingsError(f"{self.name}: output_directory is empty")
         self.fps = max(1, round(1.0 / settings_checks.period_s(self.settings)))
-        check_output_directory(Path(self.settings.output_directory).expanduser(), self.fps)
+        episodes = check_output_directory(Path(self.settings.output_directory).expanduser(), self.fps)
+        units = JointUnits(self.settings.units or SI, self.settings.calibration_file)
         use_videos = output_format == "lerobot"
         from std_msgs.msg import String
 
-        self.state_message = String
+        self.message = String
         self.state_publisher = self.ros.create_publisher(String, protocol.STATE_TOPIC, protocol.state_qos())
-        self.state_lock = threading.Lock()  # the ROS thread and the writing thread both publish states
+        self.progress_publisher = self.ros.create_publisher(String, protocol.PROGRESS_TOPIC, protocol.state_qos())
+        self.state_lock = threading.Lock()  # the ROS thread and the writer's event thread both publish states
         self.state_seq = 0
-        self.recording = False
         self.writer = WriterProcess(
             self.settings.output_directory, self.fps, self.settings.robot, use_videos, self.log, self._writer_event
         )
-        self.sampler = FrameSampler(topic.name, inputs, use_videos)
+        self.session = EpisodeSession(
+            self.writer,
+            self._publish_state,
+            self.log,
+            self.settings.robot or self.name,
+            self.settings.episode_time_s,
+            self.settings.reset_time_s,
+            episodes,
+        )
+        self.sampler = FrameSampler(topic.name, inputs, use_videos, units)
         self.samples = LatestSamples(self.sampler.topic_names)
         self.subscriptions = [self.subscription(t, self.samples.callback(t.name)) for t in [topic, *inputs]]
         self.commands = self.ros.create_subscription(
             String, protocol.COMMAND_TOPIC, self._command, protocol.COMMAND_QOS_DEPTH
         )
-        self.frames = 0
-        self.skipped = 0
-        self._begin(self._default_task())
+        self.session.begin()
         self.timer = self.ros.create_timer(1.0 / self.fps, self._tick)
-        self.summary = (
+        self.progress_timer = self.ros.create_timer(protocol.PROGRESS_PERIOD_S, self._publish_progress)
+        units_note = f", joint values in {units.units} units" if units.converts else ""
+        self.announce_ready(
             f"recording {len(self.sampler.topic_names)} topics at {self.fps} fps into "
-            f"{self.settings.output_directory} ({output_format}); episode commands on "
+            f"{self.settings.output_directory} ({output_format}{units_note}); episode commands on "
             f"{self.ros.resolve_topic_name(protocol.COMMAND_TOPIC)}"
         )
-        self.announce_ready(self.summary)
         self._publish_state("ready", message=f"ready, recording into {self.settings.output_directory}")
+        self._publish_progress()
 
     def _writer_event(self, event: str, **details) -> None:
         """Called from the writer's event thread: say when LeRobot is loaded, answer episode commands."""
         if event == "opened":
             self.log.info(f"dataset writer ready {details['after_s']:.2f} s after the start (LeRobot loaded)")
-        else:
-            self._publish_state(event, **details)
+            return
+        if event in ("saved", "removed"):
+            self.session.episodes = details["episodes"]
+        self._publish_state(event, **details)
 
     def _publish_state(self, event: str, **details) -> None:
         with self.state_lock:
             self.state_seq += 1
-            state = {"seq": self.state_seq, "event": event, "recording": self.recording, **details}
-            self.state_publisher.publish(self.state_message(data=protocol.encode(state)))
+            state = {"seq": self.state_seq, "event": event, "recording": self.session.recording, **details}
+            self.state_publisher.publish(self.message(data=protocol.encode(state)))
 
-    def _default_task(self) -> str:
-        return self.settings.robot or self.name
-
-    def _begin(self, task: str) -> None:
-        self.writer.start_episode(task)
-        self.recording = True
-        self.frames = 0
-        self.skipped = 0
-        self.first_frame_s = None
-
-    def _end(self, save: bool) -> None:
-        if save:
-            self.writer.end_episode()
-        else:
-            self.writer.discard_episode()
-        self.recording = False
-        span = time.monotonic() - self.first_frame_s if self.first_frame_s is not None else 0.0
-        self.log.info(
-            f"episode {'stopped' if save else 'discarded'} after {self.frames} frames "
-            f"({self.skipped} skipped) over {span:.3f} s"
-        )
+    def _publish_progress(self) -> None:
+        progress = self.session.progress(self.writer.opened.is_set())
+        self.progress_publisher.publish(self.message(data=json.dumps(progress, sort_keys=True)))
 
     def _command(self, msg) -> None:
-        word, _, argument = msg.data.strip().partition(" ")
-        if word == "start":
-            if self.recording:
-                self._ignore("episode command 'start' ignored: an episode is already recording")
-                return
-            task = argument.strip() or self._default_task()
-            self._begin(task)
-            self.log.info("episode started")
-            self._publish_state("started", message=f"episode started (task: {task})")
-        elif word in ("stop", "discard"):
-            if not self.recording:
-                self._ignore(f"episode command {word!r} ignored: no episode is recording")
-                return
-            self._end(save=word == "stop")  # the writing thread answers once the episode is saved or dropped
-        else:
-            self._ignore(f"unknown episode command {msg.data!r} (use start [task], stop, discard)")
-
-    def _ignore(self, reason: str) -> None:
-        self.log.warning(reason)
-        self._publish_state("ignored", message=reason)
+        phase = self.session.phase
+        self.session.command(msg.data)
+        if self.session.phase != phase:
+            self._publish_progress()
 
     def _tick(self) -> None:
         if self.writer.error is not None:
             self.error_reported = True
-            self.recording = False  # the writer ended the episode as lost: nothing left to save at close
+            self.session.phase = IDLE  # the writer ended the episode as lost: nothing left to save at close
             raise self.writer.error
-        if not self.recording:
+        phase = self.session.phase
+        self.session.tick()
+        if self.session.phase != phase:
+            self._publish_progress()
+        if not self.session.recording:
             return
         problems = self.samples.problems(SAMPLE_STALE_AFTER_S)
         first = self.sampler.features is None
@@ -185,26 +173,25 @@ class RecorderNode(JoshuaNode):
             except FrameUnavailable as exc:
                 problems = [str(exc)]
         if problems:
-            self.skipped += 1
+            self.session.frame_skipped()
             self.log.warning(f"frame skipped: {'; '.join(problems)}", throttle_duration_sec=PROBLEM_LOG_PERIOD_S)
             return
         if first:
             self.writer.configure(self.sampler.features)
         self.writer.add_frame(frame)
-        self.frames += 1
-        if self.frames == 1:
-            self.first_frame_s = time.monotonic()
-            self.log.info("first frame of the episode recorded")
+        self.session.frame_recorded()
 
     def close(self) -> None:
-        timer = getattr(self, "timer", None)
-        if timer is not None:
-            timer.cancel()
+        for name in ("timer", "progress_timer"):
+            timer = getattr(self, name, None)
+            if timer is not None:
+                timer.cancel()
         writer = getattr(self, "writer", None)
         if writer is None:
             return
-        if getattr(self, "recording", False):
-            self._end(save=True)
+        session = getattr(self, "session", None)
+        if session is not None:
+            session.close()
         writer.close()
         if writer.error is not None and not getattr(self, "error_reported", False):
             raise writer.error

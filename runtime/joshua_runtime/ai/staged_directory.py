@@ -6,6 +6,10 @@ rewritten (data, videos, episode metadata parquet files) are hard links and the 
 swaps the two directories with renameat2(RENAME_EXCHANGE), then deletes the old version. Where the
 kernel or file system cannot exchange, the old version is first renamed to `<dir>.retired`; a crash
 between the two renames is repaired by `recover()`, which the recorder runs at start.
+
+The version a commit replaced is kept as `<dir>.undo` until the next commit (or `drop_previous()`),
+so `revert()` can put it back in one exchange: that is how the last saved episode is re-recorded.
+`recover()` drops it: an undo copy belongs to the writer that made it.
 """
 
 import os
@@ -16,6 +20,7 @@ from joshua_core.atomic import exchange_directories
 
 STAGING_SUFFIX = ".staging"
 RETIRED_SUFFIX = ".retired"
+UNDO_SUFFIX = ".undo"
 # Parts of a dataset that LeRobot writes once and never rewrites: shared with the staging copy.
 _LINKED_TOP_LEVEL = ("data", "videos")
 _LINKED_META = ("meta", "episodes")
@@ -31,9 +36,14 @@ def retired_path(target: Path) -> Path:
     return target.with_name(target.name + RETIRED_SUFFIX)
 
 
+def undo_path(target: Path) -> Path:
+    return target.with_name(target.name + UNDO_SUFFIX)
+
+
 def recover(target: Path) -> None:
-    """Undo the traces of an interrupted write: drop the staging copy, put back a retired version."""
+    """Undo the traces of an interrupted write: drop the staging copy and an undo copy, put back a retired version."""
     shutil.rmtree(staging_path(target), ignore_errors=True)
+    drop_previous(target)
     retired = retired_path(target)
     if retired.exists():
         if target.exists():
@@ -68,25 +78,51 @@ def prepare(target: Path) -> Path:
     return staging
 
 
-def commit(target: Path) -> None:
-    """Make the staging copy the new `target`, atomically."""
+def commit(target: Path) -> bool:
+    """Make the staging copy the new `target`, atomically; keep the version it replaced as the undo copy.
+
+    Returns whether there was such a version (False: `target` did not exist before)."""
     staging = staging_path(target)
     for scratch in _SCRATCH:
         shutil.rmtree(staging / scratch, ignore_errors=True)
     _fsync_tree(staging)
+    drop_previous(target)
     if not target.exists():
         os.rename(staging, target)
         _fsync_directory(target.parent)
-        return
+        return False
     if exchange_directories(staging, target):
         _fsync_directory(target.parent)
-        shutil.rmtree(staging, ignore_errors=True)
-        return
+        os.rename(staging, undo_path(target))
+        return True
     retired = retired_path(target)
     os.rename(target, retired)
     os.rename(staging, target)
     _fsync_directory(target.parent)
-    shutil.rmtree(retired, ignore_errors=True)
+    os.rename(retired, undo_path(target))
+    return True
+
+
+def revert(target: Path, had_previous: bool) -> None:
+    """Put back the version the last commit replaced (`had_previous`: what commit returned); with none,
+    `target` goes away. Either way in one step: a crash leaves the one version or the other."""
+    previous = undo_path(target)
+    if not had_previous:
+        os.rename(target, previous)
+        _fsync_directory(target.parent)
+    elif exchange_directories(previous, target):
+        _fsync_directory(target.parent)
+    else:
+        retired = retired_path(target)
+        os.rename(target, retired)
+        os.rename(previous, target)
+        _fsync_directory(target.parent)
+        os.rename(retired, previous)
+    drop_previous(target)
+
+
+def drop_previous(target: Path) -> None:
+    shutil.rmtree(undo_path(target), ignore_errors=True)
 
 
 def discard(target: Path) -> None:

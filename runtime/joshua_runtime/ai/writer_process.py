@@ -6,7 +6,7 @@ at once; frames wait in a queue of the node (and in the pipe) until the process 
 then the process writes them with LeRobot's own LeRobotDataset exactly as the node would have. The
 node's Python process never imports torch, so its ROS thread keeps its timing while LeRobot loads.
 
-    node  --commands (writer_channel: configure, start, frame, stop, discard, close)-->  process
+    node  --commands (writer_channel: configure, start, frame, stop, discard, undo, close)-->  process
     node  <--events (log lines, episode events, the error that ended the writer)------  process
 
 The process ignores SIGINT and SIGTERM (the supervisor signals the whole process group): the node
@@ -34,10 +34,11 @@ COMMANDS = {
     "frame": "add_frame",
     "stop": "end_episode",
     "discard": "discard_episode",
+    "undo": "undo_last_episode",
 }
-# How long closing waits for a process still importing LeRobot (within the supervisor's default 5 s
-# SIGINT grace); an episode recorded before it loaded is lost when it takes longer.
-LOAD_WAIT_AT_CLOSE_S = 4.0
+# How long closing waits for a process still importing LeRobot to save the frames recorded meanwhile
+# (a bound for a process that hangs; under the supervisor its SIGINT grace comes first).
+LOAD_WAIT_AT_CLOSE_S = 120.0
 PR_SET_PDEATHSIG = 1
 EXIT_PARENT_GONE = 1
 LOG_LEVELS = ("debug", "info", "warning", "error")
@@ -52,6 +53,7 @@ class WriterProcess:
         self.error: BaseException | None = None
         self.started_s = time.monotonic()
         self._frames_sent = 0  # frames of the episode in progress handed to the process
+        self._frames_total = 0  # frames handed to the process since it started
         self._closed = threading.Event()
         self.opened = threading.Event()
         commands_read, commands_write = os.pipe()
@@ -88,6 +90,7 @@ class WriterProcess:
 
     def add_frame(self, frame: dict) -> None:
         self._frames_sent += 1
+        self._frames_total += 1
         self._outbox.put(("frame", None, frame))
 
     def end_episode(self) -> None:
@@ -96,20 +99,28 @@ class WriterProcess:
     def discard_episode(self) -> None:
         self._outbox.put(("discard", None, None))
 
+    def undo_last_episode(self) -> None:
+        self._outbox.put(("undo", None, None))
+
     def close(self) -> None:
         """Send every queued command and `close`, then wait until the process has saved and exited.
 
-        A process still importing LeRobot gets LOAD_WAIT_AT_CLOSE_S to finish; after that it is killed,
-        and the frames it had not written are reported lost."""
-        if not self.opened.wait(LOAD_WAIT_AT_CLOSE_S) and self.error is None:
-            self.process.kill()
-            if self._frames_sent:
-                self.error = DataLostError(
-                    f"episode of {self._frames_sent} frames lost: the recorder was stopped "
-                    f"{time.monotonic() - self.started_s:.1f} s after its start, before its dataset writer had "
-                    f"loaded LeRobot (waited {LOAD_WAIT_AT_CLOSE_S:g} s)"
+        A process still importing LeRobot is stopped at once when no frame was recorded, else waited for
+        (at most LOAD_WAIT_AT_CLOSE_S), so that the frames recorded meanwhile are saved."""
+        if not self.opened.is_set() and self.error is None:
+            if self._frames_total:
+                self.log.info(
+                    f"saving the {self._frames_total} frames recorded so far waits for the dataset writer, "
+                    "still loading LeRobot"
                 )
-            self._closed.set()
+            if not self._frames_total or not self.opened.wait(LOAD_WAIT_AT_CLOSE_S):
+                self.process.kill()
+                self._closed.set()
+                if self._frames_total:
+                    self.error = DataLostError(
+                        f"{self._frames_total} frames lost: the dataset writer had not loaded LeRobot "
+                        f"{LOAD_WAIT_AT_CLOSE_S:g} s after the recorder was stopped"
+                    )
         self._outbox.put(("close", None, None))
         self._sender.join()
         self._receiver.join()

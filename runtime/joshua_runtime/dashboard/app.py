@@ -9,7 +9,8 @@ header outside the allow-list, see security.py):
 - `GET /api/nodes/<name>/logs?lines=N`: the last lines of a node's log;
 - `POST /api/nodes/<name>/restart|stop|start`: a supervisor action; the reply is the supervisor's, but 202
   for a restart or stop of this dashboard's own process (it stops before the supervisor can answer);
-- `POST /api/recorders/<node>/episode/start|stop|discard` (start takes `{"task": TEXT}`): recorder episodes.
+- `POST /api/recorders/<node>/episode/start|stop|discard|next|rerecord` (start takes `{"task": TEXT}`):
+  recorder episodes (ai/episode_protocol.py).
 No GET changes anything. A refusal or failure of the supervisor answers `{"error": LINE, "kind": KIND}`
 with the status of CONTROL_ERROR_STATUS.
 """
@@ -30,6 +31,7 @@ from starlette.responses import (
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
+from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard import control_client as control
 from joshua_runtime.dashboard.control_client import NODE_ACTIONS, ControlError
 from joshua_runtime.dashboard.security import ApiGuard, HostAllowList, HostGuard
@@ -53,7 +55,7 @@ CONTROL_ERROR_STATUS = {
 }
 DEFAULT_LOG_LINES = 100
 MAX_LOG_LINES = 2000
-EPISODE_ACTIONS = ("start", "stop", "discard")
+EPISODE_ACTIONS = episode_protocol.COMMANDS
 MAX_TASK_CHARS = 500
 
 

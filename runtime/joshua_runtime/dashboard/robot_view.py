@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
+from joshua_runtime.ai import episode_protocol
 from joshua_runtime.errors import SettingsError
 
 JOINT_STATE = "sensor_msgs/msg/JointState"
@@ -51,12 +52,14 @@ class Process:
 
 @dataclass(frozen=True)
 class Recorder:
-    """A DATA_SUBSCRIBER node: where its dataset lives and the topic its episode commands go to."""
+    """A DATA_SUBSCRIBER node: where its dataset lives, the topic its episode commands go to, its answers
+    and its progress reports (ai/episode_protocol.py)."""
 
     node: str
     output_directory: str
     command_topic: str
     status_topic: str
+    progress_topic: str
 
 
 @dataclass(frozen=True)
@@ -132,8 +135,14 @@ def load_robot_view(manifest_path: Path) -> RobotView:
                 Recorder(
                     node["name"],
                     settings.get("output_directory") or "",
-                    f"/{node['name']}/episode",
-                    f"/{node['name']}/episode_state",
+                    *(
+                        episode_protocol.topic(node["name"], relative)
+                        for relative in (
+                            episode_protocol.COMMAND_TOPIC,
+                            episode_protocol.STATE_TOPIC,
+                            episode_protocol.PROGRESS_TOPIC,
+                        )
+                    ),
                 )
             )
         else:

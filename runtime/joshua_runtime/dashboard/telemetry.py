@@ -59,6 +59,7 @@ class Telemetry:
         self.last_received: dict[str, float] = {}
         self.last_sent: dict[str, float] = {}
         self.recorder_status: dict[str, dict] = {}
+        self.recorder_progress: dict[str, dict] = {}
         self.subscriptions = [self._subscribe(stream) for stream in view.streams]
         from std_msgs.msg import String
 
@@ -68,6 +69,11 @@ class Telemetry:
         self.status_subscriptions = [
             self.node.create_subscription(
                 String, r.status_topic, self._recorder_callback(r.node), episode_protocol.state_qos()
+            )
+            for r in view.recorders
+        ] + [
+            self.node.create_subscription(
+                String, r.progress_topic, self._progress_callback(r.node), episode_protocol.state_qos()
             )
             for r in view.recorders
         ]
@@ -88,7 +94,7 @@ class Telemetry:
         rclpy.try_shutdown(context=self.context)
 
     def send_episode_command(self, recorder: str, command: str) -> None:
-        """Publish `start TASK`, `stop` or `discard` to a recorder node."""
+        """Publish an episode command (`start TASK`, `stop`, `next` ...) to a recorder node."""
         from std_msgs.msg import String
 
         self.command_publishers[recorder].publish(String(data=command))
@@ -128,19 +134,30 @@ class Telemetry:
 
         return receive
 
+    def _progress_callback(self, recorder: str):
+        def receive(message) -> None:
+            progress = episode_protocol.decode_progress(message.data)
+            if progress is not None:
+                self.recorder_progress[recorder] = progress
+                self._publish_recorder(recorder)
+
+        return receive
+
     def _publish_recorder(self, recorder: str) -> None:
         spec = next(r for r in self.view.recorders if r.node == recorder)
         status = self.recorder_status.get(recorder, {})
+        progress = self.recorder_progress.get(recorder)
         self.broadcaster.publish(
             f"recorder:{recorder}",
             "recorder",
             {
                 "node": recorder,
                 "known": bool(status),
-                "recording": bool(status.get("recording")),
+                "recording": progress["phase"] == "recording" if progress else bool(status.get("recording")),
                 "event": status.get("event", ""),
                 "message": status.get("message", ""),
                 "episodes_saved": saved_episodes(spec.output_directory) or 0,
+                "progress": progress,
             },
         )
 

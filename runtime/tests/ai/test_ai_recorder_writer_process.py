@@ -19,16 +19,17 @@ from test_ai_recorder import Sensors, load, record_one, recorder_settings, send
 READY = r"ready: recording 3 topics"
 WRITER_READY = r"dataset writer ready [\d.]+ s after the start"
 GONE_TIMEOUT_S = 30.0  # only ends a wait for a process that never goes
-# Installed on PYTHONPATH by one test: any process that imports lerobot first sleeps this long.
-SLOW_LEROBOT_S = 300
-SLOW_IMPORT_HOOK = f"""
+# Installed on PYTHONPATH by two tests: any process that imports lerobot first sleeps this long.
+SLOW_LEROBOT_S = 8.0
+NEVER_S = 600.0
+SLOW_IMPORT_HOOK = """
 import sys, time
 
 
 class SlowLeRobot:
     def find_spec(self, name, path=None, target=None):
         if name == "lerobot":
-            time.sleep({SLOW_LEROBOT_S})
+            time.sleep({seconds})
         return None
 
 
@@ -123,27 +124,43 @@ def test_a_writer_process_that_dies_ends_the_node_with_exit_6(tmp_path, ai_env, 
     assert "frames in progress is lost" in errors[0]
 
 
-def test_a_stop_before_the_writer_has_loaded_lerobot_ends_the_node_without_waiting_for_it(
-    tmp_path, ai_env, ros_peer, lerobot_offline
-):
+def slow_lerobot_env(tmp_path, ai_env, seconds: float) -> dict:
+    """ai_env with a sitecustomize on PYTHONPATH that makes any import of lerobot sleep `seconds` first."""
     hooks = tmp_path / "hooks"
     hooks.mkdir()
-    (hooks / "sitecustomize.py").write_text(SLOW_IMPORT_HOOK)
-    env = dict(ai_env, PYTHONPATH=os.pathsep.join(filter(None, [str(hooks), ai_env.get("PYTHONPATH")])))
+    (hooks / "sitecustomize.py").write_text(SLOW_IMPORT_HOOK.format(seconds=seconds))
+    return dict(ai_env, PYTHONPATH=os.pathsep.join(filter(None, [str(hooks), ai_env.get("PYTHONPATH")])))
+
+
+def test_a_stop_before_the_writer_has_loaded_lerobot_saves_the_frames_recorded_meanwhile(
+    tmp_path, ai_env, ros_peer, lerobot_offline
+):
+    env = slow_lerobot_env(tmp_path, ai_env, SLOW_LEROBOT_S)
     output = tmp_path / "dataset"
     Sensors(ros_peer)
     node = NodeProcess(recorder_settings(output, "parquet"), env)
     try:
-        node.wait_for("first frame of the episode recorded")
-        (writer,) = children(node.process.pid)
-        node.process.send_signal(signal.SIGINT)
-        code = node.process.wait(GONE_TIMEOUT_S)  # far less than the writer's import would take
+        record_one(node, 0)
+        assert not [line for line in node.lines if re.search(WRITER_READY, line)]  # still loading
+        assert node.stop(signal.SIGINT, timeout=SLOW_LEROBOT_S + GONE_TIMEOUT_S) == 0, node.output
+        node.wait_for(r"saving the \d+ frames recorded so far waits for the dataset writer, still loading LeRobot")
+        frames = int(node.wait_for(r"episode 0 saved: (\d+) frames").group(1))
     finally:
         node.kill()
-    assert code == 6, node.output
-    errors = [line for line in node.lines if line.startswith("ai_recorder: error")]
-    assert len(errors) == 1, node.output
-    assert "frames lost: the recorder was stopped" in errors[0]
-    assert "before its dataset writer had loaded LeRobot" in errors[0]
+    assert len(load(output)) == frames > 0
+
+
+def test_a_stop_before_the_writer_has_loaded_lerobot_with_no_frame_does_not_wait_for_it(
+    tmp_path, ai_env, lerobot_offline
+):
+    env = slow_lerobot_env(tmp_path, ai_env, NEVER_S)
+    output = tmp_path / "dataset"
+    node = NodeProcess(recorder_settings(output, "parquet"), env)  # nothing publishes: no frame
+    try:
+        node.wait_for(READY)
+        (writer,) = children(node.process.pid)
+        assert node.stop(signal.SIGINT, timeout=GONE_TIMEOUT_S) == 0, node.output  # far less than NEVER_S
+    finally:
+        node.kill()
     assert wait_until_gone(writer)
-    assert not output.exists() or not (output / "meta").exists()
+    assert not output.exists()

@@ -5,6 +5,8 @@ the page, saved by LeRobot), a probe arm stopped from the page so that this test
 with values it knows, and the dashboard process the description's `dashboard { }` block adds.
 """
 
+import re
+
 import pandas
 import pytest
 from dashboard_support import (
@@ -114,6 +116,8 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     page.get_by_test_id("episode-start-recorder").click()
     _wait(page, ros_client, lambda: state.inner_text() == "recording")
     ros_client.spin_until(lambda: False, RECORDING_S)
+    progress = page.get_by_test_id("episode-progress-recorder")  # the recorder's own timer and frame count
+    _wait(page, ros_client, lambda: re.fullmatch(r"episode 1 · 0:0\d · [1-9]\d* frames", progress.inner_text()))
     screenshot(page, "robot_page_recording")
     page.get_by_test_id("episode-stop-recorder").click()
     saved = page.get_by_test_id("episodes-saved-recorder")

@@ -85,6 +85,24 @@ describe("EpisodeControls", () => {
     expect(url).toBe("/api/recorders/rec/episode/start");
     expect(JSON.parse(init.body)).toEqual({ task: "stack blocks" });
   });
+
+  it("shows the episode timer and frames, the reset countdown, and sends next and rerecord", async () => {
+    const fetchMock = vi.fn().mockResolvedValue(new Response("{}", { status: 200 }));
+    vi.stubGlobal("fetch", fetchMock);
+    const events = hub();
+    render(<EventHubProvider hub={events}><EpisodeControls node="rec" /></EventHubProvider>);
+    const progress = { phase: "recording", task: "pick", episodes: 3, elapsed_s: 12.4, remaining_s: 17.6,
+                       frames: 372, skipped: 0, writer: "ready" };
+    send(events, "recorder", { node: "rec", known: true, recording: true, event: "started", message: "", episodes_saved: 3, progress });
+    expect(screen.getByTestId("episode-progress-rec").textContent).toBe("episode 3 · 0:12 / 0:30 · 372 frames");
+    send(events, "recorder", { node: "rec", known: true, recording: false, event: "saved", message: "", episodes_saved: 4,
+                               progress: { ...progress, phase: "resetting", episodes: 4, elapsed_s: 1, remaining_s: 4.2, frames: 0 } });
+    expect(screen.getByTestId("recording-state-rec").textContent).toBe("resetting");
+    expect(screen.getByTestId("episode-progress-rec").textContent).toBe("reset · 0:04 left before episode 4");
+    await act(async () => fireEvent.click(screen.getByTestId("episode-next-rec")));
+    await act(async () => fireEvent.click(screen.getByTestId("episode-rerecord-rec")));
+    expect(fetchMock.mock.calls.map(([url]) => url)).toEqual(["/api/recorders/rec/episode/next", "/api/recorders/rec/episode/rerecord"]);
+  });
 });
 
 describe("TopologyGraph", () => {
