@@ -3,7 +3,8 @@
 Settings used: `topic` and `inputs` (types learnt from the graph when the description has no
 publisher), `output_directory` (each start writes a new bag directory `<robot>_<UTC time>` inside it),
 `bag_max_size_mb` and `bag_max_duration_s` (split the bag into files; 0: no split). Messages are
-taken serialized, as DDS delivers them, and stored as they are. SIGINT/SIGTERM close the bag (summary
+taken serialized, as DDS delivers them, and stored as they are, each topic with the QoS its
+publishers offer (bag_qos.py, learnt at its first message), which `joshua-topic play` publishes it with. SIGINT/SIGTERM close the bag (summary
 and metadata.yaml); after SIGKILL the files stay readable up to their last finished chunk (by a
 streaming reader; `joshua-topic bag-recover`, bag_recover.py, rewrites them indexed). The
 first write that fails (a full disk) ends the node at once with exit code 6 and one line; the bag is
@@ -13,6 +14,7 @@ then left as a kill leaves it.
 import time
 from pathlib import Path
 
+from joshua_runtime.bags import bag_qos
 from joshua_runtime.bags.bag_writer import CHUNK_FLUSH_PERIOD_S, BagWriter
 from joshua_runtime.errors import DataLostError, SettingsError
 from joshua_runtime.graph import with_discovered_types
@@ -57,15 +59,13 @@ class BagRecorderNode(JoshuaNode):
         except OSError as exc:
             raise DataLostError(f"cannot create a bag in {root}: {exc}") from exc
         self.subscriptions = []
+        self.described_qos = {}
         for topic in topics:
-            self.writer.add_topic(topic.name, topic.message_type)
+            qos = self.described_qos[topic.name] = qos_profile(topic.qos)
+            self.writer.add_topic(topic.name, topic.message_type, bag_qos.to_yaml([qos]))
             self.subscriptions.append(
                 self.ros.create_subscription(
-                    message_class(topic.message_type),
-                    topic.name,
-                    self._writer_of(topic.name),
-                    qos_profile(topic.qos),
-                    raw=True,
+                    message_class(topic.message_type), topic.name, self._writer_of(topic.name), qos, raw=True
                 )
             )
         self.flush_timer = self.ros.create_timer(CHUNK_FLUSH_PERIOD_S, lambda: self._written(self.writer.flush_if_due))
@@ -80,7 +80,20 @@ class BagRecorderNode(JoshuaNode):
             raise DataLostError(f"cannot write to the bag {self.writer.directory}: {exc}") from exc
 
     def _writer_of(self, topic: str):
-        return lambda data: self._written(self.writer.write, topic, data, time.time_ns())
+        def write(data) -> None:
+            if not self.writer.stats.topics[topic].count:
+                self.writer.set_offered_qos(topic, bag_qos.to_yaml(self._offered_qos(topic)))
+            self._written(self.writer.write, topic, data, time.time_ns())
+
+        return write
+
+    def _offered_qos(self, topic: str) -> list:
+        """What the topic's publishers offer (known once one of their messages arrived), else the description's QoS."""
+        described = self.described_qos[topic]
+        offered = [info.qos_profile for info in self.ros.get_publishers_info_by_topic(topic)]
+        for profile in offered:  # discovery does not tell a publisher's history: the description's stands in
+            profile.history, profile.depth = described.history, described.depth
+        return offered or [described]
 
     def close(self) -> None:
         writer = getattr(self, "writer", None)

@@ -105,7 +105,10 @@ def _copy(records, writer: Writer, result: RecoveredFile) -> None:
             schema_id = schemas.get(record.schema_id, 0)
             channel_id = writer.register_channel(record.topic, record.message_encoding, schema_id, record.metadata)
             channels[record.id] = (channel_id, record.topic)
-            result.topics.setdefault(record.topic, TopicStats(names.get(record.schema_id, "")))
+            result.topics.setdefault(
+                record.topic,
+                TopicStats(names.get(record.schema_id, ""), record.metadata.get("offered_qos_profiles", "")),
+            )
         elif isinstance(record, Message) and record.channel_id in channels:
             channel_id, topic = channels[record.channel_id]
             writer.add_message(channel_id, record.log_time, record.data, record.publish_time, record.sequence)
@@ -130,7 +133,7 @@ def _recover_bag(source: pathlib.Path, target: pathlib.Path) -> list[RecoveredFi
         results.append(result)
         stats.files.append(FileStats(name, result.start_ns, result.end_ns, result.messages))
         for topic, found in result.topics.items():
-            stats.topics.setdefault(topic, TopicStats(found.message_type)).count += found.count
+            stats.topics.setdefault(topic, TopicStats(found.message_type, found.offered_qos)).count += found.count
     write_metadata(target, stats)
     return results
 

@@ -38,6 +38,7 @@ class FileStats:
 @dataclass
 class TopicStats:
     message_type: str
+    offered_qos: str = ""  # bag_qos.py's text: the QoS its publishers offer, played back with it
     count: int = 0
 
 
@@ -64,11 +65,16 @@ class BagWriter:
         directory.mkdir(parents=True, exist_ok=False)
         self._open_next_file()
 
-    def add_topic(self, topic: str, message_type: str) -> None:
-        """Declare a topic and its `pkg/msg/Type` (its definition is looked up now)."""
+    def add_topic(self, topic: str, message_type: str, offered_qos: str = "") -> None:
+        """Declare a topic, its `pkg/msg/Type` (its definition is looked up now) and its QoS (bag_qos.to_yaml).
+
+        Its channel is written with its first message, so `offered_qos` may be corrected until then."""
         self._definitions[message_type] = full_definition(message_type).encode()
-        self.stats.topics[topic] = TopicStats(message_type)
-        self._register(topic)
+        self.stats.topics[topic] = TopicStats(message_type, offered_qos)
+
+    def set_offered_qos(self, topic: str, offered_qos: str) -> None:
+        """The QoS of a topic's publishers, learnt once they are known (before its first message is written)."""
+        self.stats.topics[topic].offered_qos = offered_qos
 
     def write(self, topic: str, data: bytes, receive_time_ns: int) -> None:
         """Append one serialized (CDR) message of a declared topic."""
@@ -77,6 +83,8 @@ class BagWriter:
             self._finish_file()
             self._open_next_file()
             current = self.stats.files[-1]
+        if topic not in self._channels:
+            self._register(topic)
         self._writer.add_message(
             self._channels[topic], log_time=receive_time_ns, data=data, publish_time=receive_time_ns
         )
@@ -121,8 +129,9 @@ class BagWriter:
         self.stats.files.append(FileStats(name))
         self._channels = {}
         self._schemas = {}
-        for topic in self.stats.topics:
-            self._register(topic)
+        for topic, topic_stats in self.stats.topics.items():
+            if topic_stats.count:  # the others are registered with their first message
+                self._register(topic)
         self._file.flush()
         self._write_metadata()
 
@@ -136,7 +145,7 @@ class BagWriter:
             topic=topic,
             message_encoding=MessageEncoding.CDR,
             schema_id=self._schemas[message_type],
-            metadata={"offered_qos_profiles": ""},
+            metadata={"offered_qos_profiles": self.stats.topics[topic].offered_qos},
         )
 
     def _finish_file(self) -> None:
@@ -166,7 +175,7 @@ def write_metadata(directory: pathlib.Path, stats: BagStats) -> None:
                     "name": topic,
                     "type": topic_stats.message_type,
                     "serialization_format": "cdr",
-                    "offered_qos_profiles": "",
+                    "offered_qos_profiles": topic_stats.offered_qos,
                 },
                 "message_count": topic_stats.count,
             }

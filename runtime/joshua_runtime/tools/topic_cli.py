@@ -1,10 +1,11 @@
-"""`joshua-topic`: look at and talk to a robot's ROS topics (list, info, echo, hz, pub).
+"""`joshua-topic`: look at and talk to a robot's ROS topics (list, info, echo, hz, pub, play).
 
     joshua-topic list [-t]                           topics in the domain (with their types)
     joshua-topic info TOPIC [-v]                     types, publishers and subscriptions with their QoS
     joshua-topic echo TOPIC [--once | --count N] [--timeout S]   print messages as YAML
     joshua-topic hz TOPIC [--window N] [--duration S]   print the publishing rate every second
     joshua-topic pub TOPIC TYPE [YAML] [--rate HZ | --once | --times N]   publish a message
+    joshua-topic play BAG [--rate R] [--loop] [--topics T ...] [--start S]   publish a recorded bag
     joshua-topic bag-recover IN OUT                  rewrite a bag cut short as an indexed one (no ROS)
 
 `--robot OUT` takes the ROS domain from a build's OUT/manifest.json; otherwise ROS_DOMAIN_ID applies.
@@ -27,7 +28,7 @@ import sys
 import time
 from collections import deque
 
-from joshua_runtime.bags import recover_command
+from joshua_runtime.bags import play_command, recover_command
 
 EXIT_USAGE = 2
 EXIT_NO_MESSAGE = 3
@@ -92,6 +93,7 @@ def _parser() -> argparse.ArgumentParser:
         metavar="S",
         help="with --once/--times, seconds to wait for a subscriber first (default %(default)s)",
     )
+    play_command.register(sub)
     recover_command.register(sub)
     return parser
 
@@ -294,7 +296,7 @@ def _pub(node, executor, args) -> None:
     time.sleep(PUB_LINGER_S)
 
 
-COMMANDS = {"list": _list, "info": _info, "echo": _echo, "hz": _hz, "pub": _pub}
+COMMANDS = {"list": _list, "info": _info, "echo": _echo, "hz": _hz, "pub": _pub, "play": play_command.run}
 
 if __name__ == "__main__":
     sys.exit(main())

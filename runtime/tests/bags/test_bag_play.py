@@ -1,0 +1,146 @@
+"""`joshua-topic play` publishes a bag the project's recorder wrote, with its timing and its publishers' QoS.
+
+The bag: a mock arm's joint states (reliable, volatile) and a latched std_msgs/String this test
+publishes (transient local, depth 1), recorded by a DATA_SUBSCRIBER with output_format mcap. rclpy
+subscribers in this process then receive the played messages: the same ones in the same order, spread
+over the recorded span divided by --rate; the latched string reaches a subscriber that joins late.
+"""
+
+import signal
+import subprocess
+import sys
+import time
+
+from bag_support import ARM
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
+from std_msgs.msg import String
+
+from joshua_runtime.bags.bag_reader import open_bag
+from testsupport.compiled_settings import compiled_settings
+from testsupport.topic_cli import topic_cli
+
+LATCHED = "/play/latched"
+RECORD_S = 2.0
+WAIT_S = 20.0
+PLAY_TIMEOUT_S = 60.0
+RELIABLE = {"history": "KEEP_LAST", "depth": 1000, "reliability": "RELIABLE", "durability": "VOLATILE"}
+LATCHED_QOS = QoSProfile(
+    history=HistoryPolicy.KEEP_LAST,
+    depth=1,
+    reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
+)
+# How far the played span may stray from the recorded one divided by --rate: a bound for a busy machine,
+# wide enough never to fail on load, narrow enough to fail if the rate or the timing were ignored.
+SPAN_TOLERANCE = 0.35
+
+
+def record_bag(start_node, ros_client, output):
+    settings = compiled_settings(f'''robot_config {{
+      name: "playbot" mode: MODE_DATA_COLLECTION
+      node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "{ARM}" rate_hz: 20 }}
+      node {{ name: "recorder" type: DATA_SUBSCRIBER topic_name: "{ARM}" input_topics: ["{LATCHED}"]
+              output_format: "mcap" output_directory: "{output}" }}
+    }}''')
+    latched = ros_client.publisher(LATCHED, String, LATCHED_QOS)
+    latched.publish(String(data="first"))  # the recorder learns the type from this publisher
+    arm = start_node(settings["arm"])
+    recorder = start_node(settings["recorder"])
+    assert ros_client.spin_until(lambda: latched.get_subscription_count() > 0, WAIT_S), recorder.failure()
+    ros_client.spin_until(lambda: False, RECORD_S / 2)
+    latched.publish(String(data="second"))
+    ros_client.spin_until(lambda: False, RECORD_S / 2)
+    arm.kill()
+    code, _, stderr = recorder.stop(signal.SIGINT)
+    assert code == 0, stderr
+    [bag] = [p for p in output.iterdir() if p.is_dir()]
+    return open_bag(bag)
+
+
+def play(env, bag, *options) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "joshua_runtime.tools.topic_cli", "play", str(bag.path), *options],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def finished(process: subprocess.Popen, ros_client) -> str:
+    """What the player printed, once it ended (while this process receives what it publishes)."""
+    ros_client.spin_until(lambda: process.poll() is not None, PLAY_TIMEOUT_S)
+    stdout, stderr = process.communicate(timeout=PLAY_TIMEOUT_S)
+    assert process.returncode == 0, stderr
+    return stdout
+
+
+def stamps(messages) -> list[int]:
+    return [m.header.stamp.sec * 1_000_000_000 + m.header.stamp.nanosec for m in messages]
+
+
+def test_play_keeps_the_timing_divided_by_rate_and_the_latched_topics_latched(
+    start_node, ros_client, ros_env, tmp_path
+):
+    bag = record_bag(start_node, ros_client, tmp_path / "bags")
+    recorded = [(topic, log_time) for topic, _, log_time in bag.messages([ARM])]
+    assert len(recorded) >= 10 and bag.topics[LATCHED].count == 1  # "first" came before the recorder
+    recorded_span_s = (recorded[-1][1] - recorded[0][1]) / 1e9
+
+    ros_client.listen(ARM, JointState, RELIABLE, keep=1000)
+    arrivals = []
+    ros_client.node.create_subscription(JointState, ARM, lambda _m: arrivals.append(time.monotonic()), 1000)
+    player = play(ros_env, bag, "--rate", "2")
+    [publisher] = ros_client.publishers_info(ARM, WAIT_S)
+    assert publisher.qos_profile.reliability == ReliabilityPolicy.RELIABLE
+    assert publisher.qos_profile.durability == DurabilityPolicy.VOLATILE
+    assert ros_client.spin_until(lambda: ros_client.count(ARM) >= len(recorded) // 2, WAIT_S)
+
+    # Half way through the played arm messages: the latched string, published long before, still arrives.
+    [latched] = ros_client.publishers_info(LATCHED, WAIT_S)
+    assert latched.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
+    ros_client.listen(LATCHED, String, LATCHED_QOS, keep=10)
+    assert ros_client.spin_until(lambda: ros_client.count(LATCHED) == 1, WAIT_S)
+    assert ros_client.last(LATCHED).data == "second"
+
+    output = finished(player, ros_client)
+    ros_client.spin_until(lambda: ros_client.count(ARM) == len(recorded), WAIT_S)
+    assert output.endswith(f"published {len(recorded) + 1} messages\n"), output
+    played = ros_client.messages(ARM)
+    assert len(played) == len(recorded)
+    assert stamps(played) == sorted(stamps(played))
+    played_span_s = arrivals[-1] - arrivals[0]
+    assert abs(played_span_s - recorded_span_s / 2) <= SPAN_TOLERANCE * recorded_span_s / 2, (
+        played_span_s,
+        recorded_span_s,
+    )
+
+
+def test_play_chooses_topics_and_a_start_and_loops_until_stopped(start_node, ros_client, ros_env, tmp_path):
+    bag = record_bag(start_node, ros_client, tmp_path / "bags")
+    start_s = 1.0
+    after_start = [t for _, _, t in bag.messages([ARM], bag.start_ns + round(start_s * 1e9))]
+    assert 0 < len(after_start) < bag.topics[ARM].count
+
+    ros_client.listen(ARM, JointState, RELIABLE, keep=1000)
+    output = finished(play(ros_env, bag, "--topics", ARM, "--start", str(start_s), "--rate", "4"), ros_client)
+    assert output.endswith(f"published {len(after_start)} messages\n"), output
+    assert ros_client.spin_until(lambda: ros_client.count(ARM) == len(after_start), WAIT_S)
+    assert not ros_client.publishers_info(LATCHED, 0.5)  # not chosen: never published
+
+    ros_client.listen(ARM, JointState, RELIABLE, keep=1000)
+    looping = play(ros_env, bag, "--topics", ARM, "--loop", "--rate", "4")
+    assert ros_client.spin_until(lambda: ros_client.count(ARM) > 2 * bag.topics[ARM].count, PLAY_TIMEOUT_S)
+    looping.send_signal(signal.SIGINT)
+    assert finished(looping, ros_client).startswith("playing ")
+
+
+def test_play_refuses_what_it_cannot_play_in_one_line(ros_env, tmp_path):
+    missing = topic_cli(ros_env, "play", tmp_path / "nothing")
+    assert missing.returncode == 2
+    assert (
+        missing.stderr == f"joshua-topic: {tmp_path / 'nothing'}: no such bag (give a bag directory or an .mcap file)\n"
+    )
+    rate = topic_cli(ros_env, "play", tmp_path, "--rate", "0")
+    assert (rate.returncode, rate.stderr) == (2, "joshua-topic: --rate must be above 0\n")
