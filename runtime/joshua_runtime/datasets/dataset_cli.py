@@ -1,6 +1,7 @@
 """`joshua-dataset`: look at LeRobot datasets and make new ones from them or from bags; every one loads in LeRobotDataset.
 
     joshua-dataset info DIR [--json]                   fps, features, episodes (frames, seconds, task)
+    joshua-dataset view DIR [--port N]                 a local page: each episode's videos, task, joint plots
     joshua-dataset merge OUT DIR DIR...                one dataset of all their episodes, in order
     joshua-dataset split DIR OUT NAME=EPISODES...      e.g. train=0-7 val=8,9 -> OUT/train, OUT/val
     joshua-dataset delete-episode DIR EPISODE... [--output OUT]   without those episodes
@@ -50,6 +51,10 @@ def parse_arguments(argv):
     info = sub.add_parser("info", help="what a dataset holds")
     info.add_argument("dataset", type=Path)
     info.add_argument("--json", action="store_true")
+    view = sub.add_parser("view", help="a local page of the episodes: video, task, joint plots")
+    view.add_argument("dataset", type=Path)
+    view.add_argument("--bind", default="127.0.0.1", help="address to listen on (default %(default)s)")
+    view.add_argument("--port", type=int, default=0, help="0 (default): a free port, printed")
     merge = sub.add_parser("merge", help="one dataset of the episodes of several")
     merge.add_argument("output", type=Path)
     merge.add_argument("datasets", type=Path, nargs="+")
@@ -99,6 +104,10 @@ def run(options) -> str:
     if options.command == "info":
         described = dataset_info.describe(options.dataset)
         return json.dumps(described, indent=2) if options.json else "\n".join(dataset_info.summary(described))
+    if options.command == "view":
+        from joshua_runtime.datasets import dataset_view
+
+        return dataset_view.serve(options.dataset, options.bind, options.port)
     if options.command == "from-bag":
         from joshua_runtime.datasets.dataset_from_bag import Conversion, convert
 

@@ -8,40 +8,21 @@ counts the messages, so each frame's action says which moment of the bag it was 
 import json
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 from test_ai_recorder import load
 
-from joshua_runtime.bags.bag_writer import BagWriter
+from testsupport.arm_bag import CAMERA, FOLLOWER, JOINTS, LEADER, write_arm_bag
 
 DATASET = str(Path(sys.executable).parent / "joshua-dataset")
-LEADER, FOLLOWER, CAMERA = "/leader/joint_states", "/follower/joint_states", "/camera/image_raw"
-JOINTS = ["shoulder_pan", "gripper"]
 BAG_HZ, BAG_S, FPS = 30, 2.0, 10
 WIDTH, HEIGHT = 8, 6
 CLI_TIMEOUT_S = 300
 
 
 def write_bag(path: Path) -> Path:
-    from rclpy.serialization import serialize_message
-    from sensor_msgs.msg import Image, JointState
-
-    writer = BagWriter(path)
-    writer.add_topic(LEADER, "sensor_msgs/msg/JointState")
-    writer.add_topic(FOLLOWER, "sensor_msgs/msg/JointState")
-    writer.add_topic(CAMERA, "sensor_msgs/msg/Image")
-    start_ns = time.time_ns()
-    for i in range(round(BAG_S * BAG_HZ)):
-        at_ns = start_ns + i * 1_000_000_000 // BAG_HZ
-        writer.write(LEADER, serialize_message(JointState(name=JOINTS, position=[float(i), 0.5])), at_ns)
-        writer.write(FOLLOWER, serialize_message(JointState(name=JOINTS, position=[float(i), 0.25])), at_ns + 1)
-        pixels = np.full((HEIGHT, WIDTH, 3), i % 256, dtype=np.uint8)
-        image = Image(height=HEIGHT, width=WIDTH, encoding="rgb8", step=WIDTH * 3, data=pixels.tobytes())
-        writer.write(CAMERA, serialize_message(image), at_ns + 2)
-    writer.close()
-    return path
+    return write_arm_bag(path, BAG_HZ, BAG_S, WIDTH, HEIGHT)
 
 
 def dataset_cli(env, *arguments) -> subprocess.CompletedProcess:
