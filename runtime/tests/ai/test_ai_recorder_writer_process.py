@@ -3,7 +3,8 @@
 The node announces itself ready (READY=1) once subscribed and records at once; the writer process
 imports LeRobot meanwhile and writes the queued frames. These tests check the order of events (never
 a duration), that the node itself never loads torch, and how the pair ends: the writer dies with the
-node, a writer that dies ends the node with exit 6, a stop before the writer has loaded is prompt.
+node, a writer that dies ends the node with exit 6, a stop before the writer has loaded waits for it
+when frames were recorded (they are saved) and is prompt when none were.
 """
 
 import os
