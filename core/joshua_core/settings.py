@@ -16,7 +16,7 @@ from joshua_core.schema.node_settings_pb2 import (
 )
 
 # Raise on every change of node_settings.proto that an older runtime or an older build could misread.
-FORMAT_VERSION = 4
+FORMAT_VERSION = 5
 
 __all__ = [
     "FORMAT_VERSION",

@@ -109,7 +109,7 @@ ROBOT = {
         'settings': 2,
         'data_lost': 6,
     },
-    'settings_format_version': 4,
+    'settings_format_version': 5,
     'processes': [
         {
             'name': 'leader',

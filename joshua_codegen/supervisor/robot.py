@@ -17,7 +17,7 @@ ROBOT: dict[str, Any] = {
         "entry_file": "joshua_model.json",
     },
     "node_exit_codes": {"settings": 2, "data_lost": 6},
-    "settings_format_version": 4,
+    "settings_format_version": 5,
     "processes": [],
 }
 

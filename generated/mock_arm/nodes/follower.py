@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 4,
+    'format_version': 5,
     'robot': 'mock_arm',
     'mode': 'MODE_TELEOPERATION',
     'name': 'follower',

@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 4,
+    'format_version': 5,
     'robot': 'so100_arm',
     'mode': 'MODE_TELEOPERATION',
     'name': 'actuator_subscriber',

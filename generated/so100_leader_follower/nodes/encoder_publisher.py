@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 4,
+    'format_version': 5,
     'robot': 'so100_leader_follower',
     'mode': 'MODE_TELEOPERATION',
     'name': 'encoder_publisher',

@@ -6,7 +6,7 @@
 import sys
 
 SETTINGS = {
-    'format_version': 4,
+    'format_version': 5,
     'robot': 'so100_sim',
     'mode': 'MODE_SIMULATION',
     'name': 'simulation',
@@ -17,7 +17,7 @@ SETTINGS = {
         'gl_backend': 'egl',
         'simulates': [
             {
-                'format_version': 4,
+                'format_version': 5,
                 'robot': 'so100_sim',
                 'mode': 'MODE_SIMULATION',
                 'name': 'follower',
@@ -58,7 +58,7 @@ SETTINGS = {
                 'diagnostics_rate_hz': 1.0,
             },
             {
-                'format_version': 4,
+                'format_version': 5,
                 'robot': 'so100_sim',
                 'mode': 'MODE_SIMULATION',
                 'name': 'camera',
