@@ -4,6 +4,7 @@ import json
 import posixpath
 import re
 import shlex
+from json.encoder import encode_basestring_ascii
 
 
 def python_literal(value, indent: int = 0) -> str:
@@ -12,25 +13,58 @@ def python_literal(value, indent: int = 0) -> str:
     Strings go through repr(), so quotes, newlines, backslashes and `$` stay data. Dicts keep their
     insertion order (deterministic); one key per line for readable diffs.
     """
+    if isinstance(value, str) or value is None or isinstance(value, (bool, int)):  # most values: first
+        return repr(value)
     pad = " " * indent
     inner = " " * (indent + 4)
     if isinstance(value, dict):
         if not value:
             return "{}"
-        items = [f"{inner}{python_literal(str(k))}: {python_literal(v, indent + 4)}," for k, v in value.items()]
+        items = [f"{inner}{str(k)!r}: {python_literal(v, indent + 4)}," for k, v in value.items()]
         return "{\n" + "\n".join(items) + f"\n{pad}}}"
     if isinstance(value, (list, tuple)):
         if all(not isinstance(v, (dict, list, tuple)) for v in value):
             return "[" + ", ".join(python_literal(v) for v in value) + "]"
         items = [f"{inner}{python_literal(v, indent + 4)}," for v in value]
         return "[\n" + "\n".join(items) + f"\n{pad}]"
-    if value is None or isinstance(value, (bool, int)):
-        return repr(value)
     if isinstance(value, float):
         return repr(value) if value == value and abs(value) != float("inf") else f"float({str(value)!r})"
-    if isinstance(value, str):
-        return repr(value)
     raise TypeError(f"cannot write {type(value).__name__} as a Python literal")
+
+
+def json_document(value, indent: int = 0) -> str:
+    """`value` (dicts with str keys, lists, str, int, float, bool, None) as JSON, byte for byte what
+    `json.dumps(value, indent=2, ensure_ascii=True)` writes: json's indenting encoder is pure Python and
+    took most of a large manifest's time, while its string escaping is C (used here for every string)."""
+    if isinstance(value, str):
+        return encode_basestring_ascii(value)
+    if value is None or isinstance(value, bool):
+        return _JSON_CONSTANTS[value]
+    if isinstance(value, int):
+        return int.__repr__(value)
+    if isinstance(value, float):
+        return float.__repr__(value) if value == value and abs(value) != float("inf") else json.dumps(value)
+    inner = "\n" + " " * (indent + 2)
+    if isinstance(value, dict):
+        if not value:
+            return "{}"
+        items = (f"{encode_basestring_ascii(key)}: {json_document(item, indent + 2)}" for key, item in value.items())
+        return "{" + inner + ("," + inner).join(items) + "\n" + " " * indent + "}"
+    if isinstance(value, (list, tuple)):
+        if not value:
+            return "[]"
+        return (
+            "["
+            + inner
+            + ("," + inner).join(json_document(item, indent + 2) for item in value)
+            + "\n"
+            + " " * indent
+            + "]"
+        )
+    raise TypeError(f"cannot write {type(value).__name__} as JSON")
+
+
+_JSON_CONSTANTS = {None: "null", True: "true", False: "false"}
 
 
 def ros_parameter(value) -> str:
@@ -90,12 +124,18 @@ def dot_id(text: str) -> str:
 
 def mermaid_label(text: str) -> str:
     """A quoted Mermaid label; quotes and brackets become HTML entities Mermaid understands."""
-    replacements = {"&": "&amp;", '"': "&quot;", "<": "&lt;", ">": "&gt;", "\n": " ", "#": "&num;"}
-    return '"' + "".join(replacements.get(ch, ch) for ch in text) + '"'
+    return '"' + text.translate(_MERMAID_ENTITIES) + '"'
+
+
+_MERMAID_ENTITIES = str.maketrans({"&": "&amp;", '"': "&quot;", "<": "&lt;", ">": "&gt;", "\n": " ", "#": "&num;"})
 
 
 _SYSTEMD_BARE = re.compile(r"[A-Za-z0-9_@%+=:,./~-]+")
-_SYSTEMD_ESCAPES = {"\\": "\\\\", '"': '\\"', "\n": "\\n", "\t": "\\t", "\r": "\\r"}
+_SYSTEMD_ESCAPES = str.maketrans(  # control characters as \xNN, except those with a C escape
+    {chr(code): f"\\x{code:02x}" for code in [*range(0x20), 0x7F]}
+    | {"\\": "\\\\", '"': '\\"', "\n": "\\n", "\t": "\\t", "\r": "\\r"}
+)
+_CONTROL_CHARACTER = re.compile("[\x00-\x1f\x7f]")
 
 
 def systemd_quote(text: str, exec_line: bool = True) -> str:
@@ -107,10 +147,7 @@ def systemd_quote(text: str, exec_line: bool = True) -> str:
         text = text.replace("$", "$$")
     if _SYSTEMD_BARE.fullmatch(text):
         return text
-    escaped = "".join(
-        _SYSTEMD_ESCAPES.get(ch, f"\\x{ord(ch):02x}" if ord(ch) < 0x20 or ord(ch) == 0x7F else ch) for ch in text
-    )
-    return f'"{escaped}"'
+    return f'"{text.translate(_SYSTEMD_ESCAPES)}"'
 
 
 def systemd_command(words: list[str]) -> str:
@@ -125,13 +162,14 @@ def systemd_command(words: list[str]) -> str:
 def systemd_raw(text: str) -> str:
     """A setting systemd takes as raw text, unquoted (WorkingDirectory=, Description=): `%` specifiers
     escaped. A control character would end or corrupt the line: ValueError."""
-    if any(ord(ch) < 0x20 or ord(ch) == 0x7F for ch in text):
+    if _CONTROL_CHARACTER.search(text):
         raise ValueError(f"a systemd setting cannot hold control characters: {text!r}")
     return text.replace("%", "%%")
 
 
 _SUPERVISOR_BARE = re.compile(r"[A-Za-z0-9_@%+=:,./-]+")
 _INI_BREAKS = "\n\r\0"
+_INI_COMMENT = re.compile(r"\s[;#]")  # a comment marker after whitespace
 
 
 def supervisor_value(text: str) -> str:
@@ -143,7 +181,7 @@ def supervisor_value(text: str) -> str:
     if (
         any(ch in text for ch in _INI_BREAKS)
         or quote in text
-        or re.search(r"\s[;#]", text)
+        or _INI_COMMENT.search(text)
         or (text and (text[0] in "'\"" or text[-1] in "'\""))
     ):
         raise ValueError(f"supervisord's environment= cannot hold {text!r}")

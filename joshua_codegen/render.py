@@ -44,6 +44,7 @@ def environment():
         lstrip_blocks=True,
         keep_trailing_newline=True,
         autoescape=False,
+        auto_reload=False,  # templates ship with the package: no stat(2) of the template per file rendered
     )
     env.filters.update(
         py=escape.python_literal,

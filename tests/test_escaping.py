@@ -1,11 +1,13 @@
 """Values that enter generated code stay data: quotes, newlines, `$` or backslashes change nothing."""
 
 import ast
+import json
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from joshua_codegen.escape import json_document
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
 from joshua_core.schema import RobotDescription
@@ -77,3 +79,16 @@ def test_shell_words_reach_the_program_unchanged(words):
     script = "printf '%s\\0' " + " ".join(shell_word(word) for word in words)
     printed = subprocess.run(["/bin/sh", "-c", script], capture_output=True, check=True).stdout
     assert printed.decode("utf-8").split("\0")[:-1] == words
+
+
+JSON_VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | NASTY,
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(NASTY, inner, max_size=4),
+    max_leaves=20,
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(value=JSON_VALUES)
+def test_the_manifest_json_is_what_the_standard_library_writes(value):
+    assert json_document(value) == json.dumps(value, indent=2, ensure_ascii=True)

@@ -1,7 +1,6 @@
 """manifest.json: the topology as data (nodes, topics with publishers/subscribers and QoS, devices)."""
 
-import json
-
+from joshua_codegen.escape import json_document
 from joshua_codegen.model import Endpoint, Robot
 from joshua_codegen.render import Context, template
 
@@ -110,5 +109,5 @@ def _manifest(robot: Robot, context: Context) -> dict:
 
 
 def emit(robot: Robot, context: Context) -> dict[str, str]:
-    text = json.dumps(manifest(robot, context), indent=2, ensure_ascii=True)
+    text = json_document(manifest(robot, context))
     return {"manifest.json": template("manifest.json.j2", manifest_json=text)}

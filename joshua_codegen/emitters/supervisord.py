@@ -1,6 +1,7 @@
 """supervisord.conf: every process as a [program:] of one group, with the closest cascade and restarts."""
 
 import math
+from types import SimpleNamespace
 
 from joshua_codegen import escape
 from joshua_codegen.emitters import fastdds, process_launch, supervisor
@@ -21,8 +22,8 @@ def _here(text: str) -> str:
     return text.replace(HERE, "%(here)s")
 
 
-def program(robot: Robot, process: Process) -> dict:
-    """The settings of one [program:] section."""
+def program(robot: Robot, process: Process) -> SimpleNamespace:
+    """The settings of one [program:] section (attributes: the template reads `program.name`)."""
     words = process_launch.launch_words(robot, process, HERE, [], HERE)
     variables = process_launch.node_environment(robot, process, f"{HERE}/{fastdds.profile_path(process)}")
     environment, others = [], []
@@ -35,17 +36,19 @@ def program(robot: Robot, process: Process) -> dict:
             others.append(f"{key}={value}")
     words = process_launch.through_env(words, others)
     never = process.restart == "RESTART_NEVER" or process.max_restarts == 0
-    return {
-        "name": process.name,
-        "command": _here(escape.supervisor_command(words)),
-        "environment": _here(",".join(environment)),
-        "autorestart": "false"
-        if never
-        else {"RESTART_ON_FAILURE": "unexpected", "RESTART_ALWAYS": "true"}[process.restart],
-        "startsecs": 0 if never else STARTSECS,
-        "startretries": 0 if never else process.max_restarts,
-        "priority": FIRST_PRIORITY if process.starts_first else None,
-    }
+    return SimpleNamespace(
+        **{
+            "name": process.name,
+            "command": _here(escape.supervisor_command(words)),
+            "environment": _here(",".join(environment)),
+            "autorestart": "false"
+            if never
+            else {"RESTART_ON_FAILURE": "unexpected", "RESTART_ALWAYS": "true"}[process.restart],
+            "startsecs": 0 if never else STARTSECS,
+            "startretries": 0 if never else process.max_restarts,
+            "priority": FIRST_PRIORITY if process.starts_first else None,
+        }
+    )
 
 
 def listener_command(robot: Robot) -> str:

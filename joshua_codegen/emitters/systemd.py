@@ -1,6 +1,7 @@
 """systemd/: one target per robot and one service per process, with supervisor.py's cascade and restarts."""
 
 import posixpath
+from types import SimpleNamespace
 
 from joshua_codegen import escape
 from joshua_codegen.emitters import fastdds, process_launch
@@ -61,39 +62,43 @@ def command_lines(robot: Robot, process: Process, prefix: str) -> tuple[str, lis
     )
 
 
-def service(robot: Robot, process: Process, prefix: str) -> dict:
-    """The values of one service unit."""
+def service(robot: Robot, process: Process, prefix: str, first: list[Process]) -> SimpleNamespace:
+    """The values of one service unit; `first` are the processes every other one starts after. Attributes, not
+    dict keys: the template reads each as `unit.name`, which Jinja2 tries as an attribute first."""
     exec_start, environment = command_lines(robot, process, prefix)
     delays = process_launch.backoff_delays(process.max_restarts)
-    return {
-        "name": service_name(robot, process),
-        "description": escape.systemd_raw(f"joshua robot {robot.name}: node {process.name} ({process.node_type})"),
-        "syslog_identifier": escape.systemd_raw(process.name),
-        "exec_start": exec_start,
-        "environment": environment,
-        "restart": restart(process),
-        "restart_sec": timespan(process_launch.RESTART_DELAY_INITIAL_S),
-        "restart_steps": max(1, sum(1 for before, after in zip(delays, delays[1:]) if after > before)),
-        "restart_max_delay": timespan(delays[-1] if delays else process_launch.RESTART_DELAY_INITIAL_S),
-        "start_limit_burst": process.max_restarts + 1,
-        "start_limit_interval": timespan((process.max_restarts + 1) * process_launch.RESTART_RESET_AFTER_S),
-        "working_directory": escape.systemd_raw(prefix),
-        "uses_cpp": bool(process.cpp_binary),
-        "settings_exit_code": exit_codes.NODE_EXIT_SETTINGS if process.kind != "custom" else None,
-        "notify": notifies(process),
-        "ready_timeout": timespan(READY_TIMEOUT_S),
-        "watchdog": timespan(WATCHDOG_S),
-        "cpp_binary": process_launch.cpp_binary_path(robot, process, prefix) if process.cpp_binary else "",
-        "after": [service_name(robot, first) for first in robot.processes if first.starts_first and first != process],
-    }
+    return SimpleNamespace(
+        **{
+            "name": service_name(robot, process),
+            "description": escape.systemd_raw(f"joshua robot {robot.name}: node {process.name} ({process.node_type})"),
+            "syslog_identifier": escape.systemd_raw(process.name),
+            "exec_start": exec_start,
+            "environment": environment,
+            "restart": restart(process),
+            "restart_sec": timespan(process_launch.RESTART_DELAY_INITIAL_S),
+            "restart_steps": max(1, sum(1 for before, after in zip(delays, delays[1:]) if after > before)),
+            "restart_max_delay": timespan(delays[-1] if delays else process_launch.RESTART_DELAY_INITIAL_S),
+            "start_limit_burst": process.max_restarts + 1,
+            "start_limit_interval": timespan((process.max_restarts + 1) * process_launch.RESTART_RESET_AFTER_S),
+            "working_directory": escape.systemd_raw(prefix),
+            "uses_cpp": bool(process.cpp_binary),
+            "settings_exit_code": exit_codes.NODE_EXIT_SETTINGS if process.kind != "custom" else None,
+            "notify": notifies(process),
+            "ready_timeout": timespan(READY_TIMEOUT_S),
+            "watchdog": timespan(WATCHDOG_S),
+            "cpp_binary": process_launch.cpp_binary_path(robot, process, prefix) if process.cpp_binary else "",
+            "after": [service_name(robot, starter) for starter in first if starter is not process],
+        }
+    )
 
 
 def emit(robot: Robot, context: Context) -> dict[str, str]:
-    shutdown = {"sigint": timespan(robot.sigint_grace_s), "sigterm": timespan(robot.sigterm_grace_s)}
+    shutdown = SimpleNamespace(sigint=timespan(robot.sigint_grace_s), sigterm=timespan(robot.sigterm_grace_s))
     files = {}
+    first = [process for process in robot.processes if process.starts_first]  # once: a robot has thousands
     for process in robot.processes:
-        unit = service(robot, process, context.prefix)
-        files[f"systemd/{unit['name']}"] = template(
+        unit = service(robot, process, context.prefix, first)
+        files[f"systemd/{unit.name}"] = template(
             "node.service.j2",
             robot=robot,
             process=process,

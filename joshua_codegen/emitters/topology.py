@@ -1,12 +1,15 @@
 """topology.dot and topology.mmd: the node/topic graph for Graphviz and Mermaid."""
 
+from types import SimpleNamespace
+
 from joshua_codegen.model import Robot
 from joshua_codegen.render import Context, template
 from joshua_core.node_types import SIMULATION_ENGINE
 
 
-def graph(robot: Robot) -> dict:
-    """Nodes, topics and edges with stable ids (n0.., t0..) shared by both formats."""
+def graph(robot: Robot) -> SimpleNamespace:
+    """Nodes, topics and edges with stable ids (n0.., t0..) shared by both formats (attributes, as the
+    templates read them)."""
     node_ids = {node.name: f"n{i}" for i, node in enumerate(robot.nodes)}
     engines = [p for p in robot.processes if p.node_type == SIMULATION_ENGINE.name]
     for i, process in enumerate(engines):
@@ -19,7 +22,7 @@ def graph(robot: Robot) -> dict:
         for endpoint in topic.subscribers:
             edges.append((topic_ids[topic.name], node_ids[endpoint.node], endpoint.qos))
     simulated = [(node_ids[n.simulated_by], node_ids[n.name]) for n in robot.nodes if n.simulated_by]
-    return {"node_ids": node_ids, "topic_ids": topic_ids, "edges": edges, "simulated": simulated, "engines": engines}
+    return SimpleNamespace(node_ids=node_ids, topic_ids=topic_ids, edges=edges, simulated=simulated, engines=engines)
 
 
 def qos_label(qos) -> str:
