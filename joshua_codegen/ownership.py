@@ -66,18 +66,30 @@ def read_stamp(directory: Path) -> dict[str, str] | None:
 
 
 def _entries(directory: Path):
-    """(relative path, lstat) of everything under a directory, not following symbolic links."""
-    for root, dirs, files in os.walk(directory):
+    """(relative path, lstat) of everything under a directory, not following symbolic links. Paths as
+    strings: an output holds thousands of files, and pathlib took most of the check's time."""
+    top = os.fspath(directory)
+    for root, dirs, files in os.walk(top):
+        base = "" if root == top else os.path.relpath(root, top) + "/"
         for name in sorted(dirs + files):
-            path = Path(root, name)
-            yield path.relative_to(directory).as_posix(), path.lstat()
+            yield base + name, os.lstat(os.path.join(root, name))
 
 
-def _hash_file(path: Path) -> str | None:
+def _hash_file(path: str) -> str | None:
     try:
-        return _digest(path.read_bytes())
+        with open(path, "rb") as stream:
+            return _digest(stream.read())
     except OSError:
         return None
+
+
+def _parents(name: str) -> list[str]:
+    """The directories a relative path lies in, as `Path(name).parents` names them (`.` included)."""
+    parents = []
+    while "/" in name:
+        name = name.rpartition("/")[0]
+        parents.append(name)
+    return [*parents, "."]
 
 
 def foreign_and_changed(directory: Path) -> tuple[list[str], list[str]]:
@@ -86,7 +98,7 @@ def foreign_and_changed(directory: Path) -> tuple[list[str], list[str]]:
     entries = list(_entries(directory))
     if listed is None:
         return [name for name, _ in entries if "/" not in name], []
-    parents = {str(parent) for name in listed for parent in Path(name).parents}
+    parents = {parent for name in listed for parent in _parents(name)}
     foreign, changed = [], []
     for name, status in entries:
         if stat.S_ISDIR(status.st_mode) and name in parents:
@@ -95,7 +107,7 @@ def foreign_and_changed(directory: Path) -> tuple[list[str], list[str]]:
             continue
         if name not in listed or not stat.S_ISREG(status.st_mode):
             foreign.append(name)
-        elif _hash_file(directory / name) != listed[name]:
+        elif _hash_file(os.path.join(directory, name)) != listed[name]:
             changed.append(name)
     return foreign, changed
 

@@ -13,7 +13,13 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from joshua_codegen.ownership import STAMP, content_bytes, refusal, remove_stale_staging, stamp_text
+from joshua_codegen.ownership import (
+    STAMP,
+    content_bytes,
+    refusal,
+    remove_stale_staging,
+    stamp_text,
+)
 from joshua_codegen.render import HOSTS_DIR, host_path, is_executable
 from joshua_codegen.version import VERSION
 from joshua_core.atomic import exchange_directories
@@ -67,6 +73,76 @@ def _staging_directory(out: Path) -> tuple[Path, int]:
         os.close(fd)
 
 
+def _reusable(out: Path, files: dict[str, str | bytes]) -> dict[str, int]:
+    """{relative path: inode} of the files of the build in `out` that the new one holds unchanged, which it takes
+    over by a hard link: a new file costs the kernel an inode (on ext4, a search past every inode freed in the
+    last minutes), a link costs a name. Only regular files of ours, with their mode, that no other name shares."""
+    if not (out / STAMP).is_file():
+        return {}
+    reusable = {}
+    for relative, content in files.items():
+        try:
+            fd = os.open(out / relative, os.O_RDONLY | os.O_NOFOLLOW)
+        except OSError:
+            continue
+        try:
+            status = os.fstat(fd)
+            if (
+                stat.S_ISREG(status.st_mode)
+                and status.st_nlink == 1
+                and status.st_uid == os.getuid()
+                and stat.S_IMODE(status.st_mode) == _file_mode(relative)
+                and status.st_size == len(expected := content_bytes(content))
+                and os.read(fd, status.st_size + 1) == expected
+            ):
+                reusable[relative] = status.st_ino
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
+    return reusable
+
+
+def _linked(source: Path, target: Path, inode: int) -> bool:
+    """Whether `target` is now a hard link to the file `source` named when it was read (a concurrent build may
+    have replaced it since). On False, `target` does not exist."""
+    try:
+        os.link(source, target, follow_symlinks=False)
+    except OSError:
+        return False
+    try:
+        if os.lstat(target).st_ino == inode:
+            return True
+    except OSError:
+        pass
+    os.unlink(target)
+    return False
+
+
+def _fill(staging: Path, files: dict[str, str | bytes], out: Path, reusable: dict[str, int]) -> None:
+    """Put `files` into the empty `staging` directory: the stamp first (it marks the directory ours), each
+    file in `reusable` linked from `out`, the others written, with their modes."""
+    (staging / STAMP).write_text(files[STAMP], encoding="utf-8", newline="\n")
+    os.chmod(staging / STAMP, _file_mode(STAMP))
+    directories = {staging}
+    for relative, text in files.items():
+        if relative == STAMP:
+            continue
+        target = staging / relative
+        directory = target.parent
+        if directory not in directories:
+            directory.mkdir(parents=True, exist_ok=True)
+            while directory not in directories:
+                directories.add(directory)
+                directory = directory.parent
+        if relative in reusable and _linked(out / relative, target, reusable[relative]):
+            continue
+        target.write_bytes(content_bytes(text))
+        os.chmod(target, _file_mode(relative))
+    for directory in directories:
+        os.chmod(directory, 0o755)
+
+
 def write_tree(files: dict[str, str | bytes], out: Path) -> None:
     """Make `out` hold exactly `files` and their stamp: all of them or, on failure, what it held before.
 
@@ -85,14 +161,7 @@ def write_tree(files: dict[str, str | bytes], out: Path) -> None:
     except OSError as exc:
         raise OutputError(f"cannot create a directory next to {out}: {exc.strerror or exc}") from exc
     try:
-        (staging / STAMP).write_text(files[STAMP], encoding="utf-8", newline="\n")  # first: marks it ours
-        for relative, text in files.items():
-            target = staging / relative
-            target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_bytes(content_bytes(text))
-            os.chmod(target, _file_mode(relative))
-        for directory in [staging, *(p for p in staging.rglob("*") if p.is_dir())]:
-            os.chmod(directory, 0o755)
+        _fill(staging, files, out, _reusable(out, files))
         if out.is_dir() and exchange_directories(staging, out):
             # staging now holds the previous output, which a concurrent build may be removing too
             shutil.rmtree(staging, ignore_errors=True)
