@@ -6,6 +6,7 @@ The only module of the compiler that touches the disk for output.
 import difflib
 import fcntl
 import os
+import posixpath
 import re
 import shutil
 import stat
@@ -80,42 +81,46 @@ def _reusable(out: Path, files: dict[str, str | bytes]) -> dict[str, int]:
     if not (out / STAMP).is_file():
         return {}
     reusable = {}
-    for relative, content in files.items():
-        try:
-            fd = os.open(out / relative, os.O_RDONLY | os.O_NOFOLLOW)
-        except OSError:
-            continue
-        try:
-            status = os.fstat(fd)
-            if (
-                stat.S_ISREG(status.st_mode)
-                and status.st_nlink == 1
-                and status.st_uid == os.getuid()
-                and stat.S_IMODE(status.st_mode) == _file_mode(relative)
-                and status.st_size == len(expected := content_bytes(content))
-                and os.read(fd, status.st_size + 1) == expected
-            ):
-                reusable[relative] = status.st_ino
-        except OSError:
-            pass
-        finally:
-            os.close(fd)
+    top = os.open(out, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        for relative, content in files.items():
+            try:
+                fd = os.open(relative, os.O_RDONLY | os.O_NOFOLLOW, dir_fd=top)
+            except OSError:
+                continue
+            try:
+                status = os.fstat(fd)
+                if (
+                    stat.S_ISREG(status.st_mode)
+                    and status.st_nlink == 1
+                    and status.st_uid == os.getuid()
+                    and stat.S_IMODE(status.st_mode) == _file_mode(relative)
+                    and status.st_size == len(expected := content_bytes(content))
+                    and os.read(fd, status.st_size + 1) == expected
+                ):
+                    reusable[relative] = status.st_ino
+            except OSError:
+                pass
+            finally:
+                os.close(fd)
+    finally:
+        os.close(top)
     return reusable
 
 
-def _linked(source: Path, target: Path, inode: int) -> bool:
-    """Whether `target` is now a hard link to the file `source` named when it was read (a concurrent build may
-    have replaced it since). On False, `target` does not exist."""
+def _linked(relative: str, out: int, staging: int, inode: int) -> bool:
+    """Whether `relative` in `staging` is now a hard link to the file of `out` read as `inode` (a concurrent
+    build may have replaced it since). On False, it does not exist. Both directories as descriptors."""
     try:
-        os.link(source, target, follow_symlinks=False)
+        os.link(relative, relative, src_dir_fd=out, dst_dir_fd=staging, follow_symlinks=False)
     except OSError:
         return False
     try:
-        if os.lstat(target).st_ino == inode:
+        if os.stat(relative, dir_fd=staging, follow_symlinks=False).st_ino == inode:
             return True
     except OSError:
         pass
-    os.unlink(target)
+    os.unlink(relative, dir_fd=staging)
     return False
 
 
@@ -124,23 +129,31 @@ def _fill(staging: Path, files: dict[str, str | bytes], out: Path, reusable: dic
     file in `reusable` linked from `out`, the others written, with their modes."""
     (staging / STAMP).write_text(files[STAMP], encoding="utf-8", newline="\n")
     os.chmod(staging / STAMP, _file_mode(STAMP))
-    directories = {staging}
-    for relative, text in files.items():
-        if relative == STAMP:
-            continue
-        target = staging / relative
-        directory = target.parent
-        if directory not in directories:
-            directory.mkdir(parents=True, exist_ok=True)
-            while directory not in directories:
-                directories.add(directory)
-                directory = directory.parent
-        if relative in reusable and _linked(out / relative, target, reusable[relative]):
-            continue
-        target.write_bytes(content_bytes(text))
-        os.chmod(target, _file_mode(relative))
+    directories = {""}
+    into = os.open(staging, os.O_RDONLY | os.O_DIRECTORY)
+    source = os.open(out, os.O_RDONLY | os.O_DIRECTORY) if reusable else None
+    try:
+        for relative, text in files.items():
+            if relative == STAMP:
+                continue
+            directory = posixpath.dirname(relative)
+            if directory not in directories:
+                os.makedirs(staging / directory, exist_ok=True)
+                while directory not in directories:
+                    directories.add(directory)
+                    directory = posixpath.dirname(directory)
+            if relative in reusable and _linked(relative, source, into, reusable[relative]):
+                continue
+            fd = os.open(relative, os.O_WRONLY | os.O_CREAT | os.O_EXCL, _file_mode(relative), dir_fd=into)
+            with os.fdopen(fd, "wb") as stream:
+                stream.write(content_bytes(text))
+            os.chmod(relative, _file_mode(relative), dir_fd=into)  # whatever the umask
+    finally:
+        os.close(into)
+        if source is not None:
+            os.close(source)
     for directory in directories:
-        os.chmod(directory, 0o755)
+        os.chmod(staging / directory, 0o755)
 
 
 def write_tree(files: dict[str, str | bytes], out: Path) -> None:
