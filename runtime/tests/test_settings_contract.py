@@ -5,6 +5,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from google.protobuf import json_format
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from joshua_codegen.compile import node_settings
 from joshua_core.settings import FORMAT_VERSION, NodeSettings, SettingsFormatError, parse, to_literal
@@ -23,6 +26,33 @@ def test_every_process_of_the_seed_robots_parses_back_into_its_message(robot):
         settings = parse(literal)
         assert isinstance(settings, NodeSettings) and settings.name == name
         assert to_literal(settings) == literal
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    number=st.floats(allow_nan=True, allow_infinity=True),
+    text=st.text(max_size=8),
+    count=st.integers(min_value=0, max_value=2**32 - 1),
+    flag=st.booleans(),
+)
+def test_the_literal_is_what_protobufs_json_mapping_writes(number, text, count, flag):
+    settings_message = NodeSettings(
+        name=text,
+        rate_hz=number,
+        device_ids=[count, 0],
+        joint_names=[text, ""],
+        format_version=count,
+        keep_torque_on_exit=flag,
+    )
+    settings_message.topic.qos.depth = count
+    settings_message.inputs.add(name=text).qos.reliability = text
+    settings_message.simulation.timestep_s = 0.0  # explicit presence: written although zero
+    settings_message.simulation.simulates.add(name=text, rate_hz=-number, wheel_radius_m=number)
+    settings_message.preset.add().positions.update({text: number, "": -number})
+    settings_message.foxglove.port = count
+    if flag:
+        settings_message.simulation.realtime_factor = number
+    assert to_literal(settings_message) == json_format.MessageToDict(settings_message, preserving_proto_field_name=True)
 
 
 @pytest.mark.parametrize("version", [FORMAT_VERSION - 1, FORMAT_VERSION + 1, None])
