@@ -1,14 +1,19 @@
-"""Fixed and per-node cost of joshuac: build against a bare interpreter, check against `dora validate`.
+"""Fixed and per-node cost of joshuac: build against check of the same file, a bare interpreter and `dora validate`.
 
     .venv/bin/python bench/compile.py [--quick]        # --quick: 10 nodes, one run each (for the tests)
 
 Times are whole processes; "cpu" is user+system seconds of the child (what the machine spent, nearly
-independent of other load), "wall" the elapsed time; each the minimum of the runs. `dora validate`
-(dora-rs-cli, a Rust program) checks a dataflow YAML of the same nodes and edges as the description.
+independent of other load), "wall" the elapsed time; each the minimum of the runs, the commands of one
+size taking turns run by run. "build" writes into the output of the previous build (the usual case: CI,
+`make generate`, `run --watch`), "fresh" into a directory that does not exist yet; `cp -r` of that output
+is the floor of a fresh build's file creation, measured alongside (on ext4 a new inode costs a search
+past every inode freed in the last minutes, so it depends on what the machine deleted lately).
+`dora validate` (dora-rs-cli, a Rust program) checks a dataflow YAML of the same nodes and edges.
 """
 
 import argparse
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -21,6 +26,7 @@ JOSHUAC, PYTHON, DORA = str(BIN / "joshuac"), str(BIN / "python"), str(BIN / "do
 RUNS = 7
 SIZES = (10, 100, 1000, 3000)
 RECORDED_INPUTS = 50  # topics the synthetic recorder reads
+LINEAR_FROM = 100  # sizes from which the cost per added node is printed (below, the fixed cost dominates)
 
 
 def synthetic_nodes(nodes: int) -> list[tuple[str, str, str, list[str]]]:
@@ -78,19 +84,45 @@ def dataflow(nodes: int, program: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def cpu_of(command: list[str]) -> tuple[float, float]:
+    """(cpu s, wall s) of one run of `command`, which must succeed."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    result = subprocess.run(command, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if result.returncode != 0:
+        sys.exit(f"{' '.join(command)} failed:\n{result.stderr}{result.stdout}")
+    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall
+
+
 def timed(command: list[str], runs: int) -> tuple[float, float]:
     """(min cpu s, min wall s) of `command`, which must succeed."""
-    cpu, wall = [], []
-    for _ in range(runs):
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        start = time.perf_counter()
-        result = subprocess.run(command, capture_output=True, text=True)
-        wall.append(time.perf_counter() - start)
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpu.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
-        if result.returncode != 0:
-            sys.exit(f"{' '.join(command)} failed:\n{result.stderr}{result.stdout}")
+    cpu, wall = zip(*(cpu_of(command) for _ in range(runs)))
     return min(cpu), min(wall)
+
+
+def per_size(size: int, runs: int, tmp: Path, program: Path) -> dict[str, float]:
+    """Min cpu s of each command on the synthetic graph of `size` nodes, the commands taking turns."""
+    config, flow = tmp / f"synthetic_{size}.pbtxt", tmp / f"synthetic_{size}.yml"
+    config.write_text(description(size))
+    flow.write_text(dataflow(size, program))
+    out, fresh, copy = tmp / "out" / config.stem, tmp / "fresh" / config.stem, tmp / "copy" / config.stem
+    cpu_of([JOSHUAC, "build", str(config), "-o", str(out)])  # the previous build the timed ones replace
+    copy.parent.mkdir(exist_ok=True)
+    commands = {
+        "build": [JOSHUAC, "build", str(config), "-o", str(out)],
+        "fresh": [JOSHUAC, "build", str(config), "-o", str(fresh)],
+        "cp": ["cp", "-r", str(out), str(copy)],
+        "check": [JOSHUAC, "check", str(config)],
+        "dora": [DORA, "validate", str(flow)],
+    }
+    found = {name: [] for name in commands}
+    for _ in range(runs):
+        for name, command in commands.items():
+            shutil.rmtree(fresh if name == "fresh" else copy, ignore_errors=True)
+            found[name].append(cpu_of(command)[0])
+    return {name: min(values) for name, values in found.items()}
 
 
 def main() -> None:
@@ -109,17 +141,26 @@ def main() -> None:
             cpu, wall = timed([JOSHUAC, "build", str(config), "-o", str(tmp / "out" / config.stem)], runs)
             print(f"{'joshuac build ' + config.name:32} {cpu:>8.3f} {wall:>8.3f} {cpu / bare[0]:>8.1f}")
         print(
-            f"\nper node, min of {runs} runs   joshuac build cpu s   joshuac check cpu s   dora validate cpu s"
-            "   check x dora"
+            f"\nper size, cpu s, min of {runs} runs   build   fresh  cp -r   check    dora"
+            "   build x check   fresh x check   check x dora"
         )
+        found = {}
         for size in sizes:
-            config, flow = tmp / f"synthetic_{size}.pbtxt", tmp / f"synthetic_{size}.yml"
-            config.write_text(description(size))
-            flow.write_text(dataflow(size, program))
-            build = timed([JOSHUAC, "build", str(config), "-o", str(tmp / "out" / config.stem)], runs)[0]
-            check = timed([JOSHUAC, "check", str(config)], runs)[0]
-            dora = timed([DORA, "validate", str(flow)], runs)[0]
-            print(f"{size:>5} nodes {build:>26.3f} {check:>21.3f} {dora:>21.3f} {check / max(dora, 1e-3):>14.1f}")
+            cpu = found[size] = per_size(size, runs, tmp, program)
+            print(
+                f"{size:>5} nodes {cpu['build']:>24.3f} {cpu['fresh']:>7.3f} {cpu['cp']:>6.3f} {cpu['check']:>7.3f}"
+                f" {cpu['dora']:>7.3f} {cpu['build'] / cpu['check']:>15.2f} {cpu['fresh'] / cpu['check']:>15.2f}"
+                f" {cpu['check'] / max(cpu['dora'], 1e-3):>14.1f}"
+            )
+        for small, large in zip(sizes, sizes[1:]):
+            if small >= LINEAR_FROM:
+                step = {
+                    name: (found[large][name] - found[small][name]) / (large - small) * 1000
+                    for name in ("build", "check")
+                }
+                print(
+                    f"{small} -> {large} nodes, cpu ms per node: build {step['build']:.3f}, check {step['check']:.3f}"
+                )
 
 
 if __name__ == "__main__":
