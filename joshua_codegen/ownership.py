@@ -19,6 +19,7 @@ import os
 import re
 import shutil
 import stat
+from dataclasses import dataclass
 from pathlib import Path
 
 from joshua_codegen.version import VERSION
@@ -39,9 +40,14 @@ def content_bytes(content: str | bytes) -> bytes:
     return content if isinstance(content, bytes) else content.encode("utf-8")
 
 
+def content_digest(content: str | bytes) -> str:
+    """The SHA-256 a stamp lists for a file of this content."""
+    return _digest(content_bytes(content))
+
+
 def stamp_text(files: dict[str, str | bytes]) -> str:
     """The stamp of a set of rendered files: the version line, then one `<sha256>  <path>` line per file, by path."""
-    listed = "".join(f"{_digest(content_bytes(text))}  {path}\n" for path, text in sorted(files.items()))
+    listed = "".join(f"{content_digest(text)}  {path}\n" for path, text in sorted(files.items()))
     return f"{STAMP_COMMENT}joshuac {VERSION}\n{listed}"
 
 
@@ -75,12 +81,14 @@ def _entries(directory: Path):
             yield base + name, os.lstat(os.path.join(root, name))
 
 
-def _hash_file(path: str) -> str | None:
+def _read_unchanged(path: str, digest: str) -> os.stat_result | None:
+    """The status of the file read at `path` when its content has the SHA-256 `digest`, else None."""
     try:
-        with open(path, "rb") as stream:
-            return _digest(stream.read())
+        with open(os.open(path, os.O_RDONLY | os.O_NOFOLLOW), "rb") as stream:
+            status, content = os.fstat(stream.fileno()), stream.read()
     except OSError:
         return None
+    return status if _digest(content) == digest else None
 
 
 def _parents(name: str) -> list[str]:
@@ -92,24 +100,36 @@ def _parents(name: str) -> list[str]:
     return [*parents, "."]
 
 
-def foreign_and_changed(directory: Path) -> tuple[list[str], list[str]]:
-    """(paths joshuac did not write, listed files whose content changed) of an existing directory."""
+@dataclass
+class Survey:
+    """What an existing output directory holds, against its stamp."""
+
+    stamped: bool  # it has a readable stamp
+    foreign: list[str]  # paths joshuac did not write (only the top level when unstamped)
+    changed: list[str]  # listed files whose content changed
+    unchanged: dict[str, tuple[str, os.stat_result]]  # listed files as listed: {path: (sha256, status as read)}
+
+
+def survey(directory: Path) -> Survey:
+    """Every path of an existing directory that its stamp does not account for, and the files that it does."""
     listed = read_stamp(directory)
     entries = list(_entries(directory))
     if listed is None:
-        return [name for name, _ in entries if "/" not in name], []
+        return Survey(False, [name for name, _ in entries if "/" not in name], [], {})
     parents = {parent for name in listed for parent in _parents(name)}
-    foreign, changed = [], []
+    found = Survey(True, [], [], {})
     for name, status in entries:
         if stat.S_ISDIR(status.st_mode) and name in parents:
             continue
         if name == STAMP and stat.S_ISREG(status.st_mode):
             continue
         if name not in listed or not stat.S_ISREG(status.st_mode):
-            foreign.append(name)
-        elif _hash_file(os.path.join(directory, name)) != listed[name]:
-            changed.append(name)
-    return foreign, changed
+            found.foreign.append(name)
+        elif (read := _read_unchanged(os.path.join(directory, name), listed[name])) is None:
+            found.changed.append(name)
+        else:
+            found.unchanged[name] = (listed[name], read)
+    return found
 
 
 def _shown(paths: list[str]) -> str:
@@ -121,40 +141,45 @@ def refusal(out: Path, shown: Path | None = None) -> str | None:
     """Why `out` may not be replaced by a build, or None when it may (missing, empty, or ours unchanged).
 
     Messages name `shown` (the path as the user gave it) when given."""
-    reason = _refusal(out)
-    return reason.replace(str(out), str(shown)) if reason and shown is not None else reason
+    return inspect_output(out, shown)[0]
 
 
-def _refusal(out: Path) -> str | None:
+def inspect_output(out: Path, shown: Path | None = None) -> tuple[str | None, Survey | None]:
+    """(`refusal(out, shown)`, and what `out` holds when it is a directory that could be read)."""
+    reason, found = _refusal(out)
+    return (reason.replace(str(out), str(shown)) if reason and shown is not None else reason), found
+
+
+def _refusal(out: Path) -> tuple[str | None, Survey | None]:
     if out.is_symlink():
-        return f"{out} is a symbolic link; give the directory itself"
+        return f"{out} is a symbolic link; give the directory itself", None
     if not out.exists():
-        return None
+        return None, None
     if not out.is_dir():
-        return f"{out} exists and is not a directory"
+        return f"{out} exists and is not a directory", None
     try:
         if not any(out.iterdir()):
-            return None
-        foreign, changed = foreign_and_changed(out)
+            return None, None
+        found = survey(out)
     except OSError as exc:
-        return f"cannot read {out}: {exc.strerror or exc}"
-    if read_stamp(out) is None:
+        return f"cannot read {out}: {exc.strerror or exc}", None
+    if not found.stamped:
         return (
             f"{out} is not empty and holds no {STAMP}: refusing to replace a directory joshuac did not write "
-            f"(it holds {_shown(foreign)}); remove it or choose another output directory"
-        )
+            f"(it holds {_shown(found.foreign)}); remove it or choose another output directory"
+        ), found
     reasons = []
-    if foreign:
-        reasons.append(f"files joshuac did not write: {_shown(foreign)}")
-    if changed:
-        reasons.append(f"generated files edited since the last build: {_shown(changed)}")
+    if found.foreign:
+        reasons.append(f"files joshuac did not write: {_shown(found.foreign)}")
+    if found.changed:
+        reasons.append(f"generated files edited since the last build: {_shown(found.changed)}")
     if reasons:
         return (
             f"refusing to replace {out}, which holds "
             + "; and ".join(reasons)
             + ". Move them out of the output directory (or delete them) and build again"
-        )
-    return None
+        ), found
+    return None, found
 
 
 def lock_directory(path: Path) -> int | None:

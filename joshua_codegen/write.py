@@ -16,8 +16,10 @@ from pathlib import Path
 
 from joshua_codegen.ownership import (
     STAMP,
+    Survey,
     content_bytes,
-    refusal,
+    content_digest,
+    inspect_output,
     remove_stale_staging,
     stamp_text,
 )
@@ -74,37 +76,23 @@ def _staging_directory(out: Path) -> tuple[Path, int]:
         os.close(fd)
 
 
-def _reusable(out: Path, files: dict[str, str | bytes]) -> dict[str, int]:
-    """{relative path: inode} of the files of the build in `out` that the new one holds unchanged, which it takes
+def _reusable(previous: Survey | None, files: dict[str, str | bytes]) -> dict[str, int]:
+    """{relative path: inode} of the files of the previous build that the new one holds unchanged, which it takes
     over by a hard link: a new file costs the kernel an inode (on ext4, a search past every inode freed in the
     last minutes), a link costs a name. Only regular files of ours, with their mode, that no other name shares."""
-    if not (out / STAMP).is_file():
+    if previous is None:
         return {}
     reusable = {}
-    top = os.open(out, os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        for relative, content in files.items():
-            try:
-                fd = os.open(relative, os.O_RDONLY | os.O_NOFOLLOW, dir_fd=top)
-            except OSError:
-                continue
-            try:
-                status = os.fstat(fd)
-                if (
-                    stat.S_ISREG(status.st_mode)
-                    and status.st_nlink == 1
-                    and status.st_uid == os.getuid()
-                    and stat.S_IMODE(status.st_mode) == _file_mode(relative)
-                    and status.st_size == len(expected := content_bytes(content))
-                    and os.read(fd, status.st_size + 1) == expected
-                ):
-                    reusable[relative] = status.st_ino
-            except OSError:
-                pass
-            finally:
-                os.close(fd)
-    finally:
-        os.close(top)
+    for relative, content in files.items():
+        digest, status = previous.unchanged.get(relative, ("", None))
+        if (
+            status is not None
+            and status.st_nlink == 1
+            and status.st_uid == os.getuid()
+            and stat.S_IMODE(status.st_mode) == _file_mode(relative)
+            and digest == content_digest(content)
+        ):
+            reusable[relative] = status.st_ino
     return reusable
 
 
@@ -163,7 +151,7 @@ def write_tree(files: dict[str, str | bytes], out: Path) -> None:
     """
     given = Path(out)
     out = _resolved(given)
-    reason = refusal(out, given)
+    reason, previous = inspect_output(out, given)
     if reason is not None:
         raise OutputError(reason)
     files = stamped(files)
@@ -174,7 +162,7 @@ def write_tree(files: dict[str, str | bytes], out: Path) -> None:
     except OSError as exc:
         raise OutputError(f"cannot create a directory next to {out}: {exc.strerror or exc}") from exc
     try:
-        _fill(staging, files, out, _reusable(out, files))
+        _fill(staging, files, out, _reusable(previous, files))
         if out.is_dir() and exchange_directories(staging, out):
             # staging now holds the previous output, which a concurrent build may be removing too
             shutil.rmtree(staging, ignore_errors=True)

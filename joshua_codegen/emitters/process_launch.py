@@ -4,6 +4,7 @@ command lines systemd and supervisord run (supervisor.py decides the same things
 import posixpath
 import re
 import shlex
+from functools import cache
 
 from joshua_codegen.escape import shell_word
 from joshua_codegen.model import Process, Robot
@@ -97,10 +98,11 @@ def _node_words(robot: Robot, process: Process, base: str, bare: list[str], work
     return [SHELL, "-c", script]
 
 
-def backoff_delays(count: int) -> list[float]:
-    """The waits before restarts 1..count of a node that keeps failing."""
+@cache
+def backoff_delays(count: int) -> tuple[float, ...]:
+    """The waits before restarts 1..count of a node that keeps failing (the same few counts for every node)."""
     delays, delay = [], RESTART_DELAY_INITIAL_S
     for _ in range(count):
         delays.append(delay)
         delay = min(delay * RESTART_DELAY_FACTOR, RESTART_DELAY_CAP_S)
-    return delays
+    return tuple(delays)
