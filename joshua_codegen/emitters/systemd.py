@@ -55,7 +55,11 @@ def command(robot: Robot, process: Process, prefix: str) -> tuple[list[str], lis
 
 def command_lines(robot: Robot, process: Process, prefix: str) -> tuple[str, list[str]]:
     """(the ExecStart= value, the Environment= values) of one service, quoted."""
-    words, environment = command(robot, process, prefix)
+    return quoted(*command(robot, process, prefix))
+
+
+def quoted(words: list[str], environment: list[tuple[str, str]]) -> tuple[str, list[str]]:
+    """(the ExecStart= value, the Environment= values) of the words and variables `command` gives, quoted."""
     return (
         escape.systemd_command(words),
         [escape.systemd_quote(f"{key}={value}", exec_line=False) for key, value in environment],

@@ -54,7 +54,7 @@ def _problem(robot, process, prefix: str) -> str | None:
             f"its command line and environment would total {total} bytes; the limit is {MAX_COMMAND_BYTES} "
             "(1 MiB) so that exec cannot fail with E2BIG"
         )
-    exec_start, assignments = systemd.command_lines(robot, process, prefix)
+    exec_start, assignments = systemd.quoted(words, environment)
     lines = [f"ExecStart={exec_start}"] + [f"Environment={assignment}" for assignment in assignments]
     line = max(lines, key=_size)
     if _size(line) >= LONG_LINE_MAX:
