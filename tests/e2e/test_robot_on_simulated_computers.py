@@ -10,8 +10,6 @@ buses run in the test process, on ptys that both hosts see as files.
 import os
 import re
 import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -19,6 +17,7 @@ import pytest
 
 from joshua_runtime.emulators.sts3215 import Sts3215Emulator
 from testsupport import host_namespaces
+from testsupport.host_supervisors import ready, start_supervisors, stop_supervisors, wait_for
 from testsupport.hosts import virtual_hosts
 from testsupport.joshuac_cli import joshuac
 
@@ -27,9 +26,7 @@ pytestmark = pytest.mark.process  # and ros, from ros_env
 READY_TIMEOUT_S = 60.0  # both supervisors ready, nodes started cold on a busy 2-core machine
 TRACKING_TIMEOUT_S = 20.0
 RESTART_TIMEOUT_S = 20.0  # the crashed server started again and ready
-STOP_TIMEOUT_S = 15.0
 LINK_DOWN_S = 5.0
-POLL_S = 0.1
 TRACKING_TOLERANCE_TICKS = 3
 SERVER_PORT = 11811  # inside host arm's own network namespace: nothing else can hold it
 HOSTS = ("arm", "bench")
@@ -74,10 +71,6 @@ def emulated_buses(tmp_path):
     follower.stop()
 
 
-def ready(log: str) -> bool:
-    return re.search(r"^\[ *[\d.]+\] supervisor: ready: (\d+) of \1 nodes ready", log, re.M) is not None
-
-
 def started_pids(log: str, node: str) -> list[int]:
     """The pids the supervisor started `node` with, in order."""
     return [int(pid) for pid in re.findall(rf"^\[ *[\d.]+\] {node}: started pid (\d+)", log, re.M)]
@@ -87,42 +80,6 @@ def restarted(log: Path, node: str) -> bool:
     """`node` was started a second time and is ready again."""
     text = log.read_text()
     return len(started_pids(text, node)) == 2 and text.count(f"{node}: ready after") == 2
-
-
-def wait_for(condition, timeout_s: float, supervisors: dict, logs: dict) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        ended = [name for name, supervisor in supervisors.items() if supervisor.poll() is not None]
-        assert not ended and time.monotonic() < deadline, {name: path.read_text() for name, path in logs.items()}
-        time.sleep(POLL_S)
-
-
-def start_supervisors(network, out: Path, tmp_path: Path, env: dict) -> tuple[dict, dict]:
-    supervisors, logs = {}, {}
-    for name in HOSTS:
-        logs[name] = tmp_path / f"{name}.log"
-        with open(logs[name], "w") as log:
-            supervisors[name] = network[name].popen(
-                [
-                    sys.executable, out / "hosts" / name / "supervisor.py",
-                    "--control-socket", tmp_path / "control" / f"{name}.sock",
-                    "--log-dir", tmp_path / "logs" / name,
-                ],
-                env=env, stdout=log, stderr=subprocess.STDOUT,
-            )  # fmt: skip
-    return supervisors, logs
-
-
-def stop_supervisors(supervisors: dict) -> dict[str, int | None]:
-    for supervisor in supervisors.values():
-        supervisor.send_signal(signal.SIGINT)
-    codes = {}
-    for name, supervisor in supervisors.items():
-        try:
-            codes[name] = supervisor.wait(STOP_TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            codes[name] = None  # the hosts' closing kills it
-    return codes
 
 
 def test_the_leader_drives_the_follower_on_another_computer_through_a_server_crash_and_a_link_down(

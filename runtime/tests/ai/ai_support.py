@@ -65,12 +65,14 @@ def compiled(mode: str, *nodes: str) -> dict[str, dict]:
 
 
 class NodeProcess:
-    """A node run the way a generated entrypoint runs it, stdout and stderr collected line by line."""
+    """A node run the way a generated entrypoint runs it, stdout and stderr collected line by line; on this
+    machine, or inside `host` (a simulated computer of testsupport/hosts.py)."""
 
-    def __init__(self, settings: dict, env: dict):
+    def __init__(self, settings: dict, env: dict, host=None):
         code = f"from joshua_runtime.entrypoint import run_node; import sys; sys.exit(run_node({settings!r}))"
+        command = [sys.executable, "-c", code]
         self.process = subprocess.Popen(
-            [sys.executable, "-c", code],
+            host.command(command) if host is not None else command,
             env=env,
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
