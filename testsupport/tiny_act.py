@@ -18,6 +18,7 @@ WIDTH, HEIGHT = 320, 240
 CHUNK_SIZE = 100  # ACT's default: 3.3 s of actions at 30 Hz
 FPS = 30
 EPISODES, FRAMES_PER_EPISODE = 2, 40
+TASK = "follow the bar"
 TRAINING_STEPS, BATCH_SIZE = 3, 2
 JOINTS = list(so100.SO100_JOINTS)
 CAMERA_TOPIC, STATE_TOPIC, ACTION_TOPIC = "/camera/image_raw", "/follower/joint_states", "/leader/joint_states"
@@ -28,17 +29,27 @@ def pose(t: float) -> np.ndarray:
     return 0.4 * np.sin(0.8 * t + np.arange(len(JOINTS)))
 
 
-def frame_image(t: float) -> np.ndarray:
-    """A 320x240 RGB picture of the moment: a bar whose position follows the first joint."""
-    image = np.zeros((HEIGHT, WIDTH, 3), np.uint8)
-    image[:, :, 2] = np.linspace(40, 200, WIDTH, dtype=np.uint8)
-    column = int((pose(t)[0] + 0.5) * (WIDTH - 20))
-    image[:, column : column + 20, 0] = 255
+def frame_image(t: float, width: int = WIDTH, height: int = HEIGHT) -> np.ndarray:
+    """An RGB picture of the moment (320x240 by default): a bar whose position follows the first joint."""
+    image = np.zeros((height, width, 3), np.uint8)
+    image[:, :, 2] = np.linspace(40, 200, width, dtype=np.uint8)
+    bar = max(width // 16, 2)
+    column = int((pose(t)[0] + 0.5) * (width - bar))
+    image[:, column : column + bar, 0] = 255
     return image
 
 
-def record_dataset(output: Path) -> Path:
-    """A LeRobot dataset of EPISODES short demonstrations at FPS (images stored as PNG)."""
+def record_dataset(
+    output: Path,
+    episodes: int = EPISODES,
+    frames: int = FRAMES_PER_EPISODE,
+    size: tuple[int, int] = (WIDTH, HEIGHT),
+    use_videos: bool = False,
+    tasks: tuple[str, ...] = (TASK,),
+) -> Path:
+    """A LeRobot dataset of `episodes` demonstrations of `frames` frames at FPS, images of `size` (width,
+    height) stored as PNG or, with `use_videos`, as AV1 video as DATA_SUBSCRIBER records them; episode i
+    has task tasks[i % len(tasks)]."""
     from joshua_runtime.ai import features as keys
     from joshua_runtime.ai.episode_writer import EpisodeWriter
     from joshua_runtime.ai.frame_sampler import FrameSampler
@@ -48,17 +59,17 @@ def record_dataset(output: Path) -> Path:
         TopicSettings(name=STATE_TOPIC, message_type=keys.JOINT_STATE),
         TopicSettings(name=CAMERA_TOPIC, message_type=keys.IMAGE_TYPES[0]),
     ]
-    sampler = FrameSampler(ACTION_TOPIC, inputs, use_videos=False)
-    writer = EpisodeWriter(str(output), FPS, "so100", use_videos=False, log=_QuietLog())
+    sampler = FrameSampler(ACTION_TOPIC, inputs, use_videos=use_videos)
+    writer = EpisodeWriter(str(output), FPS, "so100", use_videos=use_videos, log=_QuietLog())
     try:
-        for episode in range(EPISODES):
-            writer.start_episode("follow the bar")
-            for step in range(FRAMES_PER_EPISODE):
+        for episode in range(episodes):
+            writer.start_episode(tasks[episode % len(tasks)])
+            for step in range(frames):
                 t = episode * 10.0 + step / FPS
                 messages = {
                     STATE_TOPIC: joint_state(JOINTS, pose(t)),
                     ACTION_TOPIC: joint_state(JOINTS, pose(t + 1 / FPS)),
-                    CAMERA_TOPIC: rgb_to_image(frame_image(t)),
+                    CAMERA_TOPIC: rgb_to_image(frame_image(t, *size)),
                 }
                 frame = sampler.frame(messages.__getitem__)
                 if episode == 0 and step == 0:

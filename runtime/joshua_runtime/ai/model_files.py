@@ -21,15 +21,21 @@ from joshua_runtime.errors import SettingsError
 CONFIG_FILE = "config.json"
 WEIGHTS_FILE = "model.safetensors"
 PROCESSOR_FILES = ("policy_preprocessor.json", "policy_postprocessor.json")
-# The processor steps LeRobot saves for ACT and Diffusion policies (by their registry names): each is
-# data in, data out. A pipeline naming any other step is refused (see data_only.py).
+# The processor steps LeRobot saves for ACT, Diffusion and SmolVLA policies (by their registry names): each
+# is data in, data out. A pipeline naming any other step is refused (see data_only.py).
+TOKENIZER_STEP = "tokenizer_processor"
 ALLOWED_PROCESSOR_STEPS = (
     "device_processor",
     "normalizer_processor",
     "rename_observations_processor",
+    "smolvla_new_line_processor",
     "to_batch_processor",
+    TOKENIZER_STEP,
     "unnormalizer_processor",
 )
+# Where a SmolVLA policy keeps its vision-language backbone's configuration and tokenizer (JSON files),
+# which its config.json and its tokenizer step are pointed at when it is loaded.
+SMOLVLA_BACKBONE = "vlm"
 TRAIN_CONFIG_FILE = "train_config.json"
 FEATURE_NAMES_FILE = "joshua_features.json"
 # Where a policy can sit below a directory given by the user, tried in order.

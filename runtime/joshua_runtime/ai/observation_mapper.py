@@ -3,17 +3,18 @@
 Rule (the recording side uses the same, see `features.py`):
 - Each policy image feature `observation.images.<key>` is fed by the Image input whose topic maps to
   `<key>`. When the policy has a single image feature and the node a single Image input, they are
-  paired whatever their names. Images of another size than the policy's are resized (area filter).
+  paired whatever their names. Images of another size than the policy's are resized (images.resize, the
+  function `joshua-train imitation --image-size` resizes the training frames with).
 - `observation.state` is the positions of the JointState inputs concatenated in input order. When
   the policy's state names are known (`<joint>.pos`, from the dataset it was trained on), each value
   is instead picked by joint name from the inputs, so the order of joints in messages does not matter.
 """
 
-import cv2
 import numpy as np
 
 from joshua_core.settings import TopicSettings
 from joshua_runtime.ai import features as keys
+from joshua_runtime.ai.images import resize as resize_image
 from joshua_runtime.ai.ros_arrays import image_to_rgb, joint_positions
 from joshua_runtime.errors import SettingsError
 
@@ -53,9 +54,7 @@ class ObservationMapper:
             except ValueError as exc:
                 raise ObservationUnavailable(f"{topic}: {exc}") from exc
             channels, height, width = self.image_shapes[feature]
-            if pixels.shape[:2] != (height, width):
-                pixels = cv2.resize(pixels, (width, height), interpolation=cv2.INTER_AREA)
-            observation[feature] = pixels
+            observation[feature] = resize_image(pixels, width, height)
         if self.state_size is not None:
             observation[keys.STATE] = self._state(message_of)
         return observation

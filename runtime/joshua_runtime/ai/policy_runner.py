@@ -6,7 +6,15 @@ from JSON whose steps are checked first (data_only.check_processor_steps): nothi
 Normalisation, batching and device placement are done by the `policy_preprocessor` /
 `policy_postprocessor` pipelines saved with the policy (`make_pre_post_processors` with the
 policy directory as `pretrained_path`); the observation is prepared with LeRobot's
-`predict_action` (images HWC uint8 -> CHW float in [0, 1], batch dimension added).
+`predict_action` (images HWC uint8 -> CHW float in [0, 1], batch dimension added), with the task
+string that a language-conditioned policy (SmolVLA) takes as its instruction.
+
+A SmolVLA policy reads its vision-language backbone (configuration, tokenizer) from the directory
+its config.json and its tokenizer step name. When the policy holds it (`vlm/`, as `joshua-train
+imitation` saves it), both are pointed at that copy, whose files data_only has checked, wherever the
+policy was moved; otherwise they name a Hugging Face Hub model (`lerobot/smolvla_base` names
+`HuggingFaceTB/SmolVLM2-500M-Video-Instruct`), read from the Hub cache. The backbone's weights are
+always those of the policy's model.safetensors (`load_vlm_weights` off).
 Importing this module imports torch and LeRobot.
 """
 
@@ -19,7 +27,7 @@ import torch
 
 from joshua_runtime.ai import data_only
 from joshua_runtime.ai import features as keys
-from joshua_runtime.ai.model_files import SUPPORTED_POLICY_TYPES
+from joshua_runtime.ai.model_files import SMOLVLA_BACKBONE, SUPPORTED_POLICY_TYPES, TOKENIZER_STEP
 from joshua_runtime.errors import SettingsError
 
 
@@ -64,12 +72,17 @@ class PolicyRunner:
         if hasattr(config, "pretrained_backbone_weights"):
             # The checkpoint holds the backbone weights; never fetch torchvision's.
             config.pretrained_backbone_weights = None
+        overrides = {"device_processor": {"device": str(self.device)}}
+        if hasattr(config, "vlm_model_name"):
+            config.load_vlm_weights = False  # the checkpoint holds them
+            backbone = Path(policy_dir) / SMOLVLA_BACKBONE
+            if backbone.is_dir():
+                config.vlm_model_name = str(backbone)
+                overrides[TOKENIZER_STEP] = {"tokenizer_name": str(backbone)}
         self.config = config
         self.policy = get_policy_class(config.type).from_pretrained(policy_dir, config=config)
         self.preprocessor, self.postprocessor = make_pre_post_processors(
-            config,
-            pretrained_path=str(policy_dir),
-            preprocessor_overrides={"device_processor": {"device": str(self.device)}},
+            config, pretrained_path=str(policy_dir), preprocessor_overrides=overrides
         )
         self.shapes = _shapes(config)
 
@@ -77,8 +90,9 @@ class PolicyRunner:
         """Forget queued actions and observation history (after a gap in the inputs)."""
         self.policy.reset()
 
-    def act(self, observation: dict[str, np.ndarray]) -> np.ndarray:
-        """One action (float32 vector) for an observation of HWC uint8 images and a float32 state."""
+    def act(self, observation: dict[str, np.ndarray], task: str = "") -> np.ndarray:
+        """One action (float32 vector) for an observation of HWC uint8 images and a float32 state; `task`
+        is the instruction of a language-conditioned policy."""
         from lerobot.utils.control_utils import predict_action
 
         action = predict_action(
@@ -88,12 +102,12 @@ class PolicyRunner:
             self.preprocessor,
             self.postprocessor,
             use_amp=False,
-            task="",
+            task=task,
             robot_type="",
         )
         return action.squeeze(0).to("cpu").numpy().astype(np.float32)
 
-    def act_chunk(self, observation: dict[str, np.ndarray]) -> np.ndarray:
+    def act_chunk(self, observation: dict[str, np.ndarray], task: str = "") -> np.ndarray:
         """The whole action chunk (steps x action size, float32) the policy predicts for one observation.
 
         ACT predicts `chunk_size` actions; Diffusion `n_action_steps` from its observation history,
@@ -104,7 +118,7 @@ class PolicyRunner:
         from lerobot.utils.constants import ACTION, OBS_IMAGES
 
         with torch.inference_mode():
-            batch = prepare_observation_for_inference(dict(observation), self.device, "", "")
+            batch = prepare_observation_for_inference(dict(observation), self.device, task, "")
             batch = self.preprocessor(batch)
             if self.config.type == "diffusion":
                 batch = {key: value for key, value in batch.items() if key != ACTION}
@@ -115,13 +129,13 @@ class PolicyRunner:
             actions = self.postprocessor(chunk.squeeze(0))
         return actions.to("cpu").numpy().astype(np.float32)
 
-    def warm_up(self) -> float:
+    def warm_up(self, task: str = "") -> float:
         """Run one inference on a blank observation, then reset; return its duration in seconds."""
         blank = {key: np.zeros((shape[1], shape[2], shape[0]), np.uint8) for key, shape in self.shapes.images.items()}
         if self.shapes.state_size is not None:
             blank[keys.STATE] = np.zeros(self.shapes.state_size, np.float32)
         start = time.perf_counter()
-        self.act(blank)
+        self.act(blank, task)
         elapsed = time.perf_counter() - start
         self.reset()
         return elapsed

@@ -2,8 +2,11 @@
 
     joshua-train rl --env ENV --steps N --output DIR [--seed S]        PPO (resumes a run in DIR)
                     [--backend mujoco|mjx] [--n-envs K]
-    joshua-train imitation --dataset DIR --policy act|diffusion --steps N --output DIR
+    joshua-train imitation --dataset DIR --policy act|diffusion|smolvla --steps N --output DIR
+                    [--device auto|cpu|cuda|mps] [--image-size WxH] [--workers W] [--processes N]
     joshua-train evaluate DIR --env ENV --episodes K [--json]          roll a saved policy out
+    joshua-train evaluate DIR --dataset DS --episodes IDS [--plot PNG] [--json]
+                                                                       actions against held-out episodes
     joshua-train evaluate --random --env ENV --episodes K [--json]     the random baseline
     joshua-train evaluate --zeros --env so100_reach --episodes K       goal angles 0 (the imitation baseline)
     joshua-train demonstrate --output DIR --episodes K                 scripted so100_reach demonstrations
@@ -18,6 +21,8 @@ from pathlib import Path
 
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.sim.gl_backend import configure_gl
+from joshua_runtime.train.devices import DEVICES
+from joshua_runtime.train.imitation import DEFAULT_WORKERS, POLICIES
 
 DEFAULT_CHECKPOINT_EVERY = 10_000
 DEFAULT_EVAL_EPISODES = 20
@@ -56,21 +61,45 @@ def _parser() -> argparse.ArgumentParser:
     rl.add_argument("--no-progress", action="store_true", help="no progress bar")
     imitation = sub.add_parser("imitation", help="train a LeRobot policy on a recorded dataset")
     imitation.add_argument("--dataset", required=True, help="LeRobotDataset directory (written by DATA_SUBSCRIBER)")
-    imitation.add_argument("--policy", required=True, choices=("act", "diffusion"))
+    imitation.add_argument("--policy", required=True, choices=POLICIES)
     imitation.add_argument("--steps", type=int, required=True, help="training steps")
     imitation.add_argument("--output", required=True, help="new directory for LeRobot's output")
     imitation.add_argument("--seed", type=int, default=0)
-    imitation.add_argument("--batch-size", type=int, default=8)
+    imitation.add_argument("--batch-size", type=int, default=8, help="frames per step and process")
+    imitation.add_argument("--device", choices=DEVICES, default="auto", help="auto: cuda, else mps, else cpu")
+    imitation.add_argument(
+        "--image-size",
+        type=_image_size,
+        help="resize camera frames to WIDTHxHEIGHT (e.g. 160x120); the policy keeps the size and serving resizes to it",
+    )
+    imitation.add_argument(
+        "--workers", type=int, default=DEFAULT_WORKERS, help="data-loader processes decoding frames (0: in this one)"
+    )
+    imitation.add_argument(
+        "--processes", type=int, default=1, help="data-parallel training processes (one per GPU, or CPU processes)"
+    )
+    imitation.add_argument(
+        "--vlm", help="smolvla: the vision-language backbone, a directory or Hub id (default: a small one made here)"
+    )
     imitation.add_argument(
         "--eval-episodes",
         type=int,
         default=0,
         help="evaluate on so100_reach afterwards (for demonstrations made by `demonstrate`)",
     )
-    evaluate = sub.add_parser("evaluate", help="roll a policy out in simulation")
+    evaluate = sub.add_parser("evaluate", help="roll a policy out in simulation, or compare it with held-out episodes")
     evaluate.add_argument("directory", nargs="?", help="policy directory (joshua-train rl output or a LeRobot policy)")
-    evaluate.add_argument("--env", required=True, help=env_help)
-    evaluate.add_argument("--episodes", type=int, required=True)
+    evaluate.add_argument("--env", help=env_help)
+    evaluate.add_argument(
+        "--episodes", required=True, help="simulated episodes K, or with --dataset the held-out episode indices (8,9)"
+    )
+    evaluate.add_argument(
+        "--dataset", help="LeRobot dataset whose held-out episodes the policy's actions are compared with"
+    )
+    evaluate.add_argument(
+        "--plot", help="with --dataset: PNG of predicted and recorded actions (default evaluation-<dataset>.png here)"
+    )
+    evaluate.add_argument("--device", default="cpu", help="with --dataset: torch device of the policy (cpu, cuda)")
     evaluate.add_argument("--random", action="store_true", help="uniform random actions (the baseline)")
     evaluate.add_argument(
         "--zeros",
@@ -123,49 +152,110 @@ def _rl(args) -> None:
         print(summary(metadata["evaluation"]))
 
 
-def _imitation(args) -> None:
+def _image_size(text: str) -> tuple[int, int]:
+    from joshua_runtime.ai.images import parse_size
+
+    try:
+        return parse_size(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from exc
+
+
+def _imitation(args, argv: list[str]) -> None:
     from joshua_runtime.ai import saved_policy
-    from joshua_runtime.train import imitation
+    from joshua_runtime.train import imitation, launch
     from joshua_runtime.train.envs import REACH
     from joshua_runtime.train.evaluation import summary
 
-    pretrained = imitation.train(
-        Path(args.dataset), args.policy, args.steps, Path(args.output), args.seed, args.batch_size
+    if args.processes < 1:
+        raise SettingsError(f"--processes must be positive, got {args.processes}")
+    options = imitation.TrainingOptions(
+        seed=args.seed,
+        batch_size=args.batch_size,
+        device=args.device,
+        image_size=args.image_size,
+        workers=args.workers,
+        vlm=args.vlm,
     )
+    if args.processes > 1 and not launch.launched():
+        pretrained = _launch_processes(args, argv, options)
+    else:
+        pretrained = imitation.train(Path(args.dataset), args.policy, args.steps, Path(args.output), options)
+        if not launch.is_main_process():
+            return
+    metadata = saved_policy.read(pretrained)
     print(f"saved {args.policy} policy in {pretrained}")
+    print(imitation.loss_summary(metadata))
     if args.eval_episodes > 0:
         result = run_evaluation(pretrained, REACH, args.eval_episodes)
         saved_policy.update(pretrained, evaluation=result)
         print(summary(result))
 
 
+def _launch_processes(args, argv: list[str], options) -> Path:
+    """Run this command as `--processes` processes (launch.py); the policy the first one saved."""
+    import tempfile
+
+    from joshua_runtime.ai import model_files
+    from joshua_runtime.train import imitation, launch
+
+    imitation.check_dataset(Path(args.dataset))
+    output = imitation.check_output(Path(args.output))
+    with tempfile.TemporaryDirectory(prefix="joshua-train-vlm-") as scratch:
+        if args.policy == "smolvla" and options.vlm is None:
+            from joshua_runtime.train import small_vlm  # one backbone for every process
+
+            argv = [*argv, "--vlm", str(small_vlm.write(Path(scratch) / model_files.SMOLVLA_BACKBONE))]
+        code = launch.run(args.processes, argv)
+    if code != 0:
+        raise JoshuaError(f"the {args.processes} training processes failed (exit code {code})")
+    return output / imitation.PRETRAINED_SUBDIRECTORY
+
+
 def _evaluate(args, parser) -> None:
     from joshua_runtime.train.envs import REACH
     from joshua_runtime.train.evaluation import summary
 
+    if args.dataset:
+        _evaluate_on_dataset(args, parser)
+        return
+    if args.env is None:
+        parser.error("give --env ENV (a simulated task) or --dataset DIR (held-out episodes)")
     if (args.random + args.zeros + bool(args.directory)) != 1:
         parser.error("give one of: a policy DIRECTORY, --random, --zeros")
     if args.zeros and args.env != REACH:
         parser.error(f"--zeros is the baseline of {REACH} demonstrations")
-    if args.episodes < 1:
+    if not args.episodes.isdigit() or int(args.episodes) < 1:
         parser.error(f"--episodes must be positive, got {args.episodes}")
     baseline = "random" if args.random else "zeros" if args.zeros else ""
-    result = run_evaluation(args.directory, args.env, args.episodes, baseline)
+    result = run_evaluation(args.directory, args.env, int(args.episodes), baseline)
     if args.json:
         print(json.dumps({key: result[key] for key in ("success_rate", "mean_return", "episodes")}))
     else:
         print(summary(result))
 
 
+def _evaluate_on_dataset(args, parser) -> None:
+    from joshua_runtime.train import dataset_evaluation
+
+    if not args.directory or args.random or args.zeros or args.env:
+        parser.error("--dataset compares a policy DIRECTORY with held-out episodes (no --env, --random, --zeros)")
+    episodes = dataset_evaluation.parse_episodes(args.episodes)
+    plot = Path(args.plot) if args.plot else Path(f"evaluation-{Path(args.dataset).name}.png")
+    result = dataset_evaluation.evaluate(Path(args.directory), Path(args.dataset), episodes, plot, args.device)
+    print(json.dumps(result) if args.json else dataset_evaluation.summary(result))
+
+
 def main(argv: list[str] | None = None) -> int:
     configure_gl()  # before MuJoCo is imported: demonstrations and LeRobot evaluations render a camera
     parser = _parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
     try:
         if args.command == "rl":
             _rl(args)
         elif args.command == "imitation":
-            _imitation(args)
+            _imitation(args, argv)
         elif args.command == "evaluate":
             _evaluate(args, parser)
         elif args.command == "demonstrate":
