@@ -19,7 +19,7 @@ BAG_FORMAT = "mcap"
 OUTPUT_FORMATS = ("lerobot", "parquet", BAG_FORMAT)
 # LeRobot policy types an INFERENCE node can run (`policy_type`, compared without case; a saved policy's
 # config.json names its type, and the node refuses any other).
-POLICY_TYPES = ("act", "diffusion")
+POLICY_TYPES = ("act", "diffusion", "smolvla")
 # The URDF a ROBOT_STATE_PUBLISHER publishes when `robot_description` is unset (shipped with joshua_runtime).
 DEFAULT_ROBOT_DESCRIPTION = "builtin:so100"
 # Torch devices an INFERENCE node runs a policy on (`device`); the first is the default.

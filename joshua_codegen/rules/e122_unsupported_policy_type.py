@@ -2,7 +2,7 @@
 
 What it checks:
     `policy_type` of an INFERENCE node, when set, is one of the LeRobot policy types joshua_runtime
-    runs (`act`, `diffusion`; upper or lower case).
+    runs (`act`, `diffusion`, `smolvla`; upper or lower case).
 
 Why it matters:
     The node compares it with the type saved in the policy's config.json when it starts, and refuses
@@ -11,7 +11,7 @@ Why it matters:
 Example:
     node {
       type: INFERENCE
-      policy_type: "smolvla"     # error: policy_type "smolvla" is not supported; supported: act, diffusion
+      policy_type: "pi0"     # error: policy_type "pi0" is not supported; supported: act, diffusion, smolvla
     }
 """
 

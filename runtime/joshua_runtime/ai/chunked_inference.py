@@ -37,7 +37,7 @@ class ChunkedInference:
         self.chunk_end_s: float | None = None  # when the last published chunk runs out (ROS clock)
         self.warned_run_out = False
         self._reset = False
-        self._pending: tuple[dict, float] | None = None
+        self._pending: tuple[dict, float, str] | None = None
         self._busy = False
         self._wake = threading.Condition()
         self._stopped = False
@@ -57,10 +57,10 @@ class ChunkedInference:
         with self._wake:
             return not self._busy and self._pending is None
 
-    def offer(self, observation: dict, stamp_s: float) -> None:
-        """The observation for the next call (taken at `stamp_s`, ROS clock)."""
+    def offer(self, observation: dict, stamp_s: float, task: str = "") -> None:
+        """The observation for the next call (taken at `stamp_s`, ROS clock), with the policy's instruction."""
         with self._wake:
-            self._pending = (observation, stamp_s)
+            self._pending = (observation, stamp_s, task)
             self._wake.notify()
 
     def interrupt(self) -> None:
@@ -77,19 +77,19 @@ class ChunkedInference:
                         self._wake.wait(IDLE_WAIT_S)
                     if self._stopped:
                         return
-                    (observation, stamp_s), self._pending = self._pending, None
+                    (observation, stamp_s, task), self._pending = self._pending, None
                     self._busy, reset, self._reset = True, self._reset, False
                 if reset:
                     self.runner.reset()
-                self._call(observation, stamp_s)
+                self._call(observation, stamp_s, task)
                 with self._wake:
                     self._busy = False
         except BaseException as exc:  # reported by the node's loop, which ends the process with it
             self.error = exc
 
-    def _call(self, observation: dict, stamp_s: float) -> None:
+    def _call(self, observation: dict, stamp_s: float, task: str) -> None:
         started = time.perf_counter()
-        chunk = self.runner.act_chunk(observation)
+        chunk = self.runner.act_chunk(observation, task)
         latency = time.perf_counter() - started
         self.calls += 1
         self.last_latency_s = latency

@@ -13,18 +13,28 @@ can be told, with pickletools (which only parses):
 A LeRobot processor pipeline (`policy_preprocessor.json`, `policy_postprocessor.json`) may only name
 the registered data steps of ALLOWED_PROCESSOR_STEPS (a `class` entry is a Python import path that
 LeRobot would import and call), and read its state from a safetensors file of the same directory.
+A SmolVLA policy reads its backbone's configuration and tokenizer (JSON) from its own `vlm/` directory,
+checked with the rest, or else from a Hugging Face Hub model named `owner/name`: a name that points
+at a directory elsewhere on this machine is refused, as its files were never checked.
 """
 
 import io
 import json
 import os
 import pickletools
+import re
 import stat
 import struct
 import zipfile
 from pathlib import Path, PurePosixPath
 
-from joshua_runtime.ai.model_files import ALLOWED_PROCESSOR_STEPS, PROCESSOR_FILES
+from joshua_runtime.ai.model_files import (
+    ALLOWED_PROCESSOR_STEPS,
+    CONFIG_FILE,
+    PROCESSOR_FILES,
+    SMOLVLA_BACKBONE,
+    TOKENIZER_STEP,
+)
 from joshua_runtime.errors import SettingsError
 
 PICKLE_SUFFIXES = (".pkl", ".pickle", ".joblib", ".pt", ".pth", ".ckpt")
@@ -39,6 +49,7 @@ _ZIP_MAGIC = b"PK\x03\x04"
 _NPY_MAGIC = b"\x93NUMPY"
 _SB3_SERIALIZED = b'":serialized:"'
 _SB3_VERSION_MEMBER = "_stable_baselines3_version"
+_HUB_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*/[A-Za-z0-9][A-Za-z0-9_.-]*")
 # Opcodes through which unpickling imports a name or calls something.
 _CODE_OPCODES = frozenset(
     {
@@ -128,6 +139,27 @@ def check_processor_steps(directory: Path, shown_as: Path | None = None) -> None
                 raise SettingsError(
                     f"{where} reads {state_file!r}, which is not a safetensors file of the policy directory"
                 )
+            if step["registry_name"] == TOKENIZER_STEP:
+                config = step.get("config") if isinstance(step.get("config"), dict) else {}
+                _check_backbone_name(Path(directory), config.get("tokenizer_name"), f"{where} (its tokenizer)")
+    config_path = Path(directory) / CONFIG_FILE
+    try:
+        config = json.loads(config_path.read_text()) if config_path.is_file() else {}
+    except (OSError, ValueError) as exc:
+        raise SettingsError(f"cannot read {shown / CONFIG_FILE}: {exc}") from exc
+    if isinstance(config, dict) and "vlm_model_name" in config:
+        _check_backbone_name(Path(directory), config["vlm_model_name"], f"{shown / CONFIG_FILE}: vlm_model_name")
+
+
+def _check_backbone_name(directory: Path, name, where: str) -> None:
+    """A SmolVLA backbone is the policy's own `vlm/` (loaded instead of `name`) or a Hub model `owner/name`."""
+    if (directory / SMOLVLA_BACKBONE).is_dir() and not (directory / SMOLVLA_BACKBONE).is_symlink():
+        return
+    if not isinstance(name, str) or not _HUB_ID.fullmatch(name) or os.path.exists(name):
+        raise SettingsError(
+            f"{where} is {name!r}: neither the policy's own {SMOLVLA_BACKBONE}/ directory nor a Hugging Face Hub "
+            "model (owner/name); files outside the policy directory are not loaded"
+        )
 
 
 def _files(directory: Path):

@@ -1,4 +1,4 @@
-"""INFERENCE node: serve a LeRobot policy (ACT, Diffusion) or a `joshua-train rl` PPO policy as a ROS 2 node.
+"""INFERENCE node: serve a LeRobot policy (ACT, Diffusion, SmolVLA) or a `joshua-train rl` PPO policy as a ROS 2 node.
 
 Settings used: `model_path` (a policy directory saved by LeRobot, or `registry:NAME[@REV]`),
 `policy_type` (optional check against the saved config), `device` (`cpu` / `cuda`), `inputs`
@@ -11,7 +11,9 @@ rate; with action chunks, the rate of the chunk's actions, i.e. of the dataset t
 
 JointState: at each tick the policy's `select_action` runs in the node's loop and one action is
 published, stamped with the observation's time (the oldest header stamp of the inputs used).
-JointTrajectory (ACT, Diffusion): the model runs in a background thread (`chunked_inference.py`) on the
+SmolVLA follows an instruction: the task it was trained on, or the last std_msgs/String sent to
+`/<node name>/task` (instruction.py).
+JointTrajectory (ACT, Diffusion, SmolVLA): the model runs in a background thread (`chunked_inference.py`) on the
 newest observation, and each call's whole chunk is published once, header stamped with the
 observation's time; the actuator executes it at its own rate while the next call runs.
 
@@ -29,7 +31,7 @@ import threading
 import time
 
 from joshua_core.node_types import JOINT_COMMAND_TYPES
-from joshua_runtime.ai import cpu_threads, data_only, model_files, registry, saved_policy
+from joshua_runtime.ai import cpu_threads, data_only, instruction, model_files, registry, saved_policy
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.chunked_inference import ChunkedInference
 from joshua_runtime.ai.latest_samples import LatestSamples
@@ -96,12 +98,20 @@ class InferenceNode(JoshuaNode):
         if self.chunked and saved_type == saved_policy.KIND_PPO:
             raise SettingsError(
                 f"{self.name}: a {saved_type} policy gives one action per call; action chunks "
-                f"({topic.message_type}) need an act or diffusion policy"
+                f"({topic.message_type}) need a LeRobot policy ({', '.join(model_files.SUPPORTED_POLICY_TYPES)})"
             )
         wanted = self.settings.policy_type
         if wanted and wanted.lower() != saved_type:
             raise SettingsError(f"policy_type is {wanted!r} but the policy in {self.policy_dir} is {saved_type!r}")
         self.rate_hz = 1.0 / settings_checks.period_s(self.settings)
+        self.task = ""
+        if instruction.follows_instructions(saved_type):
+            self.task = instruction.trained_task(self.policy_dir)
+            from std_msgs.msg import String
+
+            self.task_subscription = self.ros.create_subscription(
+                String, instruction.TASK_TOPIC, self._on_task, instruction.task_qos()
+            )
         self.samples = LatestSamples([t.name for t in inputs])
         self.subscriptions = [self.subscription(t, self.samples.callback(t.name)) for t in inputs]
         self.action_publisher = self.publisher(topic)
@@ -147,7 +157,7 @@ class InferenceNode(JoshuaNode):
             )
             for unused in self.mapper.unused_topics:
                 self.log.warning(f"input {unused} feeds no policy feature and is ignored")
-            warm_up_s = runner.warm_up()
+            warm_up_s = runner.warm_up(self.task)
             if self.chunked:
                 self.worker = ChunkedInference(runner, self._publish_chunk, 1.0 / self.rate_hz, self.log, self._now_s)
                 self.worker.start()
@@ -170,6 +180,11 @@ class InferenceNode(JoshuaNode):
         if not self.ready.is_set():
             return
         problems = self.samples.problems(INPUT_STALE_AFTER_S)
+        if instruction.follows_instructions(self.policy_type) and not self.task:
+            problems = [
+                *problems,
+                f"no instruction yet: publish one on {self.ros.resolve_topic_name(instruction.TASK_TOPIC)}",
+            ]
         if problems:
             self._hold("; ".join(problems))
             return
@@ -193,7 +208,7 @@ class InferenceNode(JoshuaNode):
             self.runner.reset()
             self.inputs_interrupted = False
         try:
-            action = self.runner.act(observation)
+            action = self.runner.act(observation, self.task)
         except Exception as exc:
             raise JoshuaError(f"inference failed: {type(exc).__name__}: {exc}") from exc
         if not all(math.isfinite(float(v)) for v in action):
@@ -207,7 +222,15 @@ class InferenceNode(JoshuaNode):
         if self.inputs_interrupted:
             self.worker.interrupt()
             self.inputs_interrupted = False
-        self.worker.offer(observation, self._observation_s())
+        self.worker.offer(observation, self._observation_s(), self.task)
+
+    def _on_task(self, message) -> None:
+        """A new instruction: follow it from the next tick, after a reset (queued actions were for the old one)."""
+        if message.data == self.task:
+            return
+        self.task = message.data
+        self.inputs_interrupted = True
+        self.log.info(f"instruction: {self.task!r}")
 
     def _publish_chunk(self, chunk, stamp_s: float) -> None:
         """Called by the inference thread with each call's chunk (steps x joints)."""

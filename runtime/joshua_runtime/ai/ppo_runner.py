@@ -49,7 +49,8 @@ class PpoRunner:
     def reset(self) -> None:
         self._previous = None
 
-    def act(self, observation: dict[str, np.ndarray]) -> np.ndarray:
+    def act(self, observation: dict[str, np.ndarray], task: str = "") -> np.ndarray:
+        """Goal angles of the arm joints; `task` is ignored (a PPO policy takes no instruction)."""
         positions = np.asarray(observation[keys.STATE], dtype=float)
         velocities = (
             np.zeros_like(positions) if self._previous is None else (positions - self._previous) / self.period_s
