@@ -88,14 +88,10 @@ def train_tiny_act(workdir: Path, chunk_size: int = CHUNK_SIZE) -> Path:
     from joshua_runtime.train import imitation
 
     dataset = record_dataset(Path(workdir) / "dataset")
-    return imitation.train(
-        dataset,
-        "act",
-        TRAINING_STEPS,
-        Path(workdir) / "act",
-        batch_size=BATCH_SIZE,
-        sizes={"chunk_size": chunk_size, "n_action_steps": 1},
+    options = imitation.TrainingOptions(
+        batch_size=BATCH_SIZE, device="cpu", workers=0, sizes={"chunk_size": chunk_size, "n_action_steps": 1}
     )
+    return imitation.train(dataset, "act", TRAINING_STEPS, Path(workdir) / "act", options)
 
 
 class _QuietLog:

@@ -76,3 +76,11 @@ def trained_act(tmp_path_factory, lerobot_offline) -> Path:
     from testsupport.tiny_act import train_tiny_act
 
     return train_tiny_act(tmp_path_factory.mktemp("tiny-act"))
+
+
+@pytest.fixture(scope="session")
+def trained_smolvla(tmp_path_factory, lerobot_offline) -> Path:
+    """A real SmolVLA (small backbone made offline, two tasks) trained once per session."""
+    from testsupport.tiny_smolvla import train_tiny_smolvla
+
+    return train_tiny_smolvla(tmp_path_factory.mktemp("tiny-smolvla"))

@@ -97,7 +97,10 @@ def fake_policy(directory, policy_type):
         ("missing", "inf_policy: error: model path {tmp}/missing is not a directory"),
         ("unregistered", "inf_policy: error: registry:nothing is not in the registry at {tmp}/registry"),
         ("mismatch", "inf_policy: error: policy_type is 'diffusion' but the policy in {tmp}/act is 'act'"),
-        ("unsupported", "inf_policy: error: policy type 'pi0' is not supported (supported: act, diffusion, smolvla, sb3-ppo)"),
+        (
+            "unsupported",
+            "inf_policy: error: policy type 'pi0' is not supported (supported: act, diffusion, smolvla, sb3-ppo)",
+        ),
         ("cuda", "inf_policy: error: device 'cuda' requested but CUDA is not available on this machine"),
         (
             "action_topic",

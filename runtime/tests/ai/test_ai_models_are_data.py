@@ -199,25 +199,26 @@ def test_a_lerobot_policy_loads_and_acts_without_unpickling(tmp_path, lerobot_of
     assert runner.warm_up() > 0
 
 
-def test_the_allowed_processor_steps_are_those_lerobot_saves_for_act_and_diffusion(lerobot_offline):
+def test_the_allowed_processor_steps_are_those_lerobot_saves_for_act_diffusion_and_smolvla(tmp_path, lerobot_offline):
     from lerobot.configs.types import FeatureType, PolicyFeature
-    from lerobot.policies.act.configuration_act import ACTConfig
-    from lerobot.policies.diffusion.configuration_diffusion import DiffusionConfig
     from lerobot.policies.factory import make_pre_post_processors
 
     from joshua_runtime.ai.model_files import ALLOWED_PROCESSOR_STEPS, SUPPORTED_POLICY_TYPES
+    from joshua_runtime.train import imitation, small_vlm
 
     features = {
         "input_features": {"observation.state": PolicyFeature(FeatureType.STATE, (2,))},
         "output_features": {"action": PolicyFeature(FeatureType.ACTION, (2,))},
     }
+    vlm = small_vlm.write(tmp_path / "vlm")
     saved = set()
-    for config_class in (ACTConfig, DiffusionConfig):
-        config = config_class(device="cpu", push_to_hub=False, pretrained_backbone_weights=None, **features)
-        assert config.type in SUPPORTED_POLICY_TYPES
+    for policy_type in SUPPORTED_POLICY_TYPES:
+        config = imitation.policy_config(policy_type, vlm=vlm)
+        config.input_features, config.output_features = features["input_features"], features["output_features"]
+        assert config.type == policy_type
         for pipeline in make_pre_post_processors(config, dataset_stats=None):
             saved.update(type(step)._registry_name for step in pipeline.steps)
-    assert sorted(saved) == list(ALLOWED_PROCESSOR_STEPS)
+    assert sorted(saved) == sorted(ALLOWED_PROCESSOR_STEPS)
 
 
 def inference_settings(model_path) -> dict:
