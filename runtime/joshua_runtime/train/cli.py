@@ -64,6 +64,9 @@ def _parser() -> argparse.ArgumentParser:
     imitation.add_argument("--policy", required=True, choices=POLICIES)
     imitation.add_argument("--steps", type=int, required=True, help="training steps")
     imitation.add_argument("--output", required=True, help="new directory for LeRobot's output")
+    imitation.add_argument(
+        "--episodes", help="train on these episodes only (e.g. 0-7), to evaluate on the others (default: all)"
+    )
     imitation.add_argument("--seed", type=int, default=0)
     imitation.add_argument("--batch-size", type=int, default=8, help="frames per step and process")
     imitation.add_argument("--device", choices=DEVICES, default="auto", help="auto: cuda, else mps, else cpu")
@@ -163,7 +166,7 @@ def _image_size(text: str) -> tuple[int, int]:
 
 def _imitation(args, argv: list[str]) -> None:
     from joshua_runtime.ai import saved_policy
-    from joshua_runtime.train import imitation, launch
+    from joshua_runtime.train import dataset_evaluation, imitation, launch
     from joshua_runtime.train.envs import REACH
     from joshua_runtime.train.evaluation import summary
 
@@ -176,6 +179,7 @@ def _imitation(args, argv: list[str]) -> None:
         image_size=args.image_size,
         workers=args.workers,
         vlm=args.vlm,
+        episodes=dataset_evaluation.parse_episodes(args.episodes) if args.episodes else None,
     )
     if args.processes > 1 and not launch.launched():
         pretrained = _launch_processes(args, argv, options)

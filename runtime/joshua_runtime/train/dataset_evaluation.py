@@ -15,7 +15,7 @@ from joshua_runtime.ai import data_only, model_files
 from joshua_runtime.ai import features as keys
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.train import action_plot
-from joshua_runtime.train.imitation import check_dataset
+from joshua_runtime.train.imitation import check_dataset, check_episodes
 
 
 def parse_episodes(text: str) -> list[int]:
@@ -58,11 +58,8 @@ def evaluate(model: Path, dataset: Path, episodes: list[int], plot: Path, device
         raise SettingsError(f"policy directory {model} does not exist")
     policy_dir = model_files.policy_directory(path)
     data_only.check(policy_dir)
+    check_episodes(dataset, episodes)
     frame_episodes, actions = recorded_actions(dataset)
-    known = sorted(set(frame_episodes.tolist()))
-    unknown = [episode for episode in episodes if episode not in known]
-    if unknown:
-        raise SettingsError(f"dataset {dataset} has no episode {unknown[0]} (episodes {known[0]}-{known[-1]})")
     others = ~np.isin(frame_episodes, episodes)
     if not others.any():
         raise SettingsError("every episode is held out: the mean-action baseline needs at least one other episode")

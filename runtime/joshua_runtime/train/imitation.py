@@ -7,8 +7,8 @@ downloaded), images read with PyAV, LeRobot's progress bar. Options (TrainingOpt
 data-loader workers. Several processes are started by `launch.py`; each runs this loop.
 OUTPUT is LeRobot's output directory (it must not exist yet); the policy is saved by LeRobot's
 `save_pretrained` in `OUTPUT/checkpoints/last/pretrained_model`, where `joshua_policy.json` records
-the dataset, its tasks, steps, seed, device, image size, processes, the loss curve and, when asked,
-an evaluation. A SmolVLA policy keeps its vision-language backbone's configuration and tokenizer in
+the dataset, the episodes trained on, its tasks, steps, seed, device, image size, processes (and the
+backend they exchanged gradients over), the loss curve and, when asked, an evaluation. A SmolVLA policy keeps its vision-language backbone's configuration and tokenizer in
 `pretrained_model/vlm` (model_files.SMOLVLA_BACKBONE), so it loads without the Hub.
 """
 
@@ -73,6 +73,7 @@ class TrainingOptions:
     image_size: tuple[int, int] | None = None  # (width, height)
     workers: int = DEFAULT_WORKERS
     vlm: str | None = None  # SmolVLA's backbone: a directory or a Hub id; None: small_vlm.py's
+    episodes: list[int] | None = None  # the dataset's episodes to train on; None: all
     sizes: dict | None = None  # replace some of the policy's default sizes
 
 
@@ -118,6 +119,17 @@ def check_dataset(dataset: Path) -> Path:
     return dataset
 
 
+def check_episodes(dataset: Path, episodes: list[int]) -> list[int]:
+    """`episodes` when the dataset has each of them; a SettingsError naming the first it lacks."""
+    import json
+
+    total = int(json.loads((Path(dataset) / "meta" / "info.json").read_text()).get("total_episodes", 0))
+    unknown = [episode for episode in episodes if not 0 <= episode < total]
+    if unknown:
+        raise SettingsError(f"dataset {dataset} has no episode {unknown[0]} (it has episodes 0-{total - 1})")
+    return episodes
+
+
 def check_output(output: Path) -> Path:
     output = Path(output).expanduser().absolute()
     if output.exists():
@@ -142,6 +154,8 @@ def train(dataset: Path, policy: str, steps: int, output: Path, options: Trainin
         raise SettingsError(f"--steps must be positive, got {steps}")
     if options.workers < 0:
         raise SettingsError(f"--workers must be 0 or more, got {options.workers}")
+    if options.episodes is not None:
+        check_episodes(dataset, options.episodes)
     device = devices.training_device(options.device)
     with tempfile.TemporaryDirectory(prefix="joshua-train-vlm-") as scratch:
         vlm = options.vlm
@@ -162,12 +176,14 @@ def train(dataset: Path, policy: str, steps: int, output: Path, options: Trainin
             "kind": saved_policy.KIND_LEROBOT,
             "policy_type": policy,
             "dataset": str(dataset),
+            "episodes": options.episodes,
             "tasks": dataset_tasks(dataset),
             "steps": steps,
             "seed": options.seed,
             "device": device,
             "image_size": list(options.image_size) if options.image_size else None,
             "processes": launch.world_size(),
+            "distributed_backend": losses.backend,
             "loss": losses.curve(),
             "evaluation": None,
         },
@@ -182,7 +198,9 @@ def _run_lerobot(dataset: Path, config, steps: int, output: Path, options: Train
     from joshua_runtime.train.lerobot_hooks import LossRecord, instrumented
 
     pipeline = TrainPipelineConfig(
-        dataset=DatasetConfig(repo_id=f"local/{dataset.name}", root=str(dataset), video_backend="pyav"),
+        dataset=DatasetConfig(
+            repo_id=f"local/{dataset.name}", root=str(dataset), episodes=options.episodes, video_backend="pyav"
+        ),
         policy=config,
         output_dir=output,
         seed=options.seed,

@@ -6,7 +6,8 @@ run and puts them back afterwards:
 - `make_dataset`: with an image size, every camera frame is resized by `images.resize` (the function
   INFERENCE nodes resize camera images with) and the dataset's features say the new shape, so the
   policy is built for, and saved with, that input shape;
-- `update_policy`: each step's loss is kept (LossRecord), for joshua_policy.json and the summary line.
+- `update_policy`: each step's loss is kept (LossRecord), for joshua_policy.json and the summary line,
+  with the backend several processes exchange gradients over (gloo, nccl; None for one process).
 """
 
 import sys
@@ -52,15 +53,17 @@ def resize_dataset(dataset, size: tuple[int, int]):
 
 
 class LossRecord:
-    """The loss of every training step this process ran."""
+    """The loss of every training step this process ran, and the distributed backend they ran over."""
 
     def __init__(self):
         self.losses: list[float] = []
+        self.backend: str | None = None
 
     def wrap(self, update_policy):
         def update(train_tracker, *args, **kwargs):
             tracker, output = update_policy(train_tracker, *args, **kwargs)
             self.losses.append(float(tracker.loss.val))
+            self.backend = self.backend or _distributed_backend()
             return tracker, output
 
         return update
@@ -72,6 +75,14 @@ class LossRecord:
             {"step": int(window[-1]) + 1, "loss": round(float(np.mean([self.losses[i] for i in window])), 6)}
             for window in windows
         ]
+
+
+def _distributed_backend() -> str | None:
+    import torch.distributed
+
+    if torch.distributed.is_available() and torch.distributed.is_initialized():
+        return str(torch.distributed.get_backend())
+    return None
 
 
 @contextmanager
