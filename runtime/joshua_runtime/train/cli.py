@@ -15,6 +15,7 @@ Environments: so100_reach, so100_push. Exit codes: 0 success, 1 failure, 2 bad a
 """
 
 import argparse
+import contextlib
 import json
 import sys
 from pathlib import Path
@@ -232,7 +233,8 @@ def _evaluate(args, parser) -> None:
     if not args.episodes.isdigit() or int(args.episodes) < 1:
         parser.error(f"--episodes must be positive, got {args.episodes}")
     baseline = "random" if args.random else "zeros" if args.zeros else ""
-    result = run_evaluation(args.directory, args.env, int(args.episodes), baseline)
+    with contextlib.redirect_stdout(sys.stderr):  # what LeRobot prints while loading; stdout is the result's
+        result = run_evaluation(args.directory, args.env, int(args.episodes), baseline)
     if args.json:
         print(json.dumps({key: result[key] for key in ("success_rate", "mean_return", "episodes")}))
     else:
@@ -246,7 +248,8 @@ def _evaluate_on_dataset(args, parser) -> None:
         parser.error("--dataset compares a policy DIRECTORY with held-out episodes (no --env, --random, --zeros)")
     episodes = dataset_evaluation.parse_episodes(args.episodes)
     plot = Path(args.plot) if args.plot else Path(f"evaluation-{Path(args.dataset).name}.png")
-    result = dataset_evaluation.evaluate(Path(args.directory), Path(args.dataset), episodes, plot, args.device)
+    with contextlib.redirect_stdout(sys.stderr):  # what LeRobot prints while loading; stdout is the result's
+        result = dataset_evaluation.evaluate(Path(args.directory), Path(args.dataset), episodes, plot, args.device)
     print(json.dumps(result) if args.json else dataset_evaluation.summary(result))
 
 
