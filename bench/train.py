@@ -9,7 +9,12 @@
    next to the random baseline (success rate, mean return, mean final distance).
 3. Imitation round trip: scripted demonstrations -> ACT (joshua-train imitation) -> evaluation,
    next to the zeros baseline; skipped with --quick.
---quick: fewer steps everywhere (batch 1024, MJX and imitation skipped, 5k PPO steps).
+4. Seconds per training step of `joshua-train imitation` and of LeRobot's `lerobot-train`, the same
+   ACT on the same 320x240 video recording (support/training_steps.py), lerobot-train with torch's
+   default threads and with joshua-train's one, run in turn (the best of `rounds` runs each); then
+   joshua-train with --image-size 160x120.
+--quick: fewer steps everywhere (batch 1024, MJX and imitation skipped, 5k PPO steps, a short
+recording, 3 training steps of batch 1, one round, lerobot-train on one thread only, no resized run).
 """
 
 import argparse
@@ -24,7 +29,16 @@ from joshua_runtime.sim.gl_backend import configure_gl
 
 configure_gl()
 
-from joshua_runtime.train import actors, envs, evaluation, ppo  # noqa: E402  (after the GL backend is chosen)
+from support import training_steps  # noqa: E402
+
+from joshua_runtime.train import actors, envs, evaluation, imitation, ppo  # noqa: E402  (after GL is chosen)
+from testsupport import tiny_act  # noqa: E402
+
+# The step-time comparison (section 4): recording, training steps, batch, data-loader workers, rounds, and
+# whether lerobot-train also runs on torch's default threads (one per core).
+STEP_RUN = dict(episodes=4, frames=50, steps=20, batch_size=4, workers=2, rounds=1, default_threads=True)
+QUICK_STEP_RUN = dict(episodes=1, frames=10, steps=3, batch_size=1, workers=0, rounds=1, default_threads=False)
+RESIZED = "160x120"
 
 
 def env_steps_per_s(env_id: str, batch: int, steps: int) -> float:
@@ -89,11 +103,11 @@ def main() -> None:
         print("random: " + evaluation.summary(evaluation.evaluate(lambda env: None, envs.REACH, episodes)))
         if not args.quick:
             imitation_round_trip(Path(scratch))
+        step_times(Path(scratch), QUICK_STEP_RUN if args.quick else STEP_RUN, resized=not args.quick)
 
 
 def imitation_round_trip(scratch: Path, demonstrations: int = 10, train_steps: int = 200, episodes: int = 20) -> None:
     from joshua_runtime.train import demonstrations as demos
-    from joshua_runtime.train import imitation
 
     print(f"== imitation: {demonstrations} scripted demonstrations -> ACT, {train_steps} steps")
     start = time.perf_counter()
@@ -109,6 +123,41 @@ def imitation_round_trip(scratch: Path, demonstrations: int = 10, train_steps: i
     print(f"recording {recorded - start:.1f} s, training {trained - recorded:.1f} s")
     print("act:    " + evaluation.summary(result))
     print("zeros:  " + evaluation.summary(baseline))
+
+
+def step_times(scratch: Path, settings: dict, resized: bool) -> None:
+    width, height = tiny_act.WIDTH, tiny_act.HEIGHT
+    dataset = tiny_act.record_dataset(
+        scratch / "recording", settings["episodes"], settings["frames"], (width, height), use_videos=True
+    )
+    run = training_steps.Run(dataset, settings["steps"], settings["batch_size"], settings["workers"])
+    print(
+        f"== seconds per training step: ACT (joshua-train's sizes), {settings['episodes']} episodes x "
+        f"{settings['frames']} frames of {width}x{height} video, batch {run.batch_size}, {run.workers} workers, CPU"
+    )
+    one_thread = imitation.TORCH_THREADS
+    contenders = {
+        "joshua-train imitation": (training_steps.joshua_train, None),
+        "lerobot-train": (training_steps.lerobot_train, None),
+        f"lerobot-train, OMP_NUM_THREADS={one_thread}": (training_steps.lerobot_train, one_thread),
+    }
+    if not settings["default_threads"]:
+        del contenders["lerobot-train"]
+    best = {}
+    for round_ in range(settings["rounds"]):
+        for number, (name, (command, threads)) in enumerate(contenders.items()):
+            measured = training_steps.measure(command(run, scratch / f"run-{round_}-{number}"), threads)
+            if name not in best or measured.step_s < best[name].step_s:
+                best[name] = measured
+    for name, measured in best.items():
+        print(training_steps.row(name, measured, run.steps))
+    ours = best["joshua-train imitation"].step_s
+    for name in list(contenders)[1:]:
+        print(f"joshua-train imitation / {name}: {ours / best[name].step_s:.2f}x per step")
+    if resized:
+        smaller = training_steps.Run(dataset, run.steps, run.batch_size, run.workers, image_size=RESIZED)
+        measured = training_steps.measure(training_steps.joshua_train(smaller, scratch / "joshua-resized"))
+        print(training_steps.row(f"joshua-train imitation --image-size {RESIZED}", measured, run.steps))
 
 
 if __name__ == "__main__":
