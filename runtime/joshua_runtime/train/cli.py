@@ -7,6 +7,8 @@
     joshua-train evaluate DIR --env ENV --episodes K [--json]          roll a saved policy out
     joshua-train evaluate DIR --dataset DS --episodes IDS [--plot PNG] [--json]
                                                                        actions against held-out episodes
+    joshua-train evaluate --replay --dataset DS --episodes IDS [--json]
+                                                                       recorded commands on the simulated arm
     joshua-train evaluate --random --env ENV --episodes K [--json]     the random baseline
     joshua-train evaluate --zeros --env so100_reach --episodes K       goal angles 0 (the imitation baseline)
     joshua-train demonstrate --output DIR --episodes K                 scripted so100_reach demonstrations
@@ -104,6 +106,11 @@ def _parser() -> argparse.ArgumentParser:
         "--plot", help="with --dataset: PNG of predicted and recorded actions (default evaluation-<dataset>.png here)"
     )
     evaluate.add_argument("--device", default="cpu", help="with --dataset: torch device of the policy (cpu, cuda)")
+    evaluate.add_argument(
+        "--replay",
+        action="store_true",
+        help="with --dataset: drive the simulated SO-100 with the episodes' recorded commands, compare its joints",
+    )
     evaluate.add_argument("--random", action="store_true", help="uniform random actions (the baseline)")
     evaluate.add_argument(
         "--zeros",
@@ -221,6 +228,9 @@ def _evaluate(args, parser) -> None:
     from joshua_runtime.train.envs import REACH
     from joshua_runtime.train.evaluation import summary
 
+    if args.replay:
+        _replay(args, parser)
+        return
     if args.dataset:
         _evaluate_on_dataset(args, parser)
         return
@@ -251,6 +261,15 @@ def _evaluate_on_dataset(args, parser) -> None:
     with contextlib.redirect_stdout(sys.stderr):  # what LeRobot prints while loading; stdout is the result's
         result = dataset_evaluation.evaluate(Path(args.directory), Path(args.dataset), episodes, plot, args.device)
     print(json.dumps(result) if args.json else dataset_evaluation.summary(result))
+
+
+def _replay(args, parser) -> None:
+    from joshua_runtime.train import dataset_evaluation, replay
+
+    if not args.dataset or args.directory or args.random or args.zeros or args.env or args.plot:
+        parser.error("--replay drives the simulation with a --dataset's commands (no DIRECTORY, --env, --plot)")
+    result = replay.replay(Path(args.dataset), dataset_evaluation.parse_episodes(args.episodes))
+    print(json.dumps(result) if args.json else replay.summary(result))
 
 
 def main(argv: list[str] | None = None) -> int:
