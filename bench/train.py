@@ -36,7 +36,7 @@ from testsupport import tiny_act  # noqa: E402
 
 # The step-time comparison (section 4): recording, training steps, batch, data-loader workers, rounds, and
 # whether lerobot-train also runs on torch's default threads (one per core).
-STEP_RUN = dict(episodes=4, frames=50, steps=20, batch_size=4, workers=2, rounds=1, default_threads=True)
+STEP_RUN = dict(episodes=4, frames=50, steps=20, batch_size=4, workers=2, rounds=2, default_threads=True)
 QUICK_STEP_RUN = dict(episodes=1, frames=10, steps=3, batch_size=1, workers=0, rounds=1, default_threads=False)
 RESIZED = "160x120"
 
