@@ -7,9 +7,11 @@ export UV_PYTHON_DOWNLOADS=never
 # System packages: systemd-analyze (unit checks), Mesa EGL (MuJoCo offscreen rendering), the libraries
 # Qt needs offscreen, the compiler and JSON header of the C++ nodes (g++ also builds the ROS
 # interface packages no wheel ships, from interfaces/), Node.js with npm (the dashboard page) and
-# Chromium's headless shell (the browser tests drive it through Playwright), and what builds and runs
-# container images without a daemon: podman with runc and catatonit, debootstrap for a registry-free base.
-APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core g++ make nlohmann-json3-dev nodejs chromium-headless-shell podman runc catatonit debootstrap)
+# Chromium's headless shell (the browser tests drive it through Playwright), what builds and runs
+# container images without a daemon: podman with runc and catatonit, debootstrap for a registry-free base,
+# and OpenSSH's server and client (the fleet tests run one sshd per simulated robot, in network namespaces;
+# never on this machine's network).
+APT_PACKAGES=(systemd libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 libxkbcommon0 libfontconfig1 libfreetype6 libdbus-1-3 libglib2.0-0 fonts-dejavu-core g++ make nlohmann-json3-dev nodejs chromium-headless-shell podman runc catatonit debootstrap openssh-server openssh-client)
 missing=()
 for package in "${APT_PACKAGES[@]}"; do
   dpkg -s "$package" >/dev/null 2>&1 || missing+=("$package")
