@@ -38,6 +38,7 @@ from joshua_codegen.model import Robot
 from joshua_codegen.ownership import STAMP
 from joshua_codegen.placement import ROS_SYSTEM_SETUP
 from joshua_codegen.render import host_path, template
+from joshua_codegen.signing import DEFAULT_RELEASE_KEY
 from joshua_core import dashboard
 from joshua_core.control_plane import PROCESS_TYPE as HOST_AGENT_TYPE
 from joshua_core.node_types import spec
@@ -97,6 +98,7 @@ def uv(*arguments: str) -> str:
     return done.stdout
 
 
+@cache
 def wheels() -> dict[str, bytes]:
     """{wheel file name: content} of the workspace packages the runtime is made of."""
     with tempfile.TemporaryDirectory(prefix="joshuac-wheels-") as directory:
@@ -209,6 +211,7 @@ def _bundle(robot: Robot, built: dict[str, bytes]) -> dict[str, str | bytes]:
         local_requirements_name=LOCAL_REQUIREMENTS_NAME,
         extras=extras(robot),
         format_version=FORMAT_VERSION,
+        release_key=DEFAULT_RELEASE_KEY,
     )
     files: dict[str, str | bytes] = {f"{WHEEL_DIR}/{name}": data for name, data in built.items()}
     files[REQUIREMENTS] = requirements(robot, without_ros=ros_system)

@@ -4,7 +4,8 @@
 `sha256sum` (`sha256sum -c .joshuac-stamp` checks a tree by hand), after a first line `# joshuac VERSION`
 naming the joshuac that wrote it (GNU sha256sum skips lines starting with `#`; stamps without it are read too). A build replaces OUT only when
 OUT is missing, empty, or holds exactly files listed in its stamp with unchanged content; anything
-else (a file joshuac did not write, an edited generated file, a symbolic link) is refused.
+else (a file joshuac did not write, an edited generated file, a symbolic link) is refused. A signed build
+(`--sign`) also holds `OUT/.joshuac-stamp.sig`, the stamp's signature, which the stamp cannot list.
 
 A build stages its files in `.OUT.XXXXXXXX` next to OUT and holds an flock(2) on that directory
 while it works. A staging directory left by a killed build is removed by the next build of OUT
@@ -25,6 +26,7 @@ from pathlib import Path
 from joshua_codegen.version import VERSION
 
 STAMP = ".joshuac-stamp"
+SIGNATURE = f"{STAMP}.sig"  # `build --sign`: the stamp's Ed25519 signature (signing.py), not in the stamp itself
 STAMP_COMMENT = "# "
 _STAMP_LINE = re.compile(r"([0-9a-f]{64})  (.+)")
 # Longest list of offending paths printed in a refusal.
@@ -121,7 +123,7 @@ def survey(directory: Path) -> Survey:
     for name, status in entries:
         if stat.S_ISDIR(status.st_mode) and name in parents:
             continue
-        if name == STAMP and stat.S_ISREG(status.st_mode):
+        if name in (STAMP, SIGNATURE) and stat.S_ISREG(status.st_mode):
             continue
         if name not in listed or not stat.S_ISREG(status.st_mode):
             found.foreign.append(name)
@@ -203,7 +205,7 @@ def _is_stale_staging(path: Path) -> bool:
     for name, status in _entries(path):
         if stat.S_ISDIR(status.st_mode):
             continue
-        if name != STAMP and name not in listed:
+        if name not in (STAMP, SIGNATURE) and name not in listed:
             return False
     return True
 

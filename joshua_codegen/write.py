@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from joshua_codegen.ownership import (
+    SIGNATURE,
     STAMP,
     Survey,
     content_bytes,
@@ -36,16 +37,22 @@ def _file_mode(path: str) -> int:
     return 0o755 if is_executable(path) else 0o644
 
 
-def stamped(files: dict[str, str | bytes]) -> dict[str, str | bytes]:
+def stamped(files: dict[str, str | bytes], signer=None) -> dict[str, str | bytes]:
     """The files a build writes: the rendered ones and the stamp that proves joshuac wrote them. Each host's
     output of a robot on several hosts gets its own stamp too, since it is deployed (and its install.sh
-    checks it) on its own; the stamp of OUT lists those stamps as well."""
+    checks it) on its own; the stamp of OUT lists those stamps as well. With `signer(bytes) -> bytes`, every
+    stamp gets its signature beside it (SIGNATURE), those of the hosts listed in the stamp of OUT."""
     files = dict(files)
     for host in sorted({path.split("/")[1] for path in files if path.startswith(f"{HOSTS_DIR}/")}):
         prefix = host_path(host) + "/"
         part = {path[len(prefix) :]: text for path, text in files.items() if path.startswith(prefix)}
         files[prefix + STAMP] = stamp_text(part)
-    return {**files, STAMP: stamp_text(files)}
+        if signer is not None:
+            files[prefix + SIGNATURE] = signer(files[prefix + STAMP].encode("utf-8"))
+    written = {**files, STAMP: stamp_text(files)}
+    if signer is not None:
+        written[SIGNATURE] = signer(written[STAMP].encode("utf-8"))
+    return written
 
 
 def _resolved(out: Path) -> Path:
@@ -144,8 +151,9 @@ def _fill(staging: Path, files: dict[str, str | bytes], out: Path, reusable: dic
         os.chmod(staging / directory, 0o755)
 
 
-def write_tree(files: dict[str, str | bytes], out: Path) -> None:
-    """Make `out` hold exactly `files` and their stamp: all of them or, on failure, what it held before.
+def write_tree(files: dict[str, str | bytes], out: Path, signer=None) -> None:
+    """Make `out` hold exactly `files` and their stamp (signed by `signer` when given): all of them or, on
+    failure, what it held before.
 
     Refuses (OutputError, nothing touched) when `out` holds anything joshuac did not write.
     """
@@ -154,7 +162,7 @@ def write_tree(files: dict[str, str | bytes], out: Path) -> None:
     reason, previous = inspect_output(out, given)
     if reason is not None:
         raise OutputError(reason)
-    files = stamped(files)
+    files = stamped(files, signer)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
         remove_stale_staging(out)
@@ -246,13 +254,14 @@ def diff_tree(files: dict[str, str | bytes], out: Path) -> TreeDifference:
     """How `out` differs from what it should hold, the version in the files' headers aside.
 
     The stamp (and each host's) is compared only for being there: its hashes follow the files, which are
-    compared themselves."""
+    compared themselves; a signature is not compared."""
     current = read_tree(out)
     chunks, differing = [], []
     stamps = {path for path in stamped(files) if path.rpartition("/")[2] == STAMP}
     if out.is_dir():
         differing += [(path, "missing") for path in sorted(stamps) if path not in current]
-    for relative in sorted((set(files) | set(current)) - stamps):
+    signatures = {path for path in set(files) | set(current) if path.rpartition("/")[2] == SIGNATURE}
+    for relative in sorted((set(files) | set(current)) - stamps - signatures):
         want = files.get(relative)
         if isinstance(want, bytes):
             have_bytes = (out / relative).read_bytes() if relative in current else None
