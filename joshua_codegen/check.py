@@ -4,6 +4,7 @@ Load errors inside nodes do not stop the rules: they check every node that was r
 others are "unknown", see rules/__init__.py). Load errors elsewhere (robot settings, the file root)
 stop before the rules, since every rule reads those. Override errors do not stop them. When `has_errors` is False, `description` is valid
 for every later stage: enum values, names, topics, ranges and required fields are checked.
+A fleet file (its first field is `fleet_config`) is checked by fleet/check.py instead.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from joshua_codegen.diagnostics import ERROR, Diagnostic, sort_diagnostics
+from joshua_codegen.fleet.load import is_fleet_text
 from joshua_codegen.load import NOT_TEXT, LoadResult, load_text
 from joshua_codegen.model import Robot
 from joshua_codegen.overrides import OVERRIDE_PATH, UNKNOWN_OVERRIDE_TARGET, apply_overrides
@@ -66,6 +68,10 @@ def check_text(path: str, text: str, overrides: Sequence[str] = (), prefix: str 
             path, line, column, NOT_TEXT, ERROR, "the file contains a NUL character: is it a binary file?"
         )
         return CheckResult(path, text, None, [problem], overrides)
+    if is_fleet_text(text):
+        from joshua_codegen.fleet.check import check_fleet_text
+
+        return check_fleet_text(path, text, overrides)
     loaded = load_text(path, text)
     if loaded.description is None and loaded.partial is None:
         return CheckResult(path, text, None, sort_diagnostics(loaded.diagnostics), overrides)

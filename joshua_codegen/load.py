@@ -104,7 +104,7 @@ class _Binder:
         hint = suggest(name, descriptor.fields_by_name)
         if hint:
             message += f'; did you mean "{hint}"?'
-        elif name in _HOMES and _HOMES[name] != _BLOCKS.get(descriptor.full_name):
+        elif descriptor.full_name in _BLOCKS and name in _HOMES and _HOMES[name] != _BLOCKS[descriptor.full_name]:
             message += f"; it belongs in {_HOMES[name]} {{ ... }}"
         self.report(UNKNOWN_FIELD, field.name, field.name, message)
 
@@ -333,3 +333,16 @@ def load_text(path: str, text: str) -> LoadResult:
             frozenset(binder.unknown_nodes),
         )
     return LoadResult(description, binder.source, [])
+
+
+def load_message(path: str, text: str, root_type):
+    """Parse and bind a text whose file root is another schema message (`root_type`, e.g. a fleet's):
+    (the message, or None when any problem was found; source positions; every load diagnostic)."""
+    binder = _Binder(path)
+    document, problems = parse_recovering(text)
+    binder.diagnostics += [syntax_diagnostic(path, problem) for problem in problems]
+    if document is None:
+        return None, binder.source, binder.diagnostics
+    message = root_type()
+    binder.bind_fields(document.fields, message, ())
+    return (None if binder.diagnostics else message), binder.source, binder.diagnostics

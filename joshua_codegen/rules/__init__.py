@@ -10,6 +10,7 @@ W = warning, reported while the build goes on):
     E3xx        QoS
     E4xx        hardware: serial ports, cameras, servo ids, baud rates, joint names
     E5xx, W5xx  modes and process settings
+    E6xx        fleet files: names, addresses, ROS domains and rollout settings of a fleet's robots
 
 Each code lives in one module `rules/<code>_<name>.py` with `CODE`, `NAME`, `SEVERITY`, `STAGE`
 and a docstring under the headings "What it checks", "Why it matters" and "Example". A docstring
@@ -17,7 +18,8 @@ names node types through placeholders that the module's `TYPE_LISTS` fills from 
 (joshua_codegen/type_lists.py), never by a list written out.
 `STAGE` says who reports it: "load" (the loader), "override" (the `--set` parser), "check" (the
 module's own `check(ctx)`, which yields `Finding`s) or "plan" (also `check(ctx)`, reading the planned
-model `ctx.robot`; run only when nothing before found an error, since only a valid description plans).
+model `ctx.robot`; run only when nothing before found an error, since only a valid description plans)
+or "fleet" (`check(ctx)` on a fleet file, ctx being fleet/check.py's FleetContext).
 
 When loading found problems inside some nodes only, the "check" rules still run on the rest: those
 nodes are left out of `ctx.nodes` and of the topic index. A rule that concludes from something being

@@ -48,8 +48,8 @@ def test_every_rule_is_documented_and_has_a_fixture(code):
     assert all(p > 0 for p in positions) and positions == sorted(positions), f"{code} lacks the headings {HEADINGS}"
     assert re.fullmatch(r"[a-z0-9]+(-[a-z0-9]+)*", module.NAME)
     assert module.SEVERITY == ("error" if code.startswith("E") else "warning")
-    assert module.STAGE in ("load", "override", "check", "plan")
-    assert module.STAGE not in ("check", "plan") or callable(module.check)
+    assert module.STAGE in ("load", "override", "check", "plan", "fleet")
+    assert module.STAGE not in ("check", "plan", "fleet") or callable(module.check)
     assert module.__name__.rsplit(".", 1)[1].startswith(code.lower() + "_" + module.NAME.replace("-", "_"))
     assert (FIXTURES / code / "bad.pbtxt").exists()
     assert (FIXTURES / code / "expected.txt").exists()
