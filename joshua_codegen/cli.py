@@ -129,12 +129,33 @@ def check(configs, overrides, output_format) -> None:
     is_flag=True,
     help="Also write a container image's build context: the bundle, OUT/Containerfile and OUT/.containerignore.",
 )
+@click.option(
+    "--sign",
+    "sign_key",
+    default=None,
+    metavar="KEY",
+    type=click.Path(dir_okay=False),
+    help="Sign the stamp with this Ed25519 private key (joshuac keygen): OUT/.joshuac-stamp.sig.",
+)
 @set_option
 @format_option
-def build(config, out, prefix, check_only, bundle, image, overrides, output_format) -> None:
-    """Generate entrypoints, units, manifest and supervisor into OUT."""
+def build(config, out, prefix, check_only, bundle, image, sign_key, overrides, output_format) -> None:
+    """Generate entrypoints, units, manifest and supervisor into OUT (a fleet file: one release per robot)."""
     from joshua_codegen.write import OutputError, diff_tree, write_tree
 
+    signer = _signer(sign_key)
+    if _is_fleet_file(config):
+        from joshua_codegen.fleet.command import build_fleet
+
+        if prefix is not None:
+            raise click.UsageError(
+                "a fleet's releases live in /opt/joshua/current on each robot: --prefix does not apply"
+            )
+        if image:
+            raise click.UsageError(
+                "a fleet's releases are rolled out over SSH, each with its bundle: --image does not apply"
+            )
+        sys.exit(build_fleet(config, Path(out), overrides, output_format, signer, check_only))
     compilation = compile_or_exit(config, overrides, output_format, prefix)
     if image:
         from joshua_codegen.image import ImageError, image_files
@@ -167,11 +188,49 @@ def build(config, out, prefix, check_only, bundle, image, overrides, output_form
             sys.exit(EXIT_ERRORS)
         return
     try:
-        write_tree(compilation.files, Path(out))
+        write_tree(compilation.files, Path(out), signer)
     except OutputError as exc:
         click.echo(f"joshuac: error: {exc}", err=True)
         sys.exit(EXIT_ERRORS)
-    click.echo(f"joshuac: wrote {len(compilation.files)} files to {out}", err=True)
+    click.echo(f"joshuac: wrote {len(compilation.files)} files to {out}" + (" (signed)" if signer else ""), err=True)
+
+
+def _signer(key: str | None):
+    """The signing function of `--sign KEY`, or None; a key that cannot be used ends joshuac with exit 1."""
+    if key is None:
+        return None
+    from joshua_codegen.signing import SigningError, load_signer
+
+    try:
+        return load_signer(Path(key))
+    except SigningError as exc:
+        click.echo(f"joshuac: error: {exc}", err=True)
+        sys.exit(EXIT_ERRORS)
+
+
+def _is_fleet_file(config: str) -> bool:
+    """Whether `config` is a fleet file (its first field is fleet_config); unreadable files are left to check."""
+    from joshua_codegen.fleet.load import is_fleet_text
+    from joshua_codegen.source_file import SourceProblem, read_description
+
+    try:
+        return is_fleet_text(read_description(config).decode("utf-8", errors="replace"))
+    except SourceProblem:
+        return False
+
+
+@cli.command()
+@click.argument("key", type=click.Path(dir_okay=False))
+def keygen(key) -> None:
+    """Make an Ed25519 key pair for signed releases: KEY (private, mode 0600) and KEY.pub (public)."""
+    from joshua_codegen.signing import SigningError, generate_key_pair
+
+    try:
+        public = generate_key_pair(Path(key))
+    except SigningError as exc:
+        click.echo(f"joshuac: error: {exc}", err=True)
+        sys.exit(EXIT_ERRORS)
+    click.echo(f"joshuac: wrote {key} (private: keep it off the robots) and {public} (copy it to each robot)", err=True)
 
 
 @cli.command()

@@ -112,6 +112,14 @@ def one_line(text: str) -> str:
     return json.dumps(text, ensure_ascii=True)[1:-1]
 
 
+def ansible_value(value) -> str:
+    """A YAML scalar for an Ansible inventory or playbook: numbers and booleans as JSON (YAML reads JSON),
+    strings JSON-quoted and tagged `!unsafe`, so Ansible never takes a `{{` in them for a template."""
+    if isinstance(value, str):
+        return "!unsafe " + json.dumps(value, ensure_ascii=True)
+    return json.dumps(value)
+
+
 def xml_comment(text: str) -> str:
     """Text safe inside an XML comment: one line, and no `--`, which would end the comment."""
     return re.sub(r"-(?=-)", "- ", one_line(text))

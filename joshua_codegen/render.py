@@ -54,6 +54,7 @@ def environment():
         xml_duration=xml_duration,
         dot_id=escape.dot_id,
         mermaid=escape.mermaid_label,
+        ansible=escape.ansible_value,
     )
     return env
 

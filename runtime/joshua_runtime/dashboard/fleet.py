@@ -143,9 +143,15 @@ def check_durations(offline_after_s: float, forget_after_s: float) -> None:
 def main(argv=None) -> int:
     import asyncio
 
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and argv[0] in ("deploy", "rollback"):
+        from joshua_runtime.rollout.cli import main as rollout_main
+
+        return rollout_main(argv)
+
     import uvicorn
 
-    args = parse_arguments(sys.argv[1:] if argv is None else argv)
+    args = parse_arguments(argv)
     session = None
     try:
         check_endpoint(args.listen)
