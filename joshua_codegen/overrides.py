@@ -1,8 +1,9 @@
 """`--set KEY=VALUE` overrides, applied to a copy of a loaded description before the rules run.
 
 Keys: a robot field (`mode`, `name`, `ros_domain_id`), a field of a robot block
-(`shutdown.sigint_grace_s`, `simulation.model`), an environment entry (`env.NAME`), or a node
-field addressed by the node's name (`NODE_NAME.qos_depth`, `NODE_NAME.env.NAME`). Values are
+(`shutdown.sigint_grace_s`, `simulation.model`), a field of a host addressed by its name
+(`host.gpu.address`), an environment entry (`env.NAME`), or a node field addressed by the node's
+name (`NODE_NAME.qos_depth`, `NODE_NAME.env.NAME`). Values are
 parsed per field type; a repeated field takes a list that replaces the whole list, comma-separated
 (`device_ids=1,2,3`) or bracketed as in a description (`device_ids=[1, 2, 3]`, `input_topics=["/a", "/b"]`).
 Problems are diagnostics at path `--set`, line = the override's 1-based position.
@@ -109,6 +110,8 @@ def _set_in(message, segments: list[str], text: str, path: Path, owner: str) -> 
     if fd.message_type is not None:
         if fd.name == "node":
             raise OverrideProblem(UNKNOWN_OVERRIDE_TARGET, "address a node by its name: NODE_NAME.FIELD=VALUE")
+        if fd.is_repeated and "name" in fd.message_type.fields_by_name:
+            return _set_in_named(getattr(message, fd.name), fd.name, segments[1:], text, path)
         if len(segments) < 2:
             example = next(iter(fd.message_type.fields_by_name))
             raise OverrideProblem(
@@ -119,6 +122,21 @@ def _set_in(message, segments: list[str], text: str, path: Path, owner: str) -> 
         raise OverrideProblem(UNKNOWN_OVERRIDE_TARGET, f'{fd.name} is a value and has no field "{segments[1]}"')
     _assign(message, fd, text)
     return path
+
+
+def _set_in_named(container, block: str, segments: list[str], text: str, path: Path) -> Path:
+    """Set a field of the element of a repeated block named `segments[0]` (`host.gpu.address`)."""
+    if len(segments) < 2:
+        raise OverrideProblem(UNKNOWN_OVERRIDE_TARGET, f"address a {block} by its name: {block}.NAME.FIELD=VALUE")
+    matches = [index for index, element in enumerate(container) if element.name == segments[0]]
+    if len(matches) != 1:
+        names = ", ".join(element.name for element in container) or "none"
+        problem = f'no {block} named "{segments[0]}" ({block}s: {names})'
+        raise OverrideProblem(
+            UNKNOWN_OVERRIDE_TARGET, problem if not matches else f'{len(matches)} {block}s are named "{segments[0]}"'
+        )
+    index = matches[0]
+    return _set_in(container[index], segments[1:], text, path + (index,), f'{block} "{segments[0]}"')
 
 
 def _closest_target(name: str, node_names: list[str]) -> str | None:

@@ -157,3 +157,27 @@ def test_the_help_says_how_lists_are_written():
 
     help_text = " ".join(joshuac("check", "--help").stdout.split())
     assert "NODE.device_ids=1,2,3 or NODE.device_ids=[1,2,3]" in help_text
+
+
+def test_hosts_are_addressed_by_their_name():
+    text = FOLLOWER.replace(
+        "robot_config {",
+        'robot_config {\n  host { name: "arm" address: "10.0.0.2" }\n  host { name: "gpu" address: "10.0.0.3" }',
+    )
+    result = check_text("r.pbtxt", text, ["host.gpu.address=10.0.0.13", "host.arm.ros_from_system=true"])
+    assert [d for d in result.diagnostics if d.path == "--set"] == []
+    arm, gpu = result.description.robot_config.host
+    assert (arm.address, arm.ros_from_system, gpu.address) == ("10.0.0.2", True, "10.0.0.13")
+
+
+@pytest.mark.parametrize(
+    ("override", "message"),
+    [
+        ("host.arm.address=10.0.0.9", 'no host named "arm" (hosts: none)'),
+        ("host.arm=10.0.0.9", "address a host by its name: host.NAME.FIELD=VALUE"),
+        ("host.arm.adress=1", 'no host named "arm" (hosts: none)'),
+    ],
+)
+def test_a_host_override_names_a_declared_host(override, message):
+    result = check_text("r.pbtxt", FOLLOWER, [override])
+    assert [(d.code, d.message) for d in result.diagnostics if d.path == "--set"] == [("E011", message)]
