@@ -91,7 +91,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'lego_bot',
-    'supervisor_code': '5ed919f8728cc368',
+    'supervisor_code': '46a306d6ee099acd',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -249,14 +249,15 @@ def log_time(wall: float) -> str:
     return f"{time.strftime('%Y-%m-%dT%H:%M:%S', local)}.{millis:03d}{sign}{hours:02d}:{minutes:02d}"
 
 
-def build_hash() -> str:
+def build_stamp() -> tuple[str, float | None]:
     """The SHA-256 of the build's stamp beside supervisor.py (what `sha256sum OUT/.joshuac-stamp` prints: the
-    stamp lists every file of the build with its own hash), or "" when there is none to read."""
+    stamp lists every file of the build with its own hash) and the stamp's modification time (when the build
+    was written; copies that keep times keep it), or ("", None) when there is none to read."""
     try:
         with open(os.path.join(SCRIPT_DIR, ROBOT["stamp_file"]), "rb") as stamp:
-            return hashlib.sha256(stamp.read()).hexdigest()
+            return hashlib.sha256(stamp.read()).hexdigest(), os.fstat(stamp.fileno()).st_mtime
     except OSError:
-        return ""
+        return "", None
 
 
 class RunMark:
@@ -265,7 +266,7 @@ class RunMark:
     def __init__(self):
         self.id = os.urandom(RUN_ID_BYTES).hex()
         self.started = time.time()
-        self.build = build_hash()
+        self.build, self.built = build_stamp()
         self.pid = os.getpid()
 
     def header(self) -> str:
@@ -277,8 +278,10 @@ class RunMark:
         )
 
     def as_dict(self) -> dict:
-        """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null)}."""
-        return {"id": self.id, "started": log_time(self.started), "build": self.build or None}
+        """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null), "built"
+        (when the build's stamp was written, ISO 8601, or null)}."""
+        built = log_time(self.built) if self.built is not None else None
+        return {"id": self.id, "started": log_time(self.started), "build": self.build or None, "built": built}
 
 
 # A build of the robot as data: its directory, its supervisor.py's data (read, never run) and its files' hashes.
@@ -2864,9 +2867,9 @@ class ControlPlane:
         return {"ok": True, "node": node.name, "state": node.state, "pid": node.pid}
 
     def status(self) -> dict:
-        """{"robot", "run": {"id", "started", "build"}, "nodes": [{"name", "state", "pid", "restarts" (by the
-        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a robot
-        on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
+        """{"robot", "run": {"id", "started", "build", "built"}, "nodes": [{"name", "state", "pid", "restarts" (by
+        the restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a
+        robot on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
         now = time.monotonic()
         self.note_states(now)
         discovery = self.supervisor.readiness.discovery

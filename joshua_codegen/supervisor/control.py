@@ -239,9 +239,9 @@ class ControlPlane:
         return {"ok": True, "node": node.name, "state": node.state, "pid": node.pid}
 
     def status(self) -> dict:
-        """{"robot", "run": {"id", "started", "build"}, "nodes": [{"name", "state", "pid", "restarts" (by the
-        restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a robot
-        on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
+        """{"robot", "run": {"id", "started", "build", "built"}, "nodes": [{"name", "state", "pid", "restarts" (by
+        the restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a
+        robot on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
         now = time.monotonic()
         self.note_states(now)
         discovery = self.supervisor.readiness.discovery

@@ -23,14 +23,15 @@ def log_time(wall: float) -> str:
     return f"{time.strftime('%Y-%m-%dT%H:%M:%S', local)}.{millis:03d}{sign}{hours:02d}:{minutes:02d}"
 
 
-def build_hash() -> str:
+def build_stamp() -> tuple[str, float | None]:
     """The SHA-256 of the build's stamp beside supervisor.py (what `sha256sum OUT/.joshuac-stamp` prints: the
-    stamp lists every file of the build with its own hash), or "" when there is none to read."""
+    stamp lists every file of the build with its own hash) and the stamp's modification time (when the build
+    was written; copies that keep times keep it), or ("", None) when there is none to read."""
     try:
         with open(os.path.join(SCRIPT_DIR, ROBOT["stamp_file"]), "rb") as stamp:
-            return hashlib.sha256(stamp.read()).hexdigest()
+            return hashlib.sha256(stamp.read()).hexdigest(), os.fstat(stamp.fileno()).st_mtime
     except OSError:
-        return ""
+        return "", None
 
 
 class RunMark:
@@ -39,7 +40,7 @@ class RunMark:
     def __init__(self):
         self.id = os.urandom(RUN_ID_BYTES).hex()
         self.started = time.time()
-        self.build = build_hash()
+        self.build, self.built = build_stamp()
         self.pid = os.getpid()
 
     def header(self) -> str:
@@ -51,5 +52,7 @@ class RunMark:
         )
 
     def as_dict(self) -> dict:
-        """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null)}."""
-        return {"id": self.id, "started": log_time(self.started), "build": self.build or None}
+        """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null), "built"
+        (when the build's stamp was written, ISO 8601, or null)}."""
+        built = log_time(self.built) if self.built is not None else None
+        return {"id": self.id, "started": log_time(self.started), "build": self.build or None, "built": built}

@@ -72,3 +72,18 @@ def test_ctl_logs_shows_the_current_run_and_all_shows_every_run_each_under_its_h
     finally:
         supervisor.signal()
         supervisor.wait()
+
+
+def test_status_tells_when_the_build_was_written_from_its_stamp(tmp_path):
+    out = build(tmp_path, robot([custom_node("steady", tmp_path / "events.log")]))
+    os.utime(out / ".joshuac-stamp", (1767225600.25, 1767225600.25))  # 2026-01-01T00:00:00.250Z, as a copy keeps it
+    env = dict(os.environ, TZ="JST-9")
+    sock = tmp_path / "run" / "r.sock"
+    supervisor = Supervisor(out, "--control-socket", str(sock), "--log-dir", str(tmp_path / "logs"), env=env)
+    try:
+        supervisor.wait_log(r"supervisor: " + HEADER)
+        shown = json.loads(ctl(out, sock, "status", "--json").stdout)["run"]
+        assert shown["built"] == "2026-01-01T09:00:00.250+09:00"
+    finally:
+        supervisor.signal()
+        supervisor.wait()
