@@ -91,7 +91,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'lego_bot',
-    'supervisor_code': '46a306d6ee099acd',
+    'supervisor_code': 'f8dea164fc9b7769',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -300,15 +300,16 @@ class BuildError(Exception):
 
 class Build:
     """One build of the robot: `directory` (its files' paths are relative to it), `robot` (its ROBOT data),
-    the stop grace periods, `digest` (the SHA-256 of its stamp, "" when unknown) and `files`: the SHA-256 of
-    each file its processes run from it (entrypoints and DDS profiles; None when unreadable)."""
+    the stop grace periods, `digest` (the SHA-256 of its stamp, "" when unknown), `built` (the stamp's
+    modification time, None when unknown) and `files`: the SHA-256 of each file its processes run from it
+    (entrypoints and DDS profiles; None when unreadable)."""
 
-    def __init__(self, directory: str, robot: dict, sigint_grace_s: float, sigterm_grace_s: float, digest: str, files):
+    def __init__(self, directory: str, robot: dict, sigint_grace_s: float, sigterm_grace_s: float, stamp, files):
         self.directory = directory
         self.robot = robot
         self.sigint_grace_s = sigint_grace_s
         self.sigterm_grace_s = sigterm_grace_s
-        self.digest = digest
+        self.digest, self.built = stamp
         self.files = files
 
     def path(self, relative: str) -> str:
@@ -336,7 +337,7 @@ def file_digest(path: str) -> str | None:
 def running_build() -> Build:
     """The build this supervisor was started from, its files hashed as they are now."""
     files = {relative: file_digest(os.path.join(SCRIPT_DIR, relative)) for relative in process_files(ROBOT)}
-    return Build(SCRIPT_DIR, ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S, build_hash(), files)
+    return Build(SCRIPT_DIR, ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S, build_stamp(), files)
 
 
 def read_bounded(path: str, what: str) -> bytes:
@@ -367,15 +368,15 @@ def stamp_entries(data: bytes) -> dict[str, str] | None:
     return entries
 
 
-def find_stamp(directory: str) -> tuple[dict[str, str], str]:
-    """(the entries, the SHA-256) of the stamp beside the build's supervisor.py (one host's part of a robot on
+def find_stamp(directory: str) -> tuple[dict[str, str], tuple[str, float]]:
+    """(the entries, (the SHA-256, the modification time)) of the stamp beside the build's supervisor.py (one host's part of a robot on
     several hosts, OUT/hosts/NAME, has its own), which must list that file."""
     path = os.path.join(directory, ROBOT["stamp_file"])
     if os.path.isfile(path):
         data = read_bounded(path, ROBOT["stamp_file"])
         entries = stamp_entries(data)
         if entries is not None and BUILD_SUPERVISOR in entries:
-            return entries, hashlib.sha256(data).hexdigest()
+            return entries, (hashlib.sha256(data).hexdigest(), os.stat(path).st_mtime)
     raise BuildError(f"no {ROBOT['stamp_file']} lists its {BUILD_SUPERVISOR}: it is not a joshuac build")
 
 
@@ -436,7 +437,7 @@ def read_build(path: str) -> Build:
         raise BuildError("not a directory")
     if not os.path.isfile(os.path.join(directory, BUILD_SUPERVISOR)):
         raise BuildError(f"no {BUILD_SUPERVISOR} in it: not a robot's build directory")
-    entries, digest = find_stamp(directory)
+    entries, stamp = find_stamp(directory)
     source, _ = checked_file(directory, entries, BUILD_SUPERVISOR)
     values = build_data(source)
     robot = checked_robot(values)
@@ -445,7 +446,7 @@ def read_build(path: str) -> Build:
     except (KeyError, TypeError):
         raise BuildError(f"the processes in {BUILD_SUPERVISOR} are not of this supervisor's format") from None
     files = {relative: checked_file(directory, entries, relative)[1] for relative in relatives}
-    return Build(directory, robot, values["SIGINT_GRACE_S"], values["SIGTERM_GRACE_S"], digest, files)
+    return Build(directory, robot, values["SIGINT_GRACE_S"], values["SIGTERM_GRACE_S"], stamp, files)
 
 
 # What a reload changes: every process of the running build and of the new one compared by name.
@@ -2538,7 +2539,7 @@ class Reload:
         supervisor, plan = self.supervisor, self.plan
         current = {node.name: node for node in supervisor.nodes}
         supervisor.build = self.build
-        supervisor.run_mark.build = self.build.digest
+        supervisor.run_mark.build, supervisor.run_mark.built = self.build.digest, self.build.built
         ordered = []
         for spec in self.build.robot["processes"]:
             node = self.added.get(spec["name"]) or current[spec["name"]]

@@ -70,7 +70,7 @@ class Reload:
         supervisor, plan = self.supervisor, self.plan
         current = {node.name: node for node in supervisor.nodes}
         supervisor.build = self.build
-        supervisor.run_mark.build = self.build.digest
+        supervisor.run_mark.build, supervisor.run_mark.built = self.build.digest, self.build.built
         ordered = []
         for spec in self.build.robot["processes"]:
             node = self.added.get(spec["name"]) or current[spec["name"]]

@@ -4,11 +4,13 @@ the rest keep their pids; a build of another robot, or one changed since it was 
 import hashlib
 import json
 import os
+import time
 
 import pytest
 from control_harness import ctl, status
 from supervisor_harness import Supervisor, build, custom_node, events, robot, wait_until
 
+SECOND_BUILT = 1767225600.25  # 2026-01-01T00:00:00.250Z: when the reloaded build's stamp was written
 CONTAINMENT = pytest.mark.parametrize("options", [(), ("--no-cgroup",)], ids=["cgroup", "tracking"])
 
 
@@ -51,6 +53,7 @@ def test_a_changed_node_restarts_an_added_one_starts_a_removed_one_stops_and_the
             sigint=0.4,
         )
         out2 = build(tmp_path / "v2", second)
+        os.utime(out2 / ".joshuac-stamp", (SECOND_BUILT, SECOND_BUILT))
         result = ctl(out, sock, "reload", str(out2))
         assert result.returncode == 0, result.stderr
         assert result.stdout.splitlines() == [
@@ -79,6 +82,9 @@ def test_a_changed_node_restarts_an_added_one_starts_a_removed_one_stops_and_the
         assert by_node["added"] == [(after["added"]["pid"], "start")]
         reply = json.loads(ctl(out, sock, "status", "--json").stdout)
         assert reply["run"]["build"] == stamp_hash(out2)
+        # When the running build was written is the reloaded build's time now (the supervisor's local time).
+        second_built = time.strftime("%Y-%m-%dT%H:%M:%S", time.localtime(SECOND_BUILT))
+        assert reply["run"]["built"].startswith(second_built + ".250"), reply["run"]
         supervisor.wait_log(r"supervisor: ready: 3 of 3 nodes ready")
         assert "internal error" not in supervisor.log()
     finally:
