@@ -84,16 +84,16 @@ def _sets_python(path: str, text: str) -> bool:
 class _OverrideLines:
     """Where each override line of one robot's check comes from: the fleet file, or the command line."""
 
-    def __init__(self, source: SourceMap, index: int, implicit: int, command_line: int):
+    def __init__(self, source: SourceMap, index: int, implicit: list[tuple], command_line: int):
         self.source, self.index, self.implicit, self.command_line = source, index, implicit, command_line
 
     def location(self, line: int) -> Location:
-        if line <= self.implicit:
-            return self.source.locate(robot_path(self.index, "name"))
-        if line <= self.implicit + self.command_line:
-            shifted = line - self.implicit
-            return Location(OVERRIDE_PATH, shifted, 1)
-        return self.source.locate(robot_path(self.index, "set", line - self.implicit - self.command_line - 1))
+        implicit = len(self.implicit)
+        if line <= implicit:
+            return self.source.locate(self.implicit[line - 1])
+        if line <= implicit + self.command_line:
+            return Location(OVERRIDE_PATH, line - implicit, 1)
+        return self.source.locate(robot_path(self.index, "set", line - implicit - self.command_line - 1))
 
     def diagnostic(self, diagnostic: Diagnostic) -> Diagnostic:
         related = tuple(self.related(note) for note in diagnostic.related)
@@ -119,6 +119,18 @@ class _OverrideLines:
         return Related(where.path, where.line, where.column, note.message)
 
 
+def implicit_overrides(index: int, entry: FleetRobot, sets_python: bool) -> list[tuple[str, tuple]]:
+    """(override, where in the fleet file it comes from) that make a description this robot: its name, its
+    computers' addresses, and the release's environment unless the description names an interpreter."""
+    implicit = [(f"name={entry.name}", robot_path(index, "name"))] if is_robot_name(entry.name) else []
+    for number, host in enumerate(entry.host):
+        if host.name and host.address:
+            implicit.append((f"host.{host.name}.address={host.address}", robot_path(index, "host", number)))
+    if not sets_python:
+        implicit.append((f"python_executable={RELEASE_PYTHON}", robot_path(index, "name")))
+    return implicit
+
+
 def check_member(fleet_path: str, source: SourceMap, index: int, entry: FleetRobot, command_line: Sequence[str]):
     """(the member, its diagnostics with override lines placed in the fleet file)."""
     member = FleetMember(index, entry)
@@ -135,12 +147,10 @@ def check_member(fleet_path: str, source: SourceMap, index: int, entry: FleetRob
     text, problems = decode(member.description_path, data)
     if text is None:
         return member, problems
-    implicit = [f"name={entry.name}"] if is_robot_name(entry.name) else []
-    if not _sets_python(member.description_path, text):
-        implicit.append(f"python_executable={RELEASE_PYTHON}")
-    overrides = [*implicit, *command_line, *entry.set]
+    implicit = implicit_overrides(index, entry, _sets_python(member.description_path, text))
+    overrides = [*(override for override, _ in implicit), *command_line, *entry.set]
     member.check = check_text(member.description_path, text, overrides, FLEET_PREFIX)
-    lines = _OverrideLines(source, index, len(implicit), len(command_line))
+    lines = _OverrideLines(source, index, [where for _, where in implicit], len(command_line))
     return member, [lines.diagnostic(d) for d in member.check.diagnostics]
 
 

@@ -1,7 +1,8 @@
 """`joshuac build FLEET -o OUT`: one release per robot, and the Ansible files that roll them out.
 
     OUT/robots/<robot>/          the robot's complete build for --prefix /opt/joshua/current, with its bundle,
-                                 its own stamp and, with --sign, the stamp's signature: one release
+                                 its own stamp and, with --sign, the stamp's signature: one release (for a
+                                 robot on several computers, each OUT/robots/<robot>/hosts/<host>/ is one)
     OUT/ansible/inventory.yml    the robots in rollout order, their addresses and releases, the rollout settings
     OUT/ansible/deploy.yml       copy, verify, install, switch, gate (rollback on failure), robot by robot
     OUT/ansible/rollback.yml     back to each robot's previous release
@@ -20,7 +21,7 @@ from joshua_codegen.bundle import bundle_files
 from joshua_codegen.fleet.check import FLEET_PREFIX, RELEASE_PYTHON, ROBOT_ROOT, FleetCheckResult, FleetMember
 from joshua_codegen.ownership import STAMP
 from joshua_codegen.plan import plan
-from joshua_codegen.render import render
+from joshua_codegen.render import host_path, render
 from joshua_codegen.signing import DEFAULT_RELEASE_KEY
 from joshua_codegen.write import stamped
 from joshua_core.schema import fleet_config_pb2 as pb
@@ -36,9 +37,10 @@ ON_FAILURE = {pb.ON_FAILURE_UNSPECIFIED: "stop", pb.ON_FAILURE_STOP: "stop", pb.
 
 @dataclass(frozen=True)
 class Release:
-    """One robot of the fleet with the release built for it."""
+    """One computer of the fleet with the release built for it: a robot, or one host of a robot on several."""
 
-    name: str
+    robot: str
+    host: str  # the host's name for a robot on several computers, else ""
     address: str
     ssh_user: str  # "" for the deploying user's SSH default
     ssh_port: int | None
@@ -48,8 +50,19 @@ class Release:
     files: dict  # relative path in the release -> content, stamp (and signature) included
 
     @property
+    def name(self) -> str:
+        """Its name in the inventory: the robot's, or `<robot>.<host>`."""
+        return f"{self.robot}.{self.host}" if self.host else self.robot
+
+    @property
+    def control(self) -> str:
+        """What names its supervisor's control socket (`<robot>.<host>` on a robot of several hosts)."""
+        return self.name
+
+    @property
     def directory(self) -> str:
-        return f"{ROBOTS_DIR}/{self.name}"
+        robot = f"{ROBOTS_DIR}/{self.robot}"
+        return f"{robot}/{host_path(self.host)}" if self.host else robot
 
 
 @dataclass(frozen=True)
@@ -63,29 +76,39 @@ class Fleet:
     batch: int
     health_timeout_s: float
     on_failure: str  # "stop" | "continue"
-    releases: tuple[Release, ...]
+    builds: tuple[tuple[dict, list[Release]], ...]  # per robot: every file of its build, and its releases
+
+    @property
+    def releases(self) -> list[Release]:
+        """Every computer's release, robot by robot in the fleet's order."""
+        return [release for _, releases in self.builds for release in releases]
 
 
 def release_id(files: dict) -> str:
     return hashlib.sha256(files[STAMP].encode("utf-8")).hexdigest()[:RELEASE_DIGITS]
 
 
-def robot_release(member: FleetMember, signer=None) -> Release:
+def robot_releases(member: FleetMember, signer=None) -> tuple[dict, list[Release]]:
+    """(every file of the robot's build, its releases: one, or one per host of a robot on several)."""
     check = member.check
     robot = check.robot or plan(check.description, member.description_path)
     files = stamped({**render(robot, FLEET_PREFIX), **bundle_files(robot)}, signer)
     entry = member.entry
-    python = robot.python_executable
-    return Release(
-        name=entry.name,
-        address=entry.address,
+    common = dict(
+        robot=entry.name,
         ssh_user=entry.ssh_user,
         ssh_port=entry.ssh_port if entry.HasField("ssh_port") else None,
-        release=release_id(files),
-        python=python,
-        install=python in (RELEASE_PYTHON, RELEASE_PYTHON.removesuffix("3")),
-        files=files,
+        python=robot.python_executable,
+        install=robot.python_executable in (RELEASE_PYTHON, RELEASE_PYTHON.removesuffix("3")),
     )
+    if not robot.hosts:
+        return files, [Release(host="", address=entry.address, release=release_id(files), files=files, **common)]
+    releases = []
+    for host in robot.hosts:
+        prefix = host_path(host.name) + "/"
+        part = {path[len(prefix) :]: content for path, content in files.items() if path.startswith(prefix)}
+        releases.append(Release(host=host.name, address=host.address, release=release_id(part), files=part, **common))
+    return files, releases
 
 
 def plan_fleet(result: FleetCheckResult, signer=None) -> Fleet:
@@ -102,7 +125,7 @@ def plan_fleet(result: FleetCheckResult, signer=None) -> Fleet:
         batch=rollout.batch if rollout.HasField("batch") else DEFAULT_BATCH,
         health_timeout_s=rollout.health_timeout_s if rollout.HasField("health_timeout_s") else DEFAULT_HEALTH_TIMEOUT_S,
         on_failure=ON_FAILURE[rollout.on_failure],
-        releases=tuple(robot_release(member, signer) for member in result.members),
+        builds=tuple(robot_releases(member, signer) for member in result.members),
     )
 
 
@@ -111,7 +134,8 @@ def fleet_files(fleet: Fleet) -> dict:
     from joshua_codegen.fleet.ansible import ansible_files
 
     files = {}
-    for release in fleet.releases:
-        files.update({f"{release.directory}/{path}": content for path, content in release.files.items()})
+    for build, releases in fleet.builds:
+        robot = releases[0].robot
+        files.update({f"{ROBOTS_DIR}/{robot}/{path}": content for path, content in build.items()})
     files.update(ansible_files(fleet))
     return dict(sorted(files.items()))

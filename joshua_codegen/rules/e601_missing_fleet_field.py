@@ -3,7 +3,8 @@
 What it checks:
     A fleet file's `fleet_config` has a `name` and at least one `robot`, and every `robot` has a
     `name`, a `description` (the robot description's path, relative to the fleet file) and an
-    `address` (where the rollout reaches it over SSH).
+    `address` (where the rollout reaches it over SSH), unless its description has `host` blocks (then
+    each computer is at its host's address). Every `host { }` of a robot has a `name` and an `address`.
 
 Why it matters:
     The fleet's name names its Ansible group; a robot's name names its release, units and fleet key,
@@ -38,8 +39,16 @@ def check(ctx):
         yield Finding(FLEET, 'the fleet has no name: add name: "lab" (lower-case letters, digits and underscores)')
     if not fleet.robot:
         yield Finding(FLEET, "the fleet has no robot: add robot { name: ... description: ... address: ... }")
-    for index, robot in enumerate(fleet.robot):
+    for member in ctx.members:
+        robot, index = member.entry, member.index
         label = f"robot {robot.name}" if robot.name else f"robot #{index + 1}"
+        on_hosts = member.config is not None and len(member.config.host) > 0
         for name, example in ROBOT_FIELDS.items():
-            if not getattr(robot, name):
+            if not getattr(robot, name) and not (name == "address" and on_hosts):
                 yield Finding(robot_path(index), f"{label} has no {name}: add {example}")
+        for number, host in enumerate(robot.host):
+            if not host.name or not host.address:
+                yield Finding(
+                    robot_path(index, "host", number),
+                    f'a host of {label} needs a name and an address: host {{ name: "arm" address: "10.0.0.12" }}',
+                )

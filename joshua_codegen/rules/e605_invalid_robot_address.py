@@ -2,6 +2,7 @@
 
 What it checks:
     A robot's `address` is an IP address or a host name (letters, digits and hyphens, dot-separated),
+    and is not given for a robot whose description has `host` blocks (each host has its own),
     `ssh_user` a user name (lower-case letters, digits, `_` and `-`, starting with a letter or `_`),
     `ssh_port` within 1-65535.
 
@@ -41,8 +42,16 @@ def is_address(text: str) -> bool:
 
 
 def check(ctx):
-    for index, robot in enumerate(ctx.fleet.robot):
-        if robot.address and not is_address(robot.address):
+    for member in ctx.members:
+        index, robot = member.index, member.entry
+        if robot.address and member.config is not None and member.config.host:
+            hosts = ", ".join(host.name for host in member.config.host)
+            yield Finding(
+                robot_path(index, "address"),
+                f"robot {robot.name} runs on the hosts of its description ({hosts}): give their addresses in "
+                'host { name: "..." address: "..." } blocks; address is for a robot on one computer',
+            )
+        elif robot.address and not is_address(robot.address):
             yield Finding(
                 robot_path(index, "address"),
                 f'address "{robot.address}" is not an IP address or a host name (e.g. 10.0.0.11 or arm-1.lab); '

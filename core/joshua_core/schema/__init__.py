@@ -10,6 +10,7 @@ _MODULES = {
     "ActionPacket": "action_packet_pb2",
     "FleetConfig": "fleet_config_pb2",
     "FleetDescription": "fleet_config_pb2",
+    "FleetHost": "fleet_config_pb2",
     "FleetRobot": "fleet_config_pb2",
     "ImageData": "perception_packet_pb2",
     "PerceptionPacket": "perception_packet_pb2",

@@ -24,17 +24,17 @@ _sym_db = _symbol_database.Default()
 
 
 
-DESCRIPTOR = _descriptor_pool.Default().AddSerializedFile(b'\n\x1cjoshua/v1/fleet_config.proto\x12\tjoshua.v1\"@\n\x10\x46leetDescription\x12,\n\x0c\x66leet_config\x18\x01 \x01(\x0b\x32\x16.joshua.v1.FleetConfig\"\xa2\x01\n\x0b\x46leetConfig\x12\x0c\n\x04name\x18\x01 \x01(\t\x12$\n\x05robot\x18\x02 \x03(\x0b\x32\x15.joshua.v1.FleetRobot\x12%\n\x05start\x18\x03 \x01(\x0e\x32\x16.joshua.v1.StartMethod\x12\x13\n\x0brelease_key\x18\x04 \x01(\t\x12#\n\x07rollout\x18\x05 \x01(\x0b\x32\x12.joshua.v1.Rollout\"\xa5\x01\n\x07Rollout\x12\x13\n\x06\x63\x61nary\x18\x01 \x01(\rH\x00\x88\x01\x01\x12\x12\n\x05\x62\x61tch\x18\x02 \x01(\rH\x01\x88\x01\x01\x12\x1d\n\x10health_timeout_s\x18\x03 \x01(\x01H\x02\x88\x01\x01\x12(\n\non_failure\x18\x04 \x01(\x0e\x32\x14.joshua.v1.OnFailureB\t\n\x07_canaryB\x08\n\x06_batchB\x13\n\x11_health_timeout_s\"\x83\x01\n\nFleetRobot\x12\x0c\n\x04name\x18\x01 \x01(\t\x12\x13\n\x0b\x64\x65scription\x18\x02 \x01(\t\x12\x0f\n\x07\x61\x64\x64ress\x18\x03 \x01(\t\x12\x0b\n\x03set\x18\x04 \x03(\t\x12\x10\n\x08ssh_user\x18\x05 \x01(\t\x12\x15\n\x08ssh_port\x18\x06 \x01(\rH\x00\x88\x01\x01\x42\x0b\n\t_ssh_port*T\n\x0bStartMethod\x12\x1c\n\x18START_METHOD_UNSPECIFIED\x10\x00\x12\x11\n\rSTART_SYSTEMD\x10\x01\x12\x14\n\x10START_SUPERVISOR\x10\x02*U\n\tOnFailure\x12\x1a\n\x16ON_FAILURE_UNSPECIFIED\x10\x00\x12\x13\n\x0fON_FAILURE_STOP\x10\x01\x12\x17\n\x13ON_FAILURE_CONTINUE\x10\x02\x62\x06proto3')
+DESCRIPTOR = _descriptor_pool.Default().AddSerializedFile(b'\n\x1cjoshua/v1/fleet_config.proto\x12\tjoshua.v1\"@\n\x10\x46leetDescription\x12,\n\x0c\x66leet_config\x18\x01 \x01(\x0b\x32\x16.joshua.v1.FleetConfig\"\xa2\x01\n\x0b\x46leetConfig\x12\x0c\n\x04name\x18\x01 \x01(\t\x12$\n\x05robot\x18\x02 \x03(\x0b\x32\x15.joshua.v1.FleetRobot\x12%\n\x05start\x18\x03 \x01(\x0e\x32\x16.joshua.v1.StartMethod\x12\x13\n\x0brelease_key\x18\x04 \x01(\t\x12#\n\x07rollout\x18\x05 \x01(\x0b\x32\x12.joshua.v1.Rollout\"\xa5\x01\n\x07Rollout\x12\x13\n\x06\x63\x61nary\x18\x01 \x01(\rH\x00\x88\x01\x01\x12\x12\n\x05\x62\x61tch\x18\x02 \x01(\rH\x01\x88\x01\x01\x12\x1d\n\x10health_timeout_s\x18\x03 \x01(\x01H\x02\x88\x01\x01\x12(\n\non_failure\x18\x04 \x01(\x0e\x32\x14.joshua.v1.OnFailureB\t\n\x07_canaryB\x08\n\x06_batchB\x13\n\x11_health_timeout_s\"\xa7\x01\n\nFleetRobot\x12\x0c\n\x04name\x18\x01 \x01(\t\x12\x13\n\x0b\x64\x65scription\x18\x02 \x01(\t\x12\x0f\n\x07\x61\x64\x64ress\x18\x03 \x01(\t\x12\x0b\n\x03set\x18\x04 \x03(\t\x12\x10\n\x08ssh_user\x18\x05 \x01(\t\x12\x15\n\x08ssh_port\x18\x06 \x01(\rH\x00\x88\x01\x01\x12\"\n\x04host\x18\x07 \x03(\x0b\x32\x14.joshua.v1.FleetHostB\x0b\n\t_ssh_port\"*\n\tFleetHost\x12\x0c\n\x04name\x18\x01 \x01(\t\x12\x0f\n\x07\x61\x64\x64ress\x18\x02 \x01(\t*T\n\x0bStartMethod\x12\x1c\n\x18START_METHOD_UNSPECIFIED\x10\x00\x12\x11\n\rSTART_SYSTEMD\x10\x01\x12\x14\n\x10START_SUPERVISOR\x10\x02*U\n\tOnFailure\x12\x1a\n\x16ON_FAILURE_UNSPECIFIED\x10\x00\x12\x13\n\x0fON_FAILURE_STOP\x10\x01\x12\x17\n\x13ON_FAILURE_CONTINUE\x10\x02\x62\x06proto3')
 
 _globals = globals()
 _builder.BuildMessageAndEnumDescriptors(DESCRIPTOR, _globals)
 _builder.BuildTopDescriptorsAndMessages(DESCRIPTOR, 'joshua.v1.fleet_config_pb2', _globals)
 if not _descriptor._USE_C_DESCRIPTORS:
   DESCRIPTOR._loaded_options = None
-  _globals['_STARTMETHOD']._serialized_start=576
-  _globals['_STARTMETHOD']._serialized_end=660
-  _globals['_ONFAILURE']._serialized_start=662
-  _globals['_ONFAILURE']._serialized_end=747
+  _globals['_STARTMETHOD']._serialized_start=656
+  _globals['_STARTMETHOD']._serialized_end=740
+  _globals['_ONFAILURE']._serialized_start=742
+  _globals['_ONFAILURE']._serialized_end=827
   _globals['_FLEETDESCRIPTION']._serialized_start=43
   _globals['_FLEETDESCRIPTION']._serialized_end=107
   _globals['_FLEETCONFIG']._serialized_start=110
@@ -42,5 +42,7 @@ if not _descriptor._USE_C_DESCRIPTORS:
   _globals['_ROLLOUT']._serialized_start=275
   _globals['_ROLLOUT']._serialized_end=440
   _globals['_FLEETROBOT']._serialized_start=443
-  _globals['_FLEETROBOT']._serialized_end=574
+  _globals['_FLEETROBOT']._serialized_end=610
+  _globals['_FLEETHOST']._serialized_start=612
+  _globals['_FLEETHOST']._serialized_end=654
 # @@protoc_insertion_point(module_scope)

@@ -58,17 +58,27 @@ class Rollout(_message.Message):
     def __init__(self, canary: _Optional[int] = ..., batch: _Optional[int] = ..., health_timeout_s: _Optional[float] = ..., on_failure: _Optional[_Union[OnFailure, str]] = ...) -> None: ...
 
 class FleetRobot(_message.Message):
-    __slots__ = ("name", "description", "address", "set", "ssh_user", "ssh_port")
+    __slots__ = ("name", "description", "address", "set", "ssh_user", "ssh_port", "host")
     NAME_FIELD_NUMBER: _ClassVar[int]
     DESCRIPTION_FIELD_NUMBER: _ClassVar[int]
     ADDRESS_FIELD_NUMBER: _ClassVar[int]
     SET_FIELD_NUMBER: _ClassVar[int]
     SSH_USER_FIELD_NUMBER: _ClassVar[int]
     SSH_PORT_FIELD_NUMBER: _ClassVar[int]
+    HOST_FIELD_NUMBER: _ClassVar[int]
     name: str
     description: str
     address: str
     set: _containers.RepeatedScalarFieldContainer[str]
     ssh_user: str
     ssh_port: int
-    def __init__(self, name: _Optional[str] = ..., description: _Optional[str] = ..., address: _Optional[str] = ..., set: _Optional[_Iterable[str]] = ..., ssh_user: _Optional[str] = ..., ssh_port: _Optional[int] = ...) -> None: ...
+    host: _containers.RepeatedCompositeFieldContainer[FleetHost]
+    def __init__(self, name: _Optional[str] = ..., description: _Optional[str] = ..., address: _Optional[str] = ..., set: _Optional[_Iterable[str]] = ..., ssh_user: _Optional[str] = ..., ssh_port: _Optional[int] = ..., host: _Optional[_Iterable[_Union[FleetHost, _Mapping]]] = ...) -> None: ...
+
+class FleetHost(_message.Message):
+    __slots__ = ("name", "address")
+    NAME_FIELD_NUMBER: _ClassVar[int]
+    ADDRESS_FIELD_NUMBER: _ClassVar[int]
+    name: str
+    address: str
+    def __init__(self, name: _Optional[str] = ..., address: _Optional[str] = ...) -> None: ...

@@ -6,8 +6,9 @@ healthy once the supervisor runs the release's build and every node is ready (a 
 end counts too), as its `ready: N of N nodes ready` line says. With `systemd` it asks systemctl: every
 unit of the release active (runtime nodes are Type=notify, active once they said READY=1).
 
-A node that failed for good, a supervisor that exited, or a failed unit ends the wait at once; otherwise
-it ends after --timeout seconds. The last line printed is `ready: N of N nodes ready (...)` or the
+The robot must stay so for --settle seconds (3 by default) without a node restarting: a node that
+starts, says it is ready and fails a moment later fails the gate. A node that failed for good, a
+supervisor that exited, or a failed unit ends the wait at once; otherwise it ends after --timeout seconds. The last line printed is `ready: N of N nodes ready (...)` or the
 one-line reason; the exit code is 0 or 1.
 """
 
@@ -19,6 +20,7 @@ import sys
 import time
 
 POLL_S = 0.5
+SETTLE_S = 3.0  # every node ready, without a restart, this long before the gate passes
 QUERY_TIMEOUT_S = 20.0  # one ctl or systemctl call on a busy robot
 LOG_LINES_SHOWN = 1
 RELEASE_DIGITS = 12
@@ -53,7 +55,8 @@ def supervisor_status(args) -> dict | None:
     """`ctl status --json` of the supervisor, or None while its socket does not answer."""
     current = os.path.join(args.root, "current")
     command = [args.python, os.path.join(current, "supervisor.py"), "ctl"]
-    command += ["--control-socket", os.path.join(args.root, "run", f"{args.robot}.sock"), "status", "--json"]
+    socket = os.path.join(args.root, "run", f"{args.control or args.robot}.sock")
+    command += ["--control-socket", socket, "status", "--json"]
     try:
         done = subprocess.run(command, capture_output=True, text=True, timeout=QUERY_TIMEOUT_S)
     except subprocess.TimeoutExpired:
@@ -134,9 +137,21 @@ def systemd_waiting(states: dict[str, dict]) -> str:
     return "not active: " + ", ".join(waiting)
 
 
+def restarts(observed) -> tuple:
+    """What changes when a node restarts: each node's restart counts (or each unit's state)."""
+    if isinstance(observed, dict) and "nodes" in observed:
+        return tuple(
+            (n.get("name"), n.get("restarts"), n.get("manual_restarts"), n.get("pid")) for n in observed["nodes"]
+        )
+    return tuple(sorted((name, unit.get("ActiveState")) for name, unit in (observed or {}).items()))
+
+
 def wait_ready(args) -> str:
+    """Ready = every node ready, with no restart, for --settle seconds (a node that starts and then fails
+    is not mistaken for ready); a failure ends the wait at once."""
     deadline = time.monotonic() + args.timeout
     started = time.monotonic()
+    ready_since, seen = None, None
     while True:
         if args.start == "systemd":
             observed = unit_states(args)
@@ -144,9 +159,14 @@ def wait_ready(args) -> str:
         else:
             observed = supervisor_status(args)
             verdict, waiting = supervisor_verdict(args, observed), supervisor_waiting
-        if verdict is not None:
-            return f"{verdict}, {time.monotonic() - started:.1f} s"
-        if time.monotonic() > deadline:
+        now = time.monotonic()
+        if verdict is None or (ready_since is not None and restarts(observed) != seen):
+            ready_since, seen = None, None
+        elif ready_since is None:
+            ready_since, seen = now, restarts(observed)
+        elif now - ready_since >= args.settle:
+            return f"{verdict}, {now - started:.1f} s"
+        if now > deadline:
             raise Unhealthy(f"not ready after {args.timeout:g} s: {waiting(observed)}")
         time.sleep(POLL_S)
 
@@ -155,10 +175,14 @@ def parse_arguments(argv):
     parser = argparse.ArgumentParser(prog="joshua-health-gate.py", description=__doc__.splitlines()[0])
     parser.add_argument("--root", default="/opt/joshua")
     parser.add_argument("--robot", required=True)
+    parser.add_argument("--control", default="", help="names the control socket (default: the robot)")
     parser.add_argument("--start", choices=("systemd", "supervisor"), required=True)
     parser.add_argument("--python", default="python3", help="interpreter that runs supervisor.py ctl")
     parser.add_argument("--release", default="", help="the release the robot must run (12 hex digits)")
     parser.add_argument("--timeout", type=float, required=True, help="seconds")
+    parser.add_argument(
+        "--settle", type=float, default=SETTLE_S, help=f"seconds every node stays ready (default {SETTLE_S:g})"
+    )
     return parser.parse_args(argv)
 
 

@@ -288,7 +288,8 @@ def start(args, layout: dict) -> None:
         run(["systemctl", "start", f"joshua-{args.robot}.target"], f"systemctl start joshua-{args.robot}.target")
         return
     command = [args.python, os.path.join(layout["current"], "supervisor.py")]
-    command += ["--control-socket", os.path.join(layout["run"], f"{args.robot}.sock"), "--log-dir", layout["logs"]]
+    command += ["--control-socket", os.path.join(layout["run"], f"{args.control or args.robot}.sock")]
+    command += ["--log-dir", layout["logs"]]
     with open(os.path.join(layout["logs"], "supervisor.log"), "ab") as log:
         process = subprocess.Popen(
             command, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
@@ -393,6 +394,7 @@ def parse_arguments(argv):
             command.add_argument("--current-before", default="", help="the release current named before ('' for none)")
             command.add_argument("--previous-before", default="", help="the release previous named before")
         command.add_argument("--robot", required=True)
+        command.add_argument("--control", default="", help="names the control socket (default: the robot)")
         command.add_argument("--start", choices=("systemd", "supervisor"), required=True)
         command.add_argument("--python", default="python3", help="interpreter of the robot's nodes")
         command.add_argument("--unit-dir", default="/etc/systemd/system")

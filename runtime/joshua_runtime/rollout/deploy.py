@@ -87,19 +87,21 @@ def record(state: RolloutState, name: str, outcome: Outcome, seconds: float) -> 
 
 
 def rollback(inventory: Inventory, robot: str, state_path: Path, say) -> bool:
-    """Take one robot back to its previous release (rollback playbook); True when it is ready on it."""
-    inventory.robot(robot)
+    """Take one robot (all its computers) back to its previous release; True when it is ready on it."""
+    names = [entry.name for entry in inventory.computers(robot)]
     log = log_path(inventory.fleet)
     log.parent.mkdir(parents=True, exist_ok=True)
     started = time.time()
     with open(log, "a", encoding="utf-8") as log_file:
-        outcome = run_playbook(inventory, ROLLBACK_PLAYBOOK, [robot], log_file)[robot]
+        outcomes = run_playbook(inventory, ROLLBACK_PLAYBOOK, names, log_file)
     seconds = time.time() - started
-    say(f"{robot}: {outcome.message} ({seconds:.1f} s)" if outcome.ok else outcome.line("", seconds))
     document = read_state(state_path)
-    if document is not None and document.get("fleet") == inventory.fleet:
-        state = RolloutState(state_path, document)
-        if any(entry.get("name") == robot for entry in document.get("robots", [])):
-            state.update(robot, state="rolled_back" if outcome.ok else "failed", step=outcome.step,
-                         message=outcome.message)  # fmt: skip
-    return outcome.ok
+    state = RolloutState(state_path, document) if document and document.get("fleet") == inventory.fleet else None
+    for name in names:
+        outcome = outcomes[name]
+        say(f"{name}: {outcome.message} ({seconds:.1f} s)" if outcome.ok else outcome.line("", seconds))
+        if state is not None and any(entry.get("name") == name for entry in document.get("robots", [])):
+            state.update(
+                name, state="rolled_back" if outcome.ok else "failed", step=outcome.step, message=outcome.message
+            )
+    return all(outcome.ok for outcome in outcomes.values())

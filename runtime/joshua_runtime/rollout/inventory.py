@@ -15,7 +15,10 @@ ROLLBACK_PLAYBOOK = "rollback.yml"
 
 @dataclass(frozen=True)
 class Robot:
-    name: str
+    """One computer the rollout reaches: a robot, or one host of a robot on several (`<robot>.<host>`)."""
+
+    name: str  # its name in the inventory
+    robot: str  # the robot it is (all of a robot's hosts are rolled out together)
     address: str
     release: str  # 12 hex digits
 
@@ -37,13 +40,13 @@ class Inventory:
     def playbook(self, name: str) -> Path:
         return self.out / ANSIBLE_DIR / name
 
-    def robot(self, name: str) -> Robot:
-        for robot in self.robots:
-            if robot.name == name:
-                return robot
-        raise SettingsError(
-            f"fleet {self.fleet} has no robot {name} (robots: {', '.join(r.name for r in self.robots)})"
-        )
+    def computers(self, robot: str) -> list[Robot]:
+        """The inventory entries of one robot (its hosts, or itself)."""
+        found = [entry for entry in self.robots if robot in (entry.robot, entry.name)]
+        if not found:
+            names = ", ".join(dict.fromkeys(entry.robot for entry in self.robots))
+            raise SettingsError(f"fleet {self.fleet} has no robot {robot} (robots: {names})")
+        return found
 
 
 class _Loader(yaml.SafeLoader):
@@ -60,7 +63,10 @@ def read_inventory(out: Path) -> Inventory:
         document = yaml.load(path.read_text(encoding="utf-8"), Loader=_Loader)  # noqa: S506 (a SafeLoader)
         (fleet, group), *_ = document["all"]["children"].items()
         settings, hosts = group["vars"], group["hosts"]
-        robots = tuple(Robot(name, str(v["ansible_host"]), str(v["joshua_release"])) for name, v in hosts.items())
+        robots = tuple(
+            Robot(name, str(v["joshua_robot"]), str(v["ansible_host"]), str(v["joshua_release"]))
+            for name, v in hosts.items()
+        )
         return Inventory(
             out=Path(out),
             fleet=fleet,
