@@ -1,4 +1,4 @@
-"""The robot's side of a rollout (OUT/ansible/files/joshua-release.py and joshua-health-gate.py) run as the playbooks
+"""The robot's side of a rollout (OUT/ansible/files/release_tool.py and health_gate.py) run as the playbooks
 run them, on a release root in a temporary directory: unpacking, verifying, switching, gating and going back."""
 
 import hashlib
@@ -59,16 +59,16 @@ def send(out: Path, root: Path) -> str:
     root.mkdir(exist_ok=True)
     subprocess.run(["tar", "--create", "--file", str(archive), "--directory", str(release), "."], check=True)
     assert (
-        tool(out, "joshua-release.py", "--root", root, "prepare", "--archive-bytes", archive.stat().st_size).returncode
+        tool(out, "release_tool.py", "--root", root, "prepare", "--archive-bytes", archive.stat().st_size).returncode
         == 0
     )
-    done = tool(out, "joshua-release.py", "--root", root, "unpack", release_id(release), archive)
+    done = tool(out, "release_tool.py", "--root", root, "unpack", release_id(release), archive)
     assert done.returncode == 0, done.stdout
     return release_id(release)
 
 
 def verify(out: Path, root: Path, release: str, key: Path) -> subprocess.CompletedProcess:
-    return tool(out, "joshua-release.py", "--root", root, "verify", release, "--key", key)
+    return tool(out, "release_tool.py", "--root", root, "verify", release, "--key", key)
 
 
 def test_a_changed_added_or_unsigned_file_is_refused_by_name_and_the_copy_removed(releases, tmp_path):
@@ -107,21 +107,21 @@ def test_an_archive_reaching_outside_the_release_is_refused(releases, tmp_path):
             info = tarfile.TarInfo(member)
             info.size = 1
             tar.addfile(info, io.BytesIO(b"x"))
-        done = tool(out, "joshua-release.py", "--root", tmp_path / "root", "unpack", "abcdefabcdef", archive)
+        done = tool(out, "release_tool.py", "--root", tmp_path / "root", "unpack", "abcdefabcdef", archive)
         assert done.returncode == 1 and "which is not a file or directory inside it" in done.stdout
     archive = tmp_path / "link.tar"
     with tarfile.open(archive, "w") as tar:
         info = tarfile.TarInfo("supervisor.py")
         info.type, info.linkname = tarfile.SYMTYPE, "/etc/passwd"
         tar.addfile(info)
-    done = tool(out, "joshua-release.py", "--root", tmp_path / "root", "unpack", "abcdefabcdef", archive)
+    done = tool(out, "release_tool.py", "--root", tmp_path / "root", "unpack", "abcdefabcdef", archive)
     assert done.returncode == 1 and "'supervisor.py'" in done.stdout
     assert not (tmp_path / "escape").exists()
 
 
 def test_a_release_that_does_not_fit_is_refused_before_it_is_sent(releases, tmp_path):
     out = releases[1]["good"]
-    done = tool(out, "joshua-release.py", "--root", tmp_path, "prepare", "--archive-bytes", 2**50)
+    done = tool(out, "release_tool.py", "--root", tmp_path, "prepare", "--archive-bytes", 2**50)
     assert done.returncode == 1
     assert done.stdout.startswith(f"{tmp_path}/releases has ") and "MiB free, the release needs" in done.stdout
 
@@ -133,7 +133,7 @@ def start_args(root: Path) -> list[str]:
 def gate(out: Path, root: Path, release: str = "") -> subprocess.CompletedProcess:
     return tool(
         out,
-        "joshua-health-gate.py",
+        "health_gate.py",
         "--root",
         root,
         *start_args(root),
@@ -151,7 +151,7 @@ def test_switch_gate_and_going_back_keep_current_on_a_complete_release(releases,
     good, crash = built["good"], built["crash"]
     first = send(good, root)
     assert verify(good, root, first, key).returncode == 0
-    switched = tool(good, "joshua-release.py", "--root", root, "switch", first, *start_args(root))
+    switched = tool(good, "release_tool.py", "--root", root, "switch", first, *start_args(root))
     try:
         assert switched.stdout.strip() == f"switched from nothing to {first}"
         ready = gate(good, root, first)
@@ -162,20 +162,20 @@ def test_switch_gate_and_going_back_keep_current_on_a_complete_release(releases,
 
         second = send(crash, root)
         assert verify(crash, root, second, key).returncode == 0
-        tool(crash, "joshua-release.py", "--root", root, "switch", second, *start_args(root))
+        tool(crash, "release_tool.py", "--root", root, "switch", second, *start_args(root))
         assert os.readlink(root / "current") == f"releases/{second}"
         assert os.readlink(root / "previous") == f"releases/{first}"
         failed = gate(crash, root, second)
         assert failed.returncode == 1
         assert "crash" in failed.stdout and ("failed" in failed.stdout or "exited" in failed.stdout), failed.stdout
-        back = tool(crash, "joshua-release.py", "--root", root, "recover", second, *start_args(root),
+        back = tool(crash, "release_tool.py", "--root", root, "recover", second, *start_args(root),
                     "--current-before", first, "--previous-before", "")  # fmt: skip
         assert back.stdout.strip() == f"rolled back from {second} to {first}", back.stdout
         assert os.readlink(root / "current") == f"releases/{first}" and not os.path.lexists(root / "previous")
         assert gate(good, root, first).returncode == 0
         assert (root / "run/supervisor.pid").read_text().strip() != pid  # started again
 
-        assert tool(good, "joshua-release.py", "--root", root, "prune").returncode == 0
+        assert tool(good, "release_tool.py", "--root", root, "prune").returncode == 0
         assert sorted(os.listdir(root / "releases")) == [first]
     finally:
         stop_supervisor(root)

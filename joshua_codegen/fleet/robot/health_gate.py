@@ -1,4 +1,4 @@
-"""joshua-health-gate.py: wait until the robot runs its current release with every node ready, or say why not.
+"""health_gate.py: wait until the robot runs its current release with every node ready, or say why not.
 
 Run on the robot by the generated playbooks after a switch (standard library only). With the start method
 `supervisor` it asks the supervisor's control socket (`supervisor.py ctl status --json`): the robot is
@@ -19,11 +19,13 @@ import subprocess
 import sys
 import time
 
+from layout import RELEASE_DIGITS, paths
+from starting import supervisor_pid
+
 POLL_S = 0.5
 SETTLE_S = 3.0  # every node ready, without a restart, this long before the gate passes
 QUERY_TIMEOUT_S = 20.0  # one ctl or systemctl call on a busy robot
 LOG_LINES_SHOWN = 1
-RELEASE_DIGITS = 12
 
 
 class Unhealthy(Exception):
@@ -42,13 +44,7 @@ def last_lines(path: str, count: int = LOG_LINES_SHOWN) -> str:
 
 
 def supervisor_alive(root: str) -> bool:
-    try:
-        with open(os.path.join(root, "run", "supervisor.pid"), encoding="ascii") as file:
-            pid = int(file.read().strip())
-        with open(f"/proc/{pid}/cmdline", "rb") as file:
-            return b"supervisor.py" in file.read()
-    except (OSError, ValueError):
-        return False
+    return supervisor_pid(paths(root)) is not None
 
 
 def supervisor_status(args) -> dict | None:
@@ -172,7 +168,7 @@ def wait_ready(args) -> str:
 
 
 def parse_arguments(argv):
-    parser = argparse.ArgumentParser(prog="joshua-health-gate.py", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="health_gate.py", description=__doc__.splitlines()[0])
     parser.add_argument("--root", default="/opt/joshua")
     parser.add_argument("--robot", required=True)
     parser.add_argument("--control", default="", help="names the control socket (default: the robot)")

@@ -1,4 +1,5 @@
-"""joshua-release.py: the robot's side of a rollout, run by the generated playbooks (standard library and openssl only).
+"""release_tool.py: the robot's side of a rollout, run by the generated playbooks from ROOT/bin, where they copy it
+with its modules (layout, release_check, starting); standard library and openssl only.
 
 Releases live side by side under ROOT (default /opt/joshua):
 
@@ -18,64 +19,20 @@ the exit code is 1.
 """
 
 import argparse
-import hashlib
 import json
 import os
 import shutil
-import signal
-import stat
 import subprocess
 import sys
 import tarfile
-import time
 
-STAMP = ".joshuac-stamp"
-SIGNATURE = ".joshuac-stamp.sig"
-ENVIRONMENT_DIR = "venv"  # the release's Python environment, made on the robot by install.sh
-RELEASE_DIGITS = 12
-INCOMING = ".incoming-"
-STOP_TIMEOUT_S = 60.0  # the supervisor's SIGINT -> SIGTERM -> SIGKILL cascade ends well within this
-STOP_POLL_S = 0.1
-COMMAND_TIMEOUT_S = 120.0  # one systemctl or openssl call
+from layout import ENVIRONMENT_DIR, INCOMING, Refused, linked_release, paths, point
+from release_check import check_release, safe_members
+from starting import start, start_unless_running, stop
+
 INSTALL_TIMEOUT_S = 3600.0  # install.sh downloads the release's dependencies
 SPACE_MARGIN_BYTES = 16 * 1024 * 1024
 SPACE_FACTOR = 2  # the archive and its unpacked files are both on disk for a moment
-
-
-class Refused(Exception):
-    """The one-line reason a step cannot go on."""
-
-
-def paths(root: str) -> dict:
-    return {
-        "releases": os.path.join(root, "releases"),
-        "current": os.path.join(root, "current"),
-        "previous": os.path.join(root, "previous"),
-        "run": os.path.join(root, "run"),
-        "logs": os.path.join(root, "logs"),
-        "tmp": os.path.join(root, "tmp"),
-    }
-
-
-def linked_release(link: str) -> str | None:
-    """The release a link points at, or None when it is absent or dangling."""
-    if not os.path.islink(link) or not os.path.isdir(link):
-        return None
-    return os.path.basename(os.readlink(link).rstrip("/"))
-
-
-def point(link: str, release: str) -> None:
-    """Make `link` point at releases/<release> in one step (a new link renamed over the old one)."""
-    temporary = f"{link}.new"
-    if os.path.lexists(temporary):
-        os.unlink(temporary)
-    os.symlink(os.path.join("releases", release), temporary)
-    os.rename(temporary, link)
-    directory = os.open(os.path.dirname(link), os.O_RDONLY | os.O_DIRECTORY)
-    try:
-        os.fsync(directory)
-    finally:
-        os.close(directory)
 
 
 def prepare(args) -> str:
@@ -92,20 +49,6 @@ def prepare(args) -> str:
             f"{layout['releases']} has {free / 2**20:.1f} MiB free, the release needs {needed / 2**20:.1f} MiB"
         )
     return json.dumps({"current": linked_release(layout["current"]), "previous": linked_release(layout["previous"])})
-
-
-def safe_members(archive: tarfile.TarFile) -> list[tarfile.TarInfo]:
-    """The archive's members when every one is a regular file or directory inside it, else Refused."""
-    members = archive.getmembers()
-    for member in members:
-        name = member.name
-        parts = [part for part in name.split("/") if part not in ("", ".")]
-        if name.startswith("/") or ".." in parts or not (member.isfile() or member.isdir()):
-            raise Refused(f"the release archive holds {name!r}, which is not a file or directory inside it")
-        member.mode = 0o755 if member.isdir() or member.mode & 0o111 else 0o644
-        member.uid = member.gid = 0
-        member.uname = member.gname = ""
-    return members
 
 
 def unpack(args) -> str:
@@ -126,80 +69,6 @@ def unpack(args) -> str:
     finally:
         if os.path.exists(args.archive):
             os.unlink(args.archive)
-
-
-def file_hash(path: str) -> str:
-    digest = hashlib.sha256()
-    with open(path, "rb") as file:
-        for block in iter(lambda: file.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
-
-
-def read_stamp(directory: str) -> dict[str, str]:
-    """{path: sha256} of a release's stamp (sha256sum's format after `#` comment lines)."""
-    listed = {}
-    with open(os.path.join(directory, STAMP), encoding="utf-8") as stamp:
-        for line in stamp:
-            line = line.rstrip("\n")
-            if line.startswith("#") or not line:
-                continue
-            digest, separator, name = line.partition("  ")
-            if not separator or len(digest) != 64:
-                raise Refused(f"{STAMP} has a line that is not `SHA256  PATH`")
-            listed[name] = digest
-    return listed
-
-
-def check_signature(directory: str, key: str) -> None:
-    signature = os.path.join(directory, SIGNATURE)
-    if not os.path.isfile(signature):
-        raise Refused(
-            f"the release is not signed ({SIGNATURE} is missing) and this robot requires signed releases ({key})"
-        )
-    if shutil.which("openssl") is None:
-        raise Refused("openssl is needed to check the release's signature and is not installed")
-    command = ["openssl", "pkeyutl", "-verify", "-pubin", "-inkey", key, "-rawin"]
-    command += ["-in", os.path.join(directory, STAMP), "-sigfile", signature]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=COMMAND_TIMEOUT_S)
-    if done.returncode != 0:
-        raise Refused(
-            f"the signature {SIGNATURE} does not match {STAMP} for the key {key}: the stamp was changed or signed by another key"
-        )
-
-
-def check_release(directory: str, release: str, key: str) -> None:
-    """Refused, naming the file, unless `directory` holds exactly the files its stamp lists, unchanged."""
-    if not os.path.isfile(os.path.join(directory, STAMP)):
-        raise Refused(f"the release has no {STAMP}")
-    if file_hash(os.path.join(directory, STAMP))[:RELEASE_DIGITS] != release:
-        raise Refused(f"{STAMP} is not the stamp of release {release}")
-    if os.path.exists(key):
-        check_signature(directory, key)
-    listed = read_stamp(directory)
-    for name, digest in sorted(listed.items()):
-        path = os.path.join(directory, name)
-        if os.path.islink(path) or not os.path.isfile(path):
-            raise Refused(f"{name} is missing from the release")
-        if file_hash(path) != digest:
-            raise Refused(f"{name} differs from the release's {STAMP}" + (" (signed)" if os.path.exists(key) else ""))
-    parents = set()
-    for name in listed:
-        parent = os.path.dirname(name)
-        while parent:
-            parents.add(parent)
-            parent = os.path.dirname(parent)
-    for base, directories, files in os.walk(directory):
-        relative = os.path.relpath(base, directory)
-        if relative == ".":
-            directories[:] = [name for name in directories if name != ENVIRONMENT_DIR]
-        for name in sorted(directories + files):
-            entry = os.path.normpath(os.path.join(relative, name))
-            mode = os.lstat(os.path.join(base, name)).st_mode
-            if stat.S_ISDIR(mode) and entry in parents:
-                continue
-            if entry not in listed and entry not in (STAMP, SIGNATURE):
-                raise Refused(f"{entry} is not part of the release (not in its {STAMP})")
 
 
 def verify(args) -> str:
@@ -231,71 +100,6 @@ def install(args) -> str:
     if done.returncode != 0:
         raise Refused(lines[-1] if lines else f"install.sh exited {done.returncode}")
     return lines[-1] if lines else "installed"
-
-
-def supervisor_pid(layout: dict) -> int | None:
-    """The running supervisor's pid from run/supervisor.pid, when that process is a supervisor.py."""
-    try:
-        with open(os.path.join(layout["run"], "supervisor.pid"), encoding="ascii") as file:
-            pid = int(file.read().strip())
-        with open(f"/proc/{pid}/cmdline", "rb") as file:
-            return pid if b"supervisor.py" in file.read() else None
-    except (OSError, ValueError):
-        return None
-
-
-def stop(args, layout: dict) -> None:
-    if args.start == "systemd":
-        target = f"joshua-{args.robot}.target"
-        run(["systemctl", "stop", target], f"systemctl stop {target}")
-        return
-    pid = supervisor_pid(layout)
-    if pid is None:
-        return
-    os.kill(pid, signal.SIGTERM)
-    deadline = time.monotonic() + STOP_TIMEOUT_S
-    while os.path.exists(f"/proc/{pid}") and supervisor_pid(layout) == pid:
-        if time.monotonic() > deadline:
-            os.kill(pid, signal.SIGKILL)
-            break
-        time.sleep(STOP_POLL_S)
-
-
-def run(command: list[str], what: str) -> None:
-    done = subprocess.run(command, capture_output=True, text=True, timeout=COMMAND_TIMEOUT_S)
-    if done.returncode != 0:
-        lines = (done.stderr or done.stdout).strip().splitlines()
-        raise Refused(f"{what} failed: {lines[-1] if lines else f'exit code {done.returncode}'}")
-
-
-def install_units(args, layout: dict) -> None:
-    """The current release's units in /etc/systemd/system (this robot's older ones removed), enabled."""
-    units_dir = os.path.join(layout["current"], "systemd")
-    wanted = sorted(os.listdir(units_dir))
-    prefix = f"joshua-{args.robot}"
-    for name in os.listdir(args.unit_dir):
-        if (name == f"{prefix}.target" or name.startswith(f"{prefix}-")) and name not in wanted:
-            os.unlink(os.path.join(args.unit_dir, name))
-    for name in wanted:
-        shutil.copyfile(os.path.join(units_dir, name), os.path.join(args.unit_dir, name))
-    run(["systemctl", "daemon-reload"], "systemctl daemon-reload")
-    run(["systemctl", "enable", f"{prefix}.target"], f"systemctl enable {prefix}.target")
-
-
-def start(args, layout: dict) -> None:
-    if args.start == "systemd":
-        install_units(args, layout)
-        run(["systemctl", "start", f"joshua-{args.robot}.target"], f"systemctl start joshua-{args.robot}.target")
-        return
-    command = [args.python, os.path.join(layout["current"], "supervisor.py")]
-    command += ["--control-socket", os.path.join(layout["run"], f"{args.control or args.robot}.sock")]
-    command += ["--log-dir", layout["logs"]]
-    with open(os.path.join(layout["logs"], "supervisor.log"), "ab") as log:
-        process = subprocess.Popen(
-            command, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
-        )
-    with open(os.path.join(layout["run"], "supervisor.pid"), "w", encoding="ascii") as file:
-        file.write(f"{process.pid}\n")
 
 
 def switch(args) -> str:
@@ -353,12 +157,6 @@ def recover(args) -> str:
     return f"rolled back from {args.release} to {before}"
 
 
-def start_unless_running(args, layout: dict) -> None:
-    if args.start == "supervisor" and supervisor_pid(layout) is not None:
-        return
-    start(args, layout)
-
-
 def prune(args) -> str:
     """Remove the releases other than current and previous, and what interrupted transfers left."""
     layout = paths(args.root)
@@ -372,7 +170,7 @@ def prune(args) -> str:
 
 
 def parse_arguments(argv):
-    parser = argparse.ArgumentParser(prog="joshua-release.py", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="release_tool.py", description=__doc__.splitlines()[0])
     parser.add_argument("--root", default="/opt/joshua")
     commands = parser.add_subparsers(dest="command", required=True)
     command = commands.add_parser("prepare")
