@@ -2,8 +2,10 @@
 publishes its status over zenoh under `joshua/<robot>/status` (see zenoh_link.py).
 
 `GET /api/robots` answers a JSON list, one entry per robot, sorted by name:
-`{"name", "nodes": [{"name", "state", "pid", ...}], "last_seen_s", "online", "url", "error"}` (url: the
-robot's own page, http or https). Zenoh admits only the robots named by the access flags (fleet_access.py);
+`{"name", "nodes": [{"name", "state", "pid", ...}], "last_seen_s", "online", "url", "error", "release", "health",
+"rollout"}` (url: the robot's own page, http or https; release: `{"build", "built"}` of what it runs; health:
+`{"ready", "of"}` nodes; rollout: its computers' entries in the last rollout of `joshua-fleet deploy`, whose
+state file --rollout-state names, or null). `GET /api/rollout` answers that rollout's summary. Zenoh admits only the robots named by the access flags (fleet_access.py);
 each status is checked against fleet_status.py's schema before the roster (fleet_roster.py) keeps it.
 The same token rule as the robot's dashboard applies: beyond loopback, /api/ needs the bearer token.
 """
@@ -15,7 +17,7 @@ import time
 from pathlib import Path
 
 from starlette.applications import Starlette
-from starlette.responses import FileResponse, PlainTextResponse, Response
+from starlette.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
@@ -28,11 +30,13 @@ from joshua_runtime.dashboard.cli import (
 )
 from joshua_runtime.dashboard.fleet_access import FleetAccess
 from joshua_runtime.dashboard.fleet_allocator import map_large_blocks_alone
+from joshua_runtime.dashboard.fleet_rollout import RolloutView
 from joshua_runtime.dashboard.fleet_roster import DEFAULT_FORGET_AFTER_S, DEFAULT_OFFLINE_AFTER_S, MAX_ROBOTS, Roster
 from joshua_runtime.dashboard.fleet_status import StatusRejected, check_size, read_status
 from joshua_runtime.dashboard.security import ApiGuard, required_token
 from joshua_runtime.dashboard.zenoh_link import KEY_ROOT, check_endpoint, open_session
 from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.rollout.state import default_state_path
 
 DEFAULT_PORT = 8650
 STATUS_KEYS = f"{KEY_ROOT}/*/status"
@@ -78,7 +82,9 @@ class StatusListener:
         )
 
 
-def fleet_app(roster: Roster, web_dir: Path, token: str | None) -> Starlette:
+def fleet_app(roster: Roster, web_dir: Path, token: str | None, rollout: RolloutView | None = None) -> Starlette:
+    rollout = rollout or RolloutView(None)
+
     async def page(_request):
         index = web_dir / "fleet.html"
         if not index.is_file():
@@ -86,9 +92,12 @@ def fleet_app(roster: Roster, web_dir: Path, token: str | None) -> Starlette:
         return FileResponse(index, headers={"Content-Security-Policy": PAGE_POLICY})
 
     async def robots(_request):
-        return Response(roster.robots_json(), media_type="application/json")
+        return Response(roster.robots_json(rollout.by_robot()), media_type="application/json")
 
-    routes = [Route("/", page), Route("/api/robots", robots)]
+    async def last_rollout(_request):
+        return JSONResponse(rollout.summary())
+
+    routes = [Route("/", page), Route("/api/robots", robots), Route("/api/rollout", last_rollout)]
     if (web_dir / "assets").is_dir():
         routes.append(Mount("/assets", StaticFiles(directory=web_dir / "assets")))
     app = Starlette(routes=routes)
@@ -113,6 +122,13 @@ def parse_arguments(argv):
     access.add_argument("--tls-private-key", metavar="FILE", help="the key of --tls-certificate (PEM)")
     access.add_argument("--tls-ca", metavar="FILE", help="CA of the robots' certificates (PEM): mutual TLS")
     access.add_argument("--robots", metavar="FILE", help="with --tls-ca: robot names, one a line (= certificate CN)")
+    parser.add_argument(
+        "--rollout-state",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="the state file of joshua-fleet deploy, whose rollout the page shows (default: the one deploy writes)",
+    )
     roster = parser.add_argument_group("robots not heard from")
     roster.add_argument(
         "--offline-after",
@@ -173,7 +189,9 @@ def main(argv=None) -> int:
         if generated:
             print(f"fleet: API token (shown once): {token}", flush=True)
         config = uvicorn.Config(
-            fleet_app(roster, args.web_dir, token), log_level="warning", timeout_graceful_shutdown=SHUTDOWN_GRACE_S
+            fleet_app(roster, args.web_dir, token, RolloutView(args.rollout_state or default_state_path())),
+            log_level="warning",
+            timeout_graceful_shutdown=SHUTDOWN_GRACE_S,
         )
         asyncio.run(uvicorn.Server(config).serve(sockets=[sock]))
         subscriber.undeclare()

@@ -17,11 +17,25 @@ MAX_ROBOTS = 256
 DEFAULT_OFFLINE_AFTER_S = 10.0  # a dashboard publishes its status every second
 DEFAULT_FORGET_AFTER_S = 600.0
 PRUNE_PERIOD_S = 1.0  # how often arriving statuses also sweep out the forgotten robots
+RELEASE_DIGITS = 12  # of a build's hash, as the supervisor and the rollout show it
+
+
+def listed_fields(status: RobotStatus) -> bytes:
+    """`"nodes":[...],"url":...,"error":...,"release":...,"health":...` of a checked status: its release (the
+    build's first RELEASE_DIGITS hex digits and time) and how many of its nodes are ready."""
+    run = status.run
+    release = {"build": run.build[:RELEASE_DIGITS], "built": run.built} if run and run.build else None
+    health = {"ready": sum(1 for node in status.nodes if node.ready), "of": len(status.nodes)}
+    shown = status.model_dump(mode="json", exclude={"robot", "run"})
+    return json.dumps({**shown, "release": release, "health": health}, separators=(",", ":")).encode()[1:-1]
+
+
+NOT_HEARD_FROM = listed_fields(RobotStatus())
 
 
 @dataclass(frozen=True)
 class Entry:
-    fields: bytes  # `"nodes":[...],"url":...,"error":...` of the checked status, as the API shows them
+    fields: bytes  # listed_fields() of the checked status, as the API shows them
     seen: float  # time.monotonic() of its arrival
 
 
@@ -39,7 +53,7 @@ class Roster:
     def update(self, robot: str, status: RobotStatus) -> bool:
         """Keep `status` as `robot`'s latest; False when the roster is full and `robot` is new to it."""
         now = self.clock()
-        entry = Entry(status.model_dump_json(exclude={"robot"}).encode()[1:-1], now)
+        entry = Entry(listed_fields(status), now)
         with self._lock:
             if now - self._last_prune >= PRUNE_PERIOD_S:
                 self._prune(now)
@@ -48,22 +62,32 @@ class Roster:
             self._entries[robot] = entry
         return True
 
-    def robots(self) -> list[dict]:
-        """`[{"name", "last_seen_s", "online", "nodes", "url", "error"}]`, sorted by name."""
-        return json.loads(self.robots_json())
+    def robots(self, rollouts: dict[str, list] | None = None) -> list[dict]:
+        """`[{"name", "last_seen_s", "online", "nodes", "url", "error", "release", "health", "rollout"}]`, sorted by
+        name; `rollouts` (robot -> its computers' entries in the last rollout) adds robots not heard from."""
+        return json.loads(self.robots_json(rollouts))
 
-    def robots_json(self) -> bytes:
+    def robots_json(self, rollouts: dict[str, list] | None = None) -> bytes:
         """robots() as the JSON the API answers, joined from the kept blocks without decoding them."""
         now = self.clock()
+        rollouts = rollouts or {}
         with self._lock:
             self._prune(now)
-            entries = sorted(self._entries.items())
-        return b"[" + b",".join(self._entry_json(name, entry, now) for name, entry in entries) + b"]"
+            entries = dict(self._entries)
+        names = sorted(set(entries) | set(rollouts))
+        listed = (self._entry_json(name, entries.get(name), rollouts.get(name), now) for name in names)
+        return b"[" + b",".join(listed) + b"]"
 
-    def _entry_json(self, name: str, entry: Entry, now: float) -> bytes:
-        age = now - entry.seen
-        head = json.dumps({"name": name, "last_seen_s": round(age, 3), "online": age <= self.offline_after_s})
-        return head[:-1].encode() + b"," + entry.fields + b"}"
+    def _entry_json(self, name: str, entry: Entry | None, rollout: list | None, now: float) -> bytes:
+        if entry is None:  # a robot of the rollout that publishes nothing
+            head = {"name": name, "last_seen_s": None, "online": False}
+            fields = NOT_HEARD_FROM
+        else:
+            age = now - entry.seen
+            head = {"name": name, "last_seen_s": round(age, 3), "online": age <= self.offline_after_s}
+            fields = entry.fields
+        tail = json.dumps(rollout, separators=(",", ":")).encode()
+        return json.dumps(head)[:-1].encode() + b"," + fields + b',"rollout":' + tail + b"}"
 
     def __len__(self) -> int:
         with self._lock:

@@ -4,8 +4,9 @@ dropped before it is kept or shown.
 A status is one JSON object of at most MAX_STATUS_BYTES, published under `joshua/<robot>/status` where
 <robot> is a robot name (lower-case letters, digits, underscores). Its keys, each optional:
 `robot` (the same name), `nodes` (at most MAX_NODES `{"name", "state", "pid", "restarts", "ready",
-"since_s"}` of distinct names, as `supervisor.py ctl status --json` prints them), `url` (the robot's page: an http or
-https address, nothing else) and `error` (text). Other keys are ignored.
+"since_s"}` of distinct names, as `supervisor.py ctl status --json` prints them), `run` (its `build`, 64 hex
+digits, and `built`, a time), `url` (the robot's page: an http or https address, nothing else) and `error` (text).
+Other keys are ignored.
 """
 
 from typing import Annotated
@@ -21,6 +22,7 @@ MAX_NODE_NAME_CHARS = 255
 MAX_URL_CHARS = 2048
 MAX_ERROR_CHARS = 1024
 MAX_COUNT = 2**31 - 1  # pids and restart counts
+MAX_TIME_CHARS = 40  # an ISO 8601 time with milliseconds and offset is 29
 LINK_SCHEMES = ("http", "https")
 
 
@@ -59,9 +61,17 @@ class NodeStatus(_Strict):
     since_s: Annotated[float, Field(ge=0, allow_inf_nan=False)] | None = None
 
 
+class RunStatus(_Strict):
+    """The supervisor's run: which build it runs (the SHA-256 of its stamp) and when that build was written."""
+
+    build: Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{64}$")] | None = None
+    built: Annotated[str, StringConstraints(max_length=MAX_TIME_CHARS)] | None = None
+
+
 class RobotStatus(_Strict):
     robot: Annotated[str, AfterValidator(robot_name)] | None = None
     nodes: Annotated[list[NodeStatus], Field(max_length=MAX_NODES)] = []
+    run: RunStatus | None = None
     url: Annotated[str, StringConstraints(max_length=MAX_URL_CHARS), AfterValidator(http_link)] | None = None
     error: Annotated[str, StringConstraints(max_length=MAX_ERROR_CHARS)] | None = None
 

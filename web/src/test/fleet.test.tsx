@@ -45,3 +45,45 @@ describe("RobotList", () => {
     expect(screen.getByText("offline, last seen 1 min ago")).toBeTruthy();
   });
 });
+
+describe("releases and rollouts", () => {
+  const running = { ...good, nodes: [{ name: "leader", state: "running", ready: true },
+                                     { name: "follower", state: "running", ready: false }],
+                    release: { build: "3a7d1c09b2e4", built: "2026-01-01T08:59:00.250+09:00" },
+                    health: { ready: 1, of: 2 },
+                    rollout: [{ name: "arm", release: "3a7d1c09b2e4", state: "updated", step: "", message: "ready",
+                                rolled_back_to: "", seconds: 12.34 }] };
+
+  it("keeps a robot's release, health and rollout, and a robot of the rollout not heard from", () => {
+    const [arm, quiet] = readRobots([
+      running,
+      { name: "quiet", nodes: [], last_seen_s: null, online: true, url: null, error: null, release: null, health: null,
+        rollout: [{ name: "quiet", release: "b".repeat(12), state: "failed", step: "verify", seconds: null,
+                    message: "nodes/leader.py differs from the release's .joshuac-stamp (signed)", rolled_back_to: "" },
+                  { name: 7 }] },
+    ]);
+    expect(arm.release).toEqual({ build: "3a7d1c09b2e4", built: "2026-01-01T08:59:00.250+09:00" });
+    expect(arm.health).toEqual({ ready: 1, of: 2 });
+    expect(arm.nodes.map((node) => node.ready)).toEqual([true, false]);
+    expect(quiet.online).toBe(false);
+    expect(quiet.rollout.map((entry) => entry.step)).toEqual(["verify"]);
+    expect(readRobots([{ ...running, release: { build: "<img src=x>" } }])[0].release).toBeNull();
+  });
+
+  it("shows each robot's release, health and what the rollout did to it", () => {
+    const robots = readRobots([
+      running,
+      { ...running, name: "split", health: { ready: 2, of: 2 },
+        rollout: [{ name: "split.arm", state: "failed", step: "gate", message: "node crash failed",
+                    rolled_back_to: "c".repeat(12), release: "d".repeat(12), seconds: 30 },
+                  { name: "split.pi", state: "not_started", message: "the rollout stopped: canary split.arm failed" }] },
+    ]);
+    render(<RobotList robots={robots} />);
+    expect(screen.getByTestId("release-arm").textContent).toBe("release 3a7d1c09b2e4, built 2026-01-01 08:59:00");
+    expect(screen.getByTestId("health-arm").textContent).toBe("ready: 1 of 2 nodes");
+    expect(screen.getByTestId("rollout-arm").textContent).toBe("release 3a7d1c09b2e4 rolled out in 12.3 s");
+    expect(screen.getByTestId("rollout-split").textContent).toBe(
+      `arm: failed at gate: node crash failed; back on ${"c".repeat(12)}` +
+      "pi: not started: the rollout stopped: canary split.arm failed");
+  });
+});
