@@ -8,6 +8,7 @@ nodes, just under 64 KiB), a status over 64 KiB, JSON of the wrong shape (`[1,2,
 """
 
 import json
+import os
 import socket
 import subprocess
 import sys
@@ -73,7 +74,8 @@ def fleet_memory(keys: int, rounds: int = ROUNDS, forget_after_s: float = FORGET
     log = tempfile.TemporaryFile("w+")
     server = subprocess.Popen(
         [sys.executable, "-m", "joshua_runtime.dashboard.fleet", "--listen", endpoint, "--port", str(http_port)]
-        + ["--offline-after", str(OFFLINE_AFTER_S), "--forget-after", str(forget_after_s)],
+        + ["--offline-after", str(OFFLINE_AFTER_S), "--forget-after", str(forget_after_s)]
+        + ["--rollout-state", os.devnull],  # robots of a rollout recorded on this machine are not listed
         stdout=log,
         stderr=subprocess.STDOUT,
         cwd=ROOT,
