@@ -22,7 +22,7 @@ from joshua_codegen.load import INVALID_VALUE, NOT_TEXT, load_text, syntax_diagn
 from joshua_codegen.source_file import SourceProblem, read_description
 from joshua_codegen.syntax import Block, Comment, Document, Field, ListValue, Scalar, SyntaxProblem, parse_syntax
 from joshua_codegen.values import ValueProblem, unquote
-from joshua_core.schema import RobotDescription
+from joshua_core.schema import FleetDescription, RobotDescription
 
 INDENT = "  "
 TRAILING_COMMENT_GAP = "  "
@@ -31,6 +31,11 @@ NODE_FIELD = "node"
 _ESCAPES = {'"': '\\"', "\\": "\\\\", "\n": "\\n", "\r": "\\r", "\t": "\\t"}
 HEADER_KEYS = ("# proto-file:", "# proto-message:")
 HEADER = (f"{HEADER_KEYS[0]} joshua/v1/robot_config.proto", f"{HEADER_KEYS[1]} {RobotDescription.DESCRIPTOR.full_name}")
+FLEET_BLOCK = "fleet_config"  # a fleet file's root (fleet/load.py)
+FLEET_HEADER = (
+    f"{HEADER_KEYS[0]} joshua/v1/fleet_config.proto",
+    f"{HEADER_KEYS[1]} {FleetDescription.DESCRIPTOR.full_name}",
+)
 
 
 def quote(data: bytes) -> str:
@@ -148,16 +153,17 @@ def render(document: Document) -> str:
         if last is not None and document.dangling[0].line - last > 1:
             printer.blank()
         printer.comments(document.dangling, "", None)
-    return "".join(line + "\n" for line in _with_header(printer.lines))
+    fleet = bool(document.fields) and document.fields[0].name.text == FLEET_BLOCK
+    return "".join(line + "\n" for line in _with_header(printer.lines, FLEET_HEADER if fleet else HEADER))
 
 
-def _with_header(lines: list[str]) -> list[str]:
+def _with_header(lines: list[str], header: tuple[str, str]) -> list[str]:
     """The lines with the schema header first, in place of any header lines among the comments at the top."""
     top = 0
     while top < len(lines) and lines[top].startswith("#"):
         top += 1
     kept = [line for line in lines[:top] if not line.startswith(HEADER_KEYS)]
-    return [*HEADER, *kept, *lines[top:]]
+    return [*header, *kept, *lines[top:]]
 
 
 def _check_strings(fields: list[Field], path: str, problems: list[Diagnostic]) -> None:
@@ -222,8 +228,13 @@ def format_file(path: str) -> tuple[str, str | None, list[Diagnostic]]:
     if text is None:
         return data.decode("utf-8", errors="replace"), None, problems
     formatted, problems = format_description(text, path)
-    if formatted is not None:
-        before, after = load_text(path, text.removeprefix("\ufeff")), load_text(path, formatted)
-        if before.description != after.description:
-            raise MeaningChanged(f"formatting {path} would change what it means; the file is left as it is")
+    if formatted is not None and _meaning(path, text.removeprefix("\ufeff")) != _meaning(path, formatted):
+        raise MeaningChanged(f"formatting {path} would change what it means; the file is left as it is")
     return text, formatted, problems
+
+
+def _meaning(path: str, text: str):
+    """What a text loads to, as a description or, for a fleet file, as a fleet."""
+    from joshua_codegen.fleet.load import is_fleet_text, load_fleet
+
+    return load_fleet(path, text)[0] if is_fleet_text(text) else load_text(path, text).description

@@ -64,6 +64,7 @@ def _field_homes() -> dict[str, str]:
 
 _BLOCKS = _blocks()
 _HOMES = _field_homes()
+_ROBOT_FILE = RobotConfig.DESCRIPTOR.file  # "belongs in" hints are for descriptions, not fleet files
 
 
 class _Binder:
@@ -104,7 +105,7 @@ class _Binder:
         hint = suggest(name, descriptor.fields_by_name)
         if hint:
             message += f'; did you mean "{hint}"?'
-        elif descriptor.full_name in _BLOCKS and name in _HOMES and _HOMES[name] != _BLOCKS[descriptor.full_name]:
+        elif descriptor.file is _ROBOT_FILE and name in _HOMES and _HOMES[name] != _BLOCKS.get(descriptor.full_name):
             message += f"; it belongs in {_HOMES[name]} {{ ... }}"
         self.report(UNKNOWN_FIELD, field.name, field.name, message)
 

@@ -112,3 +112,17 @@ def test_check_takes_fleet_files_on_the_command_line(tmp_path):
     [diagnostic] = json.loads(done.stdout)["diagnostics"]
     assert (diagnostic["line"], diagnostic["column"], diagnostic["code"]) == (3, 25, "E002")
     assert diagnostic["message"] == 'unknown field "addres" in FleetRobot; did you mean "address"?'
+
+
+def test_fmt_gives_a_fleet_file_the_fleet_schema_header(tmp_path):
+    path = fleet(tmp_path, '  robot { name: "arm_1" description: "robots/arm.pbtxt" address: "10.0.0.11" }\n')
+    done = joshuac("fmt", path)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[:4] == [
+        "# proto-file: joshua/v1/fleet_config.proto",
+        "# proto-message: joshua.v1.FleetDescription",
+        "# The lab.",
+        "fleet_config {",
+    ]
+    (tmp_path / "formatted.pbtxt").write_text(done.stdout)
+    assert not check_file(str(tmp_path / "formatted.pbtxt")).has_errors

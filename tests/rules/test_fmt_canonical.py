@@ -6,8 +6,9 @@ from pathlib import Path
 import pytest
 from google.protobuf import text_format
 
+from joshua_codegen.fleet.load import is_fleet_text
 from joshua_codegen.fmt import format_description, quote
-from joshua_core.schema import RobotDescription
+from joshua_core.schema import FleetDescription, RobotDescription
 
 HERE = Path(__file__).parent
 SEEDS = sorted((HERE / "seeds").glob("*.pbtxt"))
@@ -73,6 +74,7 @@ robot_config {  # the robot
 
 
 HEADER = ["proto-file: joshua/v1/robot_config.proto", "proto-message: joshua.v1.RobotDescription"]
+FLEET_HEADER = ["proto-file: joshua/v1/fleet_config.proto", "proto-message: joshua.v1.FleetDescription"]
 
 
 def comments(text):
@@ -80,7 +82,7 @@ def comments(text):
 
 
 def without_header(found):
-    return [comment for comment in found if comment not in HEADER]
+    return [comment for comment in found if comment not in HEADER + FLEET_HEADER]
 
 
 def test_messy_text_gets_the_canonical_layout():
@@ -95,13 +97,14 @@ def test_formatting_is_idempotent_and_keeps_meaning_and_comments(path):
     formatted, diagnostics = format_description(text, path.name)
     assert diagnostics == []
     assert format_description(formatted, path.name) == (formatted, [])
-    assert comments(formatted)[:2] == HEADER  # the schema header comes first
+    header, root = (FLEET_HEADER, FleetDescription) if is_fleet_text(text) else (HEADER, RobotDescription)
+    assert comments(formatted)[:2] == header  # the schema header, of the file's own schema, comes first
     assert comments(formatted)[2:] == without_header(comments(text))
     try:
-        original = text_format.Parse(text, RobotDescription())
+        original = text_format.Parse(text, root())
     except text_format.ParseError:
         return  # fixtures with unknown fields or bad values: layout only
-    assert text_format.Parse(formatted, RobotDescription()) == original
+    assert text_format.Parse(formatted, root()) == original
 
 
 def test_seeds_are_already_canonical_apart_from_nothing():
