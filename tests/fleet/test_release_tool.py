@@ -47,9 +47,10 @@ def release_id(release: Path) -> str:
     return hashlib.sha256((release / ".joshuac-stamp").read_bytes()).hexdigest()[:12]
 
 
-def tool(out: Path, name: str, *args) -> subprocess.CompletedProcess:
+def tool(out: Path, name: str, *args, env=None) -> subprocess.CompletedProcess:
     script = out / "ansible/files" / name
-    return subprocess.run([sys.executable, str(script), *map(str, args)], capture_output=True, text=True, timeout=120)
+    command = [sys.executable, str(script), *map(str, args)]
+    return subprocess.run(command, capture_output=True, text=True, timeout=120, env=env)
 
 
 def send(out: Path, root: Path) -> str:
@@ -193,3 +194,36 @@ def stop_supervisor(root: Path) -> None:
     deadline = time.monotonic() + 30
     while Path(f"/proc/{pid}").exists() and time.monotonic() < deadline:
         time.sleep(0.1)
+
+
+def test_the_systemd_start_method_installs_the_releases_units_and_starts_its_target(releases, tmp_path):
+    """The tool's part with systemd, which does not run where the tests run: a `systemctl` on PATH records what it
+    is asked (the units themselves pass systemd-analyze verify in tests/process/test_systemd_units.py)."""
+    directory, built = releases
+    key = directory / "release.key.pub"
+    calls = tmp_path / "systemctl.calls"
+    fake = tmp_path / "bin" / "systemctl"
+    fake.parent.mkdir()
+    fake.write_text(f'#!/bin/sh\necho "$*" >> {calls}\n')
+    fake.chmod(0o755)
+    env = dict(os.environ, PATH=f"{fake.parent}:{os.environ['PATH']}")
+    units = tmp_path / "etc-systemd-system"
+    units.mkdir()
+    (units / "joshua-arm-gone.service").write_text("a node of an older release")
+    (units / "ssh.service").write_text("not the robot's")
+    root = tmp_path / "opt-joshua"
+    systemd = ["--robot", "arm", "--start", "systemd", "--unit-dir", units]
+    first = send(built["good"], root)
+    assert verify(built["good"], root, first, key).returncode == 0
+    done = tool(built["good"], "release_tool.py", "--root", root, "switch", first, *systemd, env=env)
+    assert done.returncode == 0, done.stdout
+    assert calls.read_text().splitlines() == ["daemon-reload", "enable joshua-arm.target", "start joshua-arm.target"]
+    release_units = sorted(os.listdir(root / "current" / "systemd"))
+    assert sorted(os.listdir(units)) == sorted([*release_units, "ssh.service"])
+    second = send(built["crash"], root)
+    assert verify(built["crash"], root, second, key).returncode == 0
+    calls.unlink()
+    done = tool(built["crash"], "release_tool.py", "--root", root, "switch", second, *systemd, env=env)
+    assert done.returncode == 0, done.stdout
+    assert calls.read_text().splitlines()[0] == "stop joshua-arm.target"  # before current moves
+    assert "joshua-arm-crash.service" in os.listdir(units)

@@ -26,7 +26,8 @@ def supervisor_pid(layout: dict) -> int | None:
 def stop(args, layout: dict) -> None:
     if args.start == "systemd":
         target = f"joshua-{args.robot}.target"
-        run(["systemctl", "stop", target], f"systemctl stop {target}")
+        if os.path.exists(os.path.join(args.unit_dir, target)):  # none before the robot's first release
+            run(["systemctl", "stop", target], f"systemctl stop {target}")
         return
     pid = supervisor_pid(layout)
     if pid is None:
