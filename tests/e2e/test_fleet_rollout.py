@@ -7,6 +7,7 @@ release is refused before anything of it runs; `joshua-fleet rollback` goes back
 full disk are each reported in one line with the step that failed.
 """
 
+import hashlib
 import json
 import shutil
 import sys
@@ -61,8 +62,6 @@ def build(directory: Path, fleet_file: Path, name: str, key: Path | None) -> Pat
 
 
 def release_of(out: Path, robot: str) -> str:
-    import hashlib
-
     return hashlib.sha256((out / "robots" / robot / ".joshuac-stamp").read_bytes()).hexdigest()[:12]
 
 
@@ -174,3 +173,63 @@ def test_unreachable_robot_and_full_disk_reported_one_line_each_with_the_step(tm
         assert "ready: 2 of 2 nodes ready" in line, line
         assert fleet.robots["arm2"].run(["test", "-e", "/opt/joshua/current"]).returncode == 1
         assert_ready_on(robot_state(fleet, "arm_3"), release_of(out, "arm_3"))
+
+
+DESCRIBED_ADDRESSES = ("10.0.0.2", "10.0.0.4")  # the split robot's own host addresses, which the fleet replaces
+SPLIT = """robot_config {
+  name: "split"
+  mode: MODE_TELEOPERATION
+  shutdown { sigint_grace_s: 3 sigterm_grace_s: 1 }
+  host { name: "arm" address: "10.0.0.2" }
+  host { name: "pi" address: "10.0.0.4" }
+  discovery { server_host: "arm" }
+  node { name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 20 host: "pi" }
+  node { name: "follower" type: MOCK_ACTUATOR_SUBSCRIBER topic_name: "/leader/joint_states"
+         state_topic: "/follower/joint_states" }
+}
+"""
+ECHO_TIMEOUT_S = 30.0
+
+
+def test_a_robot_on_two_computers_gets_each_computers_release_at_the_fleets_addresses(tmp_path):
+    """A robot split over two computers is two releases, one per computer, each reached at the address the
+    fleet gives it. The Discovery Server on arm is the only way the two computers' nodes find each other (every
+    process is its client), so the leader's joints reach arm only if pi's release names arm's fleet address."""
+    with ssh_robots(tmp_path, ["armhost", "pihost"]) as fleet:
+        computers = {"arm": fleet.robots["armhost"], "pi": fleet.robots["pihost"]}
+        (tmp_path / "split.pbtxt").write_text(SPLIT)
+        hosts = " ".join(
+            f'host {{ name: "{name}" address: "{computer.address}" }}' for name, computer in computers.items()
+        )
+        (tmp_path / "fleet.pbtxt").write_text(
+            'fleet_config {\n  name: "lab"\n  start: START_SUPERVISOR\n'
+            f'  robot {{ name: "split_1" description: "split.pbtxt" set: "ros_domain_id=37"\n'
+            f'          set: "python_executable={sys.executable}"\n          {hosts} }}\n}}\n'
+        )
+        out = build(tmp_path, tmp_path / "fleet.pbtxt", "out", None)
+        done = fleet.deploy(["deploy", str(out)])
+        assert done.returncode == 0, done.stdout + done.stderr
+        for host, computer in computers.items():
+            release_dir = out / "robots/split_1/hosts" / host
+            release = hashlib.sha256((release_dir / ".joshuac-stamp").read_bytes()).hexdigest()[:12]
+            processes = len(json.loads((release_dir / "manifest.json").read_text())["processes"])
+            [line] = lines_of(done.stdout, f"split_1.{host}")
+            assert f"release {release}: ready: {processes} of {processes} nodes ready" in line, line
+            assert computer.run(["readlink", "/opt/joshua/current"]).stdout.strip().endswith(release)
+            status = computer.run(
+                [sys.executable, "/opt/joshua/current/supervisor.py", "ctl", "--control-socket",
+                 f"/opt/joshua/run/split_1.{host}.sock", "status", "--json"]
+            )  # fmt: skip
+            assert json.loads(status.stdout)["run"]["build"][:12] == release
+            manifest = json.loads(computer.run(["cat", "/opt/joshua/current/manifest.json"]).stdout)
+            assert {entry["name"]: entry["address"] for entry in manifest["hosts"]} == {
+                name: other.address for name, other in computers.items()
+            }
+            assert not any(address in json.dumps(manifest) for address in DESCRIBED_ADDRESSES)
+        echo = computers["arm"].run(
+            [sys.executable, "-m", "joshua_runtime.tools.topic_cli", "--robot", "/opt/joshua/current", "echo",
+             "/leader/joint_states", "--once", "--timeout", str(ECHO_TIMEOUT_S)],
+            timeout=ECHO_TIMEOUT_S * 2,
+        )  # fmt: skip
+        assert echo.returncode == 0, echo.stdout + echo.stderr
+        assert "position:" in echo.stdout, echo.stdout
