@@ -1,5 +1,6 @@
 """`joshua-fleet --listen tcp/HOST:PORT --port N`: the fleet page and `GET /api/robots` for every robot that
-publishes its status over zenoh under `joshua/<robot>/status` (see zenoh_link.py).
+publishes its status over zenoh under `joshua/<robot>/status` (see zenoh_link.py); a robot that deletes that
+key (its dashboard stopped) is listed offline at once.
 
 `GET /api/robots` answers a JSON list, one entry per robot, sorted by name:
 `{"name", "nodes": [{"name", "state", "pid", ...}], "last_seen_s", "online", "url", "error", "release", "health",
@@ -49,10 +50,14 @@ PAGE_POLICY = (
 
 
 class StatusListener:
-    """Zenoh's callback: reads each status through the schema into the roster, and reports what it drops."""
+    """Zenoh's callback: reads each status through the schema into the roster, takes a deleted status as the
+    robot going offline, and reports what it drops."""
 
     def __init__(self, roster: Roster):
+        from zenoh import SampleKind
+
         self.roster = roster
+        self._deleted = SampleKind.DELETE
         self._lock = threading.Lock()
         self._dropped = 0
         self._last_reason = ""
@@ -60,6 +65,9 @@ class StatusListener:
 
     def receive(self, sample) -> None:
         robot = str(sample.key_expr).split("/")[1]
+        if sample.kind == self._deleted:
+            self.roster.withdraw(robot)
+            return
         try:
             check_size(len(sample.payload))
             status = read_status(robot, sample.payload.to_bytes())

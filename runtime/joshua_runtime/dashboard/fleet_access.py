@@ -1,8 +1,8 @@
 """Who the fleet view admits over zenoh, in zenoh's own terms: user/password authentication (`--users`, a
 zenoh dictionary file of `ROBOT:PASSWORD` lines), TLS (`--tls-certificate`, `--tls-private-key`; mutual
 with `--tls-ca`, the CA of the robots' certificates, whose common names `--robots` lists), and an access
-control list that lets each robot put under `joshua/<its name>/**` and do nothing else: no other key,
-no subscription, no query.
+control list that lets each robot put and delete under `joshua/<its name>/**` (a dashboard that stops
+deletes its status) and do nothing else: no other key, no subscription, no query.
 
 Without credentials any peer that reaches the endpoint is admitted, so the fleet allows that only on a
 loopback endpoint (this machine). Secrets stay in their files: zenoh gets the paths.
@@ -19,6 +19,7 @@ from joshua_runtime.errors import SettingsError
 # Zenoh reassembles a message split in fragments up to this size (its default is 1 GiB): twice a status's limit.
 MAX_ZENOH_MESSAGE_BYTES = 2 * MAX_STATUS_BYTES
 ANYONE = "anyone"
+PUBLISHED_MESSAGES = ["put", "delete"]  # what a robot may send under its own keys
 
 
 @dataclass(frozen=True)
@@ -88,13 +89,19 @@ class FleetAccess:
 
 
 def access_control(robots: tuple[str, ...], by_user: bool, by_certificate: bool) -> dict:
-    """Zenoh's ACL: robot R (user R, certificate common name R, or both) may put under `joshua/R/**`;
-    without names, any peer may put under `joshua/**`. Everything else is denied."""
+    """Zenoh's ACL: robot R (user R, certificate common name R, or both) may put and delete under `joshua/R/**`;
+    without names, any peer may under `joshua/**`. Everything else is denied."""
     rules, subjects, policies = [], [], []
     for robot in robots or (ANYONE,):
         key = f"{KEY_ROOT}/{robot}/**" if robots else f"{KEY_ROOT}/**"
         rules.append(
-            {"id": robot, "messages": ["put"], "flows": ["ingress"], "permission": "allow", "key_exprs": [key]}
+            {
+                "id": robot,
+                "messages": PUBLISHED_MESSAGES,
+                "flows": ["ingress"],
+                "permission": "allow",
+                "key_exprs": [key],
+            }
         )
         subject = {"id": robot}
         if robots and by_user:

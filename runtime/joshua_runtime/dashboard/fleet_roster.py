@@ -1,6 +1,7 @@
 """The robots the fleet view has heard from: the last valid status of each, at most MAX_ROBOTS of them.
 
-A robot not heard from for `offline_after_s` is listed as offline; after `forget_after_s` it is removed.
+A robot not heard from for `offline_after_s`, or whose status was withdrawn (its dashboard stopped), is listed
+as offline until its next status; after `forget_after_s` without one it is removed.
 While the roster is full a robot it does not know yet is turned away (the ones it knows keep
 updating) until a silent one is forgotten, so memory stays bounded whatever peers publish. Each status
 is kept as the compact JSON of its checked fields, one block of memory that is freed whole.
@@ -9,7 +10,7 @@ is kept as the compact JSON of its checked fields, one block of memory that is f
 import json
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from joshua_runtime.dashboard.fleet_status import RobotStatus
 
@@ -37,6 +38,7 @@ NOT_HEARD_FROM = listed_fields(RobotStatus())
 class Entry:
     fields: bytes  # listed_fields() of the checked status, as the API shows them
     seen: float  # time.monotonic() of its arrival
+    withdrawn: bool = False  # the robot deleted its status since: offline whatever its age
 
 
 class Roster:
@@ -62,6 +64,13 @@ class Roster:
             self._entries[robot] = entry
         return True
 
+    def withdraw(self, robot: str) -> None:
+        """`robot` withdrew its status: list it offline, with what it said last, until it publishes again."""
+        with self._lock:
+            entry = self._entries.get(robot)
+            if entry is not None:
+                self._entries[robot] = replace(entry, withdrawn=True)
+
     def robots(self, rollouts: dict[str, list] | None = None) -> list[dict]:
         """`[{"name", "last_seen_s", "online", "nodes", "url", "error", "release", "health", "rollout"}]`, sorted by
         name; `rollouts` (robot -> its computers' entries in the last rollout) adds robots not heard from."""
@@ -84,7 +93,8 @@ class Roster:
             fields = NOT_HEARD_FROM
         else:
             age = now - entry.seen
-            head = {"name": name, "last_seen_s": round(age, 3), "online": age <= self.offline_after_s}
+            online = not entry.withdrawn and age <= self.offline_after_s
+            head = {"name": name, "last_seen_s": round(age, 3), "online": online}
             fields = entry.fields
         tail = json.dumps(rollout, separators=(",", ":")).encode()
         return json.dumps(head)[:-1].encode() + b"," + fields + b',"rollout":' + tail + b"}"

@@ -2,7 +2,8 @@
 
 Keys: `joshua/<robot>/status` (the supervisor's status plus the dashboard's `url`), `joshua/<robot>/rates`,
 `joshua/<robot>/joints/<topic>`, `joshua/<robot>/recorder/<node>`, `joshua/<robot>/inference/<node>`.
-Camera frames and scans stay on the robot's own page. Multicast scouting is off: peers meet only
+Camera frames and scans stay on the robot's own page. A dashboard that stops deletes its status key, so the
+fleet view shows the robot offline at once rather than once it has been silent long enough. Multicast scouting is off: peers meet only
 through the endpoints given. A robot presents the credentials its description names (a password read
 from a file, its user being the robot's name; TLS certificates by path) and the fleet view admits it
 only under `joshua/<its name>/` (see fleet_access.py).
@@ -10,6 +11,7 @@ only under `joshua/<its name>/` (see fleet_access.py).
 
 import asyncio
 import json
+import threading
 
 from joshua_core.dashboard import (
     FLEET_CREDENTIAL_FIELDS,
@@ -121,13 +123,16 @@ def key_for(robot: str, event_key: str) -> str:
 
 
 class FleetLink:
-    """Forwards the broadcaster's events (all but images and scans) to zenoh, through a mailbox of its own."""
+    """Forwards the broadcaster's events (all but images and scans) to zenoh, through a mailbox of its own;
+    withdraws the robot's status when it closes."""
 
     def __init__(self, robot: str, endpoint: str, url: str, broadcaster, settings: dict | None = None):
         self.robot = robot
         self.url = url
         self.broadcaster = broadcaster
         self.session = open_session("peer", connect=[check_endpoint(endpoint)], settings=settings)
+        self._publishing = threading.Lock()  # a put still under way in its thread never follows the withdrawal
+        self._withdrawn = False
 
     async def run(self) -> None:
         mailbox = self.broadcaster.subscribe(viewer=False)
@@ -139,9 +144,18 @@ class FleetLink:
                 payload = event.data
                 if event.kind == "status":
                     payload = json.dumps(dict(json.loads(payload), robot=self.robot, url=self.url))
-                await asyncio.to_thread(self.session.put, key_for(self.robot, key), payload)
+                await asyncio.to_thread(self._put, key_for(self.robot, key), payload)
         finally:
             self.broadcaster.unsubscribe(mailbox)
 
+    def _put(self, key: str, payload) -> None:
+        with self._publishing:
+            if not self._withdrawn:
+                self.session.put(key, payload)
+
     def close(self) -> None:
+        """Delete the robot's status key (the fleet view shows it offline now), then leave the session."""
+        with self._publishing:
+            self._withdrawn = True
+            self.session.delete(key_for(self.robot, "status"))
         self.session.close()

@@ -94,6 +94,24 @@ def test_a_robot_with_credentials_cannot_write_another_robots_keys(tmp_path, use
         assert [node["name"] for node in entry["nodes"]] == ["leader"]
 
 
+def test_a_robot_withdraws_its_own_status_but_not_another_robots(tmp_path, users_file):
+    with running_fleet(tmp_path, "--users", str(users_file)) as fleet:
+        with (
+            zenoh_peer(fleet.endpoint, "arm_1", PASSWORDS["arm_1"]) as arm_1,
+            zenoh_peer(fleet.endpoint, "arm_2", PASSWORDS["arm_2"]) as arm_2,
+        ):
+            wait_linked(arm_1)
+            wait_linked(arm_2)
+            arm_1.put("joshua/arm_1/status", status("arm_1"))
+            arm_2.put("joshua/arm_2/status", status("arm_2"))
+            fleet.wait_until(lambda robots: [robot["online"] for robot in robots] == [True, True])
+            arm_1.delete("joshua/arm_2/status")
+            arm_1.delete("joshua/arm_1/status")
+            # The same link keeps order: once arm_1 is offline, its delete of arm_2's key was handled.
+            listed = fleet.wait_until(lambda robots: not robots[0]["online"])
+        assert [(robot["name"], robot["online"]) for robot in listed] == [("arm_1", False), ("arm_2", True)]
+
+
 def test_a_robot_cannot_read_what_another_robot_publishes(tmp_path, users_file):
     received = []
     with running_fleet(tmp_path, "--users", str(users_file)) as fleet:

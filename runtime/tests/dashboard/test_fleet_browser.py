@@ -1,4 +1,5 @@
-"""The fleet view: two robots in different ROS domains publish over zenoh, the fleet page lists both."""
+"""The fleet view: two robots in different ROS domains publish over zenoh, the fleet page lists both; a robot
+whose dashboard stops is shown offline at once, not after --offline-after."""
 
 import subprocess
 import sys
@@ -7,6 +8,7 @@ from contextlib import ExitStack
 import pytest
 from dashboard_support import (
     browser,
+    control_request,
     dashboard_token,
     free_port,
     get_json,
@@ -15,11 +17,14 @@ from dashboard_support import (
     stop,
     wait_for_server,
 )
+from fleet_support import running_fleet
 
 pytestmark = [pytest.mark.browser, pytest.mark.process]
 
 PAGE_TIMEOUT_MS = 30_000
 ROBOTS = ("fleet_alpha", "fleet_beta")
+# Silence alone makes no robot offline within a test: what the page shows offline was withdrawn.
+NEVER_SILENT_LONG_ENOUGH = ("--offline-after", "600", "--forget-after", "1200")
 
 
 def description(robot: str, port: int, endpoint: str) -> str:
@@ -75,3 +80,27 @@ def test_fleet_page_lists_every_publishing_robot_and_links_to_its_page(tmp_path,
         for robot in ROBOTS:
             assert [node["name"] for node in listed[robot]["nodes"]] == ["leader", "dashboard"]
             assert listed[robot]["last_seen_s"] < 5
+
+
+def test_a_robot_whose_dashboard_stops_is_offline_on_the_fleet_page_at_once(tmp_path, ros_env):
+    port = free_port()
+    with (
+        running_fleet(tmp_path, *NEVER_SILENT_LONG_ENOUGH) as fleet,
+        running_robot(description(ROBOTS[0], port, fleet.endpoint), tmp_path, ros_env, port) as control_socket,
+        browser() as chromium,
+    ):
+        page = chromium.new_page(viewport={"width": 1200, "height": 700})
+        page.set_default_timeout(PAGE_TIMEOUT_MS)
+        page.goto(fleet.url + "/")
+        card = page.get_by_test_id(f"robot-{ROBOTS[0]}")
+        card.get_by_text("online", exact=True).wait_for()
+
+        assert control_request(control_socket, {"command": "stop", "node": "dashboard"})["ok"]
+        card.get_by_text("offline, last seen").wait_for()
+        [entry] = fleet.robots()
+        assert entry["online"] is False and entry["last_seen_s"] < 600
+        screenshot(page, "fleet_dashboard_stopped")
+
+        # Started again, it publishes its status again and is online.
+        assert control_request(control_socket, {"command": "start", "node": "dashboard"})["ok"]
+        card.get_by_text("online", exact=True).wait_for()

@@ -74,6 +74,23 @@ def test_a_silent_robot_goes_offline_then_away():
     assert roster.robots() == []
 
 
+def test_a_withdrawn_robot_is_offline_with_its_last_status_until_it_publishes_again():
+    clock = Clock()
+    roster = Roster(offline_after_s=10, forget_after_s=60, clock=clock)
+    roster.update("arm", read_status("arm", json.dumps(SUPERVISOR_STATUS).encode()))
+    roster.withdraw("arm")
+    roster.withdraw("never_heard_of")
+    [entry] = roster.robots()
+    assert (entry["name"], entry["online"], entry["last_seen_s"]) == ("arm", False, 0.0)
+    assert [node["name"] for node in entry["nodes"]] == ["leader", "camera"]
+    clock.now += 1
+    roster.update("arm", read_status("arm", json.dumps(SUPERVISOR_STATUS).encode()))
+    assert [(r["online"], r["last_seen_s"]) for r in roster.robots()] == [(True, 0.0)]
+    roster.withdraw("arm")
+    clock.now += 60.5
+    assert roster.robots() == []
+
+
 def test_a_full_roster_turns_new_robots_away_until_a_silent_one_is_forgotten():
     clock = Clock()
     roster = Roster(offline_after_s=10, forget_after_s=60, clock=clock)
