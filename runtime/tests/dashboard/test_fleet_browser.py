@@ -1,5 +1,6 @@
 """The fleet view: two robots in different ROS domains publish over zenoh, the fleet page lists both; a robot
-whose dashboard stops is shown offline at once, not after --offline-after."""
+whose dashboard stops is shown offline at once, not after --offline-after; an offline robot's card offers no
+link to a page that is not there."""
 
 import subprocess
 import sys
@@ -17,7 +18,7 @@ from dashboard_support import (
     stop,
     wait_for_server,
 )
-from fleet_support import running_fleet
+from fleet_support import running_fleet, status, wait_linked, zenoh_peer
 
 pytestmark = [pytest.mark.browser, pytest.mark.process]
 
@@ -104,3 +105,27 @@ def test_a_robot_whose_dashboard_stops_is_offline_on_the_fleet_page_at_once(tmp_
         # Started again, it publishes its status again and is online.
         assert control_request(control_socket, {"command": "start", "node": "dashboard"})["ok"]
         card.get_by_text("online", exact=True).wait_for()
+
+
+def test_an_offline_robot_offers_no_link_to_its_page_until_it_is_back(tmp_path):
+    with (
+        running_fleet(tmp_path, "--offline-after", "1", "--forget-after", "600") as fleet,
+        zenoh_peer(fleet.endpoint) as peer,
+        browser() as chromium,
+    ):
+        wait_linked(peer)
+        page = chromium.new_page(viewport={"width": 1200, "height": 700})
+        page.set_default_timeout(PAGE_TIMEOUT_MS)
+        page.goto(fleet.url + "/")
+        peer.put("joshua/arm_1/status", status("arm_1"))
+        card = page.get_by_test_id("robot-arm_1")
+        card.get_by_role("link").wait_for()
+        assert card.get_by_role("link").get_attribute("href") == "http://arm_1.example:8640/"
+
+        card.get_by_text("offline, last seen").wait_for()  # silent for --offline-after
+        assert card.get_by_role("link").count() == 0
+        assert card.get_by_test_id("dashboard-offline-arm_1").inner_text() == "Dashboard not reachable"
+        screenshot(page, "fleet_offline_robot")
+
+        peer.put("joshua/arm_1/status", status("arm_1"))
+        card.get_by_role("link").wait_for()

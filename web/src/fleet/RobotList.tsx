@@ -29,7 +29,21 @@ function HealthLine({ robot }: { robot: FleetRobot }) {
   );
 }
 
-/** Every robot the fleet lists: its release, health, part in the last rollout, processes and a link to its page. */
+/** The link to a robot's own page, while the robot is online: an offline robot's page does not answer. */
+function DashboardLink({ robot }: { robot: FleetRobot }) {
+  if (!robot.url) return null;
+  if (!robot.online) {
+    return (
+      <p className="text-sm text-slate-500" data-testid={`dashboard-offline-${robot.name}`}>
+        Dashboard not reachable
+      </p>
+    );
+  }
+  return <a href={robot.url} className="text-sm font-medium text-indigo-300 hover:text-indigo-200">Open dashboard →</a>;
+}
+
+/** Every robot the fleet lists: its release, health, part in the last rollout, processes and, while it is online, a
+ * link to its page. */
 export function RobotList({ robots }: { robots: FleetRobot[] }) {
   if (robots.length === 0) return <p className="py-10 text-center text-slate-500">No robot has published yet.</p>;
   return (
@@ -57,9 +71,7 @@ export function RobotList({ robots }: { robots: FleetRobot[] }) {
                 </li>
               ))}
             </ul>
-            {robot.url && (
-              <a href={robot.url} className="text-sm font-medium text-indigo-300 hover:text-indigo-200">Open dashboard →</a>
-            )}
+            <DashboardLink robot={robot} />
           </article>
         );
       })}

@@ -44,6 +44,13 @@ describe("RobotList", () => {
     expect(screen.getAllByRole("link").map((link) => link.getAttribute("href"))).toEqual(["http://arm.example:8640/"]);
     expect(screen.getByText("offline, last seen 1 min ago")).toBeTruthy();
   });
+
+  it("offers no link to the page of an offline robot, and says why", () => {
+    const [offline] = readRobots([{ ...good, online: false, last_seen_s: 12 }]);
+    render(<RobotList robots={[offline]} />);
+    expect(screen.queryAllByRole("link")).toEqual([]);
+    expect(screen.getByTestId("dashboard-offline-arm").textContent).toBe("Dashboard not reachable");
+  });
 });
 
 describe("releases and rollouts", () => {
