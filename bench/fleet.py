@@ -9,7 +9,8 @@ rollout's time, and each robot's, from the start of its batch to its outcome (th
 beside the floor of the same machine: one `ansible-playbook` run of a playbook doing nothing but reach the
 same robots (`ping`).
 
-Fleet plane: bench/support/fleet_plane.py (50 robots; 10 with --quick).
+Fleet plane: bench/support/fleet_plane.py (50 robots; 10 with --quick), and how soon a robot whose dashboard
+stops is listed offline.
 """
 
 import argparse
@@ -108,7 +109,9 @@ def main() -> None:
         sys.exit(2)
     rollout(QUICK_ROBOTS if args.quick else ROBOTS, 1 if args.quick else 2)
     plane = fleet_plane.measure(
-        QUICK_PLANE_ROBOTS if args.quick else PLANE_ROBOTS, QUICK_WINDOW_S if args.quick else WINDOW_S
+        QUICK_PLANE_ROBOTS if args.quick else PLANE_ROBOTS,
+        QUICK_WINDOW_S if args.quick else WINDOW_S,
+        fleet_plane.QUICK_WITHDRAWALS if args.quick else fleet_plane.WITHDRAWALS,
     )
     print(plane.summary(), flush=True)
 

@@ -7,7 +7,9 @@ robot: the floor) and under the load; the latency from a status's put to `GET /a
 (every status of the probe robot, the API polled every 20 ms), and from a change of the probe's status
 (every CHANGE_PERIOD_S) to the fleet page in headless Chromium showing it (a MutationObserver on the probe's
 card). The page asks for /api/robots once a second (REFRESH_MS in web/src/fleet/main.tsx), so a change
-waits half of that on average before any transport: the page latency's floor.
+waits half of that on average before any transport: the page latency's floor. And, under the same load, from
+a robot's dashboard stopping (FleetLink.close(): it deletes its status key) to `GET /api/robots` listing that
+robot offline, against the --offline-after (10 s) a robot that stops without a word takes.
 """
 
 import json
@@ -32,6 +34,10 @@ SERVER_START_TIMEOUT_S = 60.0
 LINK_TIMEOUT_S = 60.0
 CLK_TCK = os.sysconf("SC_CLK_TCK")
 PROBE = "bench_probe"  # the robot whose statuses carry their put time and its last change's, in its error text
+LEAVER = "bench_leaver"  # the robot whose dashboard starts and stops, WITHDRAWALS times
+WITHDRAWALS, QUICK_WITHDRAWALS = 20, 5
+WITHDRAWAL_POLL_S = 0.002
+OFFLINE_AFTER_S = 10.0  # joshua-fleet's default --offline-after: how long a silent robot still shows online
 CHANGE_PERIOD_S = 1.3  # the probe's status changes this often (longer than the page's refresh: each change shows)
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
 CHROMIUM = "/usr/bin/chromium-headless-shell"
@@ -58,6 +64,7 @@ class PlaneFigures:
     api_ms: tuple[float, float]  # p50, p99
     page_ms: tuple[float, float]
     statuses_per_s: float
+    withdrawal_ms: tuple[float, float]
 
     def summary(self) -> str:
         return (
@@ -67,7 +74,9 @@ class PlaneFigures:
             f"status -> /api/robots p50 {self.api_ms[0]:.1f} ms, p99 {self.api_ms[1]:.1f} ms; "
             f"status change -> page p50 {self.page_ms[0]:.0f} ms, p99 {self.page_ms[1]:.0f} ms "
             f"({self.page_ms[0] / (PAGE_REFRESH_S * 500):.2f}x the {PAGE_REFRESH_S * 500:.0f} ms a change waits on "
-            f"average for the page's {PAGE_REFRESH_S:g} s refresh)"
+            f"average for the page's {PAGE_REFRESH_S:g} s refresh)\n"
+            f"dashboard stops -> /api/robots offline p50 {self.withdrawal_ms[0]:.1f} ms, p99 {self.withdrawal_ms[1]:.1f} "
+            f"ms ({self.withdrawal_ms[0] / (OFFLINE_AFTER_S * 1000):.5f}x the {OFFLINE_AFTER_S:g} s of a silent robot)"
         )
 
 
@@ -146,12 +155,40 @@ def percentile(values: list[float], fraction: float) -> float:
     return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))] if ordered else float("nan")
 
 
-def measure(robots: int, window_s: float) -> PlaneFigures:
+def robot_online(api: str, name: str) -> bool:
+    return any(robot["name"] == name and robot["online"] for robot in robots_now(api))
+
+
+def withdrawals(api: str, endpoint: str, leaver: tuple[str, str], times: int) -> list[float]:
+    """Milliseconds from a dashboard's FleetLink closing to /api/robots listing its robot offline, `times` over."""
+    from joshua_runtime.dashboard.zenoh_link import FleetLink, key_for
+
+    robot, password = leaver
+    settings = {"transport/auth/usrpwd/user": robot, "transport/auth/usrpwd/password": password}
+    latencies = []
+    for _ in range(times):
+        link = FleetLink(robot, endpoint, "http://127.0.0.1:8640/", None, settings)
+        deadline = time.monotonic() + LINK_TIMEOUT_S
+        while not robot_online(api, robot):
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"{robot} never showed online")
+            link.put(key_for(robot, "status"), status(robot))
+            time.sleep(API_POLL_S)
+        started = time.monotonic()
+        link.close()
+        while robot_online(api, robot):
+            time.sleep(WITHDRAWAL_POLL_S)
+        latencies.append((time.monotonic() - started) * 1000)
+    return latencies
+
+
+def measure(robots: int, window_s: float, withdrawn: int = WITHDRAWALS) -> PlaneFigures:
     names = [PROBE] + [f"bench_robot_{i:02d}" for i in range(robots - 1)]
     credentials = [(name, secrets.token_urlsafe(18)) for name in names]
+    leaver = (LEAVER, secrets.token_urlsafe(18))
     with tempfile.TemporaryDirectory(prefix="bench-fleet-") as work:
         users = Path(work, "users.txt")
-        users.write_text("".join(f"{name}:{password}\n" for name, password in credentials))
+        users.write_text("".join(f"{name}:{password}\n" for name, password in [*credentials, leaver]))
         users.chmod(0o600)
         endpoint, port = f"tcp/127.0.0.1:{free_port()}", free_port()
         server = subprocess.Popen(
@@ -172,8 +209,9 @@ def measure(robots: int, window_s: float) -> PlaneFigures:
                     time.sleep(0.2)
             idle_cpu, idle_rss = cpu_window(server.pid, window_s), rss_mib(server.pid)
             return loaded(
-                server.pid, api, f"http://127.0.0.1:{port}/", endpoint, credentials, window_s, idle_cpu, idle_rss
-            )
+                server.pid, api, f"http://127.0.0.1:{port}/", endpoint, credentials, window_s, idle_cpu, idle_rss,
+                lambda: withdrawals(api, endpoint, leaver, withdrawn),
+            )  # fmt: skip
         finally:
             server.terminate()
             server.wait(10)
@@ -185,7 +223,7 @@ def cpu_window(pid: int, seconds: float) -> float:
     return 100.0 * (cpu_seconds(pid) - before) / (time.monotonic() - started)
 
 
-def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_rss) -> PlaneFigures:
+def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_rss, withdraw) -> PlaneFigures:
     from playwright.sync_api import sync_playwright
 
     groups = [credentials[i : i + SESSIONS_PER_PROCESS] for i in range(0, len(credentials), SESSIONS_PER_PROCESS)]
@@ -222,6 +260,7 @@ def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_r
             rss = rss_mib(pid)
             shown = page.evaluate("window.__shown")
             chromium.close()
+        withdrawn = withdraw()  # while the robots still publish
         page_latencies = [shown_at - int(put_at) for put_at, shown_at in shown[1:]]  # the first load aside
         return PlaneFigures(
             robots=len(credentials),
@@ -232,6 +271,7 @@ def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_r
             api_ms=(percentile(api_latencies, 0.5), percentile(api_latencies, 0.99)),
             page_ms=(percentile(page_latencies, 0.5), percentile(page_latencies, 0.99)),
             statuses_per_s=statuses_per_s,
+            withdrawal_ms=(percentile(withdrawn, 0.5), percentile(withdrawn, 0.99)),
         )
     finally:
         for worker in workers:

@@ -144,11 +144,12 @@ class FleetLink:
                 payload = event.data
                 if event.kind == "status":
                     payload = json.dumps(dict(json.loads(payload), robot=self.robot, url=self.url))
-                await asyncio.to_thread(self._put, key_for(self.robot, key), payload)
+                await asyncio.to_thread(self.put, key_for(self.robot, key), payload)
         finally:
             self.broadcaster.unsubscribe(mailbox)
 
-    def _put(self, key: str, payload) -> None:
+    def put(self, key: str, payload) -> None:
+        """Put `payload` under `key`, unless the robot's status was withdrawn (the link is closing)."""
         with self._publishing:
             if not self._withdrawn:
                 self.session.put(key, payload)
