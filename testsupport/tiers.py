@@ -35,6 +35,7 @@ DIRECTORY_TIERS = {
     "tests/supervisor": UNIT,
     "tests/process": PROCESS,
     "tests/e2e": PROCESS,
+    "tests/fleet": PROCESS,  # joshuac, ansible-playbook, openssl and the robot-side release tool as processes
     "tests/containers": CONTAINER,
     "runtime/tests": UNIT,
     "runtime/tests/ai": AI,
@@ -49,6 +50,7 @@ DIRECTORY_TIERS = {
     "runtime/tests/interpreters": PROCESS,  # fresh environments of other Pythons, install.sh runs
     "runtime/tests/lego": UNIT,
     "runtime/tests/multihost": PROCESS,  # simulated computers: network namespaces and the processes in them
+    "runtime/tests/rollout": UNIT,
     "runtime/tests/sensors": UNIT,
     "runtime/tests/servo": UNIT,
     "runtime/tests/sim": UNIT,
