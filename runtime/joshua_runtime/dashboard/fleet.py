@@ -3,8 +3,9 @@ publishes its status over zenoh under `joshua/<robot>/status` (see zenoh_link.py
 
 `GET /api/robots` answers a JSON list, one entry per robot, sorted by name:
 `{"name", "nodes": [{"name", "state", "pid", ...}], "last_seen_s", "online", "url", "error"}` (url: the
-robot's own page, http or https). Zenoh admits only the robots named by the access flags (fleet_access.py);
-each status is checked against fleet_status.py's schema before the roster (fleet_roster.py) keeps it.
+robot's own page, http or https; the shape: `FleetRobots` of api.schema.json). Zenoh admits only the
+robots named by the access flags (fleet_access.py); each status is checked against fleet_status.py's
+schema before the roster (fleet_roster.py) keeps it.
 The same token rule as the robot's dashboard applies: beyond loopback, /api/ needs the bearer token.
 """
 

@@ -1,15 +1,12 @@
 // The fleet's answer (`GET /api/robots`), read defensively: the page keeps only entries of the documented
 // shape, and makes links of http(s) addresses only, whatever the server or a robot sent.
 
-export interface FleetNode { name: string; state: string }
-export interface FleetRobot {
-  name: string;
-  nodes: FleetNode[];
-  last_seen_s: number;
-  online: boolean;
-  url: string | null;
-  error: string | null;
-}
+import type { FleetNodeStatus, FleetRobot as FleetRobotEntry } from "../types";
+
+/** What the page shows of a node: its name and state. */
+export type FleetNode = Pick<FleetNodeStatus, "name" | "state">;
+/** A robot of the answer as the page keeps it (its `url` an http(s) link or null). */
+export type FleetRobot = Omit<FleetRobotEntry, "nodes"> & { nodes: FleetNode[] };
 
 export class FleetAnswerError extends Error {}
 
