@@ -6,6 +6,7 @@ import re
 from jsonschema import Draft202012Validator
 
 from joshua_codegen.supervisor.control_request import REFUSAL_KINDS as SUPERVISOR_REFUSAL_KINDS
+from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard import api_schema, api_typescript, control_client, robot_view, zenoh_link
 from joshua_runtime.dashboard.app import CONTROL_ERROR_STATUS
 from joshua_runtime.dashboard.fleet_status import NodeStatus, RobotStatus
@@ -42,6 +43,11 @@ def test_stream_kinds_and_forwarded_events_are_the_schemas():
     kinds = {*robot_view.STREAM_KINDS.values(), robot_view.RATE}
     assert kinds == set(api_schema.enum("StreamKind"))
     assert set(zenoh_link.PUBLISHED_KINDS) <= set(api_schema.EVENT_KINDS)
+
+
+def test_episode_commands_and_phases_are_the_recorders():
+    assert api_schema.enum("EpisodeAction") == episode_protocol.COMMANDS
+    assert api_schema.enum("RecorderPhase") == episode_protocol.PHASES
 
 
 def test_the_fleet_views_entries_hold_the_fields_its_status_schema_keeps():

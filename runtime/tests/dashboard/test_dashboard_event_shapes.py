@@ -3,11 +3,14 @@ sends them, are what the API schema says (the robots of the browser tests publis
 
 import asyncio
 import json
+from types import SimpleNamespace
 
 import pytest
 from api_contract import check_event
 from sensor_msgs.msg import Image, JointState, LaserScan
 
+from joshua_runtime.ai import episode_protocol
+from joshua_runtime.ai.episode_session import EpisodeSession
 from joshua_runtime.dashboard import frames
 from joshua_runtime.dashboard.broadcaster import Broadcaster
 from joshua_runtime.dashboard.robot_view import Inference
@@ -39,9 +42,14 @@ def test_joint_state_image_and_scan_events_match_the_schema():
 
 
 def test_recorder_and_inference_events_match_the_schema():
-    state = {"recording": True, "event": "started", "message": "episode 3"}
-    check_event("recorder", sent("recorder", recorder_event("recorder", state, 3)))
-    check_event("recorder", sent("recorder", recorder_event("recorder", {}, 0)))
+    state = {"seq": 4, "event": "started", "recording": True, "message": "episode 3"}
+    writer = SimpleNamespace(start_episode=lambda task: None)
+    log = SimpleNamespace(info=lambda text: None)
+    session = EpisodeSession(writer, lambda event, **details: None, log, "pick", episode_time_s=30.0)
+    session.begin()
+    progress = json.loads(episode_protocol.encode(session.progress(writer_ready=False)))  # as the recorder sends it
+    check_event("recorder", sent("recorder", recorder_event("recorder", state, progress, 3)))
+    check_event("recorder", sent("recorder", recorder_event("recorder", {}, None, 0)))
     policy = Inference("policy", "/models/act", 30.0, ("/camera/image_raw", "/arm/joint_states"), "/arm/command")
     check_event("inference", sent("inference", inference_event(policy, 29.5, ["/camera/image_raw"])))
 
