@@ -11,7 +11,7 @@ PYTEST_ARGS ?=
 # pytest-xdist workers of `make test` (auto: one per core; 0: none, the tests run in pytest's own process)
 TEST_WORKERS ?= auto
 
-.PHONY: setup install uninstall run test test-fast generate proto bench check cpp demo-train docs image
+.PHONY: setup install uninstall run test test-fast generate proto bench check cpp demo-train docs image api-types
 
 setup:
 	@bash scripts/setup.sh
@@ -72,6 +72,11 @@ generate: setup
 ## docs: render the README's node-type table from the node-type registry (tests fail when it is stale).
 docs: setup
 	$(VENV)/python -m joshua_codegen.readme_tables
+
+## api-types: render web/src/types.ts from the dashboard's API schema (runtime/joshua_runtime/dashboard/api.schema.json);
+## tests/test_dashboard_api.py fails when it is stale, and set-up refuses to build the page from stale types.
+api-types: setup
+	$(VENV)/python -m joshua_runtime.dashboard.api_typescript
 
 ## cpp: build the C++ node binaries into build/bin/ (a no-op when they are up to date; setup runs it).
 cpp:

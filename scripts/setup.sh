@@ -44,11 +44,13 @@ if ! make --no-print-directory -s -C cpp; then
   echo "setup: warning: the C++ nodes did not build; nodes preferring CPP fall back to Python" >&2
 fi
 
-# The dashboard's page: installed from web/package-lock.json and built into web/dist, only when a
-# source, the lock file or the build configuration is newer than the last build.
+# The dashboard's page: its types rendered from the API's schema (a no-op when they are up to date), then
+# installed from web/package-lock.json and built into web/dist, only when a source, the schema, the lock
+# file or the build configuration is newer than the last build.
+.venv/bin/python -m joshua_runtime.dashboard.api_typescript --if-changed
 if command -v npm >/dev/null 2>&1; then
   stamp=web/dist/.built
-  if [ ! -f "$stamp" ] || [ -n "$(find web/src web/index.html web/fleet.html web/package-lock.json web/vite.config.ts web/tsconfig.json web/tailwind.config.js -newer "$stamp" -print -quit)" ]; then
+  if [ ! -f "$stamp" ] || [ -n "$(find web/src runtime/joshua_runtime/dashboard/api.schema.json web/index.html web/fleet.html web/package-lock.json web/vite.config.ts web/tsconfig.json web/tailwind.config.js -newer "$stamp" -print -quit)" ]; then
     echo "setup: building the dashboard page (web/dist)"
     (cd web && npm ci --no-audit --no-fund --loglevel=error && npx --no-install tsc --noEmit -p . && npx --no-install vite build --logLevel error)
     touch "$stamp"

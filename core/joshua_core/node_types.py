@@ -104,6 +104,7 @@ ODOMETRY = "nav_msgs/msg/Odometry"
 # The wheel joints a differential-drive base publishes unless its joint_names say otherwise.
 BASE_WHEEL_JOINTS = ("left_wheel", "right_wheel")
 IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
+LASER_SCAN = "sensor_msgs/msg/LaserScan"
 # What a policy can observe and a dataset can record: images and joint states.
 OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 
@@ -238,7 +239,7 @@ LIDAR_PUBLISHER = NodeTypeSpec(
     name="LIDAR_PUBLISHER",
     family=Family.LIDAR,
     topic=TopicRole.PUBLISHES,
-    message_types=("sensor_msgs/msg/LaserScan", "sensor_msgs/msg/PointCloud2"),
+    message_types=(LASER_SCAN, "sensor_msgs/msg/PointCloud2"),
     hardware=True,
     cpp_parameters=_CPP_TOPIC_PARAMETERS + ("serial_port", "baud_rate", "rate_hz", "frame_id"),
     fields=_LIDAR_FIELDS,

@@ -12,7 +12,7 @@ header outside the allow-list, see security.py):
 - `POST /api/recorders/<node>/episode/start|stop|discard|next|rerecord` (start takes `{"task": TEXT}`):
   recorder episodes (ai/episode_protocol.py).
 No GET changes anything. A refusal or failure of the supervisor answers `{"error": LINE, "kind": KIND}`
-with the status of CONTROL_ERROR_STATUS.
+with the status of CONTROL_ERROR_STATUS. Every reply and event has its shape in api.schema.json.
 """
 
 import asyncio
@@ -33,6 +33,7 @@ from starlette.staticfiles import StaticFiles
 
 from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard import control_client as control
+from joshua_runtime.dashboard.api_schema import event_kind
 from joshua_runtime.dashboard.control_client import NODE_ACTIONS, ControlError
 from joshua_runtime.dashboard.security import ApiGuard, HostAllowList, HostGuard
 
@@ -46,6 +47,8 @@ CONTROL_ERROR_STATUS = {
     control.REFUSED: 409,
     control.NOT_FOUND: 404,
     control.BAD_REQUEST: 400,
+    control.INVALID_BUILD: 422,
+    control.PREFLIGHT: 422,
     control.FORBIDDEN: 403,
     control.BUSY: 503,
     control.STOPPING: 503,
@@ -55,8 +58,11 @@ CONTROL_ERROR_STATUS = {
 }
 DEFAULT_LOG_LINES = 100
 MAX_LOG_LINES = 2000
-EPISODE_ACTIONS = episode_protocol.COMMANDS
+EPISODE_ACTIONS = episode_protocol.COMMANDS  # the schema's EpisodeAction (tests/test_dashboard_api.py)
 MAX_TASK_CHARS = 500
+STATUS_EVENT = event_kind("status")
+ACTIONS_EVENT = event_kind("actions")
+CLOCK_EVENT = event_kind("clock")
 
 
 class Dashboard:
@@ -94,7 +100,7 @@ class Dashboard:
                 dashboard.broadcaster.attach(asyncio.get_running_loop())
                 # Replayed to every page that connects: none of this server's actions is under way (a
                 # page that saw a restart of the dashboard itself under way learns that it ended).
-                dashboard.broadcaster.publish("actions", "actions", {"pending": {}})
+                dashboard.broadcaster.publish(ACTIONS_EVENT, ACTIONS_EVENT, {"pending": {}})
                 self.poller = asyncio.create_task(dashboard._poll_status())
 
             async def __aexit__(self, *exc_info):
@@ -113,7 +119,7 @@ class Dashboard:
                 self.last_status = await self.control.status()
             except ControlError as exc:
                 self.last_status = {"error": str(exc), "kind": exc.kind}
-            self.broadcaster.publish("status", "status", self.last_status)
+            self.broadcaster.publish(STATUS_EVENT, STATUS_EVENT, self.last_status)
             await asyncio.sleep(STATUS_POLL_S)
 
     async def page(self, _request):
@@ -210,7 +216,7 @@ class Dashboard:
             self.pending.pop(node, None)
         else:
             self.pending[node] = action
-        self.broadcaster.publish("actions", "actions", {"pending": dict(self.pending)})
+        self.broadcaster.publish(ACTIONS_EVENT, ACTIONS_EVENT, {"pending": dict(self.pending)})
 
     async def episode_action(self, request):
         node, action = request.path_params["node"], request.path_params["action"]
@@ -246,7 +252,7 @@ def _control_error(exc: ControlError, unavailable: bool = False) -> JSONResponse
 
 
 def _clock_event() -> bytes:
-    return f"event: clock\ndata: {json.dumps({'server_time_s': round(time.time(), 3)})}\n\n".encode()
+    return f"event: {CLOCK_EVENT}\ndata: {json.dumps({'server_time_s': round(time.time(), 3)})}\n\n".encode()
 
 
 async def _task_text(request) -> str | None:

@@ -12,29 +12,34 @@ import socket
 import struct
 from pathlib import Path
 
+from joshua_runtime.dashboard.api_schema import enum, named
+
 # How long one request may take before the supervisor counts as unreachable (a restart waits for the old process).
 REQUEST_TIMEOUT_S = 15.0
 # The longest reply line accepted (a `logs` reply of many lines).
 REPLY_LIMIT_BYTES = 8 * 1024 * 1024
-NODE_ACTIONS = ("restart", "stop", "start")
+NODE_ACTIONS = enum("NodeAction")
 # Set by a supervisor for its children when it serves its socket somewhere else than the default.
 SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"
 PEER_CREDENTIALS = struct.Struct("3i")  # SO_PEERCRED: pid, uid, gid
 
 
-# What a ControlError can be. The first six are the supervisor's refusals, named in its error reply's
-# `kind` (REFUSAL_KINDS of its control_request module); the rest are failures to get an answer at all.
-CONFLICT = "conflict"  # the node is already in the state asked for, or being stopped or restarted
-NOT_FOUND = "not_found"  # no node of that name
-STOPPING = "stopping"  # the robot is stopping
-BAD_REQUEST = "bad_request"  # a request the supervisor does not understand
-FORBIDDEN = "forbidden"  # the supervisor refuses this process's user
-BUSY = "busy"  # too many control clients are connected
-REFUSED = "refused"  # a refusal of a kind this client does not know
-UNREACHABLE = "unreachable"  # no supervisor serves the socket
-TIMEOUT = "timeout"  # it did not answer in time
-BROKEN = "broken"  # it answered something that is not the control protocol
-REFUSAL_KINDS = (CONFLICT, NOT_FOUND, STOPPING, BAD_REQUEST, FORBIDDEN, BUSY)
+# What a ControlError can be (api.schema.json's ErrorKind). The supervisor's refusals, named in its error
+# reply's `kind` (REFUSAL_KINDS of its control_request module; tests/test_dashboard_api.py holds them equal),
+# come first; the rest are failures to get an answer at all.
+CONFLICT = named("ErrorKind", "conflict")  # the node is already in the state asked for, or being stopped or restarted
+NOT_FOUND = named("ErrorKind", "not_found")  # no node of that name
+STOPPING = named("ErrorKind", "stopping")  # the robot is stopping
+BAD_REQUEST = named("ErrorKind", "bad_request")  # a request the supervisor does not understand
+FORBIDDEN = named("ErrorKind", "forbidden")  # the supervisor refuses this process's user
+BUSY = named("ErrorKind", "busy")  # too many control clients are connected
+INVALID_BUILD = named("ErrorKind", "invalid_build")  # a reload of a build that is not this robot's
+PREFLIGHT = named("ErrorKind", "preflight")  # a node a reload would start cannot start
+REFUSED = named("ErrorKind", "refused")  # a refusal of a kind this client does not know
+UNREACHABLE = named("ErrorKind", "unreachable")  # no supervisor serves the socket
+TIMEOUT = named("ErrorKind", "timeout")  # it did not answer in time
+BROKEN = named("ErrorKind", "broken")  # it answered something that is not the control protocol
+REFUSAL_KINDS = (CONFLICT, NOT_FOUND, STOPPING, BAD_REQUEST, FORBIDDEN, BUSY, INVALID_BUILD, PREFLIGHT)
 ERROR_KINDS = (*REFUSAL_KINDS, REFUSED, UNREACHABLE, TIMEOUT, BROKEN)
 
 

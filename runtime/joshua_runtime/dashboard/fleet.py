@@ -6,8 +6,10 @@ key (its dashboard stopped) is listed offline at once.
 `{"name", "nodes": [{"name", "state", "pid", ...}], "last_seen_s", "online", "url", "error", "release", "health",
 "rollout"}` (url: the robot's own page, http or https; release: `{"build", "built"}` of what it runs; health:
 `{"ready", "of"}` nodes; rollout: its computers' entries in the last rollout of `joshua-fleet deploy`, whose
-state file --rollout-state names, or null). `GET /api/rollout` answers that rollout's summary. Zenoh admits only the robots named by the access flags (fleet_access.py);
-each status is checked against fleet_status.py's schema before the roster (fleet_roster.py) keeps it.
+state file --rollout-state names, or null; the shape: `FleetRobots` of api.schema.json). `GET /api/rollout`
+answers that rollout's summary (`FleetRollout`). Zenoh admits only the robots named by the access flags
+(fleet_access.py); each status is checked against fleet_status.py's schema before the roster (fleet_roster.py)
+keeps it.
 The same token rule as the robot's dashboard applies: beyond loopback, /api/ needs the bearer token.
 """
 

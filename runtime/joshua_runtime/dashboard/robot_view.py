@@ -6,17 +6,20 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
+from joshua_core.node_types import DATA_SUBSCRIBER, IMAGE_TYPES, INFERENCE, JOINT_STATE, LASER_SCAN
 from joshua_runtime.ai import episode_protocol
+from joshua_runtime.dashboard.api_schema import named
 from joshua_runtime.errors import SettingsError
 
-JOINT_STATE = "sensor_msgs/msg/JointState"
-IMAGE = "sensor_msgs/msg/Image"
-COMPRESSED_IMAGE = "sensor_msgs/msg/CompressedImage"
-LASER_SCAN = "sensor_msgs/msg/LaserScan"
-# The stream kind each message type is shown as; topics of other types only count messages.
-STREAM_KINDS = {JOINT_STATE: "joints", IMAGE: "image", COMPRESSED_IMAGE: "image", LASER_SCAN: "scan"}
-RECORDER_TYPE = "DATA_SUBSCRIBER"
-INFERENCE_TYPE = "INFERENCE"
+# The stream kinds of the API (api.schema.json's StreamKind).
+JOINTS = named("StreamKind", "joints")
+IMAGE = named("StreamKind", "image")
+SCAN = named("StreamKind", "scan")
+RATE = named("StreamKind", "rate")
+# The stream kind each message type is shown as; topics of other types only count messages (RATE).
+STREAM_KINDS = {JOINT_STATE: JOINTS, **dict.fromkeys(IMAGE_TYPES, IMAGE), LASER_SCAN: SCAN}
+RECORDER_TYPE = DATA_SUBSCRIBER.name
+INFERENCE_TYPE = INFERENCE.name
 # A stream counts as stale once its newest message is older than STALE_PERIODS of its publisher's
 # `rate_hz`, and never sooner than STALE_FLOOR_S; STALE_UNKNOWN_RATE_S when no publisher states a rate.
 STALE_PERIODS = 5
@@ -26,7 +29,7 @@ STALE_UNKNOWN_RATE_S = 3.0
 
 @dataclass(frozen=True)
 class Stream:
-    """One topic the dashboard subscribes to, how it is shown (`joints`, `image`, `scan` or `rate`), and
+    """One topic the dashboard subscribes to, how it is shown (a StreamKind of api.schema.json), and
     the rate its publishers state (None when none does)."""
 
     topic: str
@@ -121,9 +124,9 @@ def load_robot_view(manifest_path: Path) -> RobotView:
     entrypoints = {p["name"]: p.get("entrypoint") for p in processes}
     settings_of = _settings_reader(manifest_path.parent, nodes, entrypoints)
     streams = tuple(
-        Stream(t["name"], t["message_type"], kind, _stated_rate(t, settings_of) if kind != "rate" else None)
+        Stream(t["name"], t["message_type"], kind, _stated_rate(t, settings_of) if kind != RATE else None)
         for t in topics
-        for kind in [STREAM_KINDS.get(t["message_type"], "rate")]
+        for kind in [STREAM_KINDS.get(t["message_type"], RATE)]
     )
     recorders, inferences = [], []
     for node in nodes:

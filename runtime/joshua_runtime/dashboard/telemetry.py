@@ -16,7 +16,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard import frames
-from joshua_runtime.dashboard.robot_view import RobotView
+from joshua_runtime.dashboard.api_schema import event_kind
+from joshua_runtime.dashboard.robot_view import IMAGE, JOINTS, SCAN, Inference, RobotView
 from joshua_runtime.messages import message_class
 
 REPORT_PERIOD_S = 1.0
@@ -31,8 +32,16 @@ COMMAND_QOS = QoSProfile(
     reliability=ReliabilityPolicy.RELIABLE,
     durability=DurabilityPolicy.VOLATILE,
 )
-_EVENT_MAKERS = {"joints": frames.joint_state_event, "image": frames.image_event, "scan": frames.scan_event}
-_MIN_PERIOD_S = {"joints": 1.0 / JOINTS_MAX_HZ, "image": 1.0 / IMAGE_MAX_FPS, "scan": 0.0}
+# The event of each stream kind the page draws (named after the kind); the other streams only count messages.
+_EVENT_MAKERS = {
+    event_kind(JOINTS): frames.joint_state_event,
+    event_kind(IMAGE): frames.image_event,
+    event_kind(SCAN): frames.scan_event,
+}
+_MIN_PERIOD_S = {JOINTS: 1.0 / JOINTS_MAX_HZ, IMAGE: 1.0 / IMAGE_MAX_FPS, SCAN: 0.0}
+RATES_EVENT = event_kind("rates")
+RECORDER_EVENT = event_kind("recorder")
+INFERENCE_EVENT = event_kind("inference")
 
 
 def saved_episodes(output_directory: str) -> int | None:
@@ -42,6 +51,31 @@ def saved_episodes(output_directory: str) -> int | None:
         return int(info.get("total_episodes", 0))
     except (OSError, ValueError, TypeError):
         return None
+
+
+def recorder_event(recorder: str, status: dict, progress: dict | None, episodes_saved: int) -> dict:
+    """The `recorder` event of a recorder node, from its last episode state (empty when none came yet) and
+    its last progress report (None when none came yet)."""
+    return {
+        "node": recorder,
+        "known": bool(status),
+        "recording": progress["phase"] == "recording" if progress else bool(status.get("recording")),
+        "event": status.get("event", ""),
+        "message": status.get("message", ""),
+        "episodes_saved": episodes_saved,
+        "progress": progress,
+    }
+
+
+def inference_event(inference: Inference, rate_hz: float, stale_inputs: list[str]) -> dict:
+    """The `inference` event of an inference node: the rate of its output topic and its stale inputs."""
+    return {
+        "node": inference.node,
+        "model": inference.model,
+        "configured_rate_hz": inference.rate_hz,
+        "rate_hz": rate_hz,
+        "stale_inputs": stale_inputs,
+    }
 
 
 class Telemetry:
@@ -113,7 +147,7 @@ class Telemetry:
             self.last_received[stream.topic] = now
             if make_event is None or now - self.last_sent.get(stream.topic, 0.0) < min_period:
                 return
-            if stream.kind == "image" and self.broadcaster.client_count == 0:
+            if stream.kind == IMAGE and self.broadcaster.client_count == 0:
                 return
             self.last_sent[stream.topic] = now
             try:
@@ -148,17 +182,9 @@ class Telemetry:
         status = self.recorder_status.get(recorder, {})
         progress = self.recorder_progress.get(recorder)
         self.broadcaster.publish(
-            f"recorder:{recorder}",
-            "recorder",
-            {
-                "node": recorder,
-                "known": bool(status),
-                "recording": progress["phase"] == "recording" if progress else bool(status.get("recording")),
-                "event": status.get("event", ""),
-                "message": status.get("message", ""),
-                "episodes_saved": saved_episodes(spec.output_directory) or 0,
-                "progress": progress,
-            },
+            f"{RECORDER_EVENT}:{recorder}",
+            RECORDER_EVENT,
+            recorder_event(recorder, status, progress, saved_episodes(spec.output_directory) or 0),
         )
 
     def _report(self) -> None:
@@ -168,21 +194,15 @@ class Telemetry:
         rates = {topic: round(count / elapsed, 1) for topic, count in self.counts.items()}
         for topic in self.counts:
             self.counts[topic] = 0
-        self.broadcaster.publish("rates", "rates", {"rates": rates})
+        self.broadcaster.publish(RATES_EVENT, RATES_EVENT, {"rates": rates})
         for inference in self.view.inferences:
             stale = [
                 t for t in inference.inputs if now - self.last_received.get(t, float("-inf")) > INPUT_STALE_AFTER_S
             ]
             self.broadcaster.publish(
-                f"inference:{inference.node}",
-                "inference",
-                {
-                    "node": inference.node,
-                    "model": inference.model,
-                    "configured_rate_hz": inference.rate_hz,
-                    "rate_hz": rates.get(inference.output, 0.0),
-                    "stale_inputs": stale,
-                },
+                f"{INFERENCE_EVENT}:{inference.node}",
+                INFERENCE_EVENT,
+                inference_event(inference, rates.get(inference.output, 0.0), stale),
             )
         for recorder in self.view.recorders:
             self._publish_recorder(recorder.node)

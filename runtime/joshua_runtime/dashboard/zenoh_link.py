@@ -19,10 +19,12 @@ from joshua_core.dashboard import (
     fleet_credential_problems,
     zenoh_endpoint_problem,
 )
+from joshua_runtime.dashboard.api_schema import event_kind
 from joshua_runtime.errors import SettingsError
 
 KEY_ROOT = "joshua"
-PUBLISHED_KINDS = ("status", "rates", "joints", "recorder", "inference")
+# The events of /api/events the fleet view also gets (camera frames and scans stay on the robot).
+PUBLISHED_KINDS = tuple(event_kind(kind) for kind in ("status", "rates", "joints", "recorder", "inference"))
 
 
 def check_endpoint(endpoint: str) -> str:

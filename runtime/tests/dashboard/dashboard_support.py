@@ -14,11 +14,15 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 import urllib.error
+import urllib.parse
 import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
+
+from api_contract import check_event, check_reply
 
 from joshua_core.dashboard_token import token_path
 from testsupport.joshuac_cli import joshuac
@@ -53,9 +57,91 @@ def build(description: str, directory: Path, overrides=()) -> Path:
 
 
 def get_json(url: str, token: str | None = None):
+    """The JSON reply to a GET of `url`; a reply of a route under /api/ is checked against the API schema."""
     request = urllib.request.Request(url, headers={"Authorization": f"Bearer {token}"} if token else {})
     with urllib.request.urlopen(request, timeout=10) as response:
-        return json.loads(response.read())
+        body = json.loads(response.read())
+        path = urllib.parse.urlsplit(url).path
+        if path.startswith("/api/"):
+            check_reply("GET", path, response.status, body)
+        return body
+
+
+EVENTS_TIMEOUT_S = 30
+MAX_EVENT_PROBLEMS = 5  # the first events that do not match the API schema, kept to be shown
+
+
+class EventReader:
+    """The dashboard's /api/events, read line by line in a thread until the server ends it. Every event is
+    checked against the API schema as it arrives (`check` fails on the first that did not match); the
+    events themselves are kept only when `keep` (a robot's camera frames add up over a long test)."""
+
+    def __init__(self, url: str, token: str, keep: bool = True):
+        request = urllib.request.Request(url + "/api/events", headers={"Authorization": f"Bearer {token}"})
+        self.response = urllib.request.urlopen(request, timeout=EVENTS_TIMEOUT_S)
+        self.keep = keep
+        self.events: list[tuple[str, dict, float]] = []  # (kind, data, local time it arrived), when kept
+        self.seen: set[str] = set()  # the kinds of every event read
+        self.problems: list[str] = []
+        self.lock = threading.Lock()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        kind = None
+        try:
+            for raw in self.response:
+                line = raw.decode().rstrip("\n")
+                if line.startswith("event: "):
+                    kind = line[len("event: ") :]
+                elif line.startswith("data: ") and kind:
+                    self._note(kind, json.loads(line[len("data: ") :]))
+        except (OSError, ValueError):
+            pass
+
+    def _note(self, kind: str, data: dict) -> None:
+        try:
+            check_event(kind, data)
+            problem = None
+        except AssertionError as exc:
+            problem = str(exc)
+        with self.lock:
+            self.seen.add(kind)
+            if problem and len(self.problems) < MAX_EVENT_PROBLEMS:
+                self.problems.append(problem)
+            if self.keep:
+                self.events.append((kind, data, time.time()))
+
+    def kinds(self) -> set[str]:
+        """The kinds of the events read so far."""
+        with self.lock:
+            return set(self.seen)
+
+    def check(self) -> None:
+        """Every event read so far is what the API schema says its kind carries."""
+        with self.lock:
+            problems = list(self.problems)
+        assert not problems, "\n".join(problems)
+
+    def wait_for_kind(self, kind: str) -> None:
+        """Wait for an event of `kind`; every event read until then matches the API schema."""
+        deadline = time.monotonic() + EVENTS_TIMEOUT_S
+        while kind not in self.kinds():
+            assert time.monotonic() < deadline, f"no {kind} event within {EVENTS_TIMEOUT_S} s: {sorted(self.kinds())}"
+            time.sleep(0.02)
+        self.check()
+
+    def wait_for(self, condition, what: str):
+        """The first kept event that meets `condition(kind, data)`; every event read until then matches the API
+        schema."""
+        deadline = time.monotonic() + EVENTS_TIMEOUT_S
+        while time.monotonic() < deadline:
+            self.check()
+            with self.lock:
+                found = [event for event in self.events if condition(*event[:2])]
+            if found:
+                return found[0]
+            time.sleep(0.02)
+        raise AssertionError(f"no {what} event within {EVENTS_TIMEOUT_S} s: {[e[0] for e in self.events]}")
 
 
 def dashboard_token(control_socket: Path) -> str:

@@ -10,6 +10,7 @@ import re
 import pandas
 import pytest
 from dashboard_support import (
+    EventReader,
     browser,
     control_request,
     dashboard_token,
@@ -76,6 +77,7 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
     url, control_socket, dataset = robot
     token = dashboard_token(control_socket)
     probe = ros_client.node.create_publisher(JointState, "/probe/joint_states", 10)
+    events = EventReader(url, token, keep=False)
     page.goto(f"{url}/#token={token}")
     page.get_by_test_id("node-stop-probe").click()
     page.get_by_test_id("confirm-action").click()  # probe is critical (the default): the page asks first
@@ -130,6 +132,8 @@ def test_page_shows_published_values_restarts_a_node_and_records_an_episode(robo
 
     tasks = pandas.read_parquet(dataset / "meta" / "tasks.parquet")
     assert TASK in set(tasks.index) | set(tasks.get("task", []))
+    assert {"joints", "recorder", "status", "actions", "rates", "clock"} <= events.kinds()
+    events.check()
 
 
 def test_the_address_with_the_token_opens_the_page_which_drops_it_and_keeps_working(tmp_path, ros_env, chromium, page):

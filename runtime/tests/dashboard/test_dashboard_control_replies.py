@@ -13,6 +13,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
+from api_contract import checking_replies
 from dashboard_support import control_request, dashboard_token, free_port, node_pid, running_robot
 from starlette.testclient import TestClient
 
@@ -51,7 +52,7 @@ def dashboard_client(control_socket, tmp_path) -> TestClient:
         token=TOKEN,
         allowed=HostAllowList("127.0.0.1"),
     )
-    return TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED)
+    return checking_replies(TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED))
 
 
 def in_background(call):

@@ -6,8 +6,10 @@ page at phone width. Screenshots of each step: test-artifacts/dashboard/controls
 
 import pytest
 from config_robots import ROBOTS, devices
-from dashboard_support import browser, dashboard_token, free_port, running_robot, screenshot
+from dashboard_support import EventReader, browser, dashboard_token, free_port, running_robot, screenshot
 from page_driver import PAGE_TIMEOUT_MS, RobotPage
+
+from joshua_runtime.dashboard.robot_view import RATE, load_robot_view
 
 pytestmark = [pytest.mark.browser, pytest.mark.process]
 
@@ -46,8 +48,19 @@ def test_every_process_control_of_a_robot_of_config(label, tmp_path, ros_env):
             for process in processes:
                 driver.row(process).wait_for()
             driver.check("opened")
+            events = EventReader(f"http://127.0.0.1:{port}", dashboard_token(control_socket), keep=False)
+            for kind in sorted(robot_events(tmp_path / "out" / "manifest.json")):
+                events.wait_for_kind(kind)
             for process in processes:
                 driver.exercise(process)
+            events.check()  # every event until the dashboard's own restart ended the stream
+
+
+def robot_events(manifest) -> set[str]:
+    """The events a robot's dashboard sends while all runs: its streams drawn, its recorders and inference nodes."""
+    view = load_robot_view(manifest)
+    kinds = {"clock", "status", "actions", "rates"} | {s.kind for s in view.streams if s.kind != RATE}
+    return kinds | ({"recorder"} if view.recorders else set()) | ({"inference"} if view.inferences else set())
 
 
 # A node that ignores SIGINT, so that its restart lasts the robot's SIGINT grace; one that is not critical.

@@ -1,12 +1,10 @@
 """What the event stream tells the page besides the robot's data: the server's clock, when each event
 was published, and which node actions are under way (a restart waits for the old process to end)."""
 
-import json
 import threading
-import time
 import urllib.request
 
-from dashboard_support import dashboard_token, free_port, running_robot
+from dashboard_support import EVENTS_TIMEOUT_S, EventReader, dashboard_token, free_port, running_robot
 
 # A node that ignores SIGINT, so that its restart lasts the robot's SIGINT grace.
 STUBBORN = """robot_config {{ name: "events_robot" mode: MODE_TELEOPERATION
@@ -15,41 +13,6 @@ STUBBORN = """robot_config {{ name: "events_robot" mode: MODE_TELEOPERATION
   dashboard {{ port: {port} }}
 }}
 """
-READ_TIMEOUT_S = 30
-
-
-class EventReader:
-    """The dashboard's /api/events, read line by line in a thread."""
-
-    def __init__(self, url: str, token: str):
-        request = urllib.request.Request(url + "/api/events", headers={"Authorization": f"Bearer {token}"})
-        self.response = urllib.request.urlopen(request, timeout=READ_TIMEOUT_S)
-        self.events: list[tuple[str, dict, float]] = []  # (kind, data, local time it arrived)
-        self.lock = threading.Lock()
-        threading.Thread(target=self._read, daemon=True).start()
-
-    def _read(self) -> None:
-        kind = None
-        try:
-            for raw in self.response:
-                line = raw.decode().rstrip("\n")
-                if line.startswith("event: "):
-                    kind = line[len("event: ") :]
-                elif line.startswith("data: ") and kind:
-                    with self.lock:
-                        self.events.append((kind, json.loads(line[len("data: ") :]), time.time()))
-        except (OSError, ValueError):
-            pass
-
-    def wait_for(self, condition, what: str):
-        deadline = time.monotonic() + READ_TIMEOUT_S
-        while time.monotonic() < deadline:
-            with self.lock:
-                found = [event for event in self.events if condition(*event[:2])]
-            if found:
-                return found[0]
-            time.sleep(0.02)
-        raise AssertionError(f"no {what} event within {READ_TIMEOUT_S} s: {[e[0] for e in self.events]}")
 
 
 def test_events_carry_the_server_clock_and_the_actions_under_way(tmp_path, ros_env):
@@ -68,8 +31,8 @@ def test_events_carry_the_server_clock_and_the_actions_under_way(tmp_path, ros_e
         request = urllib.request.Request(
             url + "/api/nodes/stubborn/restart", method="POST", headers={"Authorization": f"Bearer {token}"}
         )
-        restart = threading.Thread(target=lambda: urllib.request.urlopen(request, timeout=READ_TIMEOUT_S).read())
+        restart = threading.Thread(target=lambda: urllib.request.urlopen(request, timeout=EVENTS_TIMEOUT_S).read())
         restart.start()
         reader.wait_for(lambda kind, data: kind == "actions" and data["pending"] == {"stubborn": "restart"}, "pending")
-        restart.join(READ_TIMEOUT_S)
+        restart.join(EVENTS_TIMEOUT_S)
         reader.wait_for(lambda kind, data: kind == "actions" and data["pending"] == {}, "finished")

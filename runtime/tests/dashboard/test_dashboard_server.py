@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from api_contract import checking_replies
 from dashboard_support import free_port, node_pid, running_robot
 from starlette.testclient import TestClient
 
@@ -50,7 +51,9 @@ def client_for(control_socket, tmp_path, authorized=True) -> TestClient:
         token=TOKEN,
         allowed=HostAllowList("127.0.0.1"),
     )
-    return TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED if authorized else None)
+    return checking_replies(
+        TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED if authorized else None)
+    )
 
 
 def test_status_is_the_supervisor_status(supervised, tmp_path):
@@ -91,7 +94,7 @@ def test_unreachable_supervisor_answers_503(tmp_path):
         token=TOKEN,
         allowed=HostAllowList("127.0.0.1"),
     )
-    with TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED) as client:
+    with checking_replies(TestClient(dashboard.app, base_url="http://127.0.0.1", headers=AUTHORIZED)) as client:
         reply = client.get("/api/status")
     assert reply.status_code == 503
     assert "missing.sock" in reply.json()["error"]

@@ -11,7 +11,7 @@ import { NodeTable } from "./NodeTable";
 import { EmptyNote, Panel } from "./Panel";
 import { TokenPrompt } from "./TokenPrompt";
 import { TopologyGraph } from "./TopologyGraph";
-import type { RobotStatus, Stamped } from "../types";
+import type { RobotStatus, Stamped, StreamKind } from "../types";
 
 /** The robot's page: topology, processes, live sensors, recording and inference. */
 export function App() {
@@ -23,7 +23,7 @@ export function App() {
   if (unauthorized) return <TokenPrompt onToken={retry} />;
   if (error) return <p className="p-8 text-rose-300" role="alert">Cannot load the robot: {error}</p>;
   if (!robot) return <p className="p-8 text-slate-400">Loading…</p>;
-  const streamsOf = (kind: string) => robot.streams.filter((s) => s.kind === kind);
+  const streamsOf = (kind: StreamKind) => robot.streams.filter((s) => s.kind === kind);
   const nodes = status?.nodes ?? [];
   return (
     <div className="min-h-screen bg-slate-950 text-slate-200">

@@ -1,31 +1,27 @@
 // The fleet's answers (`GET /api/robots`, `GET /api/rollout`), read defensively: the page keeps only entries of the
 // documented shape, and makes links of http(s) addresses only, whatever the server or a robot sent.
 
-export interface FleetNode { name: string; state: string; ready: boolean }
-export interface FleetRelease { build: string; built: string | null }
-export interface FleetHealth { ready: number; of: number }
-/** One computer of a robot in the last rollout (`arm_1`, or `split.arm`). */
-export interface FleetRolloutEntry {
-  name: string;
-  release: string | null;
-  state: string;
-  step: string | null;
-  message: string | null;
-  rolled_back_to: string | null;
-  seconds: number | null;
-}
-export interface FleetRobot {
-  name: string;
+import type {
+  FleetHealth,
+  FleetNodeStatus,
+  FleetRelease,
+  FleetRobot as FleetRobotEntry,
+  FleetRolloutEntry as FleetRolloutAnswer,
+  FleetRolloutSummary,
+} from "../types";
+
+export type { FleetHealth, FleetRelease };
+/** What the page shows of a node: its name, state and whether it is ready. */
+export type FleetNode = Pick<FleetNodeStatus, "name" | "state" | "ready">;
+/** One computer of a robot in the last rollout, as the page keeps it (with a state). */
+export type FleetRolloutEntry = FleetRolloutAnswer & { state: string };
+/** A robot of the answer as the page keeps it (its `url` an http(s) link or null, its rollout a list). */
+export type FleetRobot = Omit<FleetRobotEntry, "nodes" | "rollout"> & {
   nodes: FleetNode[];
-  last_seen_s: number | null;
-  online: boolean;
-  url: string | null;
-  error: string | null;
-  release: FleetRelease | null;
-  health: FleetHealth | null;
   rollout: FleetRolloutEntry[];
-}
-export interface FleetRollout { fleet: string; state: string; started: string | null; finished: string | null }
+};
+/** The last rollout's summary as the page keeps it (with a fleet and a state). */
+export type FleetRollout = FleetRolloutSummary & { fleet: string; state: string };
 
 export class FleetAnswerError extends Error {}
 

@@ -2,6 +2,7 @@
 import { createContext, useContext, useEffect, useState, type ReactNode } from "react";
 import { authHeaders } from "../api";
 import { EventHub, type Listener } from "../sse";
+import type { ServerEvents } from "../types";
 
 const HubContext = createContext<EventHub | null>(null);
 
@@ -34,8 +35,8 @@ export function useServerNow(periodMs = AGE_TICK_MS): number {
   return hub ? hub.serverNow() : Date.now() / 1000;
 }
 
-/** Calls `listener` with every event of `kind` while the component is mounted. */
-export function useEventListener(kind: string, listener: Listener): void {
+/** Calls `listener` with every event of `kind` (an event of the API's schema) while the component is mounted. */
+export function useEventListener(kind: keyof ServerEvents, listener: Listener): void {
   const hub = useContext(HubContext);
   useEffect(() => (hub ? hub.on(kind, listener) : undefined), [hub, kind, listener]);
 }
@@ -53,7 +54,9 @@ export function useConnected(): boolean {
 }
 
 /** The latest event of `kind` whose `key` field equals `value` (or the latest of all when no key). */
-export function useLatest<T extends object>(kind: string, key?: keyof T, value?: unknown): T | null {
+export function useLatest<K extends keyof ServerEvents, T extends object = ServerEvents[K]>(
+  kind: K, key?: keyof T, value?: unknown,
+): T | null {
   const [latest, setLatest] = useState<T | null>(null);
   const listener = useKeyedListener<T>(key, value, setLatest);
   useEventListener(kind, listener);

@@ -3,7 +3,7 @@ import { useCallback, useEffect, useRef, useState } from "react";
 import { apiToken, getJson, isUnauthorized } from "../api";
 import { PLOT_WINDOW_S } from "../plotScale";
 import type {
-  ActionsEvent, ImageEvent, InferenceEvent, JointStateEvent, NodeAction, RecorderEvent, RobotStatus, RobotSummary,
+  ImageEvent, InferenceEvent, JointStateEvent, NodeAction, RecorderEvent, RobotStatus, RobotSummary,
   ScanEvent,
 } from "../types";
 import { useEventListener, useLatest } from "./EventHubContext";
@@ -34,32 +34,32 @@ export function useRobotSummary(): {
 }
 
 export function useNodeStatus(): RobotStatus | null {
-  return useLatest<RobotStatus>("status");
+  return useLatest("status");
 }
 
 /** The node actions asked through the dashboard (by any page) and not answered yet. */
 export function usePendingActions(): Record<string, NodeAction> {
-  return useLatest<ActionsEvent>("actions")?.pending ?? {};
+  return useLatest("actions")?.pending ?? {};
 }
 
 export function useTopicRates(): Record<string, number> {
-  return useLatest<{ rates: Record<string, number> }>("rates")?.rates ?? {};
+  return useLatest("rates")?.rates ?? {};
 }
 
 export function useCameraFrame(topic: string): ImageEvent | null {
-  return useLatest<ImageEvent>("image", "topic", topic);
+  return useLatest("image", "topic", topic);
 }
 
 export function useLaserScan(topic: string): ScanEvent | null {
-  return useLatest<ScanEvent>("scan", "topic", topic);
+  return useLatest("scan", "topic", topic);
 }
 
 export function useRecorder(node: string): RecorderEvent | null {
-  return useLatest<RecorderEvent>("recorder", "node", node);
+  return useLatest("recorder", "node", node);
 }
 
 export function useInferenceStatus(node: string): InferenceEvent | null {
-  return useLatest<InferenceEvent>("inference", "node", node);
+  return useLatest("inference", "node", node);
 }
 
 /** The latest joint state of `topic` and those of the PLOT_WINDOW_S before it (oldest first, at most HISTORY_LIMIT). */
