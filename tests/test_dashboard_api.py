@@ -1,6 +1,7 @@
 """The dashboard's API is written once: the schema document, the names the server's code takes from it, the
 page's TypeScript types rendered from it, and the supervisor's refusal kinds the control client names."""
 
+import json
 import re
 
 from jsonschema import Draft202012Validator
@@ -9,6 +10,7 @@ from joshua_codegen.supervisor.control_request import REFUSAL_KINDS as SUPERVISO
 from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard import api_schema, api_typescript, control_client, robot_view, zenoh_link
 from joshua_runtime.dashboard.app import CONTROL_ERROR_STATUS
+from joshua_runtime.dashboard.fleet_roster import listed_fields
 from joshua_runtime.dashboard.fleet_status import NodeStatus, RobotStatus
 
 REFRESH_TYPES = "make api-types"
@@ -53,8 +55,9 @@ def test_episode_commands_and_phases_are_the_recorders():
 def test_the_fleet_views_entries_hold_the_fields_its_status_schema_keeps():
     definitions = api_schema.SCHEMA["$defs"]
     assert set(definitions["FleetNodeStatus"]["properties"]) == set(NodeStatus.model_fields)
-    kept = set(RobotStatus.model_fields) - {"robot"}  # the roster names each robot by its key
-    assert set(definitions["FleetRobot"]["properties"]) == kept | {"name", "last_seen_s", "online"}
+    listed = json.loads(b"{" + listed_fields(RobotStatus()) + b"}")  # a status as the roster lists it
+    assert set(listed) == set(RobotStatus.model_fields) - {"robot", "run"} | {"release", "health"}
+    assert set(definitions["FleetRobot"]["properties"]) == set(listed) | {"name", "last_seen_s", "online", "rollout"}
 
 
 def test_the_pages_types_are_rendered_from_the_schema():
