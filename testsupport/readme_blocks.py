@@ -16,12 +16,19 @@ from pathlib import Path
 
 MARKER = "<!-- test: run -->"
 RUNNABLE = re.compile(r"^" + re.escape(MARKER) + r"\n```sh\n(.*?)^```$", re.MULTILINE | re.DOTALL)
+# A command block that needs what the tests may not use (a download from the Hugging Face Hub): shown, not run.
+NETWORK_MARKER = "<!-- test: needs network -->"
+NETWORK_ONLY = re.compile(r"^" + re.escape(NETWORK_MARKER) + r"\n```sh\n(.*?)^```$", re.MULTILINE | re.DOTALL)
 BLOCK_TIMEOUT_S = 300
 SUITE_SETTINGS = ("OMP_NUM_THREADS",)  # what the test suite sets for every process it starts (conftest.py)
 
 
 def runnable_blocks(document: Path) -> list[str]:
     return RUNNABLE.findall(Path(document).read_text())
+
+
+def network_only_blocks(document: Path) -> list[str]:
+    return NETWORK_ONLY.findall(Path(document).read_text())
 
 
 def misplaced_markers(document: Path) -> list[int]:
