@@ -69,7 +69,7 @@ generate: setup
 		rm -rf generated/$$robot && $(VENV)/joshuac build config/robots/$$robot.pbtxt -o generated/$$robot || exit 1; \
 	done
 
-## docs: render the README's node-type table from the node-type registry (tests fail when it is stale).
+## docs: render the node-type table of docs/description-language.md from the node-type registry (tests fail when it is stale).
 docs: setup
 	$(VENV)/python -m joshua_codegen.readme_tables
 

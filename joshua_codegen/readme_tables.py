@@ -1,7 +1,7 @@
-"""The README's node-type table, rendered from the registry between its marker comments.
+"""The node-type table of docs/description-language.md, rendered from the registry between its marker comments.
 
-    python -m joshua_codegen.readme_tables          # rewrite the table in README.md (make docs)
-    python -m joshua_codegen.readme_tables --check  # exit 1 when README.md's table is stale
+    python -m joshua_codegen.readme_tables          # rewrite the table in the page (make docs)
+    python -m joshua_codegen.readme_tables --check  # exit 1 when the page's table is stale
 
 tests/test_type_lists.py fails when the committed table differs from what this renders.
 """
@@ -12,7 +12,8 @@ from pathlib import Path
 from joshua_core.node_types import NODE_TYPES, NodeTypeSpec
 from joshua_core.servo_topics import DIAGNOSTICS_TOPIC
 
-README = Path(__file__).resolve().parent.parent / "README.md"
+PAGE_NAME = "docs/description-language.md"
+PAGE = Path(__file__).resolve().parent.parent / PAGE_NAME
 BEGIN = "<!-- begin node-types: rendered from core/joshua_core/node_types.py by `make docs`; do not edit -->"
 END = "<!-- end node-types -->"
 HEADER = (
@@ -82,27 +83,27 @@ def table() -> str:
     return "\n".join((BEGIN, *HEADER, *rows, END))
 
 
-def render(readme_text: str) -> str:
-    """The README text with its table section replaced by a fresh one."""
-    start, end = readme_text.find(BEGIN), readme_text.find(END)
+def render(page_text: str) -> str:
+    """The page's text with its table section replaced by a fresh one."""
+    start, end = page_text.find(BEGIN), page_text.find(END)
     if start < 0 or end < start:
-        raise ValueError(f"README.md lacks the markers {BEGIN!r} ... {END!r}")
-    return readme_text[:start] + table() + readme_text[end + len(END) :]
+        raise ValueError(f"{PAGE_NAME} lacks the markers {BEGIN!r} ... {END!r}")
+    return page_text[:start] + table() + page_text[end + len(END) :]
 
 
 def main(argv: list[str]) -> int:
-    text = README.read_text(encoding="utf-8")
+    text = PAGE.read_text(encoding="utf-8")
     fresh = render(text)
     if argv == ["--check"]:
         if fresh != text:
-            print("README.md's node-type table is stale; run: make docs", file=sys.stderr)
+            print(f"{PAGE_NAME}: the node-type table is stale; run: make docs", file=sys.stderr)
             return 1
         return 0
     if argv:
         print("usage: python -m joshua_codegen.readme_tables [--check]", file=sys.stderr)
         return 2
     if fresh != text:
-        README.write_text(fresh, encoding="utf-8")
+        PAGE.write_text(fresh, encoding="utf-8")
     return 0
 
 

@@ -1,4 +1,4 @@
-"""Lists of node types in prose, taken from the registry: what `joshuac explain` and the README print.
+"""Lists of node types in prose, taken from the registry: what `joshuac explain` and the docs print.
 
 A rule's docstring names the types it concerns with a placeholder ending in `_types`, `{serial_types}`, and its module
 defines `TYPE_LISTS = {"serial_types": predicate}` over registry entries; `render` puts the types

@@ -113,4 +113,4 @@ def test_text_diagnostics_split_each_source_once_however_many_there_are():
 
 def test_the_documented_limit_is_the_enforced_one():
     assert MAX_DESCRIPTION_BYTES == 1024 * 1024
-    assert "at most 1 MiB\n(1048576 bytes" in (ROOT / "README.md").read_text()
+    assert "at most 1 MiB\n(1048576 bytes" in (ROOT / "docs" / "description-language.md").read_text()

@@ -1,4 +1,5 @@
-"""Every relative link and `#anchor` of README.md, CONTRIBUTING.md and docs/*.md resolves, as GitHub resolves it.
+"""Every relative link and `#anchor` of README.md, CONTRIBUTING.md and docs/*.md resolves, as GitHub resolves it,
+and the README stays a newcomer's page that leads to every page of docs/.
 
 Anchors are computed as GitHub computes them (testsupport/documents.py); links to other sites are
 not followed (nothing is fetched).
@@ -7,6 +8,8 @@ not followed (nothing is fetched).
 import pytest
 
 from testsupport.documents import ROOT, anchors, broken_links, documents, links, slug
+
+README_MAX_LINES = 250  # what it is, the two commands, a first robot, where to go next; the rest is in docs/
 
 # (heading as written, its anchor on GitHub)
 GITHUB_ANCHORS = [
@@ -21,6 +24,14 @@ GITHUB_ANCHORS = [
 def test_the_documents_exist():
     assert (ROOT / "README.md").is_file() and (ROOT / "CONTRIBUTING.md").is_file()
     assert (ROOT / "docs" / "architecture.md").is_file()
+
+
+def test_the_readme_is_a_short_page_that_leads_to_every_page_of_docs():
+    readme = ROOT / "README.md"
+    assert len(readme.read_text(encoding="utf-8").splitlines()) <= README_MAX_LINES
+    linked = {(readme.parent / target.partition("#")[0]).resolve() for _, target in links(readme)}
+    unlinked = [path.name for path in sorted((ROOT / "docs").glob("*.md")) if path.resolve() not in linked]
+    assert unlinked == [], "pages of docs/ the README does not link to"
 
 
 def test_every_relative_link_and_anchor_resolves():

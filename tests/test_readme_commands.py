@@ -2,9 +2,10 @@
 
 The blocks (marked `<!-- test: run -->`, see testsupport/readme_blocks.py) of one document run in file
 order from the repository root, sharing one temporary HOME. The README's begin with `make install`
-and run in new login shells; the other documents are read after it, so their blocks run in a shell
-with the checkout's commands first on PATH (its .venv/bin, where `make install`'s wrappers lead; a
-login shell of root would reset PATH) and join a ROS domain of their own.
+and run in new login shells (its first robot in a ROS domain of its own); the other documents are read
+after it, so their blocks run in a shell with the checkout's commands first on PATH (its .venv/bin,
+where `make install`'s wrappers lead; a login shell of root would reset PATH) and join a ROS domain of
+their own.
 """
 
 import os
@@ -31,9 +32,13 @@ def test_the_marker_finds_the_set_up_blocks():
 
 @pytest.mark.process
 @pytest.mark.xdist_group("checkout")  # `make install` sets the checkout up
-def test_every_runnable_readme_block_succeeds_in_a_new_login_shell(tmp_path):
+def test_every_runnable_readme_block_succeeds_in_a_new_login_shell(tmp_path, ros_env):
     home = fresh_home(tmp_path)
-    env = home_env(home)
+    env = home_env(
+        home,
+        ROS_DOMAIN_ID=ros_env["ROS_DOMAIN_ID"],
+        ROS_AUTOMATIC_DISCOVERY_RANGE=ros_env["ROS_AUTOMATIC_DISCOVERY_RANGE"],
+    )
     run_blocks(ROOT / "README.md", ROOT, env)
     bindir = home / ".local" / "bin"
     wrapper = bindir / "joshuac"

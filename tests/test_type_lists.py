@@ -1,8 +1,8 @@
 """Lists of node types are rendered from the registry, never written by hand.
 
-`joshuac explain` fills each rule's placeholders from the registry, the README's node-type table is
-rendered by `make docs`, and a scan of the repository's code, docs and schema fails on any other
-sequence of three or more node type names, the form a hand-written list takes.
+`joshuac explain` fills each rule's placeholders from the registry, the node-type table of
+docs/description-language.md is rendered by `make docs`, and a scan of the repository's code, docs and
+schema fails on any other sequence of three or more node type names, the form a hand-written list takes.
 """
 
 import dataclasses
@@ -105,7 +105,7 @@ def test_no_code_doc_or_schema_comment_lists_node_types_by_hand():
             offenders.append(f"{path.relative_to(ROOT)}:{line}: {', '.join(names)}")
     assert not offenders, (
         "node types listed by hand; render the list from the registry (a rule's TYPE_LISTS placeholder, the "
-        "README table of `make docs`) or point at it:\n" + "\n".join(offenders)
+        "node-type table of `make docs`) or point at it:\n" + "\n".join(offenders)
     )
 
 
@@ -128,9 +128,11 @@ def test_the_scan_tells_a_list_from_prose(text, listed):
     assert bool(hand_written_lists(text)) == listed
 
 
-def test_readme_node_type_table_is_rendered_from_the_registry():
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    assert readme_tables.render(text) == text, "README.md's node-type table is stale; run: make docs"
+def test_the_node_type_table_is_rendered_from_the_registry():
+    text = readme_tables.PAGE.read_text(encoding="utf-8")
+    assert readme_tables.render(text) == text, (
+        f"{readme_tables.PAGE_NAME}: the node-type table is stale; run: make docs"
+    )
     for name in NODE_TYPES:
         assert f"| `{name}` |" in text
 

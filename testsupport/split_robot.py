@@ -3,7 +3,7 @@
 Host "arm" (127.0.0.1) runs the Discovery Server, a mock leader arm and the control plane's router; host "gpu"
 (127.0.0.2) runs a mock follower that reads the leader, and the dashboard. Each host's part runs as its
 generated supervisor.py with a control socket of its own, as on two computers. The hosts' credentials are
-made by the README's own commands; each host's part comes from a build whose `control { }` names that host's
+made by the commands of docs/across-computers.md; each host's part comes from a build whose `control { }` names that host's
 files (on real computers one path holds each host's own file).
 """
 
@@ -22,7 +22,7 @@ from testsupport.joshuac_cli import ROOT, joshuac
 
 HOSTS = {"arm": "127.0.0.1", "gpu": "127.0.0.2"}
 ROUTER = "arm"
-README = ROOT / "README.md"
+CONTROL_PLANE_PAGE = ROOT / "docs" / "across-computers.md"  # holds the credential commands
 COMMANDS_TIMEOUT_S = 60
 START_TIMEOUT_S = 90.0
 STOP_TIMEOUT_S = 20.0
@@ -50,31 +50,31 @@ def free_port(kind=socket.SOCK_STREAM) -> int:
         return probe.getsockname()[1]
 
 
-def readme_block(marker: str) -> str:
-    """The ```sh block after `<!-- test: MARKER -->` in the README."""
+def page_block(marker: str) -> str:
+    """The ```sh block after `<!-- test: MARKER -->` in CONTROL_PLANE_PAGE."""
     pattern = re.compile(r"^<!-- test: " + re.escape(marker) + r" -->\n```sh\n(.*?)^```$", re.MULTILINE | re.DOTALL)
-    (block,) = pattern.findall(README.read_text())
+    (block,) = pattern.findall(CONTROL_PLANE_PAGE.read_text())
     return block
 
 
-def run_readme_commands(marker: str, directory: Path, hosts: str) -> Path:
-    """Run the README's credential commands in `directory` for `hosts` (their HOSTS variable), as a user would."""
+def run_page_commands(marker: str, directory: Path, hosts: str) -> Path:
+    """Run the page's credential commands in `directory` for `hosts` (their HOSTS variable), as a user would."""
     directory.mkdir(parents=True, exist_ok=True)
     done = subprocess.run(
-        ["bash", "-e", "-c", readme_block(marker)],
+        ["bash", "-e", "-c", page_block(marker)],
         cwd=directory,
         env={"PATH": "/usr/bin:/bin", "HOSTS": hosts},
         capture_output=True,
         text=True,
         timeout=COMMANDS_TIMEOUT_S,
     )
-    assert done.returncode == 0, f"README commands {marker} failed:\n{done.stderr}"
+    assert done.returncode == 0, f"commands {marker} of {CONTROL_PLANE_PAGE.name} failed:\n{done.stderr}"
     return directory
 
 
 def password_credentials(directory: Path) -> dict[str, str]:
-    """Each host's `control { }` credentials with passwords made by the README's commands."""
-    run_readme_commands("control-passwords", directory, " ".join(HOSTS))
+    """Each host's `control { }` credentials with passwords made by the page's commands."""
+    run_page_commands("control-passwords", directory, " ".join(HOSTS))
     return {
         host: f'password_file: "{directory / f"{host}.control-password"}" '
         f'users_file: "{directory / "control-users.txt"}"'
@@ -83,8 +83,8 @@ def password_credentials(directory: Path) -> dict[str, str]:
 
 
 def tls_credentials(directory: Path) -> dict[str, str]:
-    """Each host's `control { }` credentials with certificates made by the README's commands."""
-    run_readme_commands("control-certificates", directory, " ".join(f"{h}={a}" for h, a in HOSTS.items()))
+    """Each host's `control { }` credentials with certificates made by the page's commands."""
+    run_page_commands("control-certificates", directory, " ".join(f"{h}={a}" for h, a in HOSTS.items()))
     return {
         host: f'tls_ca: "{directory / "control-ca.pem"}" tls_certificate: "{directory / f"{host}.pem"}" '
         f'tls_private_key: "{directory / f"{host}.key"}"'

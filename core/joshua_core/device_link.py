@@ -1,4 +1,4 @@
-"""What every device node does when its device stops answering; README.md, "When a device stops answering".
+"""What every device node does when its device stops answering; docs/bring-up.md, "When a device stops answering".
 
 A node reports a device that stops answering within DEVICE_REPORT_S: one log line, and an ERROR
 status where the node publishes /diagnostics. It then recovers on its own or ends with exit code 3

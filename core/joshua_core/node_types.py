@@ -1,7 +1,7 @@
 """The node-type registry: one declarative entry per node type, read by every layer.
 
 The compiler's rules and planner, the emitters, the runtime's dispatch, the simulation, `joshuac
-explain`, the README's node-type table and cpp/Makefile all read these entries; nothing else lists
+explain`, the node-type table of docs/description-language.md and cpp/Makefile all read these entries; nothing else lists
 node types. docs/adding-a-node-type.md walks through adding one; tests/test_node_type_registry.py
 checks that the layers agree, tests/test_type_lists.py that no prose lists types by hand.
 

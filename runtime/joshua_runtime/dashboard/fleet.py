@@ -126,7 +126,7 @@ def parse_arguments(argv):
     parser.add_argument("--bind", default=DEFAULT_BIND, metavar="ADDR", help=f"HTTP address (default {DEFAULT_BIND})")
     parser.add_argument("--token", help="bearer token for /api/ (generated and printed once beyond loopback)")
     parser.add_argument("--web-dir", type=Path, default=DEFAULT_WEB_DIR, help="the built page (default: web/dist)")
-    access = parser.add_argument_group("who may publish (README, Security); without these, loopback only")
+    access = parser.add_argument_group("who may publish (docs/security.md, Fleet); without these, loopback only")
     access.add_argument("--users", metavar="FILE", help="zenoh user/password file: one ROBOT:PASSWORD a line")
     access.add_argument("--tls-certificate", metavar="FILE", help="the fleet's TLS certificate (PEM), with tls/")
     access.add_argument("--tls-private-key", metavar="FILE", help="the key of --tls-certificate (PEM)")

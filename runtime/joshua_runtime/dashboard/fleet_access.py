@@ -67,7 +67,7 @@ class FleetAccess:
             if not is_loopback(endpoint_host(endpoint)):
                 raise SettingsError(
                     f"robots on other machines can reach --listen {endpoint}: give --users FILE or --tls-ca FILE "
-                    "so the fleet admits only robots it knows (README, Security)"
+                    "so the fleet admits only robots it knows (docs/security.md, Fleet)"
                 )
         files = (args.users, args.tls_certificate, args.tls_private_key, args.tls_ca)
         return cls(endpoint, robots, *(path or "" for path in files))

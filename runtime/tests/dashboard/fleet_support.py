@@ -1,5 +1,5 @@
 """The fleet view for tests: `joshua-fleet` in a process of its own, Zenoh peers that publish what a test
-says (with or without credentials), and the certificates the README's commands make."""
+says (with or without credentials), and the certificates the commands of docs/security.md make."""
 
 import json
 import re
@@ -11,7 +11,7 @@ from pathlib import Path
 
 from dashboard_support import SERVER_START_TIMEOUT_S, free_port, get_json, stop
 
-README = Path(__file__).resolve().parents[3] / "README.md"
+SECURITY_PAGE = Path(__file__).resolve().parents[3] / "docs" / "security.md"
 CERTIFICATES_MARKER = "<!-- test: fleet-certificates -->"
 CERTIFICATES_BLOCK = re.compile(
     r"^" + re.escape(CERTIFICATES_MARKER) + r"\n```sh\n(.*?)^```$", re.MULTILINE | re.DOTALL
@@ -23,8 +23,8 @@ PEER_SETTLE_S = 0.5  # a peer's session links to the fleet in the background; a 
 
 
 def make_certificates(directory: Path, fleet_san: str, robots: list[str]) -> Path:
-    """Run the README's certificate commands in `directory`, as a user would; return `directory`."""
-    (block,) = CERTIFICATES_BLOCK.findall(README.read_text())
+    """Run the certificate commands of docs/security.md in `directory`, as a user would; return `directory`."""
+    (block,) = CERTIFICATES_BLOCK.findall(SECURITY_PAGE.read_text())
     directory.mkdir(parents=True, exist_ok=True)
     env = {"PATH": "/usr/bin:/bin", "FLEET_SAN": fleet_san, "ROBOTS": " ".join(robots)}
     result = subprocess.run(
@@ -35,7 +35,7 @@ def make_certificates(directory: Path, fleet_san: str, robots: list[str]) -> Pat
         text=True,
         timeout=CERTIFICATES_TIMEOUT_S,
     )
-    assert result.returncode == 0, f"README certificate commands failed:\n{block}\n{result.stderr}"
+    assert result.returncode == 0, f"certificate commands of {SECURITY_PAGE.name} failed:\n{block}\n{result.stderr}"
     return directory
 
 

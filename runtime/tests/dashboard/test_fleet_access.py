@@ -30,7 +30,7 @@ def users_file(tmp_path):
 
 @pytest.fixture
 def certificates(tmp_path):
-    """The README's certificates for a fleet at 127.0.0.1 and robots arm_1, arm_2, and a file naming them."""
+    """The certificates of docs/security.md for a fleet at 127.0.0.1 and robots arm_1, arm_2, and a file naming them."""
     directory = make_certificates(tmp_path / "certs", "IP:127.0.0.1", ["arm_1", "arm_2"])
     (directory / "robots.txt").write_text("# robots of the fleet\narm_1\narm_2\n")
     return directory

@@ -1,5 +1,5 @@
 """A robot built by joshuac reaches the fleet view with the credentials its description names: a password
-file, or the README's certificates for mutual TLS. Only paths enter the build; the secret stays in its file."""
+file, or the certificates of docs/security.md for mutual TLS. Only paths enter the build; the secret stays in its file."""
 
 import json
 from contextlib import ExitStack

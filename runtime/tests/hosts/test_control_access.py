@@ -1,5 +1,5 @@
 """Who may reach a robot's control plane: real Zenoh sessions against the router of a running robot on two hosts
-(passwords, or certificates, made by the README's commands). A peer without the robot's credentials controls
+(passwords, or certificates, made by the commands of docs/across-computers.md). A peer without the robot's credentials controls
 nothing; a host's credentials do not let it publish or answer as another host."""
 
 import json
@@ -11,7 +11,7 @@ import pytest
 
 from joshua_core import control_plane
 from joshua_runtime.dashboard.zenoh_link import open_session
-from testsupport.split_robot import ROUTER, SplitRobot, password_credentials, run_readme_commands, tls_credentials
+from testsupport.split_robot import ROUTER, SplitRobot, password_credentials, run_page_commands, tls_credentials
 
 SETTLE_S = 1.5  # time for a session to link to the router and its declarations to reach it, were they allowed
 QUERY_TIMEOUT_S = 3.0
@@ -116,7 +116,7 @@ def test_a_host_cannot_publish_or_answer_as_another(running, tmp_path):
 def test_mutual_tls_admits_only_certificates_of_the_robots_ca(running, tmp_path):
     robot = running(tls_credentials)
     certificates = tmp_path / "credentials"
-    other = run_readme_commands("control-certificates", tmp_path / "other", "gpu=127.0.0.2")
+    other = run_page_commands("control-certificates", tmp_path / "other", "gpu=127.0.0.2")
     tls = "transport/link/tls/"
     sessions = {
         "no certificate": peer(robot, {f"{tls}root_ca_certificate": str(certificates / "control-ca.pem")}, "tls"),

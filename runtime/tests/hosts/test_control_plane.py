@@ -1,6 +1,6 @@
 """The control plane of a robot on two hosts, each host's part run by its generated supervisor.py on this machine
-(hosts 127.0.0.1 and 127.0.0.2), joined by the hosts' agents over Zenoh with passwords made by the README's
-commands: the dashboard on one host shows and controls the processes of both, `ctl` reaches the other host,
+(hosts 127.0.0.1 and 127.0.0.2), joined by the hosts' agents over Zenoh with passwords made by the commands of
+docs/across-computers.md: the dashboard on one host shows and controls the processes of both, `ctl` reaches the other host,
 a stopped Discovery Server and a silent host are reported as such.
 
 One robot serves the tests of this module, in order; each test leaves it as it found it.

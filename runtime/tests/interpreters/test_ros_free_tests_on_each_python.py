@@ -6,8 +6,7 @@ Jazzy on Ubuntu 24.04 is 3.12's). The development environment is 3.11's, so the 
 that one. Here each other interpreter found (testsupport/interpreters.py) gets a fresh environment of
 joshua-core, joshua-runtime and joshuac from this checkout with the versions uv.lock holds for that Python,
 and no ROS at all; the tests of the drivers, emulators, unit conversions, bench tools, dashboard server and
-fleet view run in it, one module at a time. rclpy on 3.12 and aarch64 are not tested here (README: A robot
-across computers).
+fleet view run in it, one module at a time. rclpy on 3.12 and aarch64 are not tested here (docs/across-computers.md).
 """
 
 import os

@@ -1,6 +1,6 @@
 """Learning that can fail: PPO beats random actions on so100_reach, imitation beats replaying zeros.
 
-Margins come from measured runs (bench/train.py, README): after 30k steps PPO reaches the goal in
+Margins come from measured runs (bench/train.py, docs/benchmarks.md): after 30k steps PPO reaches the goal in
 about half of the episodes (final distance ~0.05 m, return ~-2.4) where random actions never do
 (~0.27 m, return ~-12.5); ACT trained briefly on scripted demonstrations reaches the
 demonstrated goal (~0.01 m) where goal angles of 0 stay ~0.16 m away.
