@@ -60,7 +60,8 @@ class PpoRunner:
         action, _ = self.model.predict(vector, deterministic=True)
         return arm.goals_from_action(positions, action, self.kinematics.addresses).astype(np.float32)
 
-    def warm_up(self) -> float:
+    def warm_up(self, task: str = "") -> float:
+        """Run one step on a resting arm, then reset; its duration in seconds (`task`: none for PPO, as in act)."""
         start = time.perf_counter()
         self.act({keys.STATE: np.zeros(len(arm.ARM_JOINTS), np.float32)})
         self.reset()

@@ -13,7 +13,7 @@ import signal
 
 import pytest
 from ai_support import NodeProcess
-from test_ai_chunks import description
+from chunk_support import RAW_IMAGE, description
 
 SPIN_COUNT = re.compile(r"GOMP_SPINCOUNT = '(\d+)'")
 WAIT_POLICY_VARIABLE = "OMP_WAIT_POLICY"
@@ -21,7 +21,7 @@ WAIT_POLICY_VARIABLE = "OMP_WAIT_POLICY"
 
 def spin_count_of_ready_node(policy_dir, env: dict) -> int:
     """Start the node with libgomp's verbose report on; the spin count it reports once the policy is ready."""
-    node = NodeProcess(description(policy_dir)["policy"], dict(env, OMP_DISPLAY_ENV="VERBOSE"))
+    node = NodeProcess(description(policy_dir, RAW_IMAGE)["policy"], dict(env, OMP_DISPLAY_ENV="VERBOSE"))
     try:
         node.wait_for(r"ready: act policy")
         reported = SPIN_COUNT.findall(node.output)

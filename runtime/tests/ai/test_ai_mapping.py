@@ -179,6 +179,9 @@ def test_staging_shares_immutable_files_and_commits_atomically(tmp_path):
     assert (target / "meta" / "info.json").read_text() == "info v2"
     assert (target / data).read_text() == "data"
     assert not (target / "images").exists()
+    # The replaced version stays beside it until the writer drops it, so the last episode can be re-recorded.
+    assert (tmp_path / "dataset.undo" / "meta" / "info.json").read_text() == "info v1"
+    staged_directory.drop_previous(target)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dataset"]
 
 
