@@ -22,6 +22,7 @@ import json
 import sys
 from pathlib import Path
 
+from joshua_runtime.ai import cpu_threads
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.sim.gl_backend import configure_gl
 from joshua_runtime.train.devices import DEVICES
@@ -283,6 +284,7 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "imitation":
             _imitation(args, argv)
         elif args.command == "evaluate":
+            cpu_threads.prepare()  # before torch loads: spinning workers slow an evaluation on a busy CPU 6-8x
             _evaluate(args, parser)
         elif args.command == "demonstrate":
             from joshua_runtime.train import demonstrations

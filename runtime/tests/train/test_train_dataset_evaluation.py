@@ -7,6 +7,7 @@ mean action of episodes 0-2; the baseline's figures are recomputed here from the
 
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -24,12 +25,12 @@ HELD_OUT = 3
 STEPS = 60
 
 
-def joshua_train(*args, check=True, cwd=None):
+def joshua_train(*args, check=True, cwd=None, env=None):
     result = subprocess.run(
         [sys.executable, "-m", "joshua_runtime.train.cli", *map(str, args)],
         capture_output=True,
         text=True,
-        env={**os.environ, "HF_HUB_OFFLINE": "1"},
+        env={**(os.environ if env is None else env), "HF_HUB_OFFLINE": "1"},
         timeout=TOOL_TIMEOUT_S,
         cwd=cwd,
     )
@@ -101,3 +102,15 @@ def test_bad_evaluation_input_is_one_line(trained, tmp_path, args, message):
     result = joshua_train("evaluate", policy, "--dataset", dataset, *args, check=False, cwd=tmp_path)
     assert result.returncode == 2, result.stderr
     assert message.format(dataset=dataset) in result.stderr and "Traceback" not in result.stderr
+
+
+def test_the_evaluations_torch_workers_sleep_while_they_wait(trained, tmp_path):
+    """Spinning OpenMP workers made an evaluation on a busy CPU take 68-102 s instead of 12 s (cpu_threads.py);
+    libgomp reports the spin count it runs with when OMP_DISPLAY_ENV=VERBOSE."""
+    dataset, policy = trained
+    env = {key: value for key, value in os.environ.items() if key not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
+    result = joshua_train(
+        "evaluate", policy, "--dataset", dataset, "--episodes", HELD_OUT, "--plot", tmp_path / "plot.png", "--json",
+        env={**env, "OMP_DISPLAY_ENV": "VERBOSE"},
+    )  # fmt: skip
+    assert re.findall(r"GOMP_SPINCOUNT = '(\d+)'", result.stderr) == ["0"], result.stderr[-3000:]
