@@ -66,11 +66,9 @@ Exit codes (the first that applies):
 """
 
 import argparse
-import ast
 import ctypes
 import errno
 import hashlib
-import json
 import math
 import os
 import re
@@ -78,20 +76,17 @@ import resource
 import select
 import selectors
 import shlex
-import shutil
 import signal
 import socket
 import stat
 import struct
-import subprocess
 import sys
 import time
-import traceback
 from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': 'f8dea164fc9b7769',
+    'supervisor_code': '8b6f26c01660c8df',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -423,6 +418,8 @@ def checked_file(directory: str, entries: dict[str, str], relative: str) -> tupl
 
 def build_data(source: bytes) -> dict:
     """The values of BUILD_DATA_NAMES in a supervisor.py, read as literals: nothing in it runs."""
+    import ast
+
     try:
         tree = ast.parse(source, BUILD_SUPERVISOR)
     except (SyntaxError, ValueError, RecursionError, MemoryError):
@@ -1341,6 +1338,8 @@ class Node:
         return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
 
     def custom_program(self):
+        import shutil
+
         executable = self.spec["executable"]
         if "/" in executable:
             return os.path.abspath(executable)
@@ -1589,6 +1588,8 @@ def runtime_fix(python: str) -> str:
 
 def runtime_problem(python: str, env: dict[str, str]) -> str | None:
     """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
+    import subprocess
+
     expected = ROBOT["settings_format_version"]
     try:
         probe = subprocess.run(
@@ -2136,6 +2137,8 @@ def bounded_int(text: str) -> int:
 
 def parse_request(line: bytes) -> dict:
     """The request of one line (without its newline), with every field its command takes; raises RequestError."""
+    import json
+
     try:
         text = line.decode("utf-8")
     except UnicodeDecodeError:
@@ -2400,6 +2403,8 @@ class ControlConnection:
     # Replies out
 
     def send(self, reply: dict) -> None:
+        import json
+
         if not self.closed:
             self.send_line(json.dumps(reply).encode() + b"\n")
 
@@ -2487,6 +2492,8 @@ class LogFollowers:
         self.connections.get(node_log, {}).pop(connection.fd, None)
 
     def on_line(self, node_log, line: str) -> None:
+        import json
+
         following = self.connections[node_log]
         if following:
             data = json.dumps({"line": line}).encode() + b"\n"
@@ -2984,6 +2991,8 @@ class ControlPlane:
 
 def refuse(connection, kind: str, error: str) -> None:
     """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
+    import json
+
     try:
         connection.setblocking(False)
         connection.send(json.dumps(refusal(kind, error)).encode() + b"\n", socket.MSG_NOSIGNAL)
@@ -3089,6 +3098,8 @@ class StopCascade:
     def on_internal_error(self):
         """An exception the supervisor did not expect: log its traceback, stop serving the control socket,
         and stop every node with the cascade; after INTERNAL_ERRORS_MAX of them, SIGKILL what is left."""
+        import traceback
+
         self.internal_errors += 1
         self.outcome.internal_error = True
         log("supervisor", f"internal error {self.internal_errors} (a bug in supervisor.py); its traceback:")
@@ -3619,6 +3630,8 @@ def ctl_arguments(argv):
 
 
 def ctl(argv) -> int:
+    import json
+
     options = ctl_arguments(argv)
     request = {"command": options.command}
     if options.command == "reload":
@@ -3688,6 +3701,8 @@ def ctl_connect(path: str) -> socket.socket:
 
 
 def print_reply(options, reply: dict) -> None:
+    import json
+
     reply.pop("ok")
     if options.command == "status":
         if options.json:
@@ -3739,6 +3754,8 @@ def positive_seconds(text):
 
 
 def parse_arguments(argv):
+    import shutil
+
     parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
     parser.add_argument(
         "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
@@ -3785,6 +3802,8 @@ def parse_arguments(argv):
 
 
 def main(argv):
+    import traceback
+
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
     options = parse_arguments(argv)

@@ -1,6 +1,5 @@
 """A build of the robot as data: its directory, its supervisor.py's data (read, never run) and its files' hashes."""
 
-import ast
 import hashlib
 import os
 import re
@@ -116,6 +115,8 @@ def checked_file(directory: str, entries: dict[str, str], relative: str) -> tupl
 
 def build_data(source: bytes) -> dict:
     """The values of BUILD_DATA_NAMES in a supervisor.py, read as literals: nothing in it runs."""
+    import ast
+
     try:
         tree = ast.parse(source, BUILD_SUPERVISOR)
     except (SyntaxError, ValueError, RecursionError, MemoryError):

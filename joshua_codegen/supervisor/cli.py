@@ -2,9 +2,7 @@
 
 import argparse
 import os
-import shutil
 import sys
-import traceback
 
 from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
@@ -27,6 +25,8 @@ def positive_seconds(text):
 
 
 def parse_arguments(argv):
+    import shutil
+
     parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
     parser.add_argument(
         "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
@@ -73,6 +73,8 @@ def parse_arguments(argv):
 
 
 def main(argv):
+    import traceback
+
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
     options = parse_arguments(argv)

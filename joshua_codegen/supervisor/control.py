@@ -1,7 +1,6 @@
 """The control socket: status, restart / stop / start of one node and its log, reload, one JSON line each way."""
 
 import errno
-import json
 import os
 import signal
 import socket
@@ -326,6 +325,8 @@ class ControlPlane:
 
 def refuse(connection, kind: str, error: str) -> None:
     """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
+    import json
+
     try:
         connection.setblocking(False)
         connection.send(json.dumps(refusal(kind, error)).encode() + b"\n", socket.MSG_NOSIGNAL)

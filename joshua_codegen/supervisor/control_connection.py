@@ -1,6 +1,5 @@
 """One client of the control socket: request lines in, reply lines out through a bounded buffer, never blocking."""
 
-import json
 import socket
 import time
 
@@ -83,6 +82,8 @@ class ControlConnection:
     # Replies out
 
     def send(self, reply: dict) -> None:
+        import json
+
         if not self.closed:
             self.send_line(json.dumps(reply).encode() + b"\n")
 
@@ -170,6 +171,8 @@ class LogFollowers:
         self.connections.get(node_log, {}).pop(connection.fd, None)
 
     def on_line(self, node_log, line: str) -> None:
+        import json
+
         following = self.connections[node_log]
         if following:
             data = json.dumps({"line": line}).encode() + b"\n"

@@ -1,6 +1,5 @@
 """Control requests: one bounded JSON line in, a checked request out, or one line saying why not."""
 
-import json
 import math
 import re
 
@@ -92,6 +91,8 @@ def bounded_int(text: str) -> int:
 
 def parse_request(line: bytes) -> dict:
     """The request of one line (without its newline), with every field its command takes; raises RequestError."""
+    import json
+
     try:
         text = line.decode("utf-8")
     except UnicodeDecodeError:

@@ -1,7 +1,6 @@
 """`supervisor.py ctl ...`: the control socket's command-line client."""
 
 import argparse
-import json
 import os
 import socket
 import sys
@@ -84,6 +83,8 @@ def ctl_arguments(argv):
 
 
 def ctl(argv) -> int:
+    import json
+
     options = ctl_arguments(argv)
     request = {"command": options.command}
     if options.command == "reload":
@@ -153,6 +154,8 @@ def ctl_connect(path: str) -> socket.socket:
 
 
 def print_reply(options, reply: dict) -> None:
+    import json
+
     reply.pop("ok")
     if options.command == "status":
         if options.json:

@@ -1,7 +1,6 @@
 """One node: its launch command, environment, process and restart bookkeeping."""
 
 import os
-import shutil
 
 from joshua_codegen.supervisor.build import running_build
 from joshua_codegen.supervisor.common import group_alive, log
@@ -66,6 +65,8 @@ class Node:
         return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
 
     def custom_program(self):
+        import shutil
+
         executable = self.spec["executable"]
         if "/" in executable:
             return os.path.abspath(executable)

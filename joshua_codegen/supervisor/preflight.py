@@ -1,7 +1,6 @@
 """Preflight: every reason the robot cannot start, found before anything starts."""
 
 import os
-import subprocess
 
 from joshua_codegen.supervisor.common import under_script_dir
 from joshua_codegen.supervisor.policy import RUNTIME_PROBE_TIMEOUT_S
@@ -25,6 +24,8 @@ def runtime_fix(python: str) -> str:
 
 def runtime_problem(python: str, env: dict[str, str]) -> str | None:
     """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
+    import subprocess
+
     expected = ROBOT["settings_format_version"]
     try:
         probe = subprocess.run(

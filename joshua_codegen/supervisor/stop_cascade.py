@@ -4,7 +4,6 @@ import os
 import signal
 import sys
 import time
-import traceback
 
 from joshua_codegen.supervisor.common import log, signal_name
 from joshua_codegen.supervisor.containment import process_group
@@ -105,6 +104,8 @@ class StopCascade:
     def on_internal_error(self):
         """An exception the supervisor did not expect: log its traceback, stop serving the control socket,
         and stop every node with the cascade; after INTERNAL_ERRORS_MAX of them, SIGKILL what is left."""
+        import traceback
+
         self.internal_errors += 1
         self.outcome.internal_error = True
         log("supervisor", f"internal error {self.internal_errors} (a bug in supervisor.py); its traceback:")
