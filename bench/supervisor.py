@@ -1,13 +1,16 @@
-"""Start and stop times of the generated supervisor.py beside real supervisord on the generated config.
+"""Start and stop times of the generated supervisor.py beside dora, supervisord and circus running the same nodes.
 
-    .venv/bin/python bench/supervisor.py [--runs 5] [--sizes 1,8,32] [--quick]
+    .venv/bin/python bench/supervisor.py [--runs 5] [--sizes 1,8,32,100] [--quick]
 
-For 1, 8 and 32 cooperative CUSTOM nodes (`sh` that reports its pid on a FIFO, then execs `sleep`,
+For 1, 8, 32 and 100 cooperative CUSTOM nodes (`sh` that reports its pid on a FIFO, then execs `sleep`,
 which exits on SIGINT), built once through plan() + render(): the time from launching the manager to
 every node running (all pids read from the FIFO), and from SIGINT to the manager's exit after every
 node exited. supervisord runs `supervisord -c OUT/supervisord.conf` (foreground, as generated, with its
-critical-node event listener). Medians of --runs runs; "per node" is the marginal cost of one more
-node between the smallest and the largest size.
+critical-node event listener); `dora run` (dora-rs-cli, a Rust program) a dataflow of the same commands;
+circus `circusd` an ini file of one watcher per node, stopped by SIGINT, its endpoints on Unix sockets.
+The managers take turns within each run, so all see the same machine load. Medians (and the range) of
+--runs runs; "x" is the peer's time over supervisor.py's (above 1: supervisor.py is faster); "per node"
+is the marginal cost of one more node between the smallest and the largest size.
 """
 
 import argparse
@@ -47,6 +50,33 @@ def description(nodes: int, fifo: Path) -> str:
     return "\n".join(lines + ["}"])
 
 
+def dora_dataflow(nodes: int, fifo: Path) -> str:
+    """The same commands as a dora dataflow: nodes without inputs or outputs, spawned as they are."""
+    args = " ".join(["-c", f"'{NODE_SCRIPT}'", "sh", str(fifo)])
+    return "nodes:\n" + "".join(f"  - id: sleeper{i}\n    path: /bin/sh\n    args: {args}\n" for i in range(nodes))
+
+
+def circus_ini(nodes: int, fifo: Path, sockets: Path) -> str:
+    """The same commands as circus watchers, stopped with SIGINT like the generated managers stop them."""
+    lines = [
+        "[circus]",
+        f"endpoint = ipc://{sockets}/control",
+        f"pubsub_endpoint = ipc://{sockets}/pubsub",
+        "statsd = False",
+        "check_delay = 0",
+    ]
+    for i in range(nodes):
+        lines += [
+            f"[watcher:sleeper{i}]",
+            "cmd = /bin/sh",
+            f"args = -c '{NODE_SCRIPT}' sh {fifo}",
+            "numprocesses = 1",
+            "stop_signal = INT",
+            "copy_env = True",
+        ]
+    return "\n".join(lines) + "\n"
+
+
 def read_pids(fifo_fd: int, count: int, deadline: float) -> list[int]:
     buffer = b""
     while buffer.count(b"\n") < count:
@@ -69,12 +99,12 @@ def gone(pid: int) -> bool:
     return state == "Z"
 
 
-def measure(command: list[str], fifo: Path, count: int) -> tuple[float, float]:
+def measure(command: list[str], fifo: Path, count: int, cwd: Path) -> tuple[float, float]:
     """(seconds to every node running, seconds from SIGINT to the manager's exit with every node gone)."""
     fifo_fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
     keep_open = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)  # no EOF between writers
     started = time.monotonic()
-    manager = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    manager = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=cwd)
     try:
         pids = read_pids(fifo_fd, count, started + TIMEOUT_S)
         running = time.monotonic() - started
@@ -94,46 +124,59 @@ def measure(command: list[str], fifo: Path, count: int) -> tuple[float, float]:
         os.close(keep_open)
 
 
-def bench(sizes: list[int], runs: int) -> None:
-    managers = {
-        "supervisor.py": lambda out: [sys.executable, str(out / "supervisor.py")],
-        "supervisord": lambda out: [str(BIN / "supervisord"), "-c", str(out / "supervisord.conf")],
+def managers(out: Path) -> dict[str, list[str]]:
+    return {
+        "supervisor.py": [sys.executable, str(out / "supervisor.py")],
+        "dora": [str(BIN / "dora"), "run", str(out / "dataflow.yml")],
+        "supervisord": [str(BIN / "supervisord"), "-c", str(out / "supervisord.conf")],
+        "circus": [str(BIN / "circusd"), str(out / "circus.ini")],
     }
-    results: dict[tuple[str, int], tuple[float, float]] = {}
+
+
+def write_configs(tmp: Path, size: int, fifo: Path) -> Path:
+    out = tmp / "out"
+    robot = plan(text_format.Parse(description(size, fifo), RobotDescription()), "bench.pbtxt")
+    write_tree(render(robot, prefix=str(out)), out)
+    (out / "dataflow.yml").write_text(dora_dataflow(size, fifo))
+    (out / "circus.ini").write_text(circus_ini(size, fifo, tmp))
+    return out
+
+
+def bench(sizes: list[int], runs: int) -> None:
+    names = list(managers(Path()))
+    samples: dict[tuple[str, int], list[tuple[float, float]]] = {}
     for size in sizes:
         with tempfile.TemporaryDirectory(prefix="bench-supervisor-") as tmp:
             fifo = Path(tmp) / "ready"
             os.mkfifo(fifo)
-            out = Path(tmp) / "out"
-            robot = plan(text_format.Parse(description(size, fifo), RobotDescription()), "bench.pbtxt")
-            write_tree(render(robot, prefix=str(out)), out)
-            samples = {name: [] for name in managers}
+            commands = managers(write_configs(Path(tmp), size, fifo))
             for _ in range(runs):
-                for name, command in managers.items():  # interleaved, so both see the same machine load
-                    samples[name].append(measure(command(out), fifo, size))
-            for name in managers:
-                results[name, size] = (
-                    statistics.median(s[0] for s in samples[name]),
-                    statistics.median(s[1] for s in samples[name]),
-                )
-    print(f"{'nodes':>5}  {'manager':<14} {'start -> all running':>21} {'SIGINT -> all exited':>21}")
+                for name, command in commands.items():  # interleaved, so all see the same machine load
+                    samples.setdefault((name, size), []).append(measure(command, fifo, size, cwd=Path(tmp)))
+    median = {key: tuple(statistics.median(s[i] for s in values) for i in (0, 1)) for key, values in samples.items()}
+    print(f"{'nodes':>5}  {'manager':<14} {'start -> all running (range)':>34} {'x':>6} {'SIGINT -> all exited':>21}")
     for size in sizes:
-        for name in managers:
-            running, stopped = results[name, size]
-            print(f"{size:>5}  {name:<14} {running * 1000:>18.1f} ms {stopped * 1000:>18.1f} ms")
+        ours = median["supervisor.py", size][0]
+        for name in names:
+            running, stopped = median[name, size]
+            starts = [s[0] for s in samples[name, size]]
+            span = f"({min(starts) * 1000:.1f}-{max(starts) * 1000:.1f})"
+            ratio = f"{running / ours:6.2f}" if name != "supervisor.py" else f"{'':>6}"
+            print(f"{size:>5}  {name:<14} {running * 1000:>10.1f} ms {span:>20} {ratio} {stopped * 1000:>18.1f} ms")
+    print(f"\nx: the manager's median start over supervisor.py's, {runs} runs taking turns")
     if len(sizes) > 1:
         low, high = min(sizes), max(sizes)
         print(f"\nmarginal cost of one more node ({low} -> {high} nodes):")
-        for name in managers:
-            start = (results[name, high][0] - results[name, low][0]) / (high - low)
-            stop = (results[name, high][1] - results[name, low][1]) / (high - low)
+        for name in names:
+            start = (median[name, high][0] - median[name, low][0]) / (high - low)
+            stop = (median[name, high][1] - median[name, low][1]) / (high - low)
             print(f"  {name:<14} start {start * 1000:6.2f} ms/node   stop {stop * 1000:6.2f} ms/node")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
-    parser.add_argument("--sizes", default="1,8,32")
+    parser.add_argument("--sizes", default="1,8,32,100")
     parser.add_argument("--quick", action="store_true", help="one run of 1 and 2 nodes (for the tests)")
     options = parser.parse_args()
     if options.quick:
