@@ -1,6 +1,5 @@
 """`supervisor.py ctl ...`: the control socket's command-line client."""
 
-import argparse
 import os
 import socket
 import sys
@@ -30,6 +29,8 @@ CTL_EXIT_INTERRUPTED = 130  # Ctrl-C before the answer came (following a log, Ct
 
 def log_line_count(text: str) -> int:
     """The value of `logs -n`: a whole number of lines a request may ask for, else a usage error."""
+    import argparse
+
     try:
         count = int(text)
     except ValueError:
@@ -40,6 +41,8 @@ def log_line_count(text: str) -> int:
 
 
 def ctl_arguments(argv):
+    import argparse
+
     parser = argparse.ArgumentParser(
         prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}."
     )
