@@ -536,18 +536,18 @@ def join_cgroup(path: str) -> None:
         procs.write(str(os.getpid()))
 
 
-def cgroup_joinable(path: str, ancestor: str) -> bool:
-    """Whether a child of this process can join the new, empty cgroup at `path` below `ancestor`, this
-    process's own cgroup, told from what the kernel checks instead of by a trial (which cost a fork of
-    the supervisor before the first node): a move writes the cgroup.procs of both, and only a cgroup of
-    domain type holds processes."""
-    try:
-        with open(os.path.join(path, "cgroup.type")) as kind:
-            if kind.read().strip() != "domain":
-                return False
-    except OSError:
-        return False
-    return all(os.access(os.path.join(cgroup, "cgroup.procs"), os.W_OK) for cgroup in (path, ancestor))
+def cgroup_usable(path: str) -> bool:
+    """Whether a child can join the cgroup: tried once by a short-lived forked child."""
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            join_cgroup(path)
+            code = 0
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status) == 0
 
 
 def cgroup_populated(path: str) -> bool:
@@ -1061,7 +1061,7 @@ def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
                 reason = f"cannot create a cgroup per node in {path}: {exc}"
             else:
                 probe = os.path.join(path, nodes[0].name) if nodes else path
-                if cgroup_joinable(probe, os.path.dirname(path)):
+                if cgroup_usable(probe):
                     log("supervisor", f"nodes run in cgroup {path}")
                     return CgroupContainment(path, nodes)
                 reason = f"a process cannot join {probe}"

@@ -69,7 +69,7 @@ Exit codes (the first that applies):
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': '6a087257eaa5e889',
+    'supervisor_code': '8247a1398030c6fc',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

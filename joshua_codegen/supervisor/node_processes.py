@@ -5,9 +5,9 @@ import os
 from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.containment import (
     TrackedProcesses,
-    cgroup_joinable,
     cgroup_pids,
     cgroup_populated,
+    cgroup_usable,
     children_of,
     create_cgroup,
     descendants_of,
@@ -228,7 +228,7 @@ def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
                 reason = f"cannot create a cgroup per node in {path}: {exc}"
             else:
                 probe = os.path.join(path, nodes[0].name) if nodes else path
-                if cgroup_joinable(probe, os.path.dirname(path)):
+                if cgroup_usable(probe):
                     log("supervisor", f"nodes run in cgroup {path}")
                     return CgroupContainment(path, nodes)
                 reason = f"a process cannot join {probe}"
