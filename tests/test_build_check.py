@@ -25,7 +25,7 @@ def _built(tmp_path):
 def _as_if_built_by(out, version: str) -> None:
     """Rewrite the tree as another joshuac version would have written it (headers and stamp), hashes kept true."""
     for path in out.rglob("*"):
-        if path.is_file() and path.name != ".joshuac-stamp" and path.suffix != ".pyc":  # compiled code: no header
+        if path.is_file() and path.name != ".joshuac-stamp":
             path.write_text(HEADER_VERSION.sub(rf"\g<1>{version}\g<2>", path.read_text(), count=1))
     stamp = subprocess.run(
         [

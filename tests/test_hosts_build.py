@@ -62,12 +62,9 @@ def files_of(text: str) -> dict[str, str]:
     return render(result.robot or plan(result.description, "split.pbtxt"))
 
 
-def host_files(files: dict[str, str | bytes], host: str) -> dict[str, str]:
-    """A host's text files (the one binary file, the compiled supervisor code, is the same for every robot)."""
+def host_files(files: dict[str, str], host: str) -> dict[str, str]:
     prefix = f"hosts/{host}/"
-    return {
-        path[len(prefix) :]: text for path, text in files.items() if path.startswith(prefix) and isinstance(text, str)
-    }
+    return {path[len(prefix) :]: text for path, text in files.items() if path.startswith(prefix)}
 
 
 def test_each_host_gets_a_complete_output_with_only_its_own_processes():

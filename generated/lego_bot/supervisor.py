@@ -8,9 +8,7 @@ Usage: python3 supervisor.py [--skip-preflight] [--duration S] [--status-interva
                             logs NODE [-n N] [-f] [--all] | reload OUT2
 
 Standard library only; any python3 >= 3.10 on Linux. Paths are relative to this file's directory, so
-the directory can move. Nodes run in the directory the supervisor was started from. The code is in
-joshua_supervisor.py beside this file, the same for every robot, with its compiled form for CPython 3.11 in
-__pycache__/ (checked against the source's hash at each start); other versions compile it at each start.
+the directory can move. Nodes run in the directory the supervisor was started from.
 
 - Preflight: before anything starts, every device, model directory, registry: model reference, output
   directory, entrypoint and program is checked, and the node interpreter (--python) must import
@@ -67,9 +65,28 @@ Exit codes (the first that applies):
   0  every node stopped by itself (after a stop request, --duration, or because all finished)
 """
 
+import argparse
+import ctypes
+import errno
+import hashlib
+import math
+import os
+import re
+import resource
+import select
+import selectors
+import shlex
+import signal
+import socket
+import stat
+import struct
+import sys
+import time
+from collections.abc import MutableMapping
+
 ROBOT = {
     'name': 'lego_bot',
-    'supervisor_code': '8247a1398030c6fc',
+    'supervisor_code': '8b6f26c01660c8df',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -115,13 +132,3682 @@ SIGINT_GRACE_S = 3.0
 SIGTERM_GRACE_S = 1.0
 
 
+# Fixed rules of supervisor.py: restart backoff, named waits, signals and exit codes.
+
+
+# Restart backoff: the first restart waits RESTART_DELAY_INITIAL_S, each next one RESTART_DELAY_FACTOR
+# times longer, never more than RESTART_DELAY_CAP_S. A run of RESTART_RESET_AFTER_S or longer counts
+# as healthy: the restart count and the delay start over. systemd units and supervisord.conf follow it too.
+RESTART_DELAY_INITIAL_S = 0.25
+RESTART_DELAY_FACTOR = 2.0
+RESTART_DELAY_CAP_S = 30.0
+RESTART_RESET_AFTER_S = 60.0
+KILL_WAIT_S = 5.0  # after SIGKILL, how long to wait for processes stuck in the kernel before giving up
+LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone are checked again
+TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
+STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
+SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
+CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
+READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+# A process that starts first (a robot's Discovery Server) is waited for this long to be ready before the
+# others start anyway (they keep asking it, so they find each other once it serves).
+FIRST_READY_TIMEOUT_S = 10.0
+RUNTIME_PROBE_TIMEOUT_S = 20.0  # preflight: how long the node interpreter may take to report its runtime
+
+EXIT_OK, EXIT_ESCALATED, EXIT_USAGE, EXIT_PREFLIGHT, EXIT_CRITICAL, EXIT_NODE_FAILED = 0, 1, 2, 3, 4, 5
+EXIT_DATA_LOST = 6  # a node exited with the node code for data lost (see ROBOT["node_exit_codes"])
+EXIT_INTERNAL = 70  # the supervisor hit a bug of its own (EX_SOFTWARE): it stopped every node and says so
+INTERNAL_ERRORS_MAX = 10  # internal errors after which the supervisor SIGKILLs what is left and exits
+EXIT_EXEC_FAILED = 127  # a node's child could not exec its program
+EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before exec
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+
+# Names the fix: the binaries are built by `make cpp` of the joshuac repository; cpp_bin_dir selects them.
+CPP_FALLBACK_WARNING = (
+    "warning: C++ binary {binary} is missing or not executable; running the Python entrypoint "
+    "(make cpp in the joshuac repository builds the binaries into build/bin; "
+    "set cpp_bin_dir in the description to the directory holding them)"
+)
+
+
+# What every part of supervisor.py uses: the log line, prctl, exit-status text, process groups, paths.
+
+
+SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
+START = time.monotonic()
+PR_SET_PDEATHSIG, PR_SET_CHILD_SUBREAPER = 1, 36
+
+
+def log(name: str, message: str) -> None:
+    print(f"[{time.monotonic() - START:9.3f}] {name}: {message}", file=sys.stderr, flush=True)
+
+
+def load_prctl():
+    """libc's prctl, or None where ctypes cannot reach it (children then outlive a killed supervisor)."""
+    try:
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+    prctl.argtypes = [ctypes.c_int, ctypes.c_ulong, ctypes.c_ulong, ctypes.c_ulong, ctypes.c_ulong]
+    return prctl
+
+
+PRCTL = load_prctl()
+
+
+def signal_name(number: int) -> str:
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+
+
+def exit_text(status: int) -> str:
+    if os.WIFSIGNALED(status):
+        core = " (core dumped)" if os.WCOREDUMP(status) else ""
+        return f"killed by {signal_name(os.WTERMSIG(status))}{core}"
+    return f"exited with code {os.waitstatus_to_exitcode(status)}"
+
+
+def group_alive(pgid: int) -> bool:
+    try:
+        os.killpg(pgid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def under_script_dir(path: str) -> str:
+    return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
+
+
+# Which run this is: a random id, the start time and the build, told in a header line at each start.
+
+
+RUN_ID_BYTES = 4  # a run id is this many random bytes in hex: 8 digits
+BUILD_SHOWN_DIGITS = 12  # of the build's hash, in the header line (status --json gives all 64)
+RUN_HEADER_START = "-- run "  # how a run's header line begins, in the supervisor's output and each node's log
+
+
+def log_time(wall: float) -> str:
+    """`wall` (seconds since the epoch) in ISO 8601 with milliseconds and the local offset, as
+    `2025-06-01T14:03:27.512+02:00` (the offset of TZ, else of /etc/localtime)."""
+    seconds = int(wall)
+    local = time.localtime(seconds)
+    sign = "-" if local.tm_gmtoff < 0 else "+"
+    hours, minutes = divmod(abs(local.tm_gmtoff) // 60, 60)
+    millis = min(999, int((wall - seconds) * 1000))
+    return f"{time.strftime('%Y-%m-%dT%H:%M:%S', local)}.{millis:03d}{sign}{hours:02d}:{minutes:02d}"
+
+
+def build_stamp() -> tuple[str, float | None]:
+    """The SHA-256 of the build's stamp beside supervisor.py (what `sha256sum OUT/.joshuac-stamp` prints: the
+    stamp lists every file of the build with its own hash) and the stamp's modification time (when the build
+    was written; copies that keep times keep it), or ("", None) when there is none to read."""
+    try:
+        with open(os.path.join(SCRIPT_DIR, ROBOT["stamp_file"]), "rb") as stamp:
+            return hashlib.sha256(stamp.read()).hexdigest(), os.fstat(stamp.fileno()).st_mtime
+    except OSError:
+        return "", None
+
+
+class RunMark:
+    """This start of the supervisor: its run id, when it started (wall clock) and which build it runs."""
+
+    def __init__(self):
+        self.id = os.urandom(RUN_ID_BYTES).hex()
+        self.started = time.time()
+        self.build, self.built = build_stamp()
+        self.pid = os.getpid()
+
+    def header(self) -> str:
+        """The line that begins the run in the supervisor's output and in every node's log file."""
+        build = self.build[:BUILD_SHOWN_DIGITS] or f"unknown (no {ROBOT['stamp_file']} beside supervisor.py)"
+        return (
+            f"{RUN_HEADER_START}{self.id}: robot {ROBOT['name']}, build {build}, supervisor pid {self.pid}, "
+            f"started {log_time(self.started)} --"
+        )
+
+    def as_dict(self) -> dict:
+        """The run in `status` replies: {"id", "started" (ISO 8601), "build" (64 hex digits, or null), "built"
+        (when the build's stamp was written, ISO 8601, or null)}."""
+        built = log_time(self.built) if self.built is not None else None
+        return {"id": self.id, "started": log_time(self.started), "build": self.build or None, "built": built}
+
+
+# A build of the robot as data: its directory, its supervisor.py's data (read, never run) and its files' hashes.
+
+
+BUILD_SUPERVISOR = "supervisor.py"
+# The names supervisor.py holds as plain data (those of the placeholder robot.py): a reload reads their values.
+BUILD_DATA_NAMES = ("ROBOT", "SIGINT_GRACE_S", "SIGTERM_GRACE_S")
+BUILD_FILE_MAX_BYTES = 64 * 1024 * 1024  # the largest stamp, supervisor.py or node file a reload reads
+STAMP_ENTRY = re.compile(r"([0-9a-f]{64})  (.+)")
+
+
+class BuildError(Exception):
+    """Why a directory is not a build a reload can take: one line."""
+
+
+class Build:
+    """One build of the robot: `directory` (its files' paths are relative to it), `robot` (its ROBOT data),
+    the stop grace periods, `digest` (the SHA-256 of its stamp, "" when unknown), `built` (the stamp's
+    modification time, None when unknown) and `files`: the SHA-256 of each file its processes run from it
+    (entrypoints and DDS profiles; None when unreadable)."""
+
+    def __init__(self, directory: str, robot: dict, sigint_grace_s: float, sigterm_grace_s: float, stamp, files):
+        self.directory = directory
+        self.robot = robot
+        self.sigint_grace_s = sigint_grace_s
+        self.sigterm_grace_s = sigterm_grace_s
+        self.digest, self.built = stamp
+        self.files = files
+
+    def path(self, relative: str) -> str:
+        """A path of the build as the nodes use it: absolute as it is, else under the build's directory."""
+        return relative if os.path.isabs(relative) else os.path.join(self.directory, relative)
+
+
+def process_files(robot: dict) -> list[str]:
+    """The files of a build its processes run: each Python entrypoint and each DDS profile, once."""
+    files = []
+    for spec in robot["processes"]:
+        files += [spec["entrypoint"]] if spec["entrypoint"] else []
+        files.append(spec["fastdds_profile"])
+    return list(dict.fromkeys(files))
+
+
+def file_digest(path: str) -> str | None:
+    try:
+        with open(path, "rb") as handle:
+            return hashlib.sha256(handle.read(BUILD_FILE_MAX_BYTES + 1)).hexdigest()
+    except OSError:
+        return None
+
+
+def running_build() -> Build:
+    """The build this supervisor was started from, its files hashed as they are now."""
+    files = {relative: file_digest(os.path.join(SCRIPT_DIR, relative)) for relative in process_files(ROBOT)}
+    return Build(SCRIPT_DIR, ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S, build_stamp(), files)
+
+
+def read_bounded(path: str, what: str) -> bytes:
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(BUILD_FILE_MAX_BYTES + 1)
+    except OSError as exc:
+        raise BuildError(f"cannot read {what}: {exc.strerror or exc}") from None
+    if len(data) > BUILD_FILE_MAX_BYTES:
+        raise BuildError(f"{what} is larger than {BUILD_FILE_MAX_BYTES} bytes")
+    return data
+
+
+def stamp_entries(data: bytes) -> dict[str, str] | None:
+    """{path: sha256} of a stamp's text (`sha256sum` lines after `#` comments), None when it is not one."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+    entries = {}
+    for line in text.splitlines():
+        if line.startswith("#"):
+            continue
+        match = STAMP_ENTRY.fullmatch(line)
+        if match is None:
+            return None
+        entries[match.group(2)] = match.group(1)
+    return entries
+
+
+def find_stamp(directory: str) -> tuple[dict[str, str], tuple[str, float]]:
+    """(the entries, (the SHA-256, the modification time)) of the stamp beside the build's supervisor.py (one host's part of a robot on
+    several hosts, OUT/hosts/NAME, has its own), which must list that file."""
+    path = os.path.join(directory, ROBOT["stamp_file"])
+    if os.path.isfile(path):
+        data = read_bounded(path, ROBOT["stamp_file"])
+        entries = stamp_entries(data)
+        if entries is not None and BUILD_SUPERVISOR in entries:
+            return entries, (hashlib.sha256(data).hexdigest(), os.stat(path).st_mtime)
+    raise BuildError(f"no {ROBOT['stamp_file']} lists its {BUILD_SUPERVISOR}: it is not a joshuac build")
+
+
+def checked_file(directory: str, entries: dict[str, str], relative: str) -> tuple[bytes, str]:
+    """(content, sha256) of a build's file, which must be in its stamp with that hash."""
+    listed = entries.get(relative)
+    if listed is None:
+        raise BuildError(f"{relative} is not in the build's {ROBOT['stamp_file']}")
+    data = read_bounded(os.path.join(directory, relative), relative)
+    digest = hashlib.sha256(data).hexdigest()
+    if digest != listed:
+        raise BuildError(f"{relative} differs from the build's {ROBOT['stamp_file']} (changed after the build)")
+    return data, digest
+
+
+def build_data(source: bytes) -> dict:
+    """The values of BUILD_DATA_NAMES in a supervisor.py, read as literals: nothing in it runs."""
+    import ast
+
+    try:
+        tree = ast.parse(source, BUILD_SUPERVISOR)
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        raise BuildError(f"{BUILD_SUPERVISOR} is not Python") from None
+    values = {}
+    for statement in tree.body:
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+            continue
+        target = statement.targets[0]
+        if isinstance(target, ast.Name) and target.id in BUILD_DATA_NAMES:
+            try:
+                values[target.id] = ast.literal_eval(statement.value)
+            except (ValueError, TypeError, SyntaxError, RecursionError, MemoryError):
+                raise BuildError(f"{target.id} in {BUILD_SUPERVISOR} is not plain data") from None
+    missing = [name for name in BUILD_DATA_NAMES if name not in values]
+    if missing:
+        raise BuildError(f"{BUILD_SUPERVISOR} holds no {', '.join(missing)}: not a robot's supervisor")
+    return values
+
+
+def checked_robot(values: dict) -> dict:
+    """The ROBOT data, with the shape this supervisor reads: named processes, numbers for the grace periods."""
+    robot = values["ROBOT"]
+    processes = robot.get("processes") if isinstance(robot, dict) else None
+    if not isinstance(processes, list) or not all(isinstance(spec, dict) for spec in processes):
+        raise BuildError(f"ROBOT in {BUILD_SUPERVISOR} has no list of processes")
+    names = [spec.get("name") for spec in processes]
+    if not all(isinstance(name, str) and name for name in names) or len(set(names)) != len(names):
+        raise BuildError(f"the processes in {BUILD_SUPERVISOR} are not named one by one")
+    for name in BUILD_DATA_NAMES[1:]:
+        if type(values[name]) not in (int, float) or not values[name] >= 0:
+            raise BuildError(f"{name} in {BUILD_SUPERVISOR} is not a number of seconds")
+    return robot
+
+
+def read_build(path: str) -> Build:
+    """The build in directory `path` (symbolic links resolved: the nodes run from the files checked here), its
+    supervisor.py and every file its processes run checked against its stamp. Raises BuildError."""
+    directory = os.path.realpath(path)
+    if not os.path.isdir(directory):
+        raise BuildError("not a directory")
+    if not os.path.isfile(os.path.join(directory, BUILD_SUPERVISOR)):
+        raise BuildError(f"no {BUILD_SUPERVISOR} in it: not a robot's build directory")
+    entries, stamp = find_stamp(directory)
+    source, _ = checked_file(directory, entries, BUILD_SUPERVISOR)
+    values = build_data(source)
+    robot = checked_robot(values)
+    try:
+        relatives = process_files(robot)
+    except (KeyError, TypeError):
+        raise BuildError(f"the processes in {BUILD_SUPERVISOR} are not of this supervisor's format") from None
+    files = {relative: checked_file(directory, entries, relative)[1] for relative in relatives}
+    return Build(directory, robot, values["SIGINT_GRACE_S"], values["SIGTERM_GRACE_S"], stamp, files)
+
+
+# What a reload changes: every process of the running build and of the new one compared by name.
+
+
+# What a process runs with: a change to any restarts it. Its other fields (restart policy, critical, what
+# preflight checks) are taken over as they are, without a restart.
+COMMAND_KEYS = ("kind", "entrypoint", "executable", "args", "cpp_binary", "cpp_args")
+# The robot's data a reload applies besides the processes (through them: every process gets `env`, the
+# C++ nodes look in `cpp_bin_dir`). Any other difference (the supervisor's code, formats, names) needs a
+# restart of the robot.
+RELOADED_ROBOT_KEYS = ("env", "cpp_bin_dir", "processes")
+IDENTITY_KEYS = ("name", "host")  # which robot a build is of (a robot on several hosts: which host's part)
+
+
+def build_refusal(running, new) -> str | None:
+    """Why the build `new` cannot be reloaded into the robot running `running` (both Builds), or None."""
+    old_robot, new_robot = running.robot, new.robot
+    if any(old_robot.get(key) != new_robot.get(key) for key in IDENTITY_KEYS):
+        return f"a build of {robot_label(new_robot)}, not of {robot_label(old_robot)}"
+    if old_robot.get("supervisor_code") != new_robot.get("supervisor_code"):
+        return (
+            f"built by another joshuac (supervisor code {new_robot.get('supervisor_code')!s:.16}, this one runs "
+            f"{old_robot.get('supervisor_code')!s:.16}): restart the robot from it instead"
+        )
+    for key in sorted(set(old_robot) | set(new_robot)):
+        if key not in RELOADED_ROBOT_KEYS + IDENTITY_KEYS and old_robot.get(key) != new_robot.get(key):
+            return f"its {key} differs from the running build's: restart the robot from it instead"
+    return None
+
+
+def robot_label(robot: dict) -> str:
+    host = robot.get("host")
+    return f"robot {robot.get('name')!r:.80}" + (f" (host {host!r:.80})" if host else "")
+
+
+def file_mark(path: str):
+    """What tells a file's versions apart without reading it: device, inode, size, modification time; None when
+    it is missing. A file saved by renaming a new one over it, or written in place, gets a new mark."""
+    try:
+        info = os.stat(path)
+    except OSError:
+        return None
+    return (info.st_dev, info.st_ino, info.st_size, info.st_mtime_ns)
+
+
+def input_marks(paths) -> dict:
+    """The file_mark of every input of a node, taken as it launches."""
+    return {path: file_mark(path) for path in paths}
+
+
+def launch_changes(running, old: dict, new_build, new: dict) -> list[str]:
+    """What differs in how process `old` of Build `running` and `new` of `new_build` run, in words; [] when alike."""
+    changes = []
+    cpp_dirs = (running.robot["cpp_bin_dir"], new_build.robot["cpp_bin_dir"]) if new["cpp_binary"] else ("", "")
+    if [old[key] for key in COMMAND_KEYS] != [new[key] for key in COMMAND_KEYS] or cpp_dirs[0] != cpp_dirs[1]:
+        changes.append("command line")
+    if {**running.robot["env"], **old["env"]} != {**new_build.robot["env"], **new["env"]}:
+        changes.append("environment")
+    if new["entrypoint"] and running.files.get(old["entrypoint"]) != new_build.files.get(new["entrypoint"]):
+        changes.append("settings")
+    old_profile, new_profile = running.files.get(old["fastdds_profile"]), new_build.files.get(new["fastdds_profile"])
+    if old["fastdds_profile"] != new["fastdds_profile"] or old_profile != new_profile:
+        changes.append("DDS profile")
+    if old["inputs"] != new["inputs"]:
+        changes.append("files it reads")
+    return changes
+
+
+def changed_inputs(marks: dict) -> list[str]:
+    """The inputs whose file changed since `marks` (input_marks at the node's launch) were taken."""
+    return [path for path, mark in marks.items() if file_mark(path) != mark]
+
+
+class ReloadPlan:
+    """The processes of a reload, by name: `restart` ({name: what changed}), `start` and `stop` (names of added
+    and removed ones), `update` ({name: fields taken over without a restart}) and `keep` (names, unchanged)."""
+
+    def __init__(self):
+        self.restart: dict[str, str] = {}
+        self.start: list[str] = []
+        self.stop: list[str] = []
+        self.update: dict[str, str] = {}
+        self.keep: list[str] = []
+
+
+def plan_reload(running, nodes, new_build) -> ReloadPlan:
+    """The plan that turns the robot of Build `running` and its Nodes `nodes` (input marks of their last launch)
+    into the robot of `new_build`. Raises KeyError or TypeError when the new build's data has another shape."""
+    plan = ReloadPlan()
+    current = {node.name: node for node in nodes}
+    for new in new_build.robot["processes"]:
+        node = current.get(new["name"])
+        if node is None:
+            plan.start.append(new["name"])
+            continue
+        changes = launch_changes(running, node.spec, new_build, new) + [
+            f"{path} changed" for path in changed_inputs(node.input_marks) if path in new["inputs"]
+        ]
+        others = sorted(key for key in set(node.spec) | set(new) if node.spec.get(key) != new.get(key))
+        others = [key for key in others if key not in COMMAND_KEYS + ("env", "fastdds_profile", "inputs")]
+        if changes:
+            plan.restart[node.name] = ", ".join(changes)
+        elif others:
+            plan.update[node.name] = ", ".join(others)
+        else:
+            plan.keep.append(node.name)
+    names = {spec["name"] for spec in new_build.robot["processes"]}
+    plan.stop = [node.name for node in nodes if node.name not in names]
+    return plan
+
+
+# The open-file limit: raised for the supervisor's own clients, given back to every node before exec.
+
+
+# The soft RLIMIT_NOFILE the supervisor raises itself to (never past the hard limit): room for its control
+# clients and every node's pipes. Many programs misbehave with a huge soft limit (they loop over every
+# possible descriptor, or pass it to select()), so nodes get the limits the supervisor was started with.
+FD_LIMIT_WANTED = 65536
+STARTED_FD_LIMIT = resource.getrlimit(resource.RLIMIT_NOFILE)
+
+
+def raise_fd_limit() -> int:
+    """Raise the soft limit toward FD_LIMIT_WANTED, within the hard limit; the soft limit now in force."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    wanted = FD_LIMIT_WANTED if hard == resource.RLIM_INFINITY else min(FD_LIMIT_WANTED, hard)
+    if soft != resource.RLIM_INFINITY and soft < wanted:
+        try:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (wanted, hard))
+            soft = wanted
+        except (OSError, ValueError) as exc:
+            log("supervisor", f"warning: cannot raise the open-file limit from {soft} to {wanted}: {exc}")
+    return soft
+
+
+def restore_fd_limit() -> None:
+    """In a node's forked child: the soft limit the supervisor was started with (within today's hard limit)."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    started = STARTED_FD_LIMIT[0]
+    if hard != resource.RLIM_INFINITY and (started == resource.RLIM_INFINITY or started > hard):
+        started = hard
+    if started != soft:
+        try:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (started, hard))
+        except (OSError, ValueError):
+            pass
+
+
+# Keeping every descendant of the supervisor killable: a cgroup where writable, else /proc tracking.
+
+
+CGROUP2_MOUNTS = "/proc/self/mountinfo"
+OWN_CGROUP = "/proc/self/cgroup"
+
+
+def cgroup2_mount() -> str | None:
+    """Where the unified (v2) cgroup hierarchy is mounted, or None."""
+    try:
+        with open(CGROUP2_MOUNTS) as mounts:
+            for line in mounts:
+                fields = line.split()
+                separator = fields.index("-")
+                if fields[separator + 1] == "cgroup2":
+                    return fields[4]
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def own_cgroup() -> str | None:
+    """This process's cgroup in the unified hierarchy (the `0::` line), or None."""
+    try:
+        with open(OWN_CGROUP) as lines:
+            for line in lines:
+                if line.startswith("0::"):
+                    return line[3:].strip()
+    except OSError:
+        return None
+    return None
+
+
+def create_cgroup(name: str) -> str:
+    """A new, empty cgroup `name` below this process's own one; raises OSError where that is not possible.
+
+    No existing process is moved: only the nodes' children join it (each the cgroup of its node below
+    it), each on its own before exec.
+    """
+    mount, own = cgroup2_mount(), own_cgroup()
+    if mount is None or own is None:
+        raise OSError("no unified (v2) cgroup hierarchy is mounted")
+    path = os.path.join(mount, own.lstrip("/"), name)
+    os.mkdir(path)
+    if not os.path.exists(os.path.join(path, "cgroup.kill")):
+        remove_cgroup(path)
+        raise OSError("the kernel has no cgroup.kill (Linux 5.14 or later)")
+    return path
+
+
+def join_cgroup(path: str) -> None:
+    """Move the calling process (a freshly forked child) into the cgroup at `path`."""
+    with open(os.path.join(path, "cgroup.procs"), "w") as procs:
+        procs.write(str(os.getpid()))
+
+
+def cgroup_usable(path: str) -> bool:
+    """Whether a child can join the cgroup: tried once by a short-lived forked child."""
+    pid = os.fork()
+    if pid == 0:
+        code = 1
+        try:
+            join_cgroup(path)
+            code = 0
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status) == 0
+
+
+def cgroup_populated(path: str) -> bool:
+    try:
+        with open(os.path.join(path, "cgroup.events")) as events:
+            return "populated 1" in events.read()
+    except OSError:
+        return False
+
+
+def kill_cgroup(path: str) -> None:
+    """SIGKILL every process in the cgroup (the kernel does it at once, forks in flight included)."""
+    try:
+        with open(os.path.join(path, "cgroup.kill"), "w") as kill:
+            kill.write("1")
+    except OSError:
+        pass
+
+
+def cgroup_pids(path: str) -> list[int]:
+    """The processes in the cgroup at `path` and in the cgroups below it; none when it is gone."""
+    found = []
+    for directory, _, _ in os.walk(path):
+        try:
+            with open(os.path.join(directory, "cgroup.procs")) as procs:
+                found.extend(int(pid) for pid in procs.read().split())
+        except OSError:
+            continue
+    return found
+
+
+def remove_cgroup(path: str) -> bool:
+    """Remove the cgroup and the cgroups below it once their processes are gone (waiting up to
+    KILL_WAIT_S); whether it is gone."""
+    deadline = time.monotonic() + KILL_WAIT_S
+    while cgroup_populated(path) and time.monotonic() < deadline:
+        time.sleep(CGROUP_EMPTY_POLL_S)
+    try:
+        below = [entry.path for entry in os.scandir(path) if entry.is_dir(follow_symlinks=False)]
+    except FileNotFoundError:
+        return True
+    except OSError:
+        below = []
+    for child in below:
+        remove_cgroup(child)
+    try:
+        os.rmdir(path)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    return True
+
+
+def children_of(pid: int) -> list[int]:
+    """The children of every thread of process `pid` (none when it is gone)."""
+    try:
+        threads = os.listdir(f"/proc/{pid}/task")
+    except OSError:
+        return []
+    found = []
+    for thread in threads:
+        try:
+            with open(f"/proc/{pid}/task/{thread}/children") as listing:
+                found.extend(int(child) for child in listing.read().split())
+        except OSError:
+            continue
+    return found
+
+
+def open_pidfd(pid: int) -> int | None:
+    """A pidfd for `pid` (so a later signal cannot reach a reused PID), None if it is gone or unsupported."""
+    try:
+        return os.pidfd_open(pid)
+    except (OSError, AttributeError):
+        return None
+
+
+def send_signal(pidfd: int, number: int) -> None:
+    try:
+        signal.pidfd_send_signal(pidfd, number)
+    except (OSError, AttributeError):
+        pass
+
+
+def exited(pidfds: list[int]) -> set[int]:
+    """Those of `pidfds` whose process has ended (a pidfd is readable from then on; a zombie has ended)."""
+    poller = select.poll()
+    for pidfd in pidfds:
+        poller.register(pidfd, select.POLLIN)
+    return {pidfd for pidfd, _ in poller.poll(0)}
+
+
+def process_group(pid: int) -> int | None:
+    """The process group of `pid`, None when it is gone or a zombie."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            fields = stat.read().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+    return None if fields[0] == "Z" else int(fields[2])
+
+
+class TrackedProcesses:
+    """Processes held by pidfd (so a signal never reaches a reused PID), killed as one with kill_all."""
+
+    def __init__(self, exclude: tuple[int, ...] = ()):
+        self.exclude = set(exclude)  # never tracked (the tracker's own process, the supervisor)
+        self.known: dict[int, int] = {}  # pid -> pidfd
+
+    def add(self, pid: int) -> bool:
+        if pid in self.known or pid in self.exclude:
+            return False
+        pidfd = open_pidfd(pid)
+        if pidfd is None:
+            return False
+        self.known[pid] = pidfd
+        return True
+
+    def forget(self, pid: int) -> None:
+        os.close(self.known.pop(pid))
+
+    def forget_exited(self) -> None:
+        ended = exited(list(self.known.values()))
+        for pid in [pid for pid, pidfd in self.known.items() if pidfd in ended]:
+            self.forget(pid)
+
+    def kill_all(self) -> None:
+        """Stop every known process (a stopped process cannot fork), add their children until a pass
+        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
+        stopped: set[int] = set()
+        settled = False
+        while True:
+            for pid in [pid for pid in self.known if pid not in stopped]:
+                send_signal(self.known[pid], signal.SIGSTOP)
+                stopped.add(pid)
+            if not [child for pid in list(self.known) for child in children_of(pid) if self.add(child)]:
+                if settled:
+                    break
+                settled = True
+                time.sleep(STOP_SETTLE_S)
+        for pid, pidfd in list(self.known.items()):
+            send_signal(pidfd, signal.SIGKILL)
+            self.forget(pid)
+
+
+def descendants_of(root: int, exclude: set[int]) -> list[int]:
+    """Every process below `root` in the process tree now, except `exclude` and what is below those."""
+    found, frontier, seen = [], [root], {root, *exclude}
+    while frontier:
+        for child in children_of(frontier.pop()):
+            if child not in seen:
+                seen.add(child)
+                found.append(child)
+                frontier.append(child)
+    return found
+
+
+class DescendantTracker(TrackedProcesses):
+    """Every descendant of a root process, found by walking /proc's children lists; since the root is a
+    child subreaper, processes orphaned anywhere below it are reparented to it and stay found."""
+
+    def __init__(self, root: int, exclude: int):
+        super().__init__((root, exclude))  # exclude: the tracker's own process (a child of the root)
+        self.root = root
+
+    def update(self) -> None:
+        """One poll while the root lives: find new descendants, forget the ones that are gone."""
+        current = set(descendants_of(self.root, self.exclude))
+        for pid in list(self.known):
+            if pid not in current:
+                self.forget(pid)
+        for pid in current:
+            self.add(pid)
+
+
+# The forked child of a node: own session, death signal, default signals, then exec.
+
+
+def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None) -> None:
+    """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
+    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec."""
+    try:
+        if output is not None:
+            os.dup2(output, 1)
+            os.dup2(output, 2)
+            os.close(output)
+        for number in RESET_IN_CHILD:
+            signal.signal(number, signal.SIG_DFL)
+        signal.set_wakeup_fd(-1)
+        restore_fd_limit()
+        os.setsid()
+        if PRCTL is not None:
+            PRCTL(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if cgroup is not None:
+            try:
+                join_cgroup(cgroup)
+            except OSError as exc:
+                os.write(2, f"warning: cannot join cgroup {cgroup}: {exc}\n".encode(errors="replace"))
+        if os.getppid() != parent:
+            os._exit(EXIT_ORPHANED)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
+        os.execve(argv[0], argv, env)
+    except BaseException as exc:  # noqa: BLE001 (a forked child ends in os._exit, never back in the parent's code)
+        try:
+            os.write(2, f"cannot start {argv[0]}: {exc}\n".encode(errors="replace"))
+        except OSError:
+            pass
+    finally:
+        os._exit(EXIT_EXEC_FAILED)
+
+
+# The guard process: kills every descendant of the supervisor when the supervisor dies without stopping them.
+
+
+class Guard:
+    """A forked helper that, once its pipe from the supervisor reaches end-of-file (the supervisor
+    exited or was killed outright), SIGKILLs what the supervisor started and may have left behind:
+    - with a cgroup (`cgroup` set): every process in it, whatever session or parent it has by now
+      (the kernel's cgroup.kill), then removes the cgroup;
+    - without: every descendant it has seen while polling /proc every TRACKING_POLL_S (the supervisor
+      is a child subreaper, so orphans stay below it), and every node's process group.
+    PR_SET_PDEATHSIG alone reaches only the nodes themselves."""
+
+    def __init__(self, cgroup: str | None):
+        self.cgroup = cgroup
+        self.pid: int | None = None
+        self.fd: int | None = None
+
+    def start(self) -> None:
+        read_end, self.fd = os.pipe()
+        supervisor = os.getpid()
+        self.pid = os.fork()
+        if self.pid == 0:
+            os.close(self.fd)
+            self.serve(read_end, supervisor)
+        os.close(read_end)
+
+    def serve(self, read_end: int, supervisor: int) -> None:
+        code = 0
+        try:
+            os.setsid()
+            for number in STOP_SIGNALS + (signal.SIGQUIT,):
+                signal.signal(number, signal.SIG_IGN)
+            tracker = None if self.cgroup else DescendantTracker(supervisor, os.getpid())
+            groups, pending = set(), b""
+            while True:
+                if tracker is not None:
+                    tracker.update()
+                ready, _, _ = select.select([read_end], [], [], TRACKING_POLL_S if tracker else None)
+                if not ready:
+                    continue
+                data = os.read(read_end, 4096)
+                if not data:
+                    break
+                pending += data
+                *lines, pending = pending.split(b"\n")
+                for line in lines:
+                    (groups.add if line[:1] == b"+" else groups.discard)(int(line[1:]))
+            if self.cgroup:
+                kill_cgroup(self.cgroup)
+            if tracker is not None:
+                tracker.kill_all()
+            for pgid in groups:
+                try:
+                    os.killpg(pgid, signal.SIGKILL)
+                except OSError:
+                    pass
+            if self.cgroup and not remove_cgroup(self.cgroup):
+                os.write(2, f"guard: cannot remove cgroup {self.cgroup}: processes stuck in it\n".encode())
+        except BaseException:  # noqa: BLE001 (the guard ends in os._exit, never back in the supervisor's code)
+            code = 1
+        finally:
+            os._exit(code)
+
+    def send(self, line: str) -> None:
+        if self.fd is not None:
+            try:
+                os.write(self.fd, line.encode())
+            except OSError:
+                self.fd = None
+
+    def track(self, pgid: int) -> None:
+        self.send(f"+{pgid}\n")
+
+    def forget(self, pgid: int) -> None:
+        self.send(f"-{pgid}\n")
+
+    def stop(self) -> None:
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+        if self.pid is not None:
+            try:
+                os.waitpid(self.pid, 0)
+            except ChildProcessError:
+                pass
+            self.pid = None
+
+
+# What each node started, kept apart per node: in the node's own cgroup, else tracked through /proc.
+
+
+# Every node's environment holds "<supervisor pid>:<node name>" in NODE_MARK_VARIABLE: without a cgroup,
+# a process orphaned before the supervisor saw it is recognised by it.
+NODE_MARK_VARIABLE = "JOSHUA_SUPERVISOR_NODE"
+
+
+def node_mark(supervisor: int, name: str) -> str:
+    return f"{supervisor}:{name}"
+
+
+def environment_mark(pid: int) -> str | None:
+    """The NODE_MARK_VARIABLE value `pid` was started with, None when it has none or cannot be read."""
+    prefix = f"{NODE_MARK_VARIABLE}=".encode()
+    try:
+        with open(f"/proc/{pid}/environ", "rb") as environ:
+            entries = environ.read().split(b"\0")
+    except OSError:
+        return None
+    return next((entry[len(prefix) :].decode(errors="replace") for entry in entries if entry.startswith(prefix)), None)
+
+
+class NodeCgroup:
+    """A node's own cgroup: every process it started stays in it, whatever session, group or parent it
+    moves to (only a write to the cgroup tree moves a process out)."""
+
+    def __init__(self, path: str):
+        self.join = path  # the cgroup each of the node's processes joins before exec
+
+    def pids(self) -> list[int]:
+        return cgroup_pids(self.join)
+
+    def alive(self) -> bool:
+        return cgroup_populated(self.join)
+
+    def signal(self, pids: list[int], number: int) -> None:
+        for pid in pids:
+            try:
+                os.kill(pid, number)
+            except ProcessLookupError:
+                pass
+
+    def kill(self) -> None:
+        kill_cgroup(self.join)
+
+
+class CgroupContainment:
+    """A new cgroup of the supervisor's, holding one cgroup per node and no process of its own."""
+
+    def __init__(self, path: str, nodes):
+        self.cgroup = path  # the guard kills and removes it with everything below
+        for node in nodes:
+            node.processes = NodeCgroup(os.path.join(path, node.name))
+
+    def adopt(self, node) -> None:
+        """Give a node a reload adds its own cgroup; raises OSError when it cannot be made."""
+        path = os.path.join(self.cgroup, node.name)
+        try:
+            os.mkdir(path)
+        except FileExistsError:
+            pass
+        node.processes = NodeCgroup(path)
+
+    def release(self, node) -> None:
+        """Remove the cgroup of a node a reload took away, once it is empty."""
+        remove_cgroup(node.processes.join)
+
+    def pids(self) -> list[int]:
+        """The processes of every node."""
+        return cgroup_pids(self.cgroup)
+
+    def before_sleep(self):
+        return None
+
+    def poll(self, now: float) -> None:
+        pass
+
+    def close(self) -> None:
+        """At the supervisor's exit, after its guard's: what the guard does, in case the guard is gone."""
+        kill_cgroup(self.cgroup)
+        remove_cgroup(self.cgroup)
+
+
+class NodeDescendants(TrackedProcesses):
+    """Without a cgroup: the processes of one node, as its NodeTracker found them (refreshed on each use)."""
+
+    def __init__(self, tracker):
+        super().__init__()
+        self.tracker = tracker
+        self.join = None
+
+    def pids(self) -> list[int]:
+        self.tracker.update()
+        return list(self.known)
+
+    def alive(self) -> bool:
+        self.tracker.refresh()
+        self.forget_exited()
+        return bool(self.known)
+
+    def signal(self, pids: list[int], number: int) -> None:
+        for pid in pids:
+            if pid in self.known:
+                send_signal(self.known[pid], number)
+
+    def kill(self) -> None:
+        self.tracker.update()
+        self.kill_all()
+
+
+class NodeTracker:
+    """Without a cgroup: every descendant of the supervisor, attributed to the node that started it.
+
+    A process below a node's running process is that node's. The supervisor is a child subreaper, so a
+    process whose parent died becomes its child: it stays with the node it was seen with, else it is the
+    node's its environment names (NODE_MARK_VARIABLE); a process that is neither belongs to no node. Known
+    processes are held by pidfd and looked for again every TRACKING_POLL_S while any node may run."""
+
+    cgroup = None
+
+    def __init__(self, supervisor: int, nodes):
+        self.supervisor = supervisor
+        self.nodes = nodes
+        self.strangers: set[int] = set()  # children of the supervisor that belong to no node
+        self.next_poll = 0.0
+        self.stale = True  # processes may have come or gone since the last update (see before_sleep)
+        for node in nodes:
+            node.processes = NodeDescendants(self)
+
+    def adopt(self, node) -> None:
+        """Track a node a reload adds (it is in `nodes`, the supervisor's list, from then on)."""
+        node.processes = NodeDescendants(self)
+
+    def release(self, node) -> None:
+        """Forget a node a reload took away."""
+        for pid in list(node.processes.known):
+            node.processes.forget(pid)
+
+    def owner(self, pid: int):
+        """The NodeDescendants an orphan `pid` belongs to, or None."""
+        for node in self.nodes:
+            if pid in node.processes.known:
+                return node.processes
+        mark = environment_mark(pid)
+        return next((n.processes for n in self.nodes if mark == node_mark(self.supervisor, n.name)), None)
+
+    def refresh(self) -> None:
+        if self.stale:
+            self.update()
+
+    def update(self) -> None:
+        """Walk /proc from every node's running process and every orphan belonging to a node."""
+        self.stale = False
+        roots = {node.pid: node.processes for node in self.nodes if node.pid is not None}
+        children = children_of(self.supervisor)
+        self.strangers &= set(children)
+        for child in children:
+            if child not in roots and child not in self.strangers:
+                owner = self.owner(child)
+                if owner is None:
+                    self.strangers.add(child)
+                else:
+                    roots[child] = owner
+        for root, owner in roots.items():
+            for pid in [root, *descendants_of(root, {self.supervisor})]:
+                owner.add(pid)
+        for node in self.nodes:
+            node.processes.forget_exited()
+
+    def pids(self) -> list[int]:
+        """The processes of every node."""
+        self.update()
+        return [pid for node in self.nodes for pid in node.processes.known]
+
+    def busy(self) -> bool:
+        return any(node.pid is not None or node.processes.known for node in self.nodes)
+
+    def before_sleep(self):
+        """Told by the supervisor's loop as it goes to sleep: the first question about a node after it
+        walks /proc again (the ones after that, in the same instant, do not). The moment the next poll is
+        due, None while no node has a process."""
+        self.stale = True
+        return self.next_poll if self.busy() else None
+
+    def poll(self, now: float) -> None:
+        if now >= self.next_poll and self.busy():
+            self.update()
+            self.next_poll = now + TRACKING_POLL_S
+
+    def close(self) -> None:
+        for node in self.nodes:
+            for pid in list(node.processes.known):
+                node.processes.forget(pid)
+
+
+def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
+    """A CgroupContainment in a new cgroup `joshua-<robot>-<pid>` where one can be made (so that the
+    guard and each node's stop can kill what the nodes leave behind), else a NodeTracker."""
+    reason = "--no-cgroup"
+    if not no_cgroup:
+        try:
+            path = create_cgroup(f"joshua-{ROBOT['name']}-{supervisor}")
+        except OSError as exc:
+            reason = str(exc)
+        else:
+            try:
+                for node in nodes:
+                    os.mkdir(os.path.join(path, node.name))
+            except OSError as exc:
+                reason = f"cannot create a cgroup per node in {path}: {exc}"
+            else:
+                probe = os.path.join(path, nodes[0].name) if nodes else path
+                if cgroup_usable(probe):
+                    log("supervisor", f"nodes run in cgroup {path}")
+                    return CgroupContainment(path, nodes)
+                reason = f"a process cannot join {probe}"
+            remove_cgroup(path)
+    log(
+        "supervisor",
+        f"no cgroup for the nodes ({reason}); the guard tracks their descendants through /proc every "
+        f"{TRACKING_POLL_S} s, and the supervisor which node started each",
+    )
+    return NodeTracker(supervisor, nodes)
+
+
+# Fast DDS shared-memory files a dead node left in /dev/shm, found by their free lock and removed.
+
+
+SHM_DIR = "/dev/shm"
+PROC_LOCKS = "/proc/locks"
+# Fast DDS (2.x, as in ROS 2 Jazzy) names every segment `fastrtps_<random id>` or `fastrtps_port<N>`
+# and holds an exclusive flock on `<segment>_el` for as long as the segment is in use (taken before the
+# segment is created); a port also has the POSIX semaphore `sem.<segment>_mutex`.
+FASTDDS_PREFIX = "fastrtps_"
+LOCK_SUFFIX = "_el"
+COMPANIONS = ("{}", "sem.{}_mutex", "{}_el")  # the lock file last: while it exists, the set is findable
+
+
+def locked_inodes(device: int) -> set[int]:
+    """Inodes on `device` that some live process holds a lock on (from /proc/locks)."""
+    wanted = f"{os.major(device):02x}:{os.minor(device):02x}:"
+    inodes = set()
+    try:
+        with open(PROC_LOCKS) as locks:
+            for line in locks:
+                for field in line.split():
+                    if field.startswith(wanted):
+                        inodes.add(int(field[len(wanted) :]))
+    except OSError:
+        pass
+    return inodes
+
+
+def abandoned_segments(since: float) -> list[str]:
+    """Segments whose lock file was created at or after wall-clock time `since` and is held by no live
+    process: their owner is dead (a live owner holds the lock before the segment even exists)."""
+    try:
+        device = os.stat(SHM_DIR).st_dev
+        names = os.listdir(SHM_DIR)
+    except OSError:
+        return []
+    locked = locked_inodes(device)
+    found = []
+    for name in sorted(names):
+        if not (name.startswith(FASTDDS_PREFIX) and name.endswith(LOCK_SUFFIX)):
+            continue
+        try:
+            lock = os.stat(os.path.join(SHM_DIR, name))
+        except OSError:
+            continue
+        segment = name[: -len(LOCK_SUFFIX)]
+        if lock.st_ino not in locked and lock.st_ctime >= since and os.path.exists(os.path.join(SHM_DIR, segment)):
+            found.append(segment)
+    return found
+
+
+def remove_abandoned_segments(since: float) -> tuple[int, int]:
+    """Remove the files of every abandoned segment created since `since`: (files removed, bytes freed)."""
+    files = size = 0
+    for segment in abandoned_segments(since):
+        for pattern in COMPANIONS:
+            path = os.path.join(SHM_DIR, pattern.format(segment))
+            try:
+                length = os.stat(path).st_size
+                os.unlink(path)
+            except OSError:
+                continue
+            files += 1
+            size += length
+    return files, size
+
+
+# One node: its launch command, environment, process and restart bookkeeping.
+
+
+class Node:
+    """One node: how to launch it, its current process, and its restart bookkeeping."""
+
+    def __init__(self, spec, python, build=None):
+        self.spec = spec
+        self.name = spec["name"]
+        self.python = python
+        self.build = build or running_build()  # the Build its files are in (a reload moves it to the new one)
+        self.pid = None  # the node's main process while it runs
+        self.pgid = None  # its process group while any member may be alive
+        self.processes = None  # everything it started (a NodeCgroup or NodeDescendants), set before its launch
+        self.state = "pending"  # pending, running, backoff, finished, failed, stopping, stopped
+        self.restarts = (
+            0  # restarts its restart policy made (counted again from 0 after a run of RESTART_RESET_AFTER_S)
+        )
+        self.manual_restarts = 0  # restarts asked for over the control socket
+        self.delay = RESTART_DELAY_INITIAL_S
+        self.restart_at = None
+        self.started_at = None
+        self.started_at_wall = None  # time.time() at launch: files it created are not older
+        self.backend = ""
+        self.last_exit = ""
+        self.warned_fallback = False
+        self.ready = False  # it said READY=1 since its last start (a CUSTOM node: it started); see notify.py
+        self.ready_deadline = None  # when it is warned about for not being ready
+        self.status_text = ""  # its last STATUS= notification
+        self.stop_requested = False  # stopped over the control socket: no restart until started again
+        self.input_marks = {}  # the file_mark of each of its inputs as it last launched (reload_plan.py)
+        self.environment = self.make_environment()
+
+    def make_environment(self):
+        env = dict(os.environ)
+        env[ROBOT["fastdds_profile_variable"]] = self.build.path(self.spec["fastdds_profile"])
+        env.update(self.build.robot["env"])
+        env.update(self.spec["env"])
+        env[NODE_MARK_VARIABLE] = node_mark(os.getpid(), self.name)
+        return env
+
+    def rebase(self, spec, build):
+        """Run as `spec` of `build` from its next launch on (a reload)."""
+        self.spec = spec
+        self.build = build
+        self.environment = self.make_environment()
+
+    def entrypoint(self):
+        return self.build.path(self.spec["entrypoint"])
+
+    def cpp_binary(self):
+        if not self.spec["cpp_binary"]:
+            return None
+        return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
+
+    def custom_program(self):
+        import shutil
+
+        executable = self.spec["executable"]
+        if "/" in executable:
+            return os.path.abspath(executable)
+        return shutil.which(executable, path=self.environment.get("PATH", os.defpath))
+
+    def command(self):
+        """(argv, backend) chosen at launch: the C++ binary when it is executable, else Python."""
+        binary = self.cpp_binary()
+        if binary is not None:
+            if os.path.isfile(binary) and os.access(binary, os.X_OK):
+                return [binary, *self.spec["cpp_args"]], "C++"
+            if not self.warned_fallback:
+                log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))
+                self.warned_fallback = True
+        if self.spec["kind"] == "custom":
+            return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
+        return [self.python, self.entrypoint()], "Python"
+
+    def alive(self):
+        """Whether anything it started may still run: its process, its process group, its cgroup's or
+        tracked processes. A node is stopped only once this is False."""
+        if self.pid is not None or (self.pgid is not None and group_alive(self.pgid)):
+            return True
+        return self.processes is not None and self.processes.alive()
+
+    def status_line(self, now):
+        if self.state == "running":
+            return (
+                f"running pid {self.pid} for {now - self.started_at:.1f} s, {self.backend}, "
+                f"{'ready' if self.ready else 'not ready yet'}, {self.restarts} restarts"
+                + (f", {self.manual_restarts} asked for" if self.manual_restarts else "")
+            )
+        if self.state == "backoff":
+            return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
+        return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
+
+
+# What this host's agent last said of the Discovery Server (one of a robot on several hosts), for `ctl status`.
+
+
+# The sd_notify field through which a host's agent reports the server: `reachable` or `unreachable`.
+DISCOVERY_FIELD = "DISCOVERY_SERVER"
+DISCOVERY_STATES = {"reachable": True, "unreachable": False}
+
+
+class DiscoveryReport:
+    """The server's reachability as the host's agent last reported it (a DISCOVERY_SERVER= notification, with
+    its STATUS= line), and since when; unknown while no running agent has said anything."""
+
+    def __init__(self, server: str):
+        self.server = server
+        self.reporter = None  # the node (the host's agent) whose report this is
+        self.reachable = None
+        self.detail = "not reported yet (the host's agent probes the server)"
+        self.changed_at = None
+
+    @classmethod
+    def of_robot(cls):
+        """The report of this host's Discovery Server, or None when the robot has none."""
+        server = ROBOT.get("discovery_server")
+        return cls(server) if server else None
+
+    def record(self, node, state: str, detail: str, now: float) -> None:
+        reachable = DISCOVERY_STATES.get(state)
+        if reachable != self.reachable or self.changed_at is None:
+            self.changed_at = now
+        self.reporter, self.reachable, self.detail = node, reachable, detail
+
+    def forget(self, node, now: float) -> None:
+        """The reporting agent ended: nothing is known until it runs and reports again."""
+        if node is self.reporter:
+            self.reporter, self.reachable, self.changed_at = None, None, now
+            self.detail = f"{node.name} ended: the server is not watched until it runs again"
+
+    def as_dict(self, now: float) -> dict:
+        """{"server", "reachable" (true, false, or null when unknown), "since_s" (in that state), "detail"}."""
+        since = None if self.changed_at is None else round(now - self.changed_at, 3)
+        return {"server": self.server, "reachable": self.reachable, "since_s": since, "detail": self.detail}
+
+
+# Readiness: the sd_notify socket nodes send READY=1 to, the ready flag of each node, and the "ready" lines.
+
+
+NOTIFY_VARIABLES = ("NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID")
+NOTIFY_DATAGRAM_MAX = 4096
+UCRED = struct.Struct("3i")  # pid, uid, gid
+
+
+def notify_fields(data: bytes) -> dict[str, str]:
+    """The KEY=VALUE lines of one notification datagram."""
+    fields = {}
+    for line in data.decode("utf-8", "replace").splitlines():
+        key, equals, value = line.partition("=")
+        if equals:
+            fields[key] = value
+    return fields
+
+
+def notify_upstream(address: str, text: str) -> None:
+    """Send one notification to the manager that runs the supervisor itself (best effort)."""
+    target = "\0" + address[1:] if address.startswith("@") else address
+    try:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC) as sender:
+            sender.sendto(text.encode(), target)
+    except OSError:
+        pass
+
+
+class Readiness:
+    """Receives the nodes' notifications and keeps each node's `ready` flag.
+
+    One Unix datagram socket in the abstract namespace (`@joshua-notify-<robot>-<supervisor pid>`),
+    handed to every node as NOTIFY_SOCKET. SO_PASSCRED makes the kernel attach the sender's pid to each
+    datagram, so a message counts only when it comes from a node's main process (systemd's
+    NotifyAccess=main). A node is ready when it sends READY=1 (the Python runtime and the C++ binaries
+    do); a CUSTOM program when it starts (it need not speak the protocol). A node not ready READY_TIMEOUT_S after its start gets one warning and keeps
+    running. When every running node is ready, the supervisor logs "ready: N of N nodes ready" and,
+    when it runs under systemd itself (Type=notify), passes READY=1 on to its own NOTIFY_SOCKET.
+    WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that).
+    """
+
+    def __init__(self, nodes, robot_name):
+        self.nodes = nodes
+        self.upstream = os.environ.get("NOTIFY_SOCKET", "")
+        self.all_ready = False
+        self.discovery = DiscoveryReport.of_robot()  # what the host's agent says of the Discovery Server
+        self.socket = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK)
+        self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
+        name = f"joshua-notify-{robot_name}-{os.getpid()}"[:100]
+        self.socket.bind("\0" + name)
+        self.address = "@" + name
+        for node in nodes:
+            self.adopt(node)
+
+    def adopt(self, node):
+        """Give a node (of the robot from the start, or of a reload) this socket in place of any of its own."""
+        for variable in NOTIFY_VARIABLES:
+            node.environment.pop(variable, None)
+        node.environment["NOTIFY_SOCKET"] = self.address
+
+    def fileno(self):
+        return self.socket.fileno()
+
+    def on_launch(self, node, now):
+        """A node just started: runtime nodes (Python or C++) are ready once they say so; a CUSTOM
+        program, which may not speak sd_notify, is ready now."""
+        silent = {"custom": "a CUSTOM program"}.get(node.backend)
+        node.ready = silent is not None
+        node.ready_deadline = None if node.ready else now + READY_TIMEOUT_S
+        if node.ready:
+            self.on_ready(node, now, f"{silent}: ready when started")
+
+    def on_exit(self, node):
+        node.ready = False
+        node.ready_deadline = None
+        self.all_ready = False
+        if self.discovery is not None:
+            self.discovery.forget(node, time.monotonic())
+
+    def receive(self, node_of_pid, now):
+        """Read every pending datagram; `node_of_pid(pid)` names the node whose main process sent it."""
+        while True:
+            try:
+                data, ancillary, _, _ = self.socket.recvmsg(NOTIFY_DATAGRAM_MAX, socket.CMSG_SPACE(UCRED.size))
+            except (BlockingIOError, InterruptedError):
+                return
+            pid = None
+            for level, kind, payload in ancillary:
+                if level == socket.SOL_SOCKET and kind == socket.SCM_CREDENTIALS and len(payload) >= UCRED.size:
+                    pid = UCRED.unpack_from(payload)[0]
+            node = node_of_pid(pid) if pid is not None else None
+            if node is None:
+                continue  # not a node's main process: ignored, like NotifyAccess=main
+            fields = notify_fields(data)
+            if "STATUS" in fields:
+                node.status_text = fields["STATUS"]
+            if DISCOVERY_FIELD in fields and self.discovery is not None:
+                self.discovery.record(node, fields[DISCOVERY_FIELD], node.status_text, now)
+            if fields.get("READY") == "1" and not node.ready:
+                node.ready = True
+                node.ready_deadline = None
+                self.on_ready(node, now, node.status_text)
+
+    def on_ready(self, node, now, status):
+        log(node.name, f"ready after {now - node.started_at:.2f} s" + (f": {status}" if status else ""))
+
+    def check_all(self, now):
+        """Log the robot's ready line when every running node is ready and none waits to start (or, after a reload,
+        to be stopped)."""
+        if self.all_ready:
+            return
+        if any(
+            node.state in ("pending", "backoff", "stopping") or (node.state == "running" and not node.ready)
+            for node in self.nodes
+        ):
+            return
+        ready = sum(node.ready for node in self.nodes)
+        if not ready:
+            return
+        self.all_ready = True
+        others = len(self.nodes) - ready
+        log(
+            "supervisor",
+            f"ready: {ready} of {len(self.nodes)} nodes ready ({now - START:.2f} s after start)"
+            + (f"; {others} not running" if others else ""),
+        )
+        if self.upstream:
+            notify_upstream(self.upstream, f"READY=1\nSTATUS={ready} of {len(self.nodes)} nodes ready")
+
+    def next_deadline(self):
+        deadlines = [node.ready_deadline for node in self.nodes if node.ready_deadline is not None]
+        return min(deadlines) if deadlines else None
+
+    def on_timer(self, now, stopping):
+        if not stopping:
+            self.check_all(now)
+        for node in self.nodes:
+            if node.ready_deadline is not None and now >= node.ready_deadline:
+                node.ready_deadline = None
+                if node.state == "running" and not node.ready:
+                    log(
+                        node.name,
+                        f"warning: not ready {READY_TIMEOUT_S:g} s after its start (no READY=1 "
+                        "yet); it keeps running and the robot is not ready",
+                    )
+
+
+# Preflight: every reason the robot cannot start, found before anything starts.
+
+
+PROBE_PREFIX = ".joshua-preflight-"  # a file created and removed at once, to learn a directory is writable
+RUNTIME_PROBE = "import joshua_runtime, joshua_core.settings as s; print(s.FORMAT_VERSION)"
+INSTALL_SCRIPT = "install.sh"  # written next to supervisor.py by `joshuac build --bundle`
+
+
+def runtime_fix(python: str) -> str:
+    """How to install the runtime this build needs for `python`."""
+    script = under_script_dir(INSTALL_SCRIPT)
+    if os.path.isfile(script):
+        return f"install it: sh {script} (then run supervisor.py with that environment's python)"
+    return (
+        f"build with `joshuac build CONFIG -o OUT --bundle` and run `sh OUT/{INSTALL_SCRIPT}` on the robot, "
+        f"or install this repository's core/ and runtime/ for {python}"
+    )
+
+
+def runtime_problem(python: str, env: dict[str, str]) -> str | None:
+    """Why `python` cannot run this build's Python nodes (no joshua_runtime, or another settings format), or None."""
+    import subprocess
+
+    expected = ROBOT["settings_format_version"]
+    try:
+        probe = subprocess.run(
+            [python, "-c", RUNTIME_PROBE],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=RUNTIME_PROBE_TIMEOUT_S,
+            stdin=subprocess.DEVNULL,
+        )
+    except subprocess.TimeoutExpired:
+        return f"{python} did not report its joshua_runtime within {RUNTIME_PROBE_TIMEOUT_S:g} s"
+    except OSError as exc:
+        return f"cannot run {python}: {exc.strerror or exc}"
+    lines = probe.stdout.split()
+    if probe.returncode != 0 or not lines or not lines[-1].isdigit():
+        reason = (probe.stderr.strip().splitlines() or [f"exit code {probe.returncode}"])[-1]
+        return f"{python} cannot import the runtime ({reason}); {runtime_fix(python)}"
+    if int(lines[-1]) != expected:
+        return (
+            f"the runtime installed for {python} reads node settings format {lines[-1]}, this build writes "
+            f"format {expected}; {runtime_fix(python)}"
+        )
+    return None
+
+
+def registry_problem(reference: str, env: dict[str, str]) -> str | None:
+    """Why `registry:NAME[@REVISION]` names no entry of the model registry the node will see, or None."""
+    registry = ROBOT["model_registry"]
+    root = os.path.expanduser(env.get(registry["variable"]) or registry["default_root"])
+    name, _, revision = reference[len(registry["prefix"]) :].partition("@")
+    if name and "/" not in name + revision and name not in (".", "..") and revision not in (".", ".."):
+        try:
+            revisions = [revision] if revision else os.listdir(os.path.join(root, name))
+        except OSError:
+            revisions = []
+        if any(os.path.isfile(os.path.join(root, name, each, registry["entry_file"])) for each in revisions):
+            return None
+    return f"{reference} is not in the model registry at {root}"
+
+
+def output_problem(directory: str) -> str | None:
+    """Why the node cannot write into `directory` (created by the node when missing), or None."""
+    path = os.path.abspath(os.path.expanduser(directory))
+    existing = path
+    while not os.path.lexists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        return f"output directory {directory}: {existing} is not a directory"
+    probe_path = os.path.join(existing, f"{PROBE_PREFIX}{os.getpid()}")
+    try:
+        os.close(os.open(probe_path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        os.unlink(probe_path)
+    except OSError as exc:
+        return f"output directory {directory}: cannot write in {existing}: {exc.strerror or exc}"
+    return None
+
+
+def node_problems(node) -> list[str]:
+    """Every reason one node cannot start (its devices, model, output directory, program or entrypoint)."""
+    problems = []
+    spec = node.spec
+    for device in spec["devices"]:
+        path, kind = device["path"], device["kind"]
+        if kind == "model" and not os.path.isdir(path):
+            problems.append(f"{node.name}: model directory {path} does not exist")
+        elif kind == "file" and not os.path.isfile(path):
+            problems.append(f"{node.name}: video file {path} does not exist")
+        elif kind in ("serial", "camera") and not os.path.exists(path):
+            what = "serial port" if kind == "serial" else "camera device"
+            problems.append(f"{node.name}: {what} {path} does not exist")
+    if spec["model_reference"]:
+        problem = registry_problem(spec["model_reference"], node.environment)
+        if problem:
+            problems.append(f"{node.name}: {problem}")
+    if spec["output_directory"]:
+        problem = output_problem(spec["output_directory"])
+        if problem:
+            problems.append(f"{node.name}: {problem}")
+    binary = node.cpp_binary()
+    if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+        problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
+    if spec["kind"] == "custom":
+        program = node.custom_program()
+        if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
+            problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
+    elif not os.path.isfile(node.entrypoint()):
+        problems.append(f"{node.name}: entrypoint {node.entrypoint()} is missing")
+    return problems
+
+
+def preflight(nodes, python):
+    """Every reason the robot cannot start, as lines; empty when it can."""
+    problems = [problem for node in nodes for problem in node_problems(node)]
+    needs_python = any(node.spec["kind"] != "custom" for node in nodes)
+    if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
+        problems.append(f"Python interpreter {python} is not an executable file")
+    elif needs_python:
+        environment = next(node.environment for node in nodes if node.spec["kind"] != "custom")
+        problem = runtime_problem(python, environment)
+        if problem:
+            problems.append(problem)
+    return problems
+
+
+# What a run of the supervisor came to: its exit code, and last lines for lost data or an internal error.
+
+
+class Outcome:
+    """Failures seen while the robot ran; the first that applies decides the exit code."""
+
+    def __init__(self):
+        self.internal_error = False  # the supervisor hit a bug of its own: the robot was stopped
+        self.critical_failure = False  # a critical node failed for good: the robot was stopped
+        self.node_failure = False  # a non-critical node failed for good
+        self.escalated = False  # stopping needed SIGTERM or SIGKILL
+        self.data_lost: list[dict] = []  # specs of the nodes that exited with the node code for data lost
+
+    def on_node_exit(self, spec: dict, code: int | None) -> None:
+        if code == ROBOT["node_exit_codes"]["data_lost"] and spec not in self.data_lost:
+            self.data_lost.append(spec)
+
+    def exit_code(self) -> int:
+        if self.internal_error:
+            return EXIT_INTERNAL
+        if self.data_lost:
+            return EXIT_DATA_LOST
+        if self.critical_failure:
+            return EXIT_CRITICAL
+        if self.escalated:
+            return EXIT_ESCALATED
+        return EXIT_NODE_FAILED if self.node_failure else EXIT_OK
+
+    def last_lines(self) -> list[str]:
+        """One line per node that lost data (which node, where the data should have gone); one for an internal
+        error."""
+        lines = []
+        if self.internal_error:
+            lines.append(
+                f"internal error: a bug in supervisor.py stopped the robot (exit code {EXIT_INTERNAL}); "
+                "its traceback is above"
+            )
+        for spec in self.data_lost:
+            where = f" to {spec['output_directory']}" if spec["output_directory"] else ""
+            lines.append(
+                f"data lost: node {spec['name']} could not save data it had taken in{where} "
+                f"(exit code {ROBOT['node_exit_codes']['data_lost']}; its error line above says what)"
+            )
+        return lines
+
+
+# Each node's output: overlong lines cut, passed on to stderr, kept in `<log dir>/<node>.log` with times and runs.
+
+
+# A node's log file is rotated when it would grow past LOG_MAX_BYTES: <node>.log becomes <node>.log.1,
+# .1 becomes .2, ... and the oldest of LOG_BACKUPS is dropped; at most (1 + LOG_BACKUPS) x 10 MiB a node.
+LOG_MAX_BYTES = 10 * 1024 * 1024
+LOG_BACKUPS = 3
+LOG_READ_BYTES = 65536  # at most this much is read from a node's pipe at once
+# A line longer than LINE_MAX_BYTES is cut into lines of that many bytes (a few more or fewer rather than
+# inside a UTF-8 character), each but the last ending in LINE_CUT_MARK, as journald's LineMax cuts lines
+# (marking them _LINE_BREAK=line-max). Since a read is no longer than a line may be, only the line running
+# on from earlier reads can grow past the cap: each read costs time in proportion to its length, and a
+# node's unfinished line takes at most LINE_MAX_BYTES of memory.
+LINE_MAX_BYTES = 65536
+LINE_CUT_MARK = f" [line cut at {LINE_MAX_BYTES} bytes, continued below]".encode()
+UTF8_CONTINUATION = range(0x80, 0xC0)  # the bytes that continue a UTF-8 character, never start one
+TAIL_BLOCK_BYTES = 65536  # log files are read backwards in blocks of this size to find their last lines
+LOG_TAIL_BYTES = 1024 * 1024  # most output one `logs` request reads (its reply must fit a client's buffer)
+
+
+def default_log_dir(robot: str) -> str:
+    """$XDG_STATE_HOME/joshua/<robot>/logs, else ~/.local/state/joshua/<robot>/logs."""
+    state = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
+    return os.path.join(state, "joshua", robot, "logs")
+
+
+def open_node_logs(directory: str | None, names: list[str]) -> dict:
+    """A NodeLog per node name in `directory` (created 0700); none when there is no directory."""
+    if not directory:
+        return {}
+    try:
+        os.makedirs(directory, mode=0o700, exist_ok=True)
+    except OSError as exc:
+        log("supervisor", f"warning: no node logs in {directory}: {exc}")
+        return {}
+    return {name: NodeLog(directory, name) for name in names}
+
+
+def character_start(data: bytes, cut: int, start: int, end: int) -> int:
+    """`cut` moved to the start of a UTF-8 character: back (by up to three bytes, staying after `start`)
+    where it can, else forward (by up to three, staying before `end`); unmoved in data that is not UTF-8."""
+    if data[cut] not in UTF8_CONTINUATION:
+        return cut
+    for back in range(cut - 1, max(start, cut - 4), -1):
+        if data[back] not in UTF8_CONTINUATION:
+            return back
+    for forward in range(cut + 1, min(end, cut + 4)):
+        if data[forward] not in UTF8_CONTINUATION:
+            return forward
+    return cut
+
+
+class NodeLog:
+    """The output of one node: `feed` takes what its pipe gave, cuts overlong lines, and passes the result
+    to the supervisor's stderr as it is, and with each line after the time it was read (`log_time` and a
+    space) to the log file and the listeners (which get complete lines). `begin_run` writes a run's header
+    line into the file; `tail` reads the current run's lines, or every run's."""
+
+    def __init__(self, directory: str, name: str):
+        self.path = os.path.join(directory, f"{name}.log")
+        self.line_length = 0  # bytes of the unfinished line passed on so far
+        self.partial = bytearray()  # the unfinished line with its time, for the listeners (at most LINE_MAX_BYTES more)
+        self.listeners = []  # callables taking one decoded line, e.g. `ctl logs -f` clients
+        # Where the current run's header is: [rotations of the file since it was written, its offset in the file
+        # it was written to]; None before begin_run (every line then counts as the current run's).
+        self.run_start = None
+
+    def begin_run(self, header: str) -> None:
+        """Start a run: its `header` on a line of its own (an unfinished line a killed supervisor left is ended
+        first), after which `tail` reads by default."""
+        data = f"{log_time(time.time())} {header}\n".encode()
+        if not ends_a_line(self.path):
+            data = b"\n" + data
+        offset = self.append(data)
+        if offset is not None:
+            self.run_start = [0, offset + (data[0] == ord("\n"))]
+
+    def open_pipe(self):
+        """(read end, write end) of a new pipe for one launch; the read end is non-blocking."""
+        read_end, write_end = os.pipe()
+        os.set_blocking(read_end, False)
+        return read_end, write_end
+
+    def read(self, fd: int) -> bool:
+        """Read what is available on the node's pipe; False at end of file (every writer gone)."""
+        try:
+            data = os.read(fd, LOG_READ_BYTES)
+        except BlockingIOError:
+            return True
+        except OSError:
+            data = b""
+        if not data:
+            if self.line_length:
+                self.feed(b"\n")
+            return False
+        self.feed(data)
+        return True
+
+    def feed(self, data: bytes) -> None:
+        at_line_start = self.line_length == 0
+        data = self.cut_long_lines(data)
+        try:
+            sys.stderr.buffer.write(data)
+            sys.stderr.flush()
+        except (OSError, ValueError):
+            pass
+        data = stamp_lines(data, f"{log_time(time.time())} ".encode(), at_line_start)
+        self.append(data)
+        end = data.rfind(b"\n")
+        if end < 0:
+            self.partial += data
+            return
+        if self.listeners:
+            lines = (bytes(self.partial) + data[:end]).split(b"\n")
+            for line in lines:
+                text = line.decode(errors="replace")
+                for listener in list(self.listeners):
+                    listener(text)
+        self.partial = bytearray(data[end + 1 :])
+
+    def cut_long_lines(self, data: bytes) -> bytes:
+        """`data` with LINE_CUT_MARK and a newline put in wherever the line it continues would grow past
+        LINE_MAX_BYTES; every later line in `data` is shorter than a read, so within the cap."""
+        first = data.find(b"\n")
+        head = len(data) if first < 0 else first  # where the line running on ends in `data`
+        pieces, start = [], 0
+        while head - start > LINE_MAX_BYTES - self.line_length:
+            cut = character_start(data, start + LINE_MAX_BYTES - self.line_length, start, head)
+            pieces += (data[start:cut], LINE_CUT_MARK, b"\n")
+            start, self.line_length = cut, 0
+        self.line_length = self.line_length + len(data) - start if first < 0 else len(data) - data.rfind(b"\n") - 1
+        if not pieces:
+            return data
+        pieces.append(data[start:])
+        return b"".join(pieces)
+
+    def append(self, data: bytes) -> int | None:
+        """Write `data` at the end of the log file, rotated first when it would grow past LOG_MAX_BYTES: the
+        offset it was written at, None when it could not be written."""
+        try:
+            size = os.path.getsize(self.path) if os.path.exists(self.path) else 0
+            if size and size + len(data) > LOG_MAX_BYTES:
+                self.rotate()
+                size = 0
+            with open(self.path, "ab") as log_file:
+                log_file.write(data)
+            return size
+        except OSError:
+            return None  # a full or read-only disk must not stop the robot; stderr still has the output
+
+    def rotate(self) -> None:
+        for index in range(LOG_BACKUPS - 1, 0, -1):
+            older = f"{self.path}.{index}"
+            if os.path.exists(older):
+                os.replace(older, f"{self.path}.{index + 1}")
+        os.replace(self.path, f"{self.path}.1")
+        if self.run_start is not None:
+            self.run_start[0] += 1
+
+    def tail(self, count: int, all_runs: bool = False) -> list[str]:
+        """The last `count` lines of the current run (from its header on), or of every run kept when `all_runs`;
+        from the rotated files too when the current one holds fewer; from the last LOG_TAIL_BYTES of output at
+        most (fewer lines when they are long)."""
+        paths = [self.path] + [f"{self.path}.{index}" for index in range(1, LOG_BACKUPS + 1)]
+        starts = [0] * len(paths)  # where each file's lines of interest begin
+        if not all_runs and self.run_start is not None and self.run_start[0] < len(paths):
+            rotations, offset = self.run_start
+            paths, starts = paths[: rotations + 1], [*starts[:rotations], offset]
+        lines: list[bytes] = []
+        budget = LOG_TAIL_BYTES
+        for path, start in zip(paths, starts):
+            if len(lines) >= count or budget <= 0:
+                break
+            found, read = last_lines(path, count - len(lines), budget, start)
+            lines = found + lines
+            budget -= read
+        return [line.decode(errors="replace") for line in lines[-count:]] if count > 0 else []
+
+
+def stamp_lines(data: bytes, stamp: bytes, at_line_start: bool) -> bytes:
+    """`data` with `stamp` before every line that begins in it (its first only when it is `at_line_start`)."""
+    body = data[:-1].replace(b"\n", b"\n" + stamp) + data[-1:]
+    return stamp + body if at_line_start else body
+
+
+def ends_a_line(path: str) -> bool:
+    """Whether the file at `path` is empty, absent, unreadable or ends with a newline."""
+    try:
+        with open(path, "rb") as log_file:
+            if log_file.seek(0, os.SEEK_END) == 0:
+                return True
+            log_file.seek(-1, os.SEEK_END)
+            return log_file.read(1) == b"\n"
+    except OSError:
+        return True
+
+
+def last_lines(path: str, count: int, budget: int, start: int = 0) -> tuple[list[bytes], int]:
+    """The last `count` lines of the file at `path` after offset `start` (where a line begins; the whole file
+    when it is shorter, since something else truncated it) within its last `budget` bytes (fewer when it holds
+    fewer; none when it is absent), read backwards in blocks of TAIL_BLOCK_BYTES; and how many bytes were read."""
+    try:
+        with open(path, "rb") as log_file:
+            position = log_file.seek(0, os.SEEK_END)
+            start = start if start <= position else 0
+            blocks: list[bytes] = []
+            newlines = read = 0
+            while position > start and newlines <= count and read < budget:
+                size = min(TAIL_BLOCK_BYTES, position - start, budget - read)
+                position -= size
+                log_file.seek(position)
+                blocks.insert(0, log_file.read(size))
+                newlines += blocks[0].count(b"\n")
+                read += size
+    except OSError:
+        return [], 0
+    lines = b"".join(blocks).splitlines()
+    if position > start:
+        lines = lines[1:]  # the first may have begun in a block not read
+    return (lines[-count:] if count > 0 else []), read
+
+
+# The loop's wait: callbacks per readable or writable descriptor, on selectors (epoll), so any fd number works.
+
+
+class Poller:
+    """Waits for many descriptors at once. `readers[fd] = callback` runs `callback()` whenever fd is
+    readable, `writers[fd] = callback` whenever it is writable; `del` (or `pop`) stops that. epoll has no
+    FD_SETSIZE: descriptors above 1023 work, and a wait costs the same with a thousand idle ones.
+
+    A descriptor should leave both mappings before it is closed (the kernel forgets a closed descriptor,
+    the selector does not); setting a callback registers its number anew, so a stale entry cannot hide a
+    new descriptor of the same number."""
+
+    def __init__(self):
+        self.selector = selectors.DefaultSelector()
+        self.woke_at = time.monotonic()  # when the last wait returned: the start of the loop's turn
+        self.readers = Callbacks(self)
+        self.writers = Callbacks(self)
+
+    def update(self, fd: int, fresh: bool = False) -> None:
+        """Tell the selector which events of `fd` are wanted now; `fresh`: a callback was just set, so
+        register anew (the number may belong to a descriptor closed while still registered)."""
+        events = (selectors.EVENT_READ if fd in self.readers else 0) | (
+            selectors.EVENT_WRITE if fd in self.writers else 0
+        )
+        try:
+            registered = self.selector.get_key(fd).events
+        except KeyError:
+            registered = 0
+        if events == registered and not fresh:
+            return
+        if registered:
+            try:
+                self.selector.unregister(fd)
+            except (KeyError, ValueError, OSError):
+                pass
+        if events:
+            self.selector.register(fd, events)
+
+    def wait(self, timeout: float | None) -> None:
+        """Sleep until a descriptor is ready or `timeout` seconds pass; run the callbacks of the ready ones.
+
+        A callback may add or remove descriptors: each one is looked up again just before it runs."""
+        ready = self.selector.select(timeout)
+        self.woke_at = time.monotonic()
+        for key, events in ready:
+            fd = key.fd
+            if events & selectors.EVENT_READ and fd in self.readers:
+                self.readers[fd]()
+            if events & selectors.EVENT_WRITE and fd in self.writers:
+                self.writers[fd]()
+
+    def close(self) -> None:
+        self.selector.close()
+
+
+class Callbacks(MutableMapping):
+    """fd -> callback for one kind of event of a Poller; setting or deleting an entry updates the selector."""
+
+    def __init__(self, poller: Poller):
+        self.poller = poller
+        self.callbacks: dict = {}
+
+    def __getitem__(self, fd):
+        return self.callbacks[fd]
+
+    def __setitem__(self, fd, callback):
+        self.callbacks[fd] = callback
+        self.poller.update(fd, fresh=True)
+
+    def __delitem__(self, fd):
+        del self.callbacks[fd]
+        self.poller.update(fd)
+
+    def __iter__(self):
+        return iter(self.callbacks)
+
+    def __len__(self):
+        return len(self.callbacks)
+
+    def __contains__(self, fd):
+        return fd in self.callbacks
+
+
+# Control requests: one bounded JSON line in, a checked request out, or one line saying why not.
+
+
+CONTROL_REQUEST_LIMIT = 4096  # longest request line, in bytes (the longest real one is under 200)
+CONTROL_REQUEST_DEPTH = 4  # deepest nesting of arrays and objects (a real request has 1)
+CONTROL_NUMBER_DIGITS = 20  # longest number literal
+CONTROL_LOG_LINES_MAX = 10000  # most lines one `logs` request may ask for
+CONTROL_LOG_LINES_DEFAULT = 100
+CONTROL_PATH_MAX = 1024  # longest directory path a `reload` may name, in characters (its JSON fits the line)
+
+# The fields each command takes; "node" and "path" are required wherever they are taken, the others have defaults.
+CONTROL_COMMANDS = {
+    "status": (),
+    "restart": ("node",),
+    "stop": ("node",),
+    "start": ("node",),
+    "logs": ("node", "lines", "follow", "all"),
+    "reload": ("path",),
+}
+FIELD_DEFAULTS = {"lines": CONTROL_LOG_LINES_DEFAULT, "follow": False, "all": False}
+# The kinds of refusal an error reply names in its "kind" field, for clients that act on them (a web server
+# answers them with the HTTP status in the comment).
+REFUSAL_KINDS = {
+    "bad_request": "the request line is not a request this supervisor takes",  # 400
+    "forbidden": "the client is of another user than the supervisor's and not root",  # 403
+    "not_found": "no node has that name, or its output is not kept (no log directory)",  # 404
+    "conflict": "the node is already in the state asked for, or a stop, restart or reload is under way",  # 409
+    "stopping": "the robot is stopping: its nodes are started, stopped and restarted no more",  # 503
+    "busy": "too many clients are connected: try again later",  # 503
+    "invalid_build": "the build to reload is not one of this robot: another robot's, changed since it was built, "
+    "not a build, or built by another joshuac",  # 422
+    "preflight": "a node the reload would start cannot start: a device, model, program or entrypoint is missing",  # 422
+}
+FIELD_RULES = {
+    "node": (lambda value: isinstance(value, str), "node must be a string"),
+    "lines": (
+        lambda value: type(value) is int and 0 <= value <= CONTROL_LOG_LINES_MAX,
+        f"lines must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}",
+    ),
+    "follow": (lambda value: isinstance(value, bool), "follow must be true or false"),
+    "all": (lambda value: isinstance(value, bool), "all must be true or false"),
+    "path": (
+        lambda value: (
+            isinstance(value, str) and value.startswith("/") and len(value) <= CONTROL_PATH_MAX and "\0" not in value
+        ),
+        f"path must be an absolute path of at most {CONTROL_PATH_MAX} characters, without NUL",
+    ),
+}
+JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
+JSON_BRACKET = re.compile(r"[\[\]{}]")
+
+
+class RequestError(ValueError):
+    """Why a request line was refused: one line, sent back to the client."""
+
+
+def refusal(kind: str, error: str) -> dict:
+    """The reply that refuses a request: `kind` one of REFUSAL_KINDS, `error` one line saying why."""
+    return {"ok": False, "kind": kind, "error": error}
+
+
+def nesting_depth(text: str) -> int:
+    """The deepest nesting of arrays and objects in JSON `text` (brackets inside strings do not count)."""
+    depth = deepest = 0
+    for bracket in JSON_BRACKET.findall(JSON_STRING.sub('""', text)):
+        depth += 1 if bracket in "[{" else -1
+        deepest = max(deepest, depth)
+    return deepest
+
+
+def refuse_constant(name: str):
+    raise RequestError(f"not a finite number: {name}")
+
+
+def finite_float(text: str) -> float:
+    if len(text) > CONTROL_NUMBER_DIGITS:
+        raise RequestError(f"number longer than {CONTROL_NUMBER_DIGITS} characters")
+    value = float(text)
+    if not math.isfinite(value):
+        raise RequestError(f"not a finite number: {text}")
+    return value
+
+
+def bounded_int(text: str) -> int:
+    if len(text) > CONTROL_NUMBER_DIGITS:
+        raise RequestError(f"number longer than {CONTROL_NUMBER_DIGITS} characters")
+    return int(text)
+
+
+def parse_request(line: bytes) -> dict:
+    """The request of one line (without its newline), with every field its command takes; raises RequestError."""
+    import json
+
+    try:
+        text = line.decode("utf-8")
+    except UnicodeDecodeError:
+        raise RequestError("a request is one JSON object in UTF-8: this line is not UTF-8") from None
+    if nesting_depth(text) > CONTROL_REQUEST_DEPTH:
+        raise RequestError(f"request nested deeper than {CONTROL_REQUEST_DEPTH} levels")
+    try:
+        request = json.loads(text, parse_constant=refuse_constant, parse_float=finite_float, parse_int=bounded_int)
+    except RequestError:
+        raise
+    except (ValueError, RecursionError) as exc:
+        raise RequestError(f"not JSON: {exc}") from None
+    if not isinstance(request, dict):
+        raise RequestError(f"a request is one JSON object per line, not {type(request).__name__}")
+    command = request.get("command")
+    if not isinstance(command, str):
+        raise RequestError(f"command must be one of {', '.join(CONTROL_COMMANDS)}")
+    if command not in CONTROL_COMMANDS:
+        raise RequestError(f"unknown command {command!r:.60} ({', '.join(CONTROL_COMMANDS)})")
+    fields = CONTROL_COMMANDS[command]
+    for key in request:
+        if key != "command" and key not in fields:
+            raise RequestError(f"unknown field {key!r:.60} for {command} (it takes {', '.join(fields) or 'none'})")
+    checked = {"command": command}
+    for field in fields:
+        if field not in request and field not in FIELD_DEFAULTS:
+            raise RequestError(f"{command} needs a {field}")
+        value = request.get(field, FIELD_DEFAULTS.get(field))
+        valid, rule = FIELD_RULES[field]
+        if not valid(value):
+            raise RequestError(rule)
+        checked[field] = value
+    return checked
+
+
+# Whose the control socket is: its private directory, its file bound there, and the peer credentials checked.
+
+
+CONTROL_BACKLOG = 64  # connections the kernel queues before the supervisor accepts them
+CONTROL_PROBE_TIMEOUT_S = 1.0  # how long a socket already at the path may take to accept a probe
+SOCKET_PATH_MAX = 107  # bytes of a Unix socket address (sun_path, without its terminating NUL)
+ANOTHER_PATH = "choose another path with --control-socket PATH (--no-control for none)"
+
+
+class ControlSocketError(Exception):
+    """Why the control socket cannot be served: one line."""
+
+
+def control_name(robot: dict) -> str:
+    """What names a supervisor's control socket: the robot, and on a robot of several hosts `<robot>.<host>`
+    (one supervisor per host, and several may run on one computer)."""
+    return f"{robot['name']}.{robot['host']}" if robot.get("host") else robot["name"]
+
+
+def default_control_socket(robot: str) -> str:
+    """$XDG_RUNTIME_DIR/joshua/<robot>.sock, else /tmp/joshua-<uid>/<robot>.sock (`robot`: a control_name)."""
+    runtime_dir = os.environ.get("XDG_RUNTIME_DIR")
+    directory = os.path.join(runtime_dir, "joshua") if runtime_dir else f"/tmp/joshua-{os.getuid()}"
+    return os.path.join(directory, f"{robot}.sock")
+
+
+def peer_credentials(connection: socket.socket) -> tuple[int, int, int]:
+    """(pid, uid, gid) of the process at the other end of a connected Unix socket, as the kernel saw it
+    when that process connected or listened (SO_PEERCRED)."""
+    return UCRED.unpack(connection.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, UCRED.size))
+
+
+def may_control(uid: int) -> bool:
+    """Whether a peer of `uid` may take part in this user's control socket: the same user, or root."""
+    return uid in (os.geteuid(), 0)
+
+
+def private_directory(directory: str) -> int:
+    """An open descriptor of `directory` (created mode 0700 when missing); raises ControlSocketError unless it
+    is a real directory (no symbolic link) of this user that no one else may enter or write in."""
+    try:
+        os.makedirs(os.path.dirname(os.path.abspath(directory)), exist_ok=True)
+        os.mkdir(directory, 0o700)
+    except FileExistsError:
+        pass
+    except OSError as exc:
+        raise ControlSocketError(f"cannot create its directory {directory}: {exc.strerror or exc}") from None
+    try:
+        fd = os.open(directory, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except OSError as exc:
+        what = "is a symbolic link or not a directory" if os.path.islink(directory) else (exc.strerror or str(exc))
+        raise ControlSocketError(f"its directory {directory} {what}; remove it, or {ANOTHER_PATH}") from None
+    info = os.fstat(fd)
+    problem = None
+    if info.st_uid != os.geteuid():
+        problem = f"belongs to uid {info.st_uid}, not to uid {os.geteuid()}"
+    elif stat.S_IMODE(info.st_mode) & 0o077:
+        problem = (
+            f"has mode {stat.S_IMODE(info.st_mode):04o}: others may rename or replace the socket in it "
+            "(it must be 0700)"
+        )
+    if problem:
+        os.close(fd)
+        raise ControlSocketError(f"its directory {directory} {problem}; remove it, or {ANOTHER_PATH}")
+    return fd
+
+
+class SocketFile:
+    """The control socket's file, in a private directory held open: bound and removed through that descriptor
+    (/proc/self/fd/N/NAME), so a directory renamed or replaced meanwhile cannot redirect either."""
+
+    def __init__(self, path: str):
+        if len(os.fsencode(path)) > SOCKET_PATH_MAX:
+            raise ControlSocketError(
+                f"the path is longer than a Unix socket address holds ({SOCKET_PATH_MAX} bytes); {ANOTHER_PATH}"
+            )
+        self.path = path
+        self.name = os.path.basename(path)
+        self.directory = private_directory(os.path.dirname(path) or ".")
+        self.address = f"/proc/self/fd/{self.directory}/{self.name}"  # the path, through the directory held
+        self.inode = None  # of the socket bound here, so only that one is ever removed
+
+    def bind(self) -> socket.socket:
+        """A listening, non-blocking socket of mode 0600 at the path; a stale socket there is replaced. It is
+        bound under a temporary name and linked to the path once it listens: a client that finds the path
+        can connect."""
+        self.clear_stale()
+        listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM | socket.SOCK_CLOEXEC | socket.SOCK_NONBLOCK)
+        temporary = f".{self.name}.{os.getpid()}"
+        remove_quietly(temporary, self.directory)  # left by a killed supervisor of the same pid
+        old_mask = os.umask(0o177)
+        try:
+            listener.bind(f"/proc/self/fd/{self.directory}/{temporary}")
+            listener.listen(CONTROL_BACKLOG)
+            os.link(temporary, self.name, src_dir_fd=self.directory, dst_dir_fd=self.directory)
+        except FileExistsError:
+            listener.close()
+            raise ControlSocketError(f"another supervisor took it meanwhile; {ANOTHER_PATH}") from None
+        except OSError as exc:
+            listener.close()
+            raise ControlSocketError(f"cannot bind it: {exc.strerror or exc}; {ANOTHER_PATH}") from None
+        finally:
+            os.umask(old_mask)
+            remove_quietly(temporary, self.directory)
+        self.inode = os.stat(self.name, dir_fd=self.directory, follow_symlinks=False).st_ino
+        return listener
+
+    def clear_stale(self) -> None:
+        """Remove a socket left at the path by a supervisor that was killed; refuse anything else there."""
+        try:
+            info = os.stat(self.name, dir_fd=self.directory, follow_symlinks=False)
+        except FileNotFoundError:
+            return
+        if not stat.S_ISSOCK(info.st_mode):
+            raise ControlSocketError(f"{self.path} exists and is not a socket; remove it, or {ANOTHER_PATH}")
+        probe = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM | socket.SOCK_CLOEXEC)
+        probe.settimeout(CONTROL_PROBE_TIMEOUT_S)
+        try:
+            probe.connect(self.address)
+            pid = peer_credentials(probe)[0]
+        except ConnectionRefusedError:
+            os.unlink(self.name, dir_fd=self.directory)  # nobody listens: left by a supervisor that was killed
+            return
+        except OSError as exc:  # a timeout too: a busy supervisor's queue is full
+            raise ControlSocketError(f"{self.path} cannot be probed ({exc.strerror or exc}); {ANOTHER_PATH}") from None
+        finally:
+            probe.close()
+        raise ControlSocketError(f"another supervisor (pid {pid}) serves it; stop it, or {ANOTHER_PATH}")
+
+    def remove(self) -> None:
+        """Remove the socket file if it is still the one bound here; let go of the directory."""
+        try:
+            if (
+                self.inode is not None
+                and os.stat(self.name, dir_fd=self.directory, follow_symlinks=False).st_ino == self.inode
+            ):
+                os.unlink(self.name, dir_fd=self.directory)
+        except OSError:
+            pass
+        os.close(self.directory)
+
+
+def remove_quietly(name: str, directory: int) -> None:
+    try:
+        os.unlink(name, dir_fd=directory)
+    except OSError:
+        pass
+
+
+# One client of the control socket: request lines in, reply lines out through a bounded buffer, never blocking.
+
+
+CONTROL_RECEIVE_BYTES = 65536  # read at most this much of a client's requests at a time
+CONTROL_REQUESTS_PER_TURN = 8  # request lines of one client handled before the loop turns to other work
+# Replies a client may leave unread in the supervisor, beyond what the kernel's socket buffer holds: past
+# either limit the client is dropped. The largest single reply (`logs` of 1 MiB of output, escaped) fits.
+CONTROL_OUTPUT_LIMIT_BYTES = 8 * 1024 * 1024  # per client
+CONTROL_OUTPUT_TOTAL_BYTES = 64 * 1024 * 1024  # all clients together
+
+
+class ControlConnection:
+    """A connected client. `plane` (the ControlPlane) provides readers / writers (the loop's Poller),
+    `buffered` (unsent reply bytes of all clients), `backlog` (fd -> connection with lines left to handle),
+    `turn_ends_at()` (when requests must wait for the next turn), `followers` (LogFollowers),
+    `on_request(connection, line)`, `drop_unread(connection, size)` and `forget(connection)`."""
+
+    def __init__(self, plane, connection: socket.socket, pid: int):
+        self.plane = plane
+        self.connection = connection
+        self.fd = connection.fileno()
+        self.pid = pid
+        self.received = bytearray()  # request bytes not handled yet
+        self.output = bytearray()  # reply bytes not sent yet
+        self.following = None  # the NodeLog while `logs` with follow runs
+        self.waiting = 0  # replies still to come (stops and restarts in progress)
+        self.reading = True  # False once the client sent end-of-file or a line was refused for good
+        self.closed = False
+        connection.setblocking(False)
+        plane.readers[self.fd] = self.on_readable
+
+    # Requests in
+
+    def on_readable(self) -> None:
+        try:
+            data = self.connection.recv(CONTROL_RECEIVE_BYTES)
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError:
+            data = b""
+        if not data:
+            self.stop_reading()
+            return
+        self.received += data
+        self.handle_lines()
+
+    def handle_lines(self, at_least_one: bool = False) -> None:
+        """Handle complete lines: up to CONTROL_REQUESTS_PER_TURN, and none once the plane's time for this
+        turn is used up (but one when `at_least_one`). Lines left wait in the plane's backlog for the next
+        turn of the loop, and nothing more is read from this client until they are handled."""
+        for count in range(CONTROL_REQUESTS_PER_TURN):
+            end = self.received.find(b"\n", 0, CONTROL_REQUEST_LIMIT + 1)
+            if end < 0 or self.closed or not self.reading:
+                break
+            if time.monotonic() >= self.plane.turn_ends_at() and not (at_least_one and count == 0):
+                break
+            line = bytes(self.received[:end])
+            del self.received[: end + 1]
+            self.plane.on_request(self, line)
+        if self.closed or not self.reading:
+            return
+        if self.received.find(b"\n", 0, CONTROL_REQUEST_LIMIT + 1) >= 0:
+            self.plane.readers.pop(self.fd, None)
+            self.plane.backlog[self.fd] = self
+        elif len(self.received) > CONTROL_REQUEST_LIMIT:
+            self.send(refusal("bad_request", f"request line longer than {CONTROL_REQUEST_LIMIT} bytes"))
+            self.stop_reading()
+        elif self.fd not in self.plane.readers:
+            self.plane.readers[self.fd] = self.on_readable
+
+    def stop_reading(self) -> None:
+        """No more requests from this client: it closes once what it waits for has been sent."""
+        self.reading = False
+        self.stop_following()
+        self.plane.readers.pop(self.fd, None)
+        self.close_when_done()
+
+    # Replies out
+
+    def send(self, reply: dict) -> None:
+        import json
+
+        if not self.closed:
+            self.send_line(json.dumps(reply).encode() + b"\n")
+
+    def send_line(self, data: bytes) -> None:
+        """Send one reply line, already encoded."""
+        if self.closed:
+            return
+        if len(self.output) + len(data) > CONTROL_OUTPUT_LIMIT_BYTES or (
+            self.plane.buffered + len(data) > CONTROL_OUTPUT_TOTAL_BYTES
+        ):
+            self.plane.drop_unread(self, len(self.output) + len(data))
+            return
+        self.output += data
+        self.plane.buffered += len(data)
+        if self.fd not in self.plane.writers:
+            self.flush()
+
+    def answer(self, reply: dict) -> None:
+        """Send the reply to a request answered later (a stop or a restart)."""
+        self.waiting -= 1
+        self.send(reply)
+        self.close_when_done()
+
+    def flush(self) -> None:
+        """Send what the socket takes now; wait for it to be writable for the rest."""
+        try:
+            sent = self.connection.send(self.output, socket.MSG_NOSIGNAL)
+        except (BlockingIOError, InterruptedError):
+            sent = 0
+        except OSError:
+            self.close()
+            return
+        del self.output[:sent]
+        self.plane.buffered -= sent
+        if self.output:
+            if self.fd not in self.plane.writers:
+                self.plane.writers[self.fd] = self.flush
+            return
+        self.plane.writers.pop(self.fd, None)
+        self.close_when_done()
+
+    def close_when_done(self) -> None:
+        if not self.reading and not self.output and not self.waiting:
+            self.close()
+
+    # Following a node's log
+
+    def follow(self, node_log) -> None:
+        self.following = node_log
+        self.plane.followers.add(node_log, self)
+
+    def stop_following(self) -> None:
+        if self.following is not None:
+            self.plane.followers.remove(self.following, self)
+            self.following = None
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.closed = True
+        self.stop_following()
+        self.plane.readers.pop(self.fd, None)
+        self.plane.writers.pop(self.fd, None)
+        self.plane.backlog.pop(self.fd, None)
+        self.plane.buffered -= len(self.output)
+        self.output.clear()
+        close_quietly(self.connection)
+        self.plane.forget(self)
+
+
+class LogFollowers:
+    """The connections following each node's log (`logs` with follow): one listener a NodeLog, and each new
+    line encoded once for all of them."""
+
+    def __init__(self):
+        self.connections = {}  # NodeLog -> {fd: ControlConnection}
+
+    def add(self, node_log, connection: ControlConnection) -> None:
+        if node_log not in self.connections:
+            self.connections[node_log] = {}
+            node_log.listeners.append(lambda line, node_log=node_log: self.on_line(node_log, line))
+        self.connections[node_log][connection.fd] = connection
+
+    def remove(self, node_log, connection: ControlConnection) -> None:
+        self.connections.get(node_log, {}).pop(connection.fd, None)
+
+    def on_line(self, node_log, line: str) -> None:
+        import json
+
+        following = self.connections[node_log]
+        if following:
+            data = json.dumps({"line": line}).encode() + b"\n"
+            for connection in list(following.values()):
+                connection.send_line(data)
+
+
+def close_quietly(connection: socket.socket) -> None:
+    """Close a client's socket after discarding what it sent and was not read (up to CONTROL_RECEIVE_BYTES),
+    so that it sees the end of its replies, not a reset connection."""
+    try:
+        connection.setblocking(False)
+        connection.recv(CONTROL_RECEIVE_BYTES)
+    except OSError:
+        pass
+    connection.close()
+
+
+# `reload`: a newer build of the same robot applied to the running one; only what changed is restarted.
+
+
+RELOAD_SHOWN_PATH = 200  # characters of a build's path in a refusal
+
+
+def begin_reload(plane, connection, path: str):
+    """Refuse the reload of the build in `path` (one line), or apply it: its answer when no node had to be
+    stopped first, else None (the Reload answers once they have)."""
+    supervisor = plane.supervisor
+    shown = path if path.isprintable() else repr(path)
+    try:
+        build = read_build(path)
+        refused = build_refusal(supervisor.build, build)
+        if refused:
+            raise BuildError(refused)
+        plan = plan_reload(supervisor.build, supervisor.nodes, build)
+        starting = {
+            spec["name"]: Node(spec, supervisor.options.python, build)
+            for spec in build.robot["processes"]
+            if spec["name"] in plan.start or spec["name"] in plan.restart
+        }
+        problems = [] if supervisor.options.skip_preflight else [p for n in starting.values() for p in node_problems(n)]
+    except BuildError as exc:
+        return refusal("invalid_build", f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: {exc}")
+    except Exception as exc:  # noqa: BLE001 (data of another shape: refused before anything changed)
+        return refusal(
+            "invalid_build",
+            f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: its data is not of this supervisor's format "
+            f"({type(exc).__name__})",
+        )
+    if problems:
+        return refusal("preflight", f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: " + "; ".join(problems))
+    added = [starting[name] for name in plan.start]
+    for index, node in enumerate(added):
+        try:
+            supervisor.containment.adopt(node)
+        except OSError as exc:
+            for made in added[:index]:
+                supervisor.containment.release(made)
+            return refusal("preflight", f"cannot reload {shown:.{RELOAD_SHOWN_PATH}}: {node.name}: {exc}")
+    return Reload(plane, connection, build, plan, added).apply(shown)
+
+
+class Reload:
+    """One reload under way: `apply` takes the new build's processes over (restarted, started, stopped, updated,
+    kept as they run) and answers `connection` once the nodes it stopped are gone and their successors started."""
+
+    def __init__(self, plane, connection, build, plan, added):
+        self.plane = plane
+        self.supervisor = plane.supervisor
+        self.connection = connection
+        self.build = build
+        self.plan = plan
+        self.added = {node.name: node for node in added}
+        self.previous = self.supervisor.build
+        self.waiting = set()  # names of the nodes whose stop it waits for
+        self.notes = []  # lines for the client beyond the lists of nodes
+
+    def apply(self, shown: str):
+        supervisor, plan = self.supervisor, self.plan
+        current = {node.name: node for node in supervisor.nodes}
+        supervisor.build = self.build
+        supervisor.run_mark.build, supervisor.run_mark.built = self.build.digest, self.build.built
+        ordered = []
+        for spec in self.build.robot["processes"]:
+            node = self.added.get(spec["name"]) or current[spec["name"]]
+            node.rebase(spec, self.build)
+            supervisor.readiness.adopt(node)
+            ordered.append(node)
+        removed = [current[name] for name in plan.stop]
+        supervisor.nodes[:] = ordered + removed  # the same list the readiness and the tracking hold
+        supervisor.readiness.all_ready = False  # the ready line is logged again once every node is
+        for name, changes in list(plan.restart.items()):
+            if current[name].stop_requested and not current[name].alive():  # stopped with ctl stop: it stays so
+                del plan.restart[name]
+                plan.update[name] = f"{changes}, applied at its next start (stopped with ctl stop)"
+        grace = (self.build.sigint_grace_s, self.build.sigterm_grace_s)
+        if grace != (self.previous.sigint_grace_s, self.previous.sigterm_grace_s):
+            self.notes.append(f"stops now wait {grace[0]:g} s after SIGINT and {grace[1]:g} s more after SIGTERM")
+        log(
+            "supervisor",
+            f"reload of {shown:.{RELOAD_SHOWN_PATH}}: build {short_digest(self.previous.digest)} -> "
+            f"{short_digest(self.build.digest)}: {len(plan.restart)} to restart, {len(plan.start)} to start, "
+            f"{len(plan.stop)} to stop, {len(plan.update)} updated, {len(plan.keep)} unchanged",
+        )
+        for note in self.notes:
+            log("supervisor", f"reload: {note}")
+        for name, changes in plan.restart.items():
+            self.restart(current[name], changes)
+        for node in self.added.values():
+            self.start(node)
+        for node in removed:
+            self.remove(node)
+        if self.waiting:
+            self.plane.reloading = self
+            return None
+        return self.reply()
+
+    def restart(self, node, changes: str) -> None:
+        node.restarts, node.delay = 0, RESTART_DELAY_INITIAL_S  # a new program: its restart policy starts over
+        if node.alive():
+            self.waiting.add(node.name)
+            self.plane.stop_node(node, f"reload: {changes} changed", then=self.restarted)
+        else:
+            log(node.name, f"reload: {changes} changed; it was {node.state}: starting it")
+            self.plane.start(node)
+
+    def restarted(self, node) -> None:
+        if not self.supervisor.stopping:
+            self.plane.start(node)
+        self.done(node)
+
+    def start(self, node) -> None:
+        supervisor = self.supervisor
+        for name, node_log in open_node_logs(supervisor.options.log_dir, [node.name]).items():
+            node_log.begin_run(supervisor.run_mark.header())
+            supervisor.logs[name] = node_log
+        log(node.name, "reload: added")
+        supervisor.launch(node)
+
+    def remove(self, node) -> None:
+        if node.alive():
+            self.waiting.add(node.name)
+            self.plane.stop_node(node, "reload: not in the new build", then=self.removed)
+        else:
+            self.removed(node)
+
+    def removed(self, node) -> None:
+        supervisor = self.supervisor
+        if node in supervisor.nodes:
+            supervisor.nodes.remove(node)
+        supervisor.containment.release(node)
+        supervisor.logs.pop(node.name, None)
+        self.plane.since.pop(node.name, None)
+        if node.pgid is not None:
+            supervisor.guard.forget(node.pgid)
+            node.pgid = None
+        log(node.name, "reload: removed")
+        self.done(node)
+
+    def done(self, node) -> None:
+        """One node the reload waited for is handled; once none is left, the client gets its answer."""
+        self.waiting.discard(node.name)
+        if not self.waiting and self.plane.reloading is self:
+            self.plane.reloading = None
+            self.connection.answer(self.reply())
+
+    def reply(self) -> dict:
+        """{"robot", "build", "previous" (stamp hashes), "restarted": [{"name", "why"}], "started", "stopped",
+        "updated": [{"name", "what"}], "unchanged" (names), "notes" (lines)}."""
+        plan = self.plan
+        return {
+            "ok": True,
+            "robot": self.build.robot["name"],
+            "build": self.build.digest or None,
+            "previous": self.previous.digest or None,
+            "restarted": [{"name": name, "why": why} for name, why in plan.restart.items()],
+            "started": plan.start,
+            "stopped": plan.stop,
+            "updated": [{"name": name, "what": what} for name, what in plan.update.items()],
+            "unchanged": plan.keep,
+            "notes": self.notes,
+        }
+
+
+def short_digest(digest: str) -> str:
+    return digest[:BUILD_SHOWN_DIGITS] or "unknown"
+
+
+# The control socket: status, restart / stop / start of one node and its log, reload, one JSON line each way.
+
+
+CONTROL_SOCKET_VARIABLE = "JOSHUA_CONTROL_SOCKET"  # told to every node, so a dashboard finds the socket
+CONTROL_CLIENTS_MAX = 1024  # clients connected at once; one more is answered "too many" and closed
+CONTROL_FDS_KEPT = 64  # descriptors never given to clients: the supervisor's own, and its nodes' pipes...
+CONTROL_FDS_PER_NODE = 4  # ...and this many more per node
+CONTROL_ACCEPTS_PER_TURN = 64  # clients accepted before the loop turns to other work
+CONTROL_ACCEPT_BACKOFF_S = 0.5  # out of descriptors (EMFILE): how long the socket stops accepting
+CONTROL_TURN_S = 0.01  # time for requests in one turn of the loop; the rest wait for the next (timers run between)
+CONTROL_REFUSAL_LOG_S = 10.0  # refused clients of other users are logged at most once in this interval
+ACCEPT_OUT_OF_RESOURCES = (errno.EMFILE, errno.ENFILE, errno.ENOBUFS, errno.ENOMEM)
+
+
+def control_clients_max(fd_limit: int, nodes: int) -> int:
+    """How many clients may be connected at once under the open-file limit `fd_limit`, `nodes` running too."""
+    return max(1, min(CONTROL_CLIENTS_MAX, fd_limit - CONTROL_FDS_KEPT - CONTROL_FDS_PER_NODE * nodes))
+
+
+class ControlPlane:
+    """Serves the socket for a Supervisor: registers its descriptors in `supervisor.readers` / `writers` (the
+    loop's Poller), and is polled by the loop (`poll`, at `deadline()`) to finish node stops and restarts,
+    escalate their signals, resume accepting and handle request lines left from an earlier turn.
+
+    Requests (control_request.py): {"command": "status"}, {"command": "restart"|"stop"|"start", "node":
+    NAME}, {"command": "logs", "node": NAME, "lines": N, "follow": false|true, "all": false|true}, {"command":
+    "reload", "path": BUILD DIRECTORY} (reload.py). Replies:
+    {"ok": true, ...} or {"ok": false, "kind": one of REFUSAL_KINDS, "error": "one line"}; a stop or restart
+    is answered once it has been done (a stop: SIGINT, SIGTERM after sigint_grace_s, SIGKILL after
+    sigterm_grace_s more), a reload once the nodes it stops are gone and their successors started. A start
+    of a node that runs and a stop of one that does not (stopped, finished, failed) are both refused as
+    conflicts. The socket is a Unix stream socket of mode 0600 in a directory of
+    this user's, mode 0700 (control_socket.py); only clients of the same user or root are served, the others
+    get one error line.
+    """
+
+    def __init__(self, supervisor, path: str, clients_max: int):
+        self.supervisor = supervisor
+        self.readers = supervisor.readers
+        self.writers = supervisor.writers
+        self.path = path
+        self.clients_max = clients_max
+        self.connections = {}  # fd -> ControlConnection
+        self.backlog = {}  # fd -> ControlConnection with request lines left for the next turn
+        self.followers = LogFollowers()
+        self.buffered = 0  # reply bytes every connection holds unsent
+        self.pending = {}  # node name -> {"stage", "deadline", "then": callable or None, "waiters": [connection]}
+        self.reloading = None  # the Reload under way (reload.py), which answers once its nodes have stopped
+        self.since = {}  # node name -> (state, monotonic time it was entered)
+        self.accept_resume_at = None  # while out of descriptors: when accepting is tried again
+        self.accept_failing = False
+        self.refusals_logged_at = None
+        self.socket_file = SocketFile(path)
+        try:
+            self.listener = self.socket_file.bind()
+        except BaseException:
+            self.socket_file.remove()
+            raise
+        self.readers[self.listener.fileno()] = self.accept
+        log("supervisor", f"control socket {path} (python3 supervisor.py ctl --control-socket {path} status)")
+
+    def close(self) -> None:
+        for connection in list(self.connections.values()):
+            connection.close()
+        self.readers.pop(self.listener.fileno(), None)
+        self.listener.close()
+        self.socket_file.remove()
+
+    # Clients
+
+    def accept(self) -> None:
+        for _ in range(CONTROL_ACCEPTS_PER_TURN):
+            try:
+                connection, _ = self.listener.accept()
+            except (BlockingIOError, InterruptedError):
+                if self.accept_failing:  # every waiting client was taken
+                    self.accept_failing = False
+                    log("supervisor", "control socket: accepting clients again")
+                return
+            except OSError as exc:
+                if exc.errno in ACCEPT_OUT_OF_RESOURCES:
+                    self.pause_accepting(exc)
+                return  # otherwise that client is gone already
+            self.admit(connection)
+
+    def pause_accepting(self, exc: OSError) -> None:
+        """Out of descriptors: stop watching the socket for CONTROL_ACCEPT_BACKOFF_S (its queue keeps the
+        clients waiting), rather than being woken at once again for a client that cannot be accepted."""
+        self.readers.pop(self.listener.fileno(), None)
+        self.accept_resume_at = time.monotonic() + CONTROL_ACCEPT_BACKOFF_S
+        if not self.accept_failing:
+            self.accept_failing = True
+            log(
+                "supervisor",
+                f"control socket: cannot accept a client ({exc.strerror}); trying again every "
+                f"{CONTROL_ACCEPT_BACKOFF_S} s",
+            )
+
+    def admit(self, connection) -> None:
+        try:
+            pid, uid, _ = peer_credentials(connection)
+        except OSError:
+            connection.close()
+            return
+        if not may_control(uid):
+            self.note_refusal(uid, pid)
+            refuse(
+                connection, "forbidden", f"uid {uid} may not use this control socket (only uid {os.geteuid()} and root)"
+            )
+        elif len(self.connections) >= self.clients_max:
+            refuse(connection, "busy", f"too many control clients ({self.clients_max}); try again later")
+        else:
+            client = ControlConnection(self, connection, pid)
+            self.connections[client.fd] = client
+
+    def note_refusal(self, uid: int, pid: int) -> None:
+        now = time.monotonic()
+        if self.refusals_logged_at is None or now - self.refusals_logged_at >= CONTROL_REFUSAL_LOG_S:
+            self.refusals_logged_at = now
+            log("supervisor", f"control socket: refused a client of uid {uid} (pid {pid})")
+
+    def drop_unread(self, connection, size: int) -> None:
+        log(
+            "supervisor",
+            f"control socket: dropped a client (pid {connection.pid}) that left {size} bytes of replies unread "
+            f"(at most {CONTROL_OUTPUT_LIMIT_BYTES} a client, {CONTROL_OUTPUT_TOTAL_BYTES} in all)",
+        )
+        connection.close()
+
+    def turn_ends_at(self) -> float:
+        """When request lines must wait for the next turn of the loop: CONTROL_TURN_S after it woke."""
+        return self.supervisor.poller.woke_at + CONTROL_TURN_S
+
+    def forget(self, connection) -> None:
+        self.connections.pop(connection.fd, None)
+
+    # Requests
+
+    def on_request(self, connection, line: bytes) -> None:
+        try:
+            request = parse_request(line)
+        except RequestError as exc:
+            connection.send(refusal("bad_request", str(exc)))
+            return
+        reply = self.handle(connection, request)
+        if reply is None:
+            connection.waiting += request["command"] in ("restart", "stop", "reload")
+        else:
+            connection.send(reply)
+
+    def handle(self, connection, request):
+        """The reply to `request`, or None when it comes later (a stop or restart in progress, or none at all
+        for `logs` that sent its own)."""
+        command = request["command"]
+        if command == "status":
+            return {"ok": True, **self.status()}
+        if command == "reload":
+            if self.supervisor.stopping:
+                return refusal("stopping", "the robot is stopping")
+            if self.pending or self.reloading is not None:
+                return refusal("conflict", "a stop, restart or reload is under way: try again once it is done")
+            return begin_reload(self, connection, request["path"])
+        node = next((n for n in self.supervisor.nodes if n.name == request["node"]), None)
+        if node is None:
+            return refusal("not_found", f"no node named {request['node']!r:.80}")
+        if command == "logs":
+            return self.logs(connection, node, request)
+        if self.supervisor.stopping:
+            return refusal("stopping", "the robot is stopping")
+        if self.reloading is not None:
+            return refusal("conflict", "a reload is under way: try again once it is done")
+        if node.name in self.pending:
+            return refusal("conflict", f"{node.name} is already being stopped or restarted")
+        if command == "start":
+            if node.alive():
+                return refusal("conflict", f"{node.name} is already {node.state}")
+            self.start(node)
+            return self.action_reply(node)
+        if not node.alive():
+            if command == "restart":
+                node.manual_restarts += 1
+                self.start(node)
+            elif node.state == "backoff":  # nothing runs, a restart is due: it is called off
+                node.restart_at = None
+                node.stop_requested = True
+                node.state = "stopped"
+            else:  # nothing runs and nothing is due: stopped, finished or failed
+                return refusal("conflict", f"{node.name} is already {node.state}")
+            return self.action_reply(node)
+        then = self.start_again if command == "restart" else None
+        self.stop_node(node, f"{command} requested over the control socket", [connection], then)
+        return None
+
+    def stop_node(self, node, reason: str, waiters=(), then=None) -> None:
+        """Stop `node` with its cascade (SIGINT now, SIGTERM and SIGKILL after the grace periods); once nothing
+        it started is left, call `then(node)` when given and answer the `waiters`."""
+        self.pending[node.name] = {
+            "stage": "SIGINT",
+            "deadline": time.monotonic() + self.supervisor.build.sigint_grace_s,
+            "then": then,
+            "waiters": list(waiters),
+        }
+        node.stop_requested = True
+        node.state = "stopping"
+        log(node.name, f"{reason}: sending SIGINT")
+        self.supervisor.signal_node(node, signal.SIGINT)
+
+    def start_again(self, node) -> None:
+        """The second half of a restart asked for over the socket."""
+        if not self.supervisor.stopping:
+            node.manual_restarts += 1
+            self.start(node)
+
+    def start(self, node) -> None:
+        node.stop_requested = False
+        node.restart_at = None
+        self.supervisor.launch(node)
+
+    def action_reply(self, node) -> dict:
+        return {"ok": True, "node": node.name, "state": node.state, "pid": node.pid}
+
+    def status(self) -> dict:
+        """{"robot", "run": {"id", "started", "build", "built"}, "nodes": [{"name", "state", "pid", "restarts" (by
+        the restart policy), "manual_restarts" (asked for here), "ready", "since_s"}]}; a host's supervisor of a
+        robot on several adds "host", and "discovery" when there is a Discovery Server (discovery_report.py)."""
+        now = time.monotonic()
+        self.note_states(now)
+        discovery = self.supervisor.readiness.discovery
+        return {
+            "robot": ROBOT["name"],
+            **({"host": ROBOT["host"]} if ROBOT.get("host") else {}),
+            **({"discovery": discovery.as_dict(now)} if discovery is not None else {}),
+            "run": self.supervisor.run_mark.as_dict(),
+            "nodes": [
+                {
+                    "name": node.name,
+                    "state": node.state,
+                    "pid": node.pid,
+                    "restarts": node.restarts,
+                    "manual_restarts": node.manual_restarts,
+                    "ready": node.ready,
+                    "since_s": round(now - self.since[node.name][1], 3),
+                }
+                for node in self.supervisor.nodes
+            ],
+        }
+
+    def logs(self, connection, node, request) -> None:
+        node_log = self.supervisor.logs.get(node.name)
+        if node_log is None:
+            connection.send(refusal("not_found", f"the output of {node.name} is not kept (no log directory)"))
+            return None
+        connection.send({"ok": True, "lines": node_log.tail(request["lines"], request["all"])})
+        if request["follow"] and not connection.closed:
+            connection.follow(node_log)
+        return None
+
+    # The loop's part
+
+    def note_states(self, now: float) -> None:
+        for node in self.supervisor.nodes:
+            if self.since.get(node.name, ("",))[0] != node.state:
+                self.since[node.name] = (node.state, now)
+
+    def deadline(self):
+        """The next moment poll() must run (a stop's signal escalation, accepting again, lines left), or None."""
+        moments = [item["deadline"] for item in self.pending.values()]
+        if self.accept_resume_at is not None:
+            moments.append(self.accept_resume_at)
+        if self.backlog:
+            moments.append(time.monotonic())
+        return min(moments, default=None)
+
+    def poll(self) -> None:
+        """Resume accepting; handle lines left; finish stops and restarts whose node is gone, escalate those
+        past their grace."""
+        now = time.monotonic()
+        if self.accept_resume_at is not None and now >= self.accept_resume_at:
+            self.accept_resume_at = None
+            self.readers[self.listener.fileno()] = self.accept
+        for index, connection in enumerate(list(self.backlog.values())):
+            if index and time.monotonic() >= self.turn_ends_at():
+                break  # the first always gets a line: lines left are handled, however busy the socket
+            del self.backlog[connection.fd]
+            connection.handle_lines(at_least_one=not index)
+        for node in list(self.supervisor.nodes):  # a reload's `then` may take a node out of the list
+            item = self.pending.get(node.name)
+            if item is None:
+                continue
+            if not node.alive():
+                del self.pending[node.name]
+                node.state = "stopped"
+                if item["then"] is not None:
+                    item["then"](node)
+                for connection in item["waiters"]:
+                    connection.answer(self.action_reply(node))
+            elif now >= item["deadline"]:
+                grace = self.supervisor.build.sigterm_grace_s
+                stage, number = (
+                    ("SIGTERM", signal.SIGTERM) if item["stage"] == "SIGINT" else ("SIGKILL", signal.SIGKILL)
+                )
+                log(node.name, f"still running: escalating to {stage}")
+                item.update(stage=stage, deadline=now + grace)
+                self.supervisor.signal_node(node, number)
+        self.note_states(now)
+
+
+def refuse(connection, kind: str, error: str) -> None:
+    """Send one error line to a client not admitted (it fits any socket buffer), then close it."""
+    import json
+
+    try:
+        connection.setblocking(False)
+        connection.send(json.dumps(refusal(kind, error)).encode() + b"\n", socket.MSG_NOSIGNAL)
+    except OSError:
+        pass
+    close_quietly(connection)
+
+
+# The stop cascade: SIGINT to every node, SIGTERM after its grace, SIGKILL after that, leftovers included.
+
+
+class StopCascade:
+    """The Supervisor's stopping half: uses its nodes, build (the grace periods), by_pid, guard, containment, pid,
+    outcome, stage, control and internal_errors fields."""
+
+    def request_stop(self, reason):
+        if self.stopping:
+            if self.stage in ("SIGINT", "SIGTERM"):
+                log("supervisor", f"{reason} again: escalating now")
+                self.escalate()
+            return
+        self.stopping = True
+        log(
+            "supervisor",
+            f"{reason}: stopping every node (SIGINT, SIGTERM after {self.build.sigint_grace_s} s, "
+            f"SIGKILL after {self.build.sigterm_grace_s} s more)",
+        )
+        for node in self.nodes:
+            if node.state == "backoff":
+                node.state = "stopped"
+        self.enter_stage("SIGINT", signal.SIGINT, self.build.sigint_grace_s)
+
+    def enter_stage(self, stage, number, grace):
+        self.stage = stage
+        self.stage_deadline = time.monotonic() + grace
+        for node in self.nodes:
+            if node.alive():
+                node.state = "stopping"
+                if stage != "SIGINT":
+                    self.outcome.escalated = True
+                    log(node.name, f"still running: escalating to {stage}")
+                self.signal_node(node, number)
+        for pid in self.leftover_children():
+            self.outcome.escalated = self.outcome.escalated or stage != "SIGINT"
+            log("supervisor", f"sending {stage} to leftover process {pid}")
+            self.signal_pid(pid, number)
+
+    def escalate(self):
+        if self.stage == "SIGINT":
+            self.enter_stage("SIGTERM", signal.SIGTERM, self.build.sigterm_grace_s)
+        elif self.stage == "SIGTERM":
+            self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
+        else:
+            self.stage_deadline = None
+            self.gave_up = True
+            for node in self.nodes:
+                if node.alive():
+                    log(node.name, f"still present {KILL_WAIT_S} s after SIGKILL; giving up on it")
+            for pid in self.leftover_children():
+                log(
+                    "supervisor", f"leftover process {pid} still present {KILL_WAIT_S} s after SIGKILL; giving up on it"
+                )
+
+    def signal_node(self, node, number):
+        """`number` to the node's process group and, once each, to every other process it started (in its
+        cgroup, or tracked for it); SIGKILL ends all of them at once (cgroup.kill, or stopped then killed)."""
+        if node.pgid is not None:
+            try:
+                os.killpg(node.pgid, number)
+            except ProcessLookupError:
+                if node.pid is not None:  # not yet in its own group (between fork and setsid)
+                    self.signal_pid(node.pid, number)
+        outside = [pid for pid in node.processes.pids() if process_group(pid) not in (None, node.pgid)]
+        if outside:
+            count = f"{len(outside)} process{'es' if len(outside) > 1 else ''}"
+            log(
+                node.name,
+                f"{signal_name(number)} also to {count} it started outside its group: {' '.join(map(str, outside))}",
+            )
+        if number == signal.SIGKILL:
+            node.processes.kill()
+        else:
+            node.processes.signal(outside, number)
+
+    @staticmethod
+    def signal_pid(pid, number):
+        try:
+            os.kill(pid, number)
+        except ProcessLookupError:
+            pass
+
+    def leftover_children(self):
+        """Children of the supervisor that belong to no node: orphans that left their group and that
+        neither a cgroup nor the tracking attributes to a node."""
+        known = set(self.by_pid) | {self.guard.pid} | set(self.containment.pids())
+        try:
+            with open(f"/proc/{self.pid}/task/{self.pid}/children") as listing:
+                children = [int(pid) for pid in listing.read().split()]
+        except OSError:
+            children = []
+        return [pid for pid in children if pid not in known]
+
+    def on_internal_error(self):
+        """An exception the supervisor did not expect: log its traceback, stop serving the control socket,
+        and stop every node with the cascade; after INTERNAL_ERRORS_MAX of them, SIGKILL what is left."""
+        import traceback
+
+        self.internal_errors += 1
+        self.outcome.internal_error = True
+        log("supervisor", f"internal error {self.internal_errors} (a bug in supervisor.py); its traceback:")
+        sys.stderr.write(traceback.format_exc())
+        sys.stderr.flush()
+        if self.internal_errors >= INTERNAL_ERRORS_MAX:
+            log("supervisor", f"{self.internal_errors} internal errors: killing every process left (SIGKILL)")
+            self.gave_up = True  # the loop ends; the guard kills whatever the SIGKILL below misses
+            try:
+                self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)
+            except Exception:  # noqa: BLE001 (the guard still kills every descendant once the loop ends)
+                pass
+            return
+        control, self.control = self.control, None
+        if control is not None:
+            try:
+                control.close()
+            except Exception:  # noqa: BLE001 (already stopping for a bug; the socket file may stay behind)
+                pass
+        if not self.stopping:
+            self.request_stop("internal error (a bug in supervisor.py)")
+
+
+# The event loop: launching, reaping and restarts with backoff.
+
+
+class Supervisor(StopCascade):
+    def __init__(self, options):
+        self.options = options
+        self.run_mark = RunMark()
+        log("supervisor", self.run_mark.header())
+        self.build = running_build()  # where the nodes' files are and what they run: a reload replaces it
+        self.nodes = [Node(spec, options.python, self.build) for spec in ROBOT["processes"]]
+        self.by_pid = {}
+        self.guard = Guard(None)
+        self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
+        self.pid = os.getpid()
+        self.wakeup = None
+        self.poller = Poller()
+        self.readers = self.poller.readers  # fd -> callable run when the fd is readable
+        self.writers = self.poller.writers  # fd -> callable run when the fd is writable
+        self.internal_errors = 0  # exceptions the supervisor did not expect (bugs), see on_internal_error
+        self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
+        self.requests = []  # stop signals received, handled by the main loop
+        self.stopping = False
+        self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
+        self.stage_deadline = None
+        self.gave_up = False  # processes survived SIGKILL for KILL_WAIT_S (stuck in the kernel): exit anyway
+        self.outcome = Outcome()
+        self.duration_end = START + options.duration if options.duration else None
+        self.next_status = START + options.status_interval if options.status_interval else None
+        self.readiness = Readiness(self.nodes, ROBOT["name"])
+        self.control = None  # the ControlPlane while the control socket is served
+        self.logs = open_node_logs(options.log_dir, [node.name for node in self.nodes])  # empty: output not kept
+        self.first = [node for node in self.nodes if node.spec.get("starts_first")]  # the others wait for them
+        self.held_until = None  # while the others wait: when they start even if the first are not ready
+
+    # Setup
+
+    def install_signals(self):
+        read_end, write_end = os.pipe()
+        os.set_blocking(read_end, False)
+        os.set_blocking(write_end, False)
+        self.wakeup = read_end
+        self.readers[read_end] = self.drain_wakeup
+        signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
+        signal.signal(signal.SIGCHLD, lambda number, frame: None)
+        for number in STOP_SIGNALS:
+            if number == signal.SIGHUP and signal.getsignal(number) == signal.SIG_IGN:
+                continue  # started under nohup: keep ignoring hangups
+            signal.signal(number, lambda number, frame: self.requests.append(number))
+
+    def run(self):
+        fd_limit = raise_fd_limit()
+        if self.options.control_socket:
+            try:
+                self.control = ControlPlane(
+                    self, self.options.control_socket, control_clients_max(fd_limit, len(self.nodes))
+                )
+            except ControlSocketError as exc:
+                log("supervisor", f"cannot serve the control socket {self.options.control_socket}: {exc}")
+                return EXIT_PREFLIGHT
+        for node_log in self.logs.values():  # here, as the nodes start: a run refused before leaves no header
+            node_log.begin_run(self.run_mark.header())
+        try:
+            self.start()
+        except Exception:  # noqa: BLE001 (a bug: logged, and every node started so far is stopped)
+            self.on_internal_error()
+        while True:
+            try:
+                if self.finished():
+                    break
+                self.turn()
+            except Exception:  # noqa: BLE001 (a bug: logged, and the robot is stopped)
+                self.on_internal_error()
+        return self.shut_down()
+
+    def start(self):
+        if PRCTL is not None:
+            PRCTL(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)
+        else:
+            log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
+        self.containment = contain_nodes(self.nodes, self.pid, self.options.no_cgroup)
+        self.guard = Guard(self.containment.cgroup)
+        self.guard.start()
+        self.install_signals()
+        self.readers[self.readiness.fileno()] = lambda: self.readiness.receive(self.by_pid.get, time.monotonic())
+        log("supervisor", f"robot {ROBOT['name']}: starting {len(self.nodes)} nodes")
+        if self.first:
+            names = ", ".join(node.name for node in self.first)
+            log("supervisor", f"starting {names} first; the others once it is ready")
+            self.held_until = time.monotonic() + FIRST_READY_TIMEOUT_S
+        for node in self.first or self.nodes:
+            if self.requests:
+                break  # asked to stop while starting: the rest stay pending
+            self.launch(node)
+        running = sum(node.state == "running" for node in self.nodes)
+        log(
+            "supervisor",
+            f"started: {running} of {len(self.nodes)} nodes running "
+            f"({(time.monotonic() - START) * 1000:.1f} ms after start); waiting for them to be ready",
+        )
+        if not self.requests:
+            self.readiness.check_all(time.monotonic())  # CUSTOM programs are ready at once: the loop may sleep long
+
+    def start_held(self, now):
+        """Start the nodes that wait for the first ones, once those are ready (or waited for long enough)."""
+        if self.held_until is None or self.stopping:
+            return
+        if not all(node.ready for node in self.first) and now < self.held_until:
+            return
+        if now >= self.held_until and not all(node.ready for node in self.first):
+            log("supervisor", f"warning: not ready after {FIRST_READY_TIMEOUT_S:g} s: starting the other nodes anyway")
+        self.held_until = None
+        for node in self.nodes:
+            if node.state == "pending" and not node.stop_requested:
+                self.launch(node)
+
+    def turn(self):
+        """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
+        only the stop cascade runs, so a fault elsewhere cannot come back."""
+        if self.outcome.internal_error:  # until the cascade's next step; what else is due waits for good
+            due = LEFTOVER_POLL_S if self.stage_deadline is None else self.stage_deadline - time.monotonic()
+            if self.containment is not None:
+                self.containment.before_sleep()  # the nodes' processes are looked for anew after the sleep
+            self.wait(max(0.0, min(due, LEFTOVER_POLL_S)))
+        else:
+            self.wait(self.timeout())
+        self.reap()
+        while self.requests:
+            self.request_stop(f"received {signal_name(self.requests.pop(0))}")
+        if self.outcome.internal_error:
+            if self.stage_deadline is not None and time.monotonic() >= self.stage_deadline:
+                self.escalate()
+        else:
+            self.on_timers()
+
+    def shut_down(self):
+        self.guard.stop()
+        if self.containment is not None:
+            self.containment.close()
+        if self.control is not None:
+            self.control.close()
+        for node in self.nodes:
+            log(node.name, f"final state: {node.status_line(time.monotonic())}")
+        for line in self.outcome.last_lines():
+            log("supervisor", line)
+        return self.outcome.exit_code()
+
+    # Launching and reaping
+
+    def launch(self, node):
+        argv, node.backend = node.command()
+        node.input_marks = input_marks(node.spec["inputs"])
+        node_log = self.logs.get(node.name)
+        read_end = write_end = None
+        blocked = STOP_SIGNALS + (signal.SIGCHLD,)
+        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
+        try:
+            if node_log is not None:
+                read_end, write_end = node_log.open_pipe()
+            pid = os.fork()
+            if pid == 0:
+                child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
+        except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
+            for fd in (read_end, write_end):
+                if fd is not None:
+                    os.close(fd)
+            log(node.name, f"cannot start: {exc}")
+            node.last_exit = f"start failed: {exc}"
+            self.after_exit(node, failed=True, ran_for=0.0)
+            return
+        finally:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
+        if node_log is not None:
+            os.close(write_end)
+            self.readers[read_end] = lambda: self.read_output(node_log, read_end)
+        node.pid = node.pgid = pid
+        node.state = "running"
+        node.started_at = time.monotonic()
+        node.started_at_wall = time.time()
+        self.by_pid[pid] = node
+        self.guard.track(pid)
+        log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
+        self.readiness.on_launch(node, node.started_at)
+
+    def read_output(self, node_log, fd):
+        if not node_log.read(fd):
+            del self.readers[fd]
+            os.close(fd)
+
+    def reap(self):
+        self.abandoned_since = None
+        while True:
+            try:
+                pid, status = os.waitpid(-1, os.WNOHANG)
+            except ChildProcessError:
+                break
+            if pid == 0:
+                break
+            node = self.by_pid.pop(pid, None)
+            if pid == self.guard.pid:
+                self.guard.pid = None
+                log(
+                    "supervisor",
+                    f"warning: guard process {pid} {exit_text(status)}; nodes will outlive a killed supervisor",
+                )
+            elif node is None:
+                log("supervisor", f"reaped leftover process {pid} ({exit_text(status)})")
+            else:
+                self.on_exit(node, pid, status)
+        if self.abandoned_since is not None:
+            files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
+            if files:
+                log(
+                    "supervisor",
+                    f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                    "that dead processes left in /dev/shm",
+                )
+        for node in self.nodes:
+            if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
+                self.guard.forget(node.pgid)
+                node.pgid = None
+            if node.state == "stopping" and not node.alive():
+                node.state = "stopped"
+
+    def on_exit(self, node, pid, status):
+        node.pid = None
+        self.readiness.on_exit(node)
+        node.last_exit = exit_text(status)
+        ran_for = time.monotonic() - node.started_at
+        log(node.name, f"pid {pid} {node.last_exit} after {ran_for:.3f} s")
+        code = os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else None
+        self.outcome.on_node_exit(node.spec, code)
+        if code != 0:  # it may not have removed its shared-memory segments
+            self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
+        if self.stopping or node.stop_requested:
+            node.state = "stopping" if node.alive() else "stopped"
+            return
+        if node.alive():
+            log(node.name, "killing what it left behind")
+            self.signal_node(node, signal.SIGKILL)
+        if code == ROBOT["node_exit_codes"]["settings"] and node.spec["kind"] != "custom":
+            self.give_up(node, f"exited with code {code}: its settings are unusable and a restart cannot fix them")
+            return
+        self.after_exit(node, code != 0, ran_for)
+
+    def after_exit(self, node, failed, ran_for):
+        spec = node.spec
+        if ran_for >= RESTART_RESET_AFTER_S:
+            node.restarts, node.delay = 0, RESTART_DELAY_INITIAL_S
+        wanted = spec["restart"] == "RESTART_ALWAYS" or (spec["restart"] == "RESTART_ON_FAILURE" and failed)
+        if not wanted:
+            if failed:
+                self.give_up(node, f"failed ({spec['restart']})")
+            else:
+                node.state = "finished"
+                log(node.name, "finished")
+            return
+        if node.restarts >= spec["max_restarts"]:
+            self.give_up(node, f"failed for good after {node.restarts} restarts (max_restarts {spec['max_restarts']})")
+            return
+        node.restarts += 1
+        node.state = "backoff"
+        node.restart_at = time.monotonic() + node.delay
+        log(node.name, f"restarting in {node.delay:.2f} s (restart {node.restarts} of {spec['max_restarts']})")
+        node.delay = min(node.delay * RESTART_DELAY_FACTOR, RESTART_DELAY_CAP_S)
+
+    def give_up(self, node, reason):
+        node.state = "failed"
+        if node.spec["critical"]:
+            self.outcome.critical_failure = True
+            log(node.name, f"{reason}; critical node: stopping the robot")
+            self.request_stop(f"critical node {node.name} failed")
+        else:
+            self.outcome.node_failure = True
+            log(node.name, f"{reason}; not critical: the other nodes keep running")
+
+    # The loop
+
+    def finished(self):
+        if self.gave_up:
+            return True
+        if not self.stopping and any(node.state in ("running", "backoff", "pending") for node in self.nodes):
+            return False
+        if not self.stopping and any(node.stop_requested for node in self.nodes):
+            return False  # stopped over the control socket: it may be started again
+        if not any(node.alive() for node in self.nodes) and not self.leftover_children():
+            return True
+        if not self.stopping:
+            self.request_stop("every node has finished")
+        return False
+
+    def timeout(self):
+        moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
+        moments.append(self.held_until)
+        moments.append(self.control.deadline() if self.control is not None else None)
+        moments.append(self.containment.before_sleep())
+        moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
+        moments = [moment for moment in moments if moment is not None]
+        now = time.monotonic()
+        timeout = max(0.0, min(moments) - now) if moments else None
+        if any(node.state == "stopping" and node.pid is None for node in self.nodes):  # what it left is dying
+            timeout = LEFTOVER_POLL_S if timeout is None else min(timeout, LEFTOVER_POLL_S)
+        return timeout
+
+    def wait(self, timeout):
+        """Sleep until a signal arrives, a registered fd is ready, or `timeout` passes."""
+        self.poller.wait(timeout)
+
+    def drain_wakeup(self):
+        try:
+            while os.read(self.wakeup, 4096):
+                pass
+        except BlockingIOError:
+            pass
+
+    def on_timers(self):
+        if self.control is not None:
+            self.control.poll()
+        now = time.monotonic()
+        self.containment.poll(now)
+        if self.duration_end is not None and now >= self.duration_end:
+            self.duration_end = None
+            self.request_stop(f"duration of {self.options.duration} s elapsed")
+        if self.stage_deadline is not None and now >= self.stage_deadline:
+            self.escalate()
+        self.start_held(now)
+        for node in self.nodes:
+            if node.state == "backoff" and now >= node.restart_at:
+                if node.alive():  # what it left behind (killed when it ended) is not gone yet
+                    node.processes.kill()
+                    node.restart_at = now + LEFTOVER_POLL_S
+                    continue
+                node.restart_at = None
+                self.launch(node)
+        self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
+        if self.next_status is not None and now >= self.next_status:
+            self.next_status = now + self.options.status_interval
+            self.print_status(now)
+
+    def print_status(self, now):
+        counts = {}
+        for node in self.nodes:
+            counts[node.state] = counts.get(node.state, 0) + 1
+        log("supervisor", "status: " + ", ".join(f"{count} {state}" for state, count in sorted(counts.items())))
+        for node in self.nodes:
+            log(node.name, node.status_line(now))
+
+
+# The event listener supervisord.conf runs to stop the robot when a critical node fails.
+
+
+def supervisord_listener():
+    """The event listener supervisord.conf runs: supervisord cannot stop a group when one of its
+    programs fails, so this stops supervisord itself (SIGTERM: it then stops every node) when a
+    critical node fails for good: FATAL (restarts exhausted), or a failed exit of a node that is never
+    restarted. Speaks supervisord's listener protocol on stdin/stdout; logs on stderr."""
+    group = ROBOT["supervisord_group"]
+    critical = {spec["name"]: spec for spec in ROBOT["processes"] if spec["critical"]}
+    stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
+    while True:
+        stdout.write(b"READY\n")
+        stdout.flush()
+        line = stdin.readline()
+        if not line:
+            return EXIT_OK
+        header = dict(token.split(":", 1) for token in line.decode().split())
+        payload = stdin.read(int(header["len"])).decode(errors="replace")
+        fields = dict(token.split(":", 1) for token in payload.split("\n", 1)[0].split() if ":" in token)
+        spec = critical.get(fields.get("processname")) if fields.get("groupname") == group else None
+        never_restarted = spec is not None and (spec["restart"] == "RESTART_NEVER" or spec["max_restarts"] == 0)
+        event = header.get("eventname")
+        if spec is not None and (
+            event == "PROCESS_STATE_FATAL"
+            or (event == "PROCESS_STATE_EXITED" and fields.get("expected") == "0" and never_restarted)
+        ):
+            log(
+                spec["name"],
+                f"{event[len('PROCESS_STATE_') :].lower()}: critical node failed for good; stopping the robot",
+            )
+            os.kill(os.getppid(), signal.SIGTERM)
+        stdout.write(b"RESULT 2\nOK")
+        stdout.flush()
+
+
+# `ctl --host NAME ...` and `ctl status --all-hosts`: other hosts of a robot on several, through this host's agent.
+
+
+HOSTS_SOCKET_VARIABLE = "JOSHUA_HOSTS_SOCKET"  # told to every node, so the host's agent and dashboard find it
+SOCKET_SUFFIX = ".sock"
+HOSTS_SOCKET_SUFFIX = ".hosts.sock"
+UNREACHABLE_KIND = "unreachable"
+
+
+def hosts_socket_path(control_socket: str) -> str:
+    """The agent's socket beside `control_socket`: `split.arm.hosts.sock` for `split.arm.sock`.
+
+    The agent (`host_agent_<host>`, joshua_runtime/hosts) serves it, owned and checked like the control socket.
+    It takes the control socket's requests with one more field: "host" (the host whose supervisor answers, over
+    the robot's authenticated Zenoh when it is another) or "all_hosts" (the status of every host at once, each
+    node with its host). Its refusals add the kind "unreachable": the host has not been heard from, or did not
+    answer in time.
+    """
+    return control_socket.removesuffix(SOCKET_SUFFIX) + HOSTS_SOCKET_SUFFIX
+
+
+def hosts_usage_problem(options) -> str | None:
+    """Why `--host` / `--all-hosts` cannot be used as given, or None."""
+    if not (options.host or getattr(options, "all_hosts", False)):
+        return None
+    if not ROBOT.get("host"):
+        return f"robot {ROBOT['name']} runs on one computer: --host and --all-hosts are for a robot on several"
+    if options.host and options.host not in ROBOT["hosts"]:
+        return f"robot {ROBOT['name']} has no host {options.host!r} (hosts: {', '.join(ROBOT['hosts'])})"
+    if options.command == "reload":
+        return "reload applies a build on the host it runs on: run it there, without --host"
+    if options.command == "logs" and options.follow:
+        return "logs -f follows a node of this host only: run it on that host"
+    return None
+
+
+def print_all_hosts(reply: dict) -> None:
+    """Every host's line (reachable or not, its Discovery Server), then every node with its host."""
+    for host in reply["hosts"]:
+        heard = "reachable" if host["reachable"] else f"unreachable ({host['detail']})"
+        discovery = host.get("discovery") or {}
+        server = ""
+        if discovery:
+            known = {True: "reachable", False: "unreachable", None: "unknown"}[discovery["reachable"]]
+            server = f", discovery server {discovery['server']} {known}"
+        print(f"host {host['name']:18} {heard}{server}")
+    for node in reply["nodes"]:
+        pid = f"pid {node['pid']}" if node["pid"] else "no process"
+        since = f"{node['since_s']:.0f} s" if node["since_s"] is not None else "-"
+        waiting = f", waiting for {', '.join(node['waiting_for'])}" if node.get("waiting_for") else ""
+        print(
+            f"{node['host']:12} {node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts, {since}{waiting}"
+        )
+
+
+# `supervisor.py ctl ...`: the control socket's command-line client.
+
+
+CTL_TIMEOUT_S = 30.0  # a restart or a reload waits for the nodes' stop cascades
+CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
+# Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
+# start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.
+CTL_EXIT_DONE = 0
+CTL_EXIT_REFUSED = 1
+CTL_EXIT_USAGE = 2  # bad command line: argparse exits with it
+CTL_EXIT_UNREACHABLE = 3  # no supervisor at the socket, one of another user, or no answer (in CTL_TIMEOUT_S)
+CTL_EXIT_INTERRUPTED = 130  # Ctrl-C before the answer came (following a log, Ctrl-C is its normal end: 0)
+
+
+def log_line_count(text: str) -> int:
+    """The value of `logs -n`: a whole number of lines a request may ask for, else a usage error."""
+    try:
+        count = int(text)
+    except ValueError:
+        count = -1
+    if not 0 <= count <= CONTROL_LOG_LINES_MAX:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 0 to {CONTROL_LOG_LINES_MAX}: {text}")
+    return count
+
+
+def ctl_arguments(argv):
+    parser = argparse.ArgumentParser(
+        prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}."
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(control_name(ROBOT)),
+        metavar="PATH",
+        help="the supervisor's socket (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--host",
+        metavar="NAME",
+        help="a robot on several hosts: ask the supervisor of host NAME, through this host's agent (ctl_hosts.py)",
+    )
+    commands = parser.add_subparsers(dest="command", required=True)
+    status = commands.add_parser("status", help="every node's state")
+    status.add_argument("--json", action="store_true", help="print the status as one JSON object")
+    status.add_argument(
+        "--all-hosts", action="store_true", help="a robot on several hosts: every host's nodes, each with its host"
+    )
+    for action in ("restart", "stop", "start"):
+        commands.add_parser(action, help=f"{action} one node").add_argument("node")
+    logs = commands.add_parser("logs", help="the last lines of a node's output in this run, each after its time")
+    logs.add_argument("node")
+    logs.add_argument(
+        "-n", "--lines", type=log_line_count, default=CONTROL_LOG_LINES_DEFAULT, help="how many (default %(default)s)"
+    )
+    logs.add_argument("-f", "--follow", action="store_true", help="then print new lines until interrupted")
+    logs.add_argument(
+        "--all", action="store_true", help="from earlier runs too (each begins with its header line), as far as kept"
+    )
+    reload = commands.add_parser(
+        "reload", help="apply a newer build of this robot: restart what changed, start what is new, stop what is gone"
+    )
+    reload.add_argument("build", metavar="OUT", help="the new build's directory (where its supervisor.py is)")
+    options = parser.parse_args(argv)
+    problem = hosts_usage_problem(options)
+    if problem:
+        parser.error(problem)
+    return options
+
+
+def ctl(argv) -> int:
+    import json
+
+    options = ctl_arguments(argv)
+    request = {"command": options.command}
+    if options.command == "reload":
+        request["path"] = os.path.abspath(options.build)
+    elif options.command != "status":
+        request["node"] = options.node
+    if options.command == "logs":
+        request.update(lines=options.lines, follow=options.follow, all=options.all)
+    path, what = options.control_socket, "control socket"
+    if options.host or getattr(options, "all_hosts", False):
+        path, what = hosts_socket_path(options.control_socket), "the host agent's socket"
+        request.update({"host": options.host} if options.host else {"all_hosts": True})
+    following = options.command == "logs" and options.follow
+    try:
+        connection = ctl_connect(path)
+        _, uid, _ = peer_credentials(connection)
+        if not may_control(uid):
+            print(
+                f"supervisor.py ctl: error: {what} {path} is served by uid {uid}, "
+                f"not by uid {os.geteuid()} or root: not talking to it",
+                file=sys.stderr,
+            )
+            return CTL_EXIT_UNREACHABLE
+        try:
+            connection.sendall(json.dumps(request).encode() + b"\n")
+        except (BrokenPipeError, ConnectionResetError):
+            pass  # refused and closed at once (too many clients): the reply already sent says why
+        if following:
+            connection.settimeout(None)
+        replies = connection.makefile("rb")
+        answer = replies.readline()
+        if not answer:
+            raise ValueError("it closed the connection without one")
+        reply = json.loads(answer)
+        if not reply.get("ok"):
+            print(f"supervisor.py ctl: error: {reply.get('error') or 'refused, without a reason'}", file=sys.stderr)
+            return CTL_EXIT_UNREACHABLE if reply.get("kind") == UNREACHABLE_KIND else CTL_EXIT_REFUSED
+        print_reply(options, reply)
+        if following:
+            for line in replies:
+                print(json.loads(line).get("line", ""), flush=True)
+    except OSError as exc:
+        print(f"supervisor.py ctl: error: {what} {path}: {exc.strerror or exc}", file=sys.stderr)
+        return CTL_EXIT_UNREACHABLE
+    except ValueError as exc:
+        print(f"supervisor.py ctl: error: {what} {path}: no answer ({exc})", file=sys.stderr)
+        return CTL_EXIT_UNREACHABLE
+    except KeyboardInterrupt:
+        return CTL_EXIT_DONE if following else CTL_EXIT_INTERRUPTED
+    return CTL_EXIT_DONE
+
+
+def ctl_connect(path: str) -> socket.socket:
+    """A connection to the control socket, waiting up to CTL_TIMEOUT_S while its queue is full."""
+    deadline = time.monotonic() + CTL_TIMEOUT_S
+    while True:
+        connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        connection.settimeout(CTL_TIMEOUT_S)
+        try:
+            connection.connect(path)
+            return connection
+        except BlockingIOError:
+            connection.close()
+            if time.monotonic() >= deadline:
+                raise
+            time.sleep(CTL_CONNECT_RETRY_S)
+
+
+def print_reply(options, reply: dict) -> None:
+    import json
+
+    reply.pop("ok")
+    if options.command == "status":
+        if options.json:
+            print(json.dumps(reply))
+            return
+        if options.all_hosts:
+            print_all_hosts(reply)
+            return
+        for node in reply["nodes"]:
+            pid = f"pid {node['pid']}" if node["pid"] else "no process"
+            asked = f", {node['manual_restarts']} asked for" if node["manual_restarts"] else ""
+            print(
+                f"{node['name']:24} {node['state']:9} {pid:12} {node['restarts']} restarts{asked}, {node['since_s']:.0f} s"
+            )
+    elif options.command == "logs":
+        for line in reply["lines"]:
+            print(line)
+    elif options.command == "reload":
+        print_reload(reply)
+    else:
+        print(f"{reply['node']}: {reply['state']}" + (f" (pid {reply['pid']})" if reply["pid"] else ""))
+
+
+def print_reload(reply: dict) -> None:
+    """A reload's answer: the builds, then one line per node it restarted, started, stopped or updated."""
+    builds = " -> ".join((digest or "unknown")[:BUILD_SHOWN_DIGITS] for digest in (reply["previous"], reply["build"]))
+    print(f"reloaded robot {reply['robot']}: build {builds}")
+    for node in reply["restarted"]:
+        print(f"restarted {node['name']} ({node['why']})")
+    for name in reply["started"]:
+        print(f"started {name}")
+    for name in reply["stopped"]:
+        print(f"stopped {name}")
+    for node in reply["updated"]:
+        print(f"updated {node['name']} ({node['what']})")
+    print(f"unchanged: {', '.join(reply['unchanged']) or 'none'}")
+    for note in reply["notes"]:
+        print(f"note: {note}")
+
+
+# The command line of supervisor.py: parse options, run preflight, run the loop (or the listener).
+
+
+def positive_seconds(text):
+    value = float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds: {text}")
+    return value
+
+
+def parse_arguments(argv):
+    import shutil
+
+    parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
+    parser.add_argument(
+        "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
+    )
+    parser.add_argument(
+        "--duration",
+        type=positive_seconds,
+        metavar="SECONDS",
+        help="stop with the shutdown cascade after this many seconds",
+    )
+    parser.add_argument(
+        "--status-interval", type=positive_seconds, metavar="SECONDS", help="print one status line per node this often"
+    )
+    parser.add_argument(
+        "--python",
+        default=sys.executable or "python3",
+        metavar="PATH",
+        help="interpreter of Python entrypoints (default: the one running this script)",
+    )
+    parser.add_argument(
+        "--no-cgroup",
+        action="store_true",
+        help="track the nodes' descendants through /proc even where a cgroup could hold them",
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(control_name(ROBOT)),
+        metavar="PATH",
+        help="serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
+        "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",
+    )
+    parser.add_argument("--no-control", action="store_true", help="serve no control socket")
+    parser.add_argument(
+        "--log-dir",
+        default=default_log_dir(ROBOT["name"]),
+        metavar="DIR",
+        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)",
+    )
+    parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
+    options = parser.parse_args(argv)
+    if "/" not in options.python:
+        options.python = shutil.which(options.python) or options.python
+    return options
+
+
+def main(argv):
+    import traceback
+
+    if argv[:1] == ["ctl"]:
+        return ctl(argv[1:])
+    options = parse_arguments(argv)
+    try:
+        return supervise(options)
+    except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
+        log("supervisor", "internal error (a bug in supervisor.py); its traceback:")
+        traceback.print_exc()
+        return EXIT_INTERNAL
+
+
+def supervise(options):
+    if options.no_control:
+        options.control_socket = None
+    else:
+        os.environ[CONTROL_SOCKET_VARIABLE] = os.path.abspath(options.control_socket)
+        if ROBOT.get("host"):
+            os.environ[HOSTS_SOCKET_VARIABLE] = hosts_socket_path(os.environ[CONTROL_SOCKET_VARIABLE])
+    if options.supervisord_listener:
+        return supervisord_listener()
+    supervisor = Supervisor(options)
+    if not options.skip_preflight:
+        problems = preflight(supervisor.nodes, options.python)
+        if problems:
+            log(
+                "supervisor",
+                f"preflight found {len(problems)} problem(s); nothing was started (--skip-preflight starts anyway):",
+            )
+            for problem in problems:
+                print(f"  - {problem}", file=sys.stderr, flush=True)
+            return EXIT_PREFLIGHT
+    return supervisor.run()
+
+
 if __name__ == "__main__":
-    import os
-    import sys
-
-    sys.dont_write_bytecode = True  # the build ships the compiled code: nothing else is written beside it
-    sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))  # found under python -I too
-    import joshua_supervisor as code
-
-    code.ROBOT, code.SIGINT_GRACE_S, code.SIGTERM_GRACE_S = ROBOT, SIGINT_GRACE_S, SIGTERM_GRACE_S
-    sys.exit(code.main(sys.argv[1:]))
+    sys.exit(main(sys.argv[1:]))

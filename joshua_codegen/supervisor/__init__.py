@@ -7,8 +7,8 @@ Conventions that let `joshua_codegen/emitters/supervisor.py` concatenate these m
 - every top-level name is unique across the package (the joined file is one namespace);
 - `robot.py` holds placeholder data only; the emitter writes the robot's real data in its place;
 - each module starts with a one-line docstring, which becomes a comment in supervisor.py;
-- a standard-library module that starting the robot does not need (argparse, json, ast, subprocess,
-  shutil, traceback) is imported inside the functions that use it, in every module: a start pays for
+- a standard-library module that starting the robot does not need (json, ast, subprocess, shutil,
+  traceback) is imported inside the functions that use it, in every module: each start pays for
   importing only what it runs.
 """
 

@@ -1,8 +1,8 @@
 """The command line of supervisor.py: parse options, run preflight, run the loop (or the listener)."""
 
+import argparse
 import os
 import sys
-import types
 
 from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
@@ -18,108 +18,69 @@ from joshua_codegen.supervisor.supervisord_listener import supervisord_listener
 
 
 def positive_seconds(text):
-    import argparse
-
     value = float(text)
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be a positive number of seconds: {text}")
     return value
 
 
-def option_table():
-    """(flag, argparse keywords) of every option; no help: a hidden one."""
-    return [
-        (
-            "--skip-preflight",
-            {"action": "store_true", "help": "start even when devices, models or programs are missing"},
-        ),
-        (
-            "--duration",
-            {
-                "type": positive_seconds,
-                "metavar": "SECONDS",
-                "help": "stop with the shutdown cascade after this many seconds",
-            },
-        ),
-        (
-            "--status-interval",
-            {"type": positive_seconds, "metavar": "SECONDS", "help": "print one status line per node this often"},
-        ),
-        (
-            "--python",
-            {
-                "default": sys.executable or "python3",
-                "metavar": "PATH",
-                "help": "interpreter of Python entrypoints (default: the one running this script)",
-            },
-        ),
-        (
-            "--no-cgroup",
-            {
-                "action": "store_true",
-                "help": "track the nodes' descendants through /proc even where a cgroup could hold them",
-            },
-        ),
-        (
-            "--control-socket",
-            {
-                "default": default_control_socket(control_name(ROBOT)),
-                "metavar": "PATH",
-                "help": "serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
-                "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",
-            },
-        ),
-        ("--no-control", {"action": "store_true", "help": "serve no control socket"}),
-        (
-            "--log-dir",
-            {
-                "default": default_log_dir(ROBOT["name"]),
-                "metavar": "DIR",
-                "help": "keep each node's output in DIR/<node>.log, rotated (default: %(default)s)",
-            },
-        ),
-        ("--supervisord-listener", {"action": "store_true"}),
-    ]
-
-
-def option_name(flag: str) -> str:
-    return flag.removeprefix("--").replace("-", "_")
-
-
-def option_default(keywords: dict):
-    return keywords.get("default", False if keywords.get("action") == "store_true" else None)
-
-
 def parse_arguments(argv):
-    """The options; a start without arguments (the usual one) takes the defaults without importing argparse,
-    which costs a start more than the rest of its imports together (it loads shutil and locale too)."""
-    if argv:
-        import argparse
+    import shutil
 
-        parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
-        for flag, keywords in option_table():
-            parser.add_argument(flag, **{"help": argparse.SUPPRESS, **keywords})
-        options = parser.parse_args(argv)
-    else:
-        options = types.SimpleNamespace(
-            **{option_name(flag): option_default(keywords) for flag, keywords in option_table()}
-        )
+    parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
+    parser.add_argument(
+        "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
+    )
+    parser.add_argument(
+        "--duration",
+        type=positive_seconds,
+        metavar="SECONDS",
+        help="stop with the shutdown cascade after this many seconds",
+    )
+    parser.add_argument(
+        "--status-interval", type=positive_seconds, metavar="SECONDS", help="print one status line per node this often"
+    )
+    parser.add_argument(
+        "--python",
+        default=sys.executable or "python3",
+        metavar="PATH",
+        help="interpreter of Python entrypoints (default: the one running this script)",
+    )
+    parser.add_argument(
+        "--no-cgroup",
+        action="store_true",
+        help="track the nodes' descendants through /proc even where a cgroup could hold them",
+    )
+    parser.add_argument(
+        "--control-socket",
+        default=default_control_socket(control_name(ROBOT)),
+        metavar="PATH",
+        help="serve the control socket here, in a directory of yours of mode 0700 (created when missing); "
+        "the supervisor does not start without it (default: %(default)s; `ctl` is its client)",
+    )
+    parser.add_argument("--no-control", action="store_true", help="serve no control socket")
+    parser.add_argument(
+        "--log-dir",
+        default=default_log_dir(ROBOT["name"]),
+        metavar="DIR",
+        help="keep each node's output in DIR/<node>.log, rotated (default: %(default)s)",
+    )
+    parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
+    options = parser.parse_args(argv)
     if "/" not in options.python:
-        import shutil
-
         options.python = shutil.which(options.python) or options.python
     return options
 
 
 def main(argv):
+    import traceback
+
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
     options = parse_arguments(argv)
     try:
         return supervise(options)
     except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
-        import traceback
-
         log("supervisor", "internal error (a bug in supervisor.py); its traceback:")
         traceback.print_exc()
         return EXIT_INTERNAL

@@ -1,5 +1,6 @@
 """`supervisor.py ctl ...`: the control socket's command-line client."""
 
+import argparse
 import os
 import socket
 import sys
@@ -29,8 +30,6 @@ CTL_EXIT_INTERRUPTED = 130  # Ctrl-C before the answer came (following a log, Ct
 
 def log_line_count(text: str) -> int:
     """The value of `logs -n`: a whole number of lines a request may ask for, else a usage error."""
-    import argparse
-
     try:
         count = int(text)
     except ValueError:
@@ -41,8 +40,6 @@ def log_line_count(text: str) -> int:
 
 
 def ctl_arguments(argv):
-    import argparse
-
     parser = argparse.ArgumentParser(
         prog="supervisor.py ctl", description=f"Control the running robot {ROBOT['name']}."
     )

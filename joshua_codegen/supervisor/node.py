@@ -65,11 +65,11 @@ class Node:
         return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
 
     def custom_program(self):
+        import shutil
+
         executable = self.spec["executable"]
         if "/" in executable:
             return os.path.abspath(executable)
-        import shutil
-
         return shutil.which(executable, path=self.environment.get("PATH", os.defpath))
 
     def command(self):

@@ -1,7 +1,6 @@
 """The supervisor package: standard library only, one namespace when joined, and the joined file runs."""
 
 import ast
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -33,34 +32,14 @@ def top_level_names(tree: ast.Module) -> set[str]:
     return names
 
 
-def generated_files() -> dict[str, str | bytes]:
-    """supervisor.py, its code module and that module's compiled form, as a build of mock_arm writes them."""
+def generated_supervisor() -> str:
     from google.protobuf import text_format
 
     from joshua_core.schema import RobotDescription
 
     config = ROOT / "config/robots/mock_arm.pbtxt"
     description = text_format.Parse(config.read_text(), RobotDescription())
-    files = render(plan(description, config.name))
-    return {path: files[path] for path in (emitter.SUPERVISOR_PATH, emitter.CODE_PATH, emitter.COMPILED_PATH)}
-
-
-def generated_supervisor() -> str:
-    return generated_files()[emitter.SUPERVISOR_PATH]
-
-
-def write_supervisor(directory: Path) -> Path:
-    for relative, content in generated_files().items():
-        (directory / relative).parent.mkdir(parents=True, exist_ok=True)
-        if isinstance(content, bytes):
-            (directory / relative).write_bytes(content)
-        else:
-            (directory / relative).write_text(content)
-    return directory / emitter.SUPERVISOR_PATH
-
-
-def listing(directory: Path) -> list[str]:
-    return sorted(str(path.relative_to(directory)) for path in directory.rglob("*"))
+    return render(plan(description, config.name))[emitter.SUPERVISOR_PATH]
 
 
 def test_every_module_is_joined_once_and_robot_is_left_to_the_emitter():
@@ -115,7 +94,8 @@ def test_generated_file_defines_exactly_the_names_of_the_placeholder_robot_modul
 
 @pytest.mark.process
 def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
-    script = write_supervisor(tmp_path)
+    script = tmp_path / "supervisor.py"
+    script.write_text(generated_supervisor())
     result = subprocess.run(
         [sys.executable, "-I", "-S", str(script), "--help"], capture_output=True, text=True, timeout=30, check=False
     )
@@ -129,57 +109,6 @@ def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
         check=False,
     )
     assert bad.returncode == 2 and "positive number of seconds" in bad.stderr
-
-
-@pytest.mark.process
-def test_a_start_loads_the_shipped_compiled_code_and_writes_nothing(tmp_path):
-    script = write_supervisor(tmp_path)
-    before = listing(tmp_path)
-    result = subprocess.run(
-        [sys.executable, "-I", "-S", "-v", str(script), "--help"],
-        capture_output=True,
-        text=True,
-        timeout=30,
-        check=False,
-    )
-    assert result.returncode == 0, result.stderr
-    assert f"code object from '{tmp_path / emitter.COMPILED_PATH}'" in result.stderr
-    assert listing(tmp_path) == before
-
-
-@pytest.mark.process
-def test_an_edited_code_module_runs_as_edited_not_from_its_stale_compiled_form(tmp_path):
-    script = write_supervisor(tmp_path)
-    module = tmp_path / emitter.CODE_PATH
-    module.write_text(module.read_text() + '\nprint("edited after the build", file=sys.stderr)\n')
-    before = listing(tmp_path)
-    result = subprocess.run(
-        [sys.executable, str(script), "--help"], capture_output=True, text=True, timeout=30, check=False
-    )
-    assert result.returncode == 0, result.stderr
-    assert "edited after the build" in result.stderr
-    assert listing(tmp_path) == before
-
-
-def test_compiled_code_is_the_same_bytes_whatever_the_compiling_process_holds():
-    """Neither the hash seed nor what else the process has loaded (reference counts) changes a byte."""
-    program = (
-        "import sys, importlib\n"
-        "from joshua_codegen.emitters import supervisor, supervisor_bytecode\n"
-        "from joshua_codegen import supervisor as package\n"
-        "if sys.argv[1] == 'loaded':\n"
-        "    [importlib.import_module(f'joshua_codegen.supervisor.{name}') for name in package.MODULES]\n"
-        "module = supervisor.code_module().encode()\n"
-        "sys.stdout.buffer.write(supervisor_bytecode.compiled(module, supervisor.CODE_PATH))\n"
-    )
-    outputs = []
-    for seed, state in (("1", "bare"), ("2", "loaded")):
-        env = {**os.environ, "PYTHONHASHSEED": seed}
-        result = subprocess.run(
-            [sys.executable, "-c", program, state], capture_output=True, env=env, cwd=ROOT, timeout=60, check=True
-        )
-        outputs.append(result.stdout)
-    assert outputs[0] == outputs[1] == generated_files()[emitter.COMPILED_PATH]
 
 
 def test_placeholder_robot_writes_the_settings_format_the_compiler_writes():
