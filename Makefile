@@ -55,9 +55,11 @@ image: setup
 	$(VENV)/python scripts/image.py $(CONFIG) $(if $(BASE),--base $(BASE)) $(if $(ENGINE),--engine $(ENGINE)) \
 		$(if $(CONTEXT),--context $(CONTEXT)) $(foreach override,$(SET),--set $(override))
 
-## test: every test, in parallel workers; tests that must not overlap share an xdist_group (testsupport/tiers.py).
+## test: every test, in parallel workers; tests that must not overlap share an xdist_group (testsupport/tiers.py);
+## those marked `alone` (SSH rollouts to simulated computers) run afterwards, one at a time.
 test: setup
-	$(VENV)/pytest -n $(TEST_WORKERS) --dist loadgroup $(PYTEST_ARGS)
+	$(VENV)/pytest -n $(TEST_WORKERS) --dist loadgroup -m "not alone" $(PYTEST_ARGS)
+	$(VENV)/pytest -m alone $(PYTEST_ARGS)
 
 ## test-fast: the unit tier alone (compiler, rules, drivers against in-process emulators): no processes, no ROS.
 test-fast: setup
