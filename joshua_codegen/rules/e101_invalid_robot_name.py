@@ -14,23 +14,15 @@ Example:
     }
 """
 
-import re
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.positions import ROBOT
 from joshua_codegen.rules.context import Finding
-from joshua_core.names import MAX_ROBOT_NAME_LENGTH, ROBOT_NAME
+from joshua_core.names import MAX_ROBOT_NAME_LENGTH, ROBOT_NAME, suggested_robot_name
 
 CODE = "E101"
 NAME = "invalid-robot-name"
 SEVERITY = ERROR
 STAGE = "check"
-
-
-def _suggestion(name: str) -> str | None:
-    candidate = re.sub(r"[^a-z0-9_]+", "_", name.lower()).strip("_")
-    candidate = re.sub(r"^[0-9_]+", "", candidate)[:MAX_ROBOT_NAME_LENGTH]
-    return candidate if ROBOT_NAME.fullmatch(candidate) else None
 
 
 def check(ctx):
@@ -45,7 +37,7 @@ def check(ctx):
             ROBOT + ("name",), f"robot name is {len(name)} characters long; the limit is {MAX_ROBOT_NAME_LENGTH}"
         )
     elif not ROBOT_NAME.fullmatch(name):
-        hint = _suggestion(name)
+        hint = suggested_robot_name(name)
         message = (
             f'robot name "{name}" is invalid: use lower-case letters, digits and underscores, starting with a letter'
         )

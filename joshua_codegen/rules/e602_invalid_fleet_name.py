@@ -16,12 +16,10 @@ Example:
     }
 """
 
-import re
-
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.fleet.load import FLEET, robot_path
 from joshua_codegen.rules.context import Finding
-from joshua_core.names import MAX_ROBOT_NAME_LENGTH, ROBOT_NAME, is_robot_name
+from joshua_core.names import MAX_ROBOT_NAME_LENGTH, is_robot_name, suggested_robot_name
 
 CODE = "E602"
 NAME = "invalid-fleet-name"
@@ -29,14 +27,8 @@ SEVERITY = ERROR
 STAGE = "fleet"
 
 
-def _suggestion(name: str) -> str | None:
-    candidate = re.sub(r"[^a-z0-9_]+", "_", name.lower()).strip("_")
-    candidate = re.sub(r"^[0-9_]+", "", candidate)[:MAX_ROBOT_NAME_LENGTH]
-    return candidate if ROBOT_NAME.fullmatch(candidate) else None
-
-
 def _problem(what: str, name: str) -> str:
-    hint = _suggestion(name)
+    hint = suggested_robot_name(name)
     message = f'{what} "{name}" is invalid: use lower-case letters, digits and underscores, starting with a letter'
     message += f", at most {MAX_ROBOT_NAME_LENGTH} characters"
     return message + (f'; e.g. "{hint}"' if hint and hint != name else "")
