@@ -25,6 +25,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from support.process_usage import cpu_seconds, rss_mib  # noqa: E402
 from support.ros_env import bench_environment  # noqa: E402
 
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
@@ -53,7 +54,6 @@ CHROMIUM_FLAGS = [
 WARMUP_S = 3.0
 RUN_S, QUICK_RUN_S = 20.0, 2.0  # seconds per measurement; --quick only shows that every step works
 SERVER_START_TIMEOUT_S = 60.0
-CLK_TCK = os.sysconf("SC_CLK_TCK")
 DOM_PROBE = """
 window.__latency = {joints: [], image: []};
 new MutationObserver((mutations) => {
@@ -133,18 +133,6 @@ class Publisher:
         self.thread.join()
         self.node.destroy_node()
         self.rclpy.try_shutdown(context=self.context)
-
-
-def cpu_seconds(pid: int) -> float:
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / CLK_TCK
-
-
-def rss_mib(pid: int) -> float:
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024
-    return 0.0
 
 
 def server_cpu_percent(pid: int, seconds: float) -> float:

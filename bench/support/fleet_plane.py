@@ -25,6 +25,8 @@ import urllib.request
 from dataclasses import dataclass
 from pathlib import Path
 
+from support.process_usage import cpu_seconds, rss_mib
+
 ROOT = Path(__file__).resolve().parents[2]
 RATE_HZ = 10.0
 SESSIONS_PER_PROCESS = 10  # robots per publishing process (50 robots: 5 processes)
@@ -32,7 +34,6 @@ PAGE_REFRESH_S = 1.0  # web/src/fleet/main.tsx REFRESH_MS
 API_POLL_S = 0.02
 SERVER_START_TIMEOUT_S = 60.0
 LINK_TIMEOUT_S = 60.0
-CLK_TCK = os.sysconf("SC_CLK_TCK")
 PROBE = "bench_probe"  # the robot whose statuses carry their put time and its last change's, in its error text
 LEAVER = "bench_leaver"  # the robot whose dashboard starts and stops, WITHDRAWALS times
 WITHDRAWALS, QUICK_WITHDRAWALS = 20, 5
@@ -84,18 +85,6 @@ def free_port() -> int:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
         return probe.getsockname()[1]
-
-
-def cpu_seconds(pid: int) -> float:
-    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / CLK_TCK
-
-
-def rss_mib(pid: int) -> float:
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024
-    return 0.0
 
 
 def robots_now(api: str) -> list:
