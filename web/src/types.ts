@@ -193,6 +193,8 @@ export interface RecorderProgress {
   frames: number;
   skipped: number;
   writer: "loading" | "ready";
+  /** The seq of the recorder's last episode event when this report was made. */
+  seq: number;
 }
 
 /** A recorder's last episode event, and its last progress report (null before the first). */

@@ -32,7 +32,7 @@ class RecorderClient:
             String, protocol.topic(node_name, protocol.STATE_TOPIC), self._state, protocol.state_qos()
         )
         self.node.create_subscription(
-            String, protocol.topic(node_name, protocol.PROGRESS_TOPIC), self._progress, protocol.state_qos()
+            String, protocol.topic(node_name, protocol.PROGRESS_TOPIC), self._progress, protocol.progress_qos()
         )
         self.publisher = self.node.create_publisher(
             String, protocol.topic(node_name, protocol.COMMAND_TOPIC), protocol.COMMAND_QOS_DEPTH
@@ -73,8 +73,15 @@ class RecorderClient:
         self.executor.spin_once(timeout_sec=seconds)
 
     def found(self, timeout_s: float) -> bool:
-        """Whether the recorder was discovered: it takes commands and its last state arrived."""
-        return self.spin_until(lambda: self.publisher.get_subscription_count() > 0 and bool(self.states), timeout_s)
+        """Whether the recorder was discovered: it takes commands, and its kept events have arrived up to the
+        last one its progress report names (an event kept from before must not pass for an answer)."""
+        return self.spin_until(lambda: self.publisher.get_subscription_count() > 0 and self._caught_up(), timeout_s)
+
+    def _caught_up(self) -> bool:
+        return self.progress is not None and self._last_seq() >= self.progress.get("seq", 0) and bool(self.states)
+
+    def _last_seq(self) -> int:
+        return max((state["seq"] for state in self.states), default=0)
 
     def wait_progress(self, timeout_s: float) -> dict | None:
         self.spin_until(lambda: self.progress is not None, timeout_s)
@@ -82,7 +89,7 @@ class RecorderClient:
 
     def send(self, text: str):
         """Publish a command; returns a function that gives its answer once it has come (else None)."""
-        baseline = max((state["seq"] for state in self.states), default=0)
+        baseline = max(self._last_seq(), (self.progress or {}).get("seq", 0))
         answers = protocol.ANSWERS[text.split(" ", 1)[0]]
         self.publisher.publish(self.message(data=text))
         return lambda: next((s for s in self.states if s["seq"] > baseline and s["event"] in answers), None)

@@ -16,8 +16,8 @@ The recorder answers on
 `/<recorder>/episode_state` with one JSON object per event, e.g.
 `{"seq": 4, "event": "saved", "recording": false, "episode": 3, "frames": 412, "episodes": 4,
 "message": "saved episode 3 (412 frames) in /data/pick"}`. `seq` counts the recorder's events; the
-topic keeps the last one for late subscribers (TRANSIENT_LOCAL), so a client learns the current state
-as soon as it connects, then waits for an event with a higher `seq` that answers its command.
+topic keeps the last EVENTS_KEPT for late subscribers (TRANSIENT_LOCAL), so a client learns the current
+state as soon as it connects and no answer is replaced by the next event, then waits for an event with a higher `seq` that answers its command.
 
 Events: `ready` (the recorder is ready and recording its first episode), `started`, `saved`, `empty`
 (an episode without frames: nothing saved), `discarded`, `stopped` (a reset period ended by `stop`),
@@ -26,10 +26,12 @@ episode was removed to be recorded again), `ignored` (a command that did not app
 episode recording), `failed` (the episode could not be saved).
 
 Progress goes to `/<recorder>/episode_progress`, the last one kept for late subscribers, every
-PROGRESS_PERIOD_S and at each change: `{"phase": "recording" | "resetting" | "idle", "task",
+PROGRESS_PERIOD_S, after each event and at each change: `{"phase": "recording" | "resetting" | "idle", "task",
 "episodes" (saved in the dataset: also the index the episode in progress will have),
 "elapsed_s" (of the episode or reset period), "remaining_s" (until episode_time_s or the end of the
-reset; null when unlimited), "frames", "skipped", "writer": "loading" | "ready"}`.
+reset; null when unlimited), "frames", "skipped", "writer": "loading" | "ready", "seq" (of the last
+event)}`. A client that joins waits until the kept events reached it up to that `seq`: an event from
+before it came must not pass for the answer to its command.
 """
 
 import json
@@ -39,6 +41,7 @@ STATE_TOPIC = "~/episode_state"
 PROGRESS_TOPIC = "~/episode_progress"
 PROGRESS_PERIOD_S = 0.5
 COMMAND_QOS_DEPTH = 10
+EVENTS_KEPT = 32
 COMMANDS = ("start", "stop", "discard", "next", "rerecord")
 PHASES = ("recording", "resetting", "idle")
 # The events that answer each command (the first ones are success).
@@ -52,16 +55,23 @@ ANSWERS = {
 SUCCESS = ("started", "saved", "empty", "discarded", "stopped", "rerecording", "removed")
 
 
-def state_qos():
-    """The state topic's QoS: reliable, the last event kept for subscribers that join later."""
+def state_qos(depth: int = EVENTS_KEPT):
+    """The state topic's QoS: reliable, its last `depth` events kept for subscribers that join later and for
+    bursts (a command's answer and the writer's answer to the one before leave within milliseconds; with one
+    kept, the second replaces the first before a busy client has it). The progress topic keeps one."""
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
     return QoSProfile(
         history=HistoryPolicy.KEEP_LAST,
-        depth=1,
+        depth=depth,
         reliability=ReliabilityPolicy.RELIABLE,
         durability=DurabilityPolicy.TRANSIENT_LOCAL,
     )
+
+
+def progress_qos():
+    """The progress topic's QoS: as the state topic's, only the latest progress kept."""
+    return state_qos(depth=1)
 
 
 def topic(node_name: str, relative: str) -> str:

@@ -90,7 +90,8 @@ class EpisodeSession:
         if self.recording:
             self._end(save=True)
 
-    def progress(self, writer_ready: bool) -> dict:
+    def progress(self, writer_ready: bool, last_event: int) -> dict:
+        """The progress report (episode_protocol.py); `last_event`: the seq of the recorder's last event."""
         elapsed = self.clock() - self.since
         limit = {RECORDING: self.episode_time_s, RESETTING: self.reset_time_s}.get(self.phase, 0.0)
         return {
@@ -102,6 +103,7 @@ class EpisodeSession:
             "frames": self.frames if self.recording else 0,
             "skipped": self.skipped if self.recording else 0,
             "writer": "ready" if writer_ready else "loading",
+            "seq": last_event,
         }
 
     # The commands.

@@ -96,7 +96,7 @@ class RecorderNode(JoshuaNode):
 
         self.message = String
         self.state_publisher = self.ros.create_publisher(String, protocol.STATE_TOPIC, protocol.state_qos())
-        self.progress_publisher = self.ros.create_publisher(String, protocol.PROGRESS_TOPIC, protocol.state_qos())
+        self.progress_publisher = self.ros.create_publisher(String, protocol.PROGRESS_TOPIC, protocol.progress_qos())
         self.state_lock = threading.Lock()  # the ROS thread and the writer's event thread both publish states
         self.state_seq = 0
         self.writer = WriterProcess(
@@ -139,13 +139,20 @@ class RecorderNode(JoshuaNode):
         self._publish_state(event, **details)
 
     def _publish_state(self, event: str, **details) -> None:
+        """An event, then a progress report that names it as the last (a client that joins knows when the
+        kept events have all reached it)."""
         with self.state_lock:
             self.state_seq += 1
             state = {"seq": self.state_seq, "event": event, "recording": self.session.recording, **details}
             self.state_publisher.publish(self.message(data=protocol.encode(state)))
+            self._publish_progress_locked()
 
     def _publish_progress(self) -> None:
-        progress = self.session.progress(self.writer.opened.is_set())
+        with self.state_lock:
+            self._publish_progress_locked()
+
+    def _publish_progress_locked(self) -> None:
+        progress = self.session.progress(self.writer.opened.is_set(), self.state_seq)
         self.progress_publisher.publish(self.message(data=json.dumps(progress, sort_keys=True)))
 
     def _command(self, msg) -> None:

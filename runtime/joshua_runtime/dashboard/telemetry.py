@@ -107,7 +107,7 @@ class Telemetry:
             for r in view.recorders
         ] + [
             self.node.create_subscription(
-                String, r.progress_topic, self._progress_callback(r.node), episode_protocol.state_qos()
+                String, r.progress_topic, self._progress_callback(r.node), episode_protocol.progress_qos()
             )
             for r in view.recorders
         ]

@@ -92,7 +92,7 @@ describe("EpisodeControls", () => {
     const events = hub();
     render(<EventHubProvider hub={events}><EpisodeControls node="rec" /></EventHubProvider>);
     const progress = { phase: "recording", task: "pick", episodes: 3, elapsed_s: 12.4, remaining_s: 17.6,
-                       frames: 372, skipped: 0, writer: "ready" };
+                       frames: 372, skipped: 0, writer: "ready", seq: 7 };
     send(events, "recorder", { node: "rec", known: true, recording: true, event: "started", message: "", episodes_saved: 3, progress });
     expect(screen.getByTestId("episode-progress-rec").textContent).toBe("episode 3 · 0:12 / 0:30 · 372 frames");
     send(events, "recorder", { node: "rec", known: true, recording: false, event: "saved", message: "", episodes_saved: 4,
