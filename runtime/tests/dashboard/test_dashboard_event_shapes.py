@@ -47,7 +47,8 @@ def test_recorder_and_inference_events_match_the_schema():
     log = SimpleNamespace(info=lambda text: None)
     session = EpisodeSession(writer, lambda event, **details: None, log, "pick", episode_time_s=30.0)
     session.begin()
-    progress = json.loads(episode_protocol.encode(session.progress(writer_ready=False, last_event=1)))  # as the recorder sends it
+    # as the recorder sends it
+    progress = json.loads(episode_protocol.encode(session.progress(writer_ready=False, last_event=1)))
     check_event("recorder", sent("recorder", recorder_event("recorder", state, progress, 3)))
     check_event("recorder", sent("recorder", recorder_event("recorder", {}, None, 0)))
     policy = Inference("policy", "/models/act", 30.0, ("/camera/image_raw", "/arm/joint_states"), "/arm/command")
