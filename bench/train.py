@@ -5,8 +5,11 @@
 1. env steps/s of so100_reach on C MuJoCo, random actions, at batch 1, 64 and 1024 (a batch is
    that many environments stepped in turn in this process, as a DummyVecEnv does), and of
    so100_push at batch 1. MJX rows appear when `mujoco-mjx` is installed (the `mjx` extra).
-2. PPO on so100_reach (joshua-train rl's settings, seed 0): wall time, steps/s, and its evaluation
-   next to the random baseline (success rate, mean return, mean final distance).
+2. PPO's env steps/s on so100_reach with stable-baselines3's DummyVecEnv (4 environments) and with the
+   worlds stepped together (--vec-env batch, 16 and 64), while collecting rollouts and over the whole run,
+   as ratios to raw physics on every core (support/ppo_throughput.py); then PPO as `joshua-train rl` runs
+   it by default (seed 0): wall time, steps/s, and its evaluation next to the random baseline (success
+   rate, mean return, mean final distance).
 3. Imitation round trip: scripted demonstrations -> ACT (joshua-train imitation) -> evaluation,
    next to the zeros baseline; skipped with --quick.
 4. Seconds per training step of `joshua-train imitation` and of LeRobot's `lerobot-train`, the same
@@ -29,7 +32,7 @@ from joshua_runtime.sim.gl_backend import configure_gl
 
 configure_gl()
 
-from support import training_steps  # noqa: E402
+from support import ppo_throughput, training_steps  # noqa: E402
 
 from joshua_runtime.train import actors, envs, evaluation, imitation, ppo  # noqa: E402  (after GL is chosen)
 from testsupport import tiny_act  # noqa: E402
@@ -82,6 +85,8 @@ def main() -> None:
     for row in mjx_rows(args.quick):
         print(row)
 
+    print("== PPO env steps/s against raw physics on every core (so100_reach)")
+    ppo_throughput.report(2_048 if args.quick else 30_000)
     ppo_steps = 5_000 if args.quick else 30_000
     episodes = 10 if args.quick else 50
     print(f"== PPO on so100_reach, {ppo_steps} steps, seed 0")

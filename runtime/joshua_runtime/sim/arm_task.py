@@ -78,12 +78,14 @@ def goals_from_action(positions: np.ndarray, action: np.ndarray, addresses: ArmA
 
 
 def observation(positions, velocities, grasp, *goals) -> np.ndarray:
-    """Joint angles, scaled velocities, grasp point, then each goal point and its offset from the grasp point."""
-    parts = [np.asarray(positions, float), np.asarray(velocities, float) / VELOCITY_SCALE, np.asarray(grasp, float)]
+    """Joint angles, scaled velocities, grasp point, then each goal point and its offset from the grasp point;
+    of one world, or of a batch (one row per world)."""
+    grasp = np.asarray(grasp, float)
+    parts = [np.asarray(positions, float), np.asarray(velocities, float) / VELOCITY_SCALE, grasp]
     for goal in goals:
         goal = np.asarray(goal, float)
         parts += [goal, goal - grasp]
-    return np.concatenate(parts).astype(np.float32)
+    return np.concatenate(parts, axis=-1).astype(np.float32)
 
 
 class ArmKinematics:

@@ -1,7 +1,7 @@
 """`joshua-train`: train behaviours in simulation or from recorded demonstrations, and evaluate them.
 
     joshua-train rl --env ENV --steps N --output DIR [--seed S]        PPO (resumes a run in DIR)
-                    [--backend mujoco|mjx] [--n-envs K]
+                    [--backend mujoco|mjx] [--vec-env dummy|subproc|batch] [--n-envs K]
     joshua-train imitation --dataset DIR --policy act|diffusion|smolvla --steps N --output DIR
                     [--device auto|cpu|cuda|mps] [--image-size WxH] [--workers W] [--processes N]
     joshua-train evaluate DIR --env ENV --episodes K [--json]          roll a saved policy out
@@ -51,9 +51,10 @@ def _parser() -> argparse.ArgumentParser:
     rl.add_argument("--eval-episodes", type=int, default=DEFAULT_EVAL_EPISODES, help="episodes of the final evaluation")
     rl.add_argument(
         "--vec-env",
-        choices=("dummy", "subproc"),
+        choices=("dummy", "subproc", "batch"),
         default="dummy",
-        help="environments in this process (dummy) or one process each (subproc)",
+        help="environments in this process (dummy), one process each (subproc), or stepped together on every core "
+        "(batch; so100_reach)",
     )
     rl.add_argument(
         "--backend",
@@ -146,7 +147,7 @@ def _rl(args) -> None:
 
     if args.n_envs < 1:
         raise SettingsError(f"--n-envs must be positive, got {args.n_envs}")
-    settings = ppo.PpoSettings(n_envs=args.n_envs)
+    settings = ppo.PpoSettings.for_envs(args.n_envs)
     metadata = ppo.train(
         args.env,
         args.steps,

@@ -23,6 +23,7 @@ CHECKPOINT_SUFFIX = ".safetensors"
 _CHECKPOINT = re.compile(rf"^{CHECKPOINT_PREFIX}_(\d+)_steps\{CHECKPOINT_SUFFIX}$")
 # Small MLP policies run fastest on one thread, and leave the other core to the simulation.
 TORCH_THREADS = 1
+SAMPLES_PER_UPDATE = 1024  # environment steps per PPO update (4 environments x 256 steps)
 
 
 @dataclass(frozen=True)
@@ -37,6 +38,11 @@ class PpoSettings:
     gamma: float = 0.95
     gae_lambda: float = 0.95
     net_arch: tuple[int, ...] = (64, 64)
+
+    @classmethod
+    def for_envs(cls, n_envs: int) -> "PpoSettings":
+        """The settings for `n_envs` environments: each update learns from SAMPLES_PER_UPDATE steps whatever their number."""
+        return cls(n_envs=n_envs, n_steps=max(SAMPLES_PER_UPDATE // n_envs, 1))
 
     @classmethod
     def of_checkpoint(cls, saved: dict, n_envs: int) -> "PpoSettings":
@@ -99,8 +105,10 @@ def train(
     progress: bool = True,
     log=print,
     backend: str = "mujoco",
+    callbacks: tuple = (),
 ) -> dict:
-    """Train (or continue training) PPO up to `steps` environment steps; return the saved metadata."""
+    """Train (or continue training) PPO up to `steps` environment steps; return the saved metadata.
+    `callbacks`: stable-baselines3 callbacks run beside the checkpoints (bench/train.py times the rollouts)."""
     envs.check_env_id(env_id)
     if steps < 1:
         raise SettingsError(f"--steps must be positive, got {steps}")
@@ -133,7 +141,10 @@ def train(
                 asdict(settings),
             )
             model.learn(
-                total_timesteps=remaining, callback=checkpoints, reset_num_timesteps=False, progress_bar=progress
+                total_timesteps=remaining,
+                callback=[checkpoints, *callbacks],
+                reset_num_timesteps=False,
+                progress_bar=progress,
             )
         if not checkpoint_path(output, model.num_timesteps).is_file():
             ppo_files.save_checkpoint(model, checkpoint_path(output, model.num_timesteps), asdict(settings))
@@ -171,9 +182,11 @@ def _model(environments, settings: PpoSettings, seed: int):
 
 
 def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: str):
-    """The vectorised training environments on C MuJoCo (dummy or subproc) or on MJX."""
+    """The vectorised training environments on C MuJoCo (dummy, subproc or batch) or on MJX."""
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+
+    from joshua_runtime.train.reach_vec_env import ReachVecEnv
 
     if backend == "mjx":
         if env_id != envs.REACH:
@@ -182,12 +195,18 @@ def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: st
             import jax  # noqa: F401
             from mujoco import mjx  # noqa: F401
 
-            from joshua_runtime.train.mjx_reach import MjxReachVecEnv
+            from joshua_runtime.train.mjx_reach import MjxWorlds
         except ImportError as exc:
             raise SettingsError(f"--backend mjx needs the `mjx` extra (mujoco-mjx, jax): {exc}") from exc
-        return VecMonitor(MjxReachVecEnv(n_envs, seed))
+        return VecMonitor(ReachVecEnv(MjxWorlds(n_envs), seed))
     if backend != "mujoco":
         raise SettingsError(f"unknown backend {backend!r} (known: mujoco, mjx)")
+    if vec_env == "batch":
+        if env_id != envs.REACH:
+            raise SettingsError(f"--vec-env batch runs {envs.REACH} only")
+        from joshua_runtime.train.reach_batch import RolloutWorlds
+
+        return VecMonitor(ReachVecEnv(RolloutWorlds(n_envs), seed))
     vec_class = SubprocVecEnv if vec_env == "subproc" else DummyVecEnv
     return make_vec_env(lambda: envs.make(env_id), n_envs=n_envs, seed=seed, vec_env_cls=vec_class)
 

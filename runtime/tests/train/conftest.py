@@ -13,7 +13,7 @@ from joshua_runtime.sim.gl_backend import configure_gl
 
 configure_gl("egl")
 
-from train_support import EVALUATION_EPISODES, LEARNING_SEED, LEARNING_STEPS  # noqa: E402
+from train_support import EVALUATION_EPISODES, LEARNING_ENVS, LEARNING_SEED, LEARNING_STEPS  # noqa: E402
 
 
 def pytest_configure(config):
@@ -27,7 +27,7 @@ def pytest_configure(config):
 
 @pytest.fixture(scope="session")
 def trained_reach(tmp_path_factory):
-    """(output directory, metadata) of a short PPO run on so100_reach."""
+    """(output directory, metadata) of a short PPO run on so100_reach, its worlds stepped together (--vec-env batch)."""
     from joshua_runtime.train import ppo
 
     output = tmp_path_factory.mktemp("ppo") / "reach"
@@ -38,6 +38,8 @@ def trained_reach(tmp_path_factory):
         seed=LEARNING_SEED,
         checkpoint_every=LEARNING_STEPS,
         eval_episodes=EVALUATION_EPISODES,
+        vec_env="batch",
+        settings=ppo.PpoSettings.for_envs(LEARNING_ENVS),
         progress=False,
         log=lambda text: None,
     )

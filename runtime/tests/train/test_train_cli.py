@@ -101,6 +101,11 @@ def test_random_baseline_prints_the_three_fields():
             "joshua-train: error: output {tmp}/full is not empty and holds no joshua-train run; choose another directory",
         ),
         (
+            ["rl", "--env", "so100_push", "--steps", "10", "--vec-env", "batch", "--output", "{tmp}/push"],
+            2,
+            "joshua-train: error: --vec-env batch runs so100_reach only",
+        ),
+        (
             ["evaluate", "{tmp}/missing", "--env", "so100_reach", "--episodes", "2"],
             2,
             "joshua-train: error: policy directory {tmp}/missing does not exist",
