@@ -25,22 +25,25 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from support.foxglove_peer import bridge_cpu_percent, foxglove_block  # noqa: E402
 from support.process_usage import cpu_seconds, rss_mib  # noqa: E402
 from support.ros_env import bench_environment  # noqa: E402
 
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
 from joshua_core.dashboard_token import token_path  # noqa: E402
+from testsupport.foxglove_client import free_port  # noqa: E402
 from testsupport.joshuac_cli import joshuac  # noqa: E402
 
 JOINT_HZ, IMAGE_FPS, WIDTH, HEIGHT = 30.0, 15.0, 640, 480
+JOINT_TOPIC, IMAGE_TOPIC = "/bench/joint_states", "/bench/image_raw"
+TOPICS = [JOINT_TOPIC, IMAGE_TOPIC]
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll", "gripper"]
 DESCRIPTION = f"""robot_config {{
   name: "bench_dashboard"
   mode: MODE_TELEOPERATION
-  node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "/bench/joint_states" rate_hz: {JOINT_HZ} }}
-  node {{ name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "/bench/image_raw" width: {WIDTH} height: {HEIGHT}
+  node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "{JOINT_TOPIC}" rate_hz: {JOINT_HZ} }}
+  node {{ name: "cam" type: MOCK_CAMERA_PUBLISHER topic_name: "{IMAGE_TOPIC}" width: {WIDTH} height: {HEIGHT}
           rate_hz: {IMAGE_FPS} }}
-}}
 """
 CHROMIUM = "/usr/bin/chromium-headless-shell"
 CHROMIUM_FLAGS = [
@@ -84,8 +87,8 @@ class Publisher:
         # The mock nodes' default QoS: reliable joint states, best-effort camera frames.
         reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
         best_effort = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
-        self.joints = self.node.create_publisher(JointState, "/bench/joint_states", reliable)
-        self.images = self.node.create_publisher(Image, "/bench/image_raw", best_effort)
+        self.joints = self.node.create_publisher(JointState, JOINT_TOPIC, reliable)
+        self.images = self.node.create_publisher(Image, IMAGE_TOPIC, best_effort)
         gradient = np.linspace(0, 255, WIDTH, dtype=np.uint8)
         self.frames = [
             np.ascontiguousarray(np.dstack([np.roll(gradient, 40 * i)[None, :].repeat(HEIGHT, 0)] * 3)).tobytes()
@@ -220,7 +223,8 @@ def main() -> int:
     run_s = QUICK_RUN_S if args.quick else RUN_S
     with tempfile.TemporaryDirectory(prefix="bench-dashboard-") as directory:
         source = Path(directory) / "bench_dashboard.pbtxt"
-        source.write_text(DESCRIPTION)
+        bridge_port = free_port()
+        source.write_text(DESCRIPTION + foxglove_block(bridge_port) + "}\n")
         built = joshuac("build", source, "-o", Path(directory) / "out")
         if built.returncode != 0:
             raise SystemExit(built.stderr)
@@ -257,7 +261,7 @@ def main() -> int:
                     time.sleep(0.2)
             time.sleep(WARMUP_S)
             token = token_path(Path(directory) / "none.sock").read_text().strip()
-            report(port, token, server.pid, run_s)
+            report(port, token, server.pid, run_s, lambda: bridge_cpu_percent(out, bridge_port, TOPICS, run_s))
         finally:
             publisher.close()
             server.terminate()
@@ -265,7 +269,7 @@ def main() -> int:
     return 0
 
 
-def report(port: int, token: str, pid: int, run_s: float) -> None:
+def report(port: int, token: str, pid: int, run_s: float, bridge) -> None:
     idle = server_cpu_percent(pid, run_s)
     print(
         f"publishing {JOINT_HZ:g} Hz JointState (6 joints) and {IMAGE_FPS:g} fps {WIDTH}x{HEIGHT} rgb8 Image; "
@@ -283,6 +287,12 @@ def report(port: int, token: str, pid: int, run_s: float) -> None:
     print(
         f"server CPU with 1 browser: {browser['server_cpu']:.1f} % "
         f"(+{browser['server_cpu'] - idle:.1f} % for the client)"
+    )
+    bridge_cpu, bridge_rates = bridge()
+    rates = ", ".join(f"{topic} {rate:.1f}/s" for topic, rate in bridge_rates.items())
+    print(
+        f"peer: the Foxglove bridge with 1 client taking both streams whole ({rates}): CPU {bridge_cpu:.1f} %; "
+        f"dashboard with 1 browser / bridge: {browser['server_cpu'] / bridge_cpu:.2f}x"
     )
 
     for count in (1, 10):

@@ -1,4 +1,4 @@
-"""A Foxglove WebSocket client for tests: connect, subscribe to topics, collect their first messages."""
+"""A Foxglove WebSocket client for tests and benches: connect, subscribe to topics, read their messages."""
 
 import asyncio
 import json
@@ -18,38 +18,47 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
-async def first_messages(port: int, topics: list[str], wait_s: float = WAIT_S) -> tuple[dict, dict]:
-    """(advertised channel by topic, first payload by topic) once every topic has sent a message."""
+async def connect(port: int, wait_s: float = WAIT_S):
+    """A connection to the server on `port`, retried until it listens (at most `wait_s`)."""
     deadline = asyncio.get_running_loop().time() + wait_s
     while True:
         try:
-            socket_ = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[SUBPROTOCOL])
-            break
+            return await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[SUBPROTOCOL], max_size=None)
         except OSError:
             if asyncio.get_running_loop().time() > deadline:
                 raise
             await asyncio.sleep(0.2)
-    channels, payloads, subscribed = {}, {}, {}
-    async with socket_:
+
+
+async def messages(socket_, topics: list[str], channels: dict):
+    """Yields (topic, payload) of every message on `topics`, subscribing to each as it is advertised;
+    `channels` collects every advertised channel by topic."""
+    subscribed: dict[int, str] = {}
+    while True:
+        frame = await socket_.recv()
+        if isinstance(frame, str):
+            message = json.loads(frame)
+            if message["op"] != "advertise":
+                continue
+            for channel in message["channels"]:
+                channels[channel["topic"]] = channel
+                if channel["topic"] in topics and channel["topic"] not in subscribed.values():
+                    subscription = len(subscribed) + 1
+                    subscribed[subscription] = channel["topic"]
+                    request = {"op": "subscribe", "subscriptions": [{"id": subscription, "channelId": channel["id"]}]}
+                    await socket_.send(json.dumps(request))
+        elif frame[0] == MESSAGE_DATA_OPCODE:
+            subscription, _log_time = struct.unpack_from("<IQ", frame, 1)
+            yield subscribed[subscription], frame[13:]
+
+
+async def first_messages(port: int, topics: list[str], wait_s: float = WAIT_S) -> tuple[dict, dict]:
+    """(advertised channel by topic, first payload by topic) once every topic has sent a message."""
+    deadline = asyncio.get_running_loop().time() + wait_s
+    channels, payloads = {}, {}
+    async with await connect(port, wait_s) as socket_:
+        stream = messages(socket_, topics, channels)
         while len(payloads) < len(topics):
-            frame = await asyncio.wait_for(socket_.recv(), deadline - asyncio.get_running_loop().time())
-            if isinstance(frame, str):
-                message = json.loads(frame)
-                if message["op"] == "advertise":
-                    for channel in message["channels"]:
-                        channels[channel["topic"]] = channel
-                        if channel["topic"] in topics and channel["topic"] not in subscribed.values():
-                            subscription = len(subscribed) + 1
-                            subscribed[subscription] = channel["topic"]
-                            await socket_.send(
-                                json.dumps(
-                                    {
-                                        "op": "subscribe",
-                                        "subscriptions": [{"id": subscription, "channelId": channel["id"]}],
-                                    }
-                                )
-                            )
-            elif frame[0] == MESSAGE_DATA_OPCODE:
-                subscription, _log_time = struct.unpack_from("<IQ", frame, 1)
-                payloads.setdefault(subscribed[subscription], bytes(frame[13:]))
+            topic, payload = await asyncio.wait_for(anext(stream), deadline - asyncio.get_running_loop().time())
+            payloads.setdefault(topic, bytes(payload))
     return channels, payloads

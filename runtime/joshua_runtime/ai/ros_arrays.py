@@ -3,15 +3,15 @@
 import cv2
 import numpy as np
 
-# Image encodings accepted, with their channel count and the channel order to get RGB.
+# Image encodings accepted, with their channel count and their channels' order as OpenCV names it.
 _ENCODINGS = {
-    "rgb8": (3, (0, 1, 2)),
-    "bgr8": (3, (2, 1, 0)),
-    "rgba8": (4, (0, 1, 2)),
-    "bgra8": (4, (2, 1, 0)),
-    "mono8": (1, (0, 0, 0)),
-    "8UC1": (1, (0, 0, 0)),
-    "8UC3": (3, (2, 1, 0)),  # OpenCV's default channel order is BGR
+    "rgb8": (3, "RGB"),
+    "bgr8": (3, "BGR"),
+    "rgba8": (4, "RGBA"),
+    "bgra8": (4, "BGRA"),
+    "mono8": (1, "GRAY"),
+    "8UC1": (1, "GRAY"),
+    "8UC3": (3, "BGR"),  # OpenCV's default channel order is BGR
 }
 
 
@@ -21,26 +21,44 @@ class ImageFormatError(ValueError):
 
 def image_to_rgb(msg) -> np.ndarray:
     """An (height, width, 3) uint8 RGB array copied from a sensor_msgs/Image or CompressedImage."""
+    return _converted(msg, "RGB")
+
+
+def image_to_bgr(msg) -> np.ndarray:
+    """An (height, width, 3) uint8 BGR array (OpenCV's order) copied from a sensor_msgs/Image or CompressedImage."""
+    return _converted(msg, "BGR")
+
+
+def _converted(msg, order: str) -> np.ndarray:
+    """The message's pixels in `order` ("RGB" or "BGR"), in one pass over them (a copy or OpenCV's conversion)."""
     if hasattr(msg, "format"):
-        return _decompress(msg)
+        pixels, source = _decompress(msg), "BGR"
+    else:
+        pixels, source = _pixels(msg)
+    if source == order:  # a view of the message is copied; a decoded frame is the caller's already
+        return pixels if pixels.base is None else pixels.copy()
+    return cv2.cvtColor(pixels, getattr(cv2, f"COLOR_{source}2{order}"))
+
+
+def _pixels(msg) -> tuple[np.ndarray, str]:
+    """A view of an Image's pixels, (height, width) or (height, width, channels), and their order."""
     spec = _ENCODINGS.get(msg.encoding)
     if spec is None:
         raise ImageFormatError(f"unsupported image encoding {msg.encoding!r} (supported: {', '.join(_ENCODINGS)})")
-    channels, order = spec
+    channels, source = spec
     height, width, step = msg.height, msg.width, msg.step
     raw = np.frombuffer(msg.data, dtype=np.uint8)
     if height * width == 0 or step < width * channels or raw.size < step * height:
         raise ImageFormatError(f"image {width}x{height} {msg.encoding} with step {step} has {raw.size} bytes")
     rows = raw[: step * height].reshape(height, step)[:, : width * channels]
-    pixels = rows.reshape(height, width, channels)
-    return np.ascontiguousarray(pixels[:, :, list(order)])
+    return (rows if channels == 1 else rows.reshape(height, width, channels)), source
 
 
 def _decompress(msg) -> np.ndarray:
     pixels = cv2.imdecode(np.frombuffer(msg.data, dtype=np.uint8), cv2.IMREAD_COLOR)
     if pixels is None:
         raise ImageFormatError(f"cannot decode compressed image (format {msg.format!r})")
-    return cv2.cvtColor(pixels, cv2.COLOR_BGR2RGB)
+    return pixels
 
 
 def rgb_to_image(pixels: np.ndarray, stamp=None, frame_id: str = "camera"):

@@ -5,7 +5,7 @@ import math
 
 import cv2
 
-from joshua_runtime.ai.ros_arrays import image_to_rgb
+from joshua_runtime.ai.ros_arrays import image_to_bgr
 
 # Frames wider than this are scaled down before JPEG encoding (the page shows them at most this wide).
 MAX_IMAGE_WIDTH = 640
@@ -36,12 +36,12 @@ def joint_state_event(topic: str, message) -> dict:
 
 def image_event(topic: str, message) -> dict:
     """The frame as a base64 JPEG, scaled down to MAX_IMAGE_WIDTH when wider."""
-    rgb = image_to_rgb(message)
-    height, width = rgb.shape[:2]
+    bgr = image_to_bgr(message)  # OpenCV encodes BGR: one conversion from the message's order
+    height, width = bgr.shape[:2]
     if width > MAX_IMAGE_WIDTH:
         scale = MAX_IMAGE_WIDTH / width
-        rgb = cv2.resize(rgb, (MAX_IMAGE_WIDTH, max(1, round(height * scale))), interpolation=cv2.INTER_AREA)
-    ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+        bgr = cv2.resize(bgr, (MAX_IMAGE_WIDTH, max(1, round(height * scale))), interpolation=cv2.INTER_AREA)
+    ok, jpeg = cv2.imencode(".jpg", bgr, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
     if not ok:
         raise ValueError(f"JPEG encoding of a {width}x{height} frame failed")
     return {

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import rclpy
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from joshua_runtime.ai import episode_protocol
@@ -87,7 +87,7 @@ class Telemetry:
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
         self.node = rclpy.create_node(node_name, context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor = EventsExecutor(context=self.context)
         self.executor.add_node(self.node)
         self.counts = {stream.topic: 0 for stream in view.streams}
         self.last_received: dict[str, float] = {}
@@ -138,10 +138,15 @@ class Telemetry:
             self.executor.spin_once(timeout_sec=SPIN_SLICE_S)
 
     def _subscribe(self, stream):
+        """A subscription that takes messages serialized, as DDS delivers them: counting one costs no decoding,
+        and only those that become events are decoded (a 640x480 frame nobody watches never is)."""
+        from rclpy.serialization import deserialize_message
+
         make_event = _EVENT_MAKERS.get(stream.kind)
         min_period = _MIN_PERIOD_S.get(stream.kind, 0.0)
+        message_type = message_class(stream.message_type)
 
-        def receive(message) -> None:
+        def receive(serialized: bytes) -> None:
             now = time.monotonic()
             self.counts[stream.topic] += 1
             self.last_received[stream.topic] = now
@@ -151,13 +156,13 @@ class Telemetry:
                 return
             self.last_sent[stream.topic] = now
             try:
-                data = make_event(stream.topic, message)
+                data = make_event(stream.topic, deserialize_message(serialized, message_type))
             except ValueError as exc:
                 self.node.get_logger().warning(f"{stream.topic}: {exc}", throttle_duration_sec=5.0)
                 return
             self.broadcaster.publish(f"{stream.kind}:{stream.topic}", stream.kind, data)
 
-        return self.node.create_subscription(message_class(stream.message_type), stream.topic, receive, SENSOR_QOS)
+        return self.node.create_subscription(message_type, stream.topic, receive, SENSOR_QOS, raw=True)
 
     def _recorder_callback(self, recorder: str):
         def receive(message) -> None:

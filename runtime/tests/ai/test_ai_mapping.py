@@ -12,7 +12,7 @@ from joshua_runtime.ai import features, staged_directory
 from joshua_runtime.ai.frame_sampler import FrameSampler, FrameUnavailable
 from joshua_runtime.ai.inference_node import action_joint_names
 from joshua_runtime.ai.observation_mapper import ObservationMapper, ObservationUnavailable
-from joshua_runtime.ai.ros_arrays import ImageFormatError, image_to_rgb
+from joshua_runtime.ai.ros_arrays import ImageFormatError, image_to_bgr, image_to_rgb
 from joshua_runtime.errors import SettingsError
 
 IMAGE = "sensor_msgs/msg/Image"
@@ -79,6 +79,18 @@ def test_images_of_every_encoding_become_rgb():
     short.data = short.data[:-1]
     with pytest.raises(ImageFormatError, match="has 104 bytes"):
         image_to_rgb(short)
+
+
+def test_images_of_every_encoding_become_bgr_for_opencv_and_never_share_the_message():
+    rgb = np.random.default_rng(1).integers(0, 256, (5, 7, 3), dtype=np.uint8)
+    for encoding, padding in (("rgb8", 0), ("bgr8", 3), ("rgb8", 2)):
+        message = image_message(rgb, encoding, padding)
+        bgr = image_to_bgr(message)
+        assert np.array_equal(bgr, rgb[:, :, ::-1]) and bgr.flags.c_contiguous
+        assert not np.shares_memory(bgr, np.frombuffer(message.data, np.uint8))
+        assert not np.shares_memory(image_to_rgb(message), np.frombuffer(message.data, np.uint8))
+    mono = image_to_bgr(image_message(rgb, "mono8"))
+    assert mono.shape == (5, 7, 3) and np.array_equal(mono[:, :, 0], rgb[:, :, 0])
 
 
 def test_frames_follow_the_first_layout_and_read_joints_by_name():

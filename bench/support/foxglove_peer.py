@@ -1,0 +1,69 @@
+"""The Foxglove bridge as the dashboard's peer: its CPU while one Foxglove client takes the same streams.
+
+The bridge is the robot's FOXGLOVE_BRIDGE node from the same build (nodes/foxglove_bridge.py), started
+for its measurement alone and stopped after it; its client subscribes to every published topic and
+reads every message, as the Foxglove app does.
+"""
+
+import asyncio
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from support.process_usage import cpu_seconds
+from testsupport.foxglove_client import connect, messages
+
+BRIDGE_PROCESS = "foxglove_bridge"
+READY_TIMEOUT_S = 60.0
+STOP_TIMEOUT_S = 10.0
+
+
+def foxglove_block(port: int) -> str:
+    """The description's block that adds the bridge, listening on loopback."""
+    return f'  foxglove {{ port: {port} bind: "127.0.0.1" }}\n'
+
+
+async def _measure(pid: int, port: int, topics: list[str], seconds: float) -> tuple[float, dict[str, float]]:
+    counts = dict.fromkeys(topics, 0)
+    async with await connect(port, READY_TIMEOUT_S) as socket_:
+        stream = messages(socket_, topics, {})
+        deadline = time.monotonic() + READY_TIMEOUT_S
+        while not all(counts.values()):  # every stream flows before the measurement starts
+            topic, _ = await asyncio.wait_for(anext(stream), deadline - time.monotonic())
+            counts[topic] += 1
+        counts = dict.fromkeys(topics, 0)
+        before, start = cpu_seconds(pid), time.monotonic()
+        while (left := start + seconds - time.monotonic()) > 0:
+            try:
+                topic, _ = await asyncio.wait_for(anext(stream), left)
+            except TimeoutError:
+                break
+            counts[topic] += 1
+        elapsed = time.monotonic() - start
+        cpu = 100.0 * (cpu_seconds(pid) - before) / elapsed
+    return cpu, {topic: count / elapsed for topic, count in counts.items()}
+
+
+def bridge_cpu_percent(out: Path, port: int, topics: list[str], seconds: float) -> tuple[float, dict[str, float]]:
+    """(the bridge's CPU % over `seconds` with one client, messages/s that client got per topic)."""
+    bridge = subprocess.Popen(
+        [sys.executable, str(out / "nodes" / f"{BRIDGE_PROCESS}.py")],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        return asyncio.run(_measure(bridge.pid, port, topics, seconds))
+    except (OSError, TimeoutError) as exc:
+        bridge.kill()
+        raise SystemExit(f"the Foxglove bridge did not serve: {exc}; {bridge.communicate()[1][-2000:]}") from None
+    finally:
+        if bridge.poll() is None:
+            bridge.send_signal(signal.SIGINT)
+            try:
+                bridge.wait(STOP_TIMEOUT_S)
+            except subprocess.TimeoutExpired:
+                bridge.kill()
+                bridge.wait()
