@@ -28,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 
 from google.protobuf import text_format  # noqa: E402
 
+from joshua_codegen.emitters.supervisor import INTERPRETER_FLAGS  # noqa: E402
 from joshua_codegen.plan import plan  # noqa: E402
 from joshua_codegen.render import render  # noqa: E402
 from joshua_codegen.write import write_tree  # noqa: E402
@@ -126,7 +127,7 @@ def measure(command: list[str], fifo: Path, count: int, cwd: Path) -> tuple[floa
 
 def managers(out: Path) -> dict[str, list[str]]:
     return {
-        "supervisor.py": [sys.executable, str(out / "supervisor.py")],
+        "supervisor.py": [sys.executable, *INTERPRETER_FLAGS, str(out / "supervisor.py")],  # as the launchers run it
         "dora": [str(BIN / "dora"), "run", str(out / "dataflow.yml")],
         "supervisord": [str(BIN / "supervisord"), "-c", str(out / "supervisord.conf")],
         "circus": [str(BIN / "circusd"), str(out / "circus.ini")],

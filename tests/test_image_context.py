@@ -43,7 +43,7 @@ def test_the_image_context_is_the_build_its_bundle_and_a_multi_stage_containerfi
     assert 'LABEL io.joshua.robot="so100_sim" io.joshua.stop-timeout="7"' in containerfile  # 3 s + 1 s + 3 s
     assert "\nSTOPSIGNAL SIGINT\n" in containerfile
     assert containerfile.endswith(
-        '\nENTRYPOINT ["/usr/bin/catatonit", "--", "/opt/joshua/venv/bin/python3", "/opt/joshua/so100_sim/supervisor.py"]\n'
+        '\nENTRYPOINT ["/usr/bin/catatonit", "--", "/opt/joshua/venv/bin/python3", "-S", "/opt/joshua/so100_sim/supervisor.py"]\n'
     )
     final = containerfile.split("\nFROM ${BASE}\n")[1]
     assert "for package in python3 catatonit libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1;" in final

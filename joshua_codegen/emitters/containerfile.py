@@ -12,7 +12,7 @@ import re
 from dataclasses import dataclass
 
 from joshua_codegen.bundle import DEFAULT_VENV, extras
-from joshua_codegen.emitters import process_launch
+from joshua_codegen.emitters import process_launch, supervisor
 from joshua_codegen.model import Robot
 from joshua_codegen.render import template
 
@@ -123,6 +123,7 @@ def containerfile(robot: Robot, prefix: str, binaries: list[str], page: bool) ->
         user_id=USER_ID,
         user_groups=",".join(USER_GROUPS),
         init=INIT,
+        supervisor_flags=supervisor.INTERPRETER_FLAGS,
         stop_signal=STOP_SIGNAL,
         stop_timeout=stop_timeout_s(robot),
         sigint_grace=f"{robot.sigint_grace_s:g}",

@@ -20,6 +20,9 @@ from joshua_core.models import REGISTRY_DEFAULT_ROOT, REGISTRY_ENTRY_FILE, REGIS
 from joshua_core.settings import FORMAT_VERSION
 
 SUPERVISOR_PATH = "supervisor.py"
+# How the generated launchers run supervisor.py: it needs only the standard library, so without `site` (the
+# environment's .pth files, the ROS wheels' bootstrapper among them) it starts about 30 ms sooner.
+INTERPRETER_FLAGS = ("-S",)
 PACKAGE_DIR = Path(package.__file__).parent
 PACKAGE_PREFIX = f"{package.__name__}."
 SUPERVISOR_CODE_DIGITS = 16

@@ -55,6 +55,7 @@ def listener_command(robot: Robot) -> str:
     """supervisor.py in its supervisord event listener mode (stops supervisord when a critical node fails)."""
     words = [
         *process_launch.program(robot.python_executable, HERE, []),
+        *supervisor.INTERPRETER_FLAGS,
         f"{HERE}/{supervisor.SUPERVISOR_PATH}",
         "--supervisord-listener",
     ]

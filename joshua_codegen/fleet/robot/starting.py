@@ -60,7 +60,7 @@ def start(args, layout: dict) -> None:
         install_units(args, layout)
         run(["systemctl", "start", f"joshua-{args.robot}.target"], f"systemctl start joshua-{args.robot}.target")
         return
-    command = [args.python, os.path.join(layout["current"], "supervisor.py")]
+    command = [args.python, "-S", os.path.join(layout["current"], "supervisor.py")]  # standard library only
     command += ["--control-socket", os.path.join(layout["run"], f"{args.control or args.robot}.sock")]
     command += ["--log-dir", layout["logs"]]
     with open(os.path.join(layout["logs"], "supervisor.log"), "ab") as log:
