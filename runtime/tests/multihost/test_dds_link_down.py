@@ -49,7 +49,10 @@ def test_reliable_volatile_resumes_and_delivers_only_what_the_history_still_hold
     delivered = in_outage & set(seqs)
     assert len(delivered) <= DEPTH  # the rest was replaced in the writer's history before the link came back
     assert len(in_outage) - len(delivered) >= len(in_outage) - DEPTH > 0
-    assert set(range(max(in_outage) + 1, seqs[-1] + 1)) <= set(seqs)  # nothing lost after the outage
+    # Nothing lost once the writer is in touch again: what it sent after the link came up but before its next
+    # exchange with the reader is in the outage's position (on a busy machine more than DEPTH of them).
+    resumed = min(seq for seq in seqs if seq > max(in_outage))
+    assert set(range(resumed, seqs[-1] + 1)) <= set(seqs)
 
 
 def test_reliable_with_a_history_longer_than_the_outage_loses_nothing(hosts, project_env):
