@@ -6,7 +6,6 @@ reads every message, as the Foxglove app does.
 """
 
 import asyncio
-import signal
 import subprocess
 import sys
 import time
@@ -14,10 +13,10 @@ from pathlib import Path
 
 from support.process_usage import cpu_seconds
 from testsupport.foxglove_client import connect, messages
+from testsupport.node_process import stop_process
 
 BRIDGE_PROCESS = "foxglove_bridge"
 READY_TIMEOUT_S = 60.0
-STOP_TIMEOUT_S = 10.0
 
 
 def foxglove_block(port: int) -> str:
@@ -57,13 +56,7 @@ def bridge_cpu_percent(out: Path, port: int, topics: list[str], seconds: float) 
     try:
         return asyncio.run(_measure(bridge.pid, port, topics, seconds))
     except (OSError, TimeoutError) as exc:
-        bridge.kill()
-        raise SystemExit(f"the Foxglove bridge did not serve: {exc}; {bridge.communicate()[1][-2000:]}") from None
+        _, _, stderr = stop_process(bridge)
+        raise SystemExit(f"the Foxglove bridge did not serve: {exc}; {stderr[-2000:]}") from None
     finally:
-        if bridge.poll() is None:
-            bridge.send_signal(signal.SIGINT)
-            try:
-                bridge.wait(STOP_TIMEOUT_S)
-            except subprocess.TimeoutExpired:
-                bridge.kill()
-                bridge.wait()
+        stop_process(bridge)
