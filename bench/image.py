@@ -85,13 +85,12 @@ def main() -> int:
     parser.add_argument("--config", default="config/robots/mock_arm.pbtxt")
     args = parser.parse_args()
 
-    with tempfile.TemporaryDirectory(prefix="bench-image-") as work:
+    with tempfile.TemporaryDirectory(prefix="bench-image-") as work, Podman(Path(work) / "podman") as podman:
         work = Path(work)
         if not args.quick:
             started = time.monotonic()
             container_base.build_tarball(work / "rootfs.tar")
             print(f"base, cold: debootstrap {time.monotonic() - started:.1f} s")
-        podman = Podman(work / "podman")
         started = time.monotonic()
         base = container_base.import_base(podman)
         print(f"base, cached: import {time.monotonic() - started:.1f} s into an empty storage")

@@ -1,8 +1,11 @@
 """Podman confined to one directory, for tests and benchmarks: its storage, its configuration, no host network.
 
-Every container's storage (`graphroot`, `runroot`, build caches through TMPDIR) lives under the
-directory given, through the configuration files podman reads from CONTAINERS_CONF and
-CONTAINERS_STORAGE_CONF, so that `make image` run with `Podman.environment()` lands there too. The
+Every container's storage (`graphroot`, build caches through TMPDIR) lives under the directory
+given, through the configuration files podman reads from CONTAINERS_CONF and CONTAINERS_STORAGE_CONF,
+so that `make image` run with `Podman.environment()` lands there too. Its run state (`runroot`) lives
+in a short directory of its own under /run, removed by close(): podman hands the runroot to the
+cleanup command a container's exit runs, which refuses one longer than 50 characters (a test's
+directory is longer), and then every `podman run` waits 20 s for an exit that is never recorded. The
 configuration fits a machine with hybrid cgroups v1/v2 and no service manager: runc (crun refuses
 such hosts), the cgroupfs manager, events in a file, and open-file and process limits no higher than
 this process has (podman's own defaults may exceed them, and runc cannot raise a hard limit).
@@ -14,12 +17,14 @@ import os
 import resource
 import shutil
 import subprocess
+import tempfile
 import uuid
 from pathlib import Path
 
 PODMAN_TIMEOUT_S = 120.0  # one podman command other than a build
 BUILD_TIMEOUT_S = 1200.0  # an image build: pip installs the ROS 2 wheels from PyPI, g++ compiles the C++ nodes
 PID_MAX = Path("/proc/sys/kernel/pid_max")
+RUN_STATE_PARENT = "/run"  # a runroot here is short enough for podman's 50-character limit
 
 
 def engine_missing() -> str | None:
@@ -40,10 +45,11 @@ def _limits() -> list[str]:
 
 
 class Podman:
-    """podman with its storage and configuration under `directory`."""
+    """podman with its storage and configuration under `directory`; close() removes its run state."""
 
     def __init__(self, directory: Path):
         self.directory = directory
+        self.runroot = Path(tempfile.mkdtemp(prefix="joshua-podman-", dir=RUN_STATE_PARENT))
         self.tmp = directory / "tmp"
         self.tmp.mkdir(parents=True, exist_ok=True)
         limits = ", ".join(f'"{limit}"' for limit in _limits())
@@ -54,8 +60,18 @@ class Podman:
         )
         self.storage_conf = directory / "storage.conf"
         self.storage_conf.write_text(
-            f'[storage]\ndriver = "overlay"\ngraphroot = "{directory / "root"}"\nrunroot = "{directory / "runroot"}"\n'
+            f'[storage]\ndriver = "overlay"\ngraphroot = "{directory / "root"}"\nrunroot = "{self.runroot}"\n'
         )
+
+    def __enter__(self) -> "Podman":
+        return self
+
+    def __exit__(self, *_exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Remove the run state (the storage stays in `directory`, with the caller's other files)."""
+        shutil.rmtree(self.runroot, ignore_errors=True)
 
     def environment(self, base: dict | None = None) -> dict:
         """An environment in which `podman` (and `make image`) use this storage and configuration."""

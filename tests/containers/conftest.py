@@ -30,10 +30,11 @@ FLEET_LINK = "dashboard.zenoh_connect=tcp/127.0.0.1:7447"  # where compose.yaml'
 
 
 @pytest.fixture(scope="session")
-def podman(tmp_path_factory) -> Podman:
+def podman(tmp_path_factory):
     missing = engine_missing()
     assert missing is None, missing
-    return Podman(tmp_path_factory.mktemp("podman"))
+    with Podman(tmp_path_factory.mktemp("podman")) as podman:
+        yield podman
 
 
 @pytest.fixture(scope="session")
