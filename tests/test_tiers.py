@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from testsupport.tiers import DIRECTORY_TIERS, TIERS, UNTIERED, tiers_of
+from testsupport.tiers import DIRECTORY_TIERS, TIERS, UNTIERED, shared_group, tiers_of
 
 ROOT = Path("/checkout")
 
@@ -54,3 +54,19 @@ def item(path: str, fixtures=(), marks=()):
 )
 def test_tiers_come_from_marks_directory_and_fixtures(path, fixtures, marks, expected):
     assert tiers_of(item(path, fixtures, marks), ROOT) == expected
+
+
+def grouped(fixture_scopes: dict[str, str], nodeid="tests/test_x.py::test_y"):
+    """The xdist group of a test using fixtures of these scopes (name -> scope)."""
+    definitions = {name: [SimpleNamespace(scope=scope)] for name, scope in fixture_scopes.items()}
+    test = SimpleNamespace(
+        nodeid=nodeid, fixturenames=list(fixture_scopes), _fixtureinfo=SimpleNamespace(name2fixturedefs=definitions)
+    )
+    return shared_group(test)
+
+
+def test_tests_of_a_module_fixture_share_a_worker_and_shared_fixtures_their_group():
+    assert grouped({"tmp_path": "function", "ros_env": "session"}) is None
+    assert grouped({"trained": "module", "tmp_path": "function"}) == "tests/test_x.py"
+    assert grouped({"recording": "class"}) == "tests/test_x.py"
+    assert grouped({"podman": "session", "trained": "module"}) == "podman"  # a shared fixture names the group

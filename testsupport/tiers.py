@@ -62,6 +62,10 @@ DIRECTORY_TIERS = {
 # worker (an xdist_group named after the fixture), so that `make test` makes each once.
 SHARED_FIXTURES = ("trained_reach", "bundle", "podman", "runtime_environments")  # podman: the container tests' images
 
+# A fixture of these scopes is made once per worker that runs a test of its module: such a module's tests
+# share a worker (an xdist_group named after the module).
+MODULE_SCOPES = ("class", "module", "package")
+
 UNTIERED = pytest.StashKey[list]()  # node ids of the collected tests that got no tier
 
 
@@ -78,6 +82,19 @@ def tiers_of(item: pytest.Item, root: Path) -> set[str]:
     return tiers
 
 
+def shared_group(item: pytest.Item) -> str | None:
+    """The xdist group of a test that uses a fixture made once for several tests (None: any worker)."""
+    names = getattr(item, "fixturenames", ())
+    shared = [name for name in SHARED_FIXTURES if name in names]
+    if shared:
+        return shared[0]
+    info = getattr(item, "_fixtureinfo", None)
+    definitions = info.name2fixturedefs.values() if info is not None else ()
+    if any(defs and defs[-1].scope in MODULE_SCOPES for defs in definitions):
+        return item.nodeid.split("::")[0]
+    return None
+
+
 @pytest.hookimpl(tryfirst=True)  # before `-m` deselects: every collected test is tiered and checked
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     untiered = []
@@ -88,7 +105,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         for tier in sorted(tiers):
             if not item.get_closest_marker(tier):
                 item.add_marker(tier)
-        shared = [name for name in SHARED_FIXTURES if name in getattr(item, "fixturenames", ())]
-        if shared and not item.get_closest_marker("xdist_group"):
-            item.add_marker(pytest.mark.xdist_group(shared[0]))
+        group = shared_group(item)
+        if group and not item.get_closest_marker("xdist_group"):
+            item.add_marker(pytest.mark.xdist_group(group))
     config.stash[UNTIERED] = untiered
