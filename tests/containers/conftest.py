@@ -77,25 +77,15 @@ def make_image(podman: Podman, ca_bundle: Path, base: str, context: Path, config
 
 @pytest.fixture(scope="session")
 def sim_image(podman, build_ca_bundle, base_image, tmp_path_factory) -> str:
+    """The simulated arm, its dashboard reporting to the fleet view compose.yaml runs beside it (a robot starts
+    whether or not a fleet view listens there). No C++ node: the image without the C++ build stage."""
     context = tmp_path_factory.mktemp("context") / "so100_sim"
-    return make_image(podman, build_ca_bundle, base_image, context, "config/robots/so100_sim.pbtxt")
-
-
-@pytest.fixture(scope="session")
-def sim_fleet_image(podman, build_ca_bundle, base_image, tmp_path_factory) -> str:
-    """The simulated arm whose dashboard reports to the fleet view compose.yaml runs beside it."""
-    context = tmp_path_factory.mktemp("context") / "so100_sim_fleet"
     return make_image(podman, build_ca_bundle, base_image, context, "config/robots/so100_sim.pbtxt", FLEET_LINK)
 
 
 @pytest.fixture(scope="session")
-def mock_arm_image(podman, build_ca_bundle, base_image, tmp_path_factory) -> str:
-    context = tmp_path_factory.mktemp("context") / "mock_arm"
-    return make_image(podman, build_ca_bundle, base_image, context, "config/robots/mock_arm.pbtxt")
-
-
-@pytest.fixture(scope="session")
 def servo_arm_image(podman, build_ca_bundle, base_image, tmp_path_factory) -> str:
+    """The mock arm with its follower on a real STS3215 bus, run by its C++ binary: the image with the C++ stage."""
     context = tmp_path_factory.mktemp("context") / "servo_arm"
     return make_image(podman, build_ca_bundle, base_image, context, "config/robots/mock_arm.pbtxt", *SERVO_FOLLOWER)
 

@@ -74,10 +74,8 @@ def fleet_robots(netns) -> list[str]:
     raise AssertionError(f"the fleet view listed no robot within {FLEET_TIMEOUT_S} s")
 
 
-def test_compose_runs_the_simulated_arm_and_the_fleet_view_with_the_checkouts_code_and_page(
-    podman, sim_fleet_image, netns
-):
-    compose(podman, netns, sim_fleet_image, "--profile", "fleet", "up", "--detach")
+def test_compose_runs_the_simulated_arm_and_the_fleet_view_with_the_checkouts_code_and_page(podman, sim_image, netns):
+    compose(podman, netns, sim_image, "--profile", "fleet", "up", "--detach")
     try:
         robot = service_container(podman, "robot")
         wait_for_log(podman, robot, "supervisor: ready: 3 of 3 nodes ready")
@@ -94,11 +92,11 @@ def test_compose_runs_the_simulated_arm_and_the_fleet_view_with_the_checkouts_co
         }
         assert fleet_robots(netns) == ["so100_sim"]
 
-        compose(podman, netns, sim_fleet_image, "--profile", "fleet", "stop")
+        compose(podman, netns, sim_image, "--profile", "fleet", "stop")
         output = logs(podman, robot)
         assert exit_code(podman, robot) == 0, output
         assert "dashboard: final state: stopped (exited with code 0)" in output
         fleet = service_container(podman, "fleet")
         assert exit_code(podman, fleet) == 0, logs(podman, fleet)
     finally:
-        compose(podman, netns, sim_fleet_image, "--profile", "fleet", "down")
+        compose(podman, netns, sim_image, "--profile", "fleet", "down")

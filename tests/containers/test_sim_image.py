@@ -1,5 +1,6 @@
-"""The simulated SO-100's image (`make image CONFIG=config/robots/so100_sim.pbtxt`) runs the robot and stops it
-with the cascade: a ROS peer beside it sees the simulation's joint states, `podman stop` ends it with exit 0."""
+"""The simulated SO-100's image (`make image CONFIG=config/robots/so100_sim.pbtxt`, its dashboard set to report to
+a fleet view that is not there) runs the robot and stops it with the cascade: a ROS peer beside it sees the
+simulation's joint states, `podman stop` ends it with exit 0."""
 
 import pytest
 from robot_container import exit_code, logs, median_tracking_errors, peer_samples, start, stop, wait_for_log
