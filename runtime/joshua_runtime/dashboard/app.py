@@ -142,21 +142,28 @@ class Dashboard:
         loop = asyncio.get_running_loop()
 
         async def stream():
+            # The stream ends once the server is asked to stop: it would hold the shutdown for its grace.
+            stopping = asyncio.ensure_future(self.stopping.wait())
             try:
                 yield b"retry: 1000\n\n"
                 yield _clock_event()
                 next_clock = loop.time() + CLOCK_PERIOD_S
                 while True:
-                    try:
-                        event = await asyncio.wait_for(mailbox.get(), max(0.0, next_clock - loop.time()))
-                    except asyncio.TimeoutError:
-                        event = None
+                    arrival = asyncio.ensure_future(mailbox.get())
+                    timeout = max(0.0, next_clock - loop.time())
+                    await asyncio.wait({arrival, stopping}, timeout=timeout, return_when=asyncio.FIRST_COMPLETED)
+                    if stopping.done():
+                        arrival.cancel()
+                        return
+                    event = arrival.result() if arrival.done() else None
+                    arrival.cancel()
                     if loop.time() >= next_clock:
                         yield _clock_event()
                         next_clock = loop.time() + CLOCK_PERIOD_S
                     if event is not None:
                         yield event.sse()
             finally:
+                stopping.cancel()
                 self.broadcaster.unsubscribe(mailbox)
 
         return StreamingResponse(

@@ -64,3 +64,30 @@ def test_the_event_stream_keeps_its_clock_with_nothing_else_to_send(tmp_path, mo
         return chunks
 
     assert len(asyncio.run(clock_events())) == CLOCKS
+
+
+def dashboard_of(control, tmp_path) -> Dashboard:
+    return Dashboard(
+        load_robot_view(MOCK_ARM),
+        control,
+        Broadcaster(),
+        telemetry=None,
+        web_dir=tmp_path / "no-page",
+        token="owner-token",
+        allowed=HostAllowList("127.0.0.1"),
+    )
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_the_event_stream_ends_as_soon_as_the_server_is_asked_to_stop(tmp_path, monkeypatch):
+    monkeypatch.setattr(app, "CLOCK_PERIOD_S", TEST_TIMEOUT_S)  # nothing else would end the wait
+    dashboard = dashboard_of(control_client.ControlClient(tmp_path / "no.sock"), tmp_path)
+
+    async def read_until_stopped() -> list[bytes]:
+        response = await dashboard.events(None)
+        chunks = [await anext(response.body_iterator) for _ in range(2)]  # the retry, the first clock
+        asyncio.get_running_loop().call_later(SHORT_TIMEOUT_S, dashboard.note_stopping)
+        return chunks + [chunk async for chunk in response.body_iterator]
+
+    chunks = asyncio.run(asyncio.wait_for(read_until_stopped(), 10 * SHORT_TIMEOUT_S))
+    assert chunks[1].startswith(b"event: clock") and len(chunks) == 2
