@@ -38,6 +38,11 @@ from joshua_runtime.dashboard.control_client import NODE_ACTIONS, ControlError
 from joshua_runtime.dashboard.security import ApiGuard, HostAllowList, HostGuard
 
 STATUS_POLL_S = 1.0
+# At the start, and after an action asked through this dashboard, the supervisor is asked this often until
+# every node has settled (running and ready, or stopped), for at most QUICK_POLL_WINDOW_S: the page shows
+# a restart, a stop and a node's readiness as they happen, not up to STATUS_POLL_S later.
+QUICK_POLL_S = 0.1
+QUICK_POLL_WINDOW_S = 10.0
 # The stream sends the server's clock this often (the page measures the age of what it shows against it);
 # it also keeps an idle stream open.
 CLOCK_PERIOD_S = 1.0
@@ -77,6 +82,8 @@ class Dashboard:
         self.last_status: dict = {"error": "no status yet"}
         self.pending: dict[str, str] = {}  # node -> the action asked through this dashboard and not answered yet
         self.stopping = asyncio.Event()  # set once this server was asked to stop (note_stopping)
+        self.poll_now = asyncio.Event()  # the status poller asks the supervisor at once (poll_quickly)
+        self.quick_until = 0.0  # the poller polls every QUICK_POLL_S until then (event loop's time)
         routes = [
             Route("/", self.page),
             Route("/api/robot", self.robot),
@@ -113,14 +120,27 @@ class Dashboard:
         supervisor get their answer now rather than be cut by the shutdown."""
         self.stopping.set()
 
+    def poll_quickly(self) -> None:
+        """Ask the supervisor for its status now, then every QUICK_POLL_S until every node has settled (called
+        from the event loop's thread)."""
+        self.quick_until = asyncio.get_running_loop().time() + QUICK_POLL_WINDOW_S
+        self.poll_now.set()
+
     async def _poll_status(self) -> None:
+        loop = asyncio.get_running_loop()
+        self.quick_until = loop.time() + QUICK_POLL_WINDOW_S  # the nodes start with this server, or restart
         while True:
+            self.poll_now.clear()
             try:
                 self.last_status = await self.control.status()
             except ControlError as exc:
                 self.last_status = {"error": str(exc), "kind": exc.kind}
             self.broadcaster.publish(STATUS_EVENT, STATUS_EVENT, self.last_status)
-            await asyncio.sleep(STATUS_POLL_S)
+            quick = loop.time() < self.quick_until and not _settled(self.last_status)
+            try:
+                await asyncio.wait_for(self.poll_now.wait(), QUICK_POLL_S if quick else STATUS_POLL_S)
+            except asyncio.TimeoutError:
+                pass
 
     async def page(self, _request):
         index = self.web_dir / "index.html"
@@ -142,21 +162,28 @@ class Dashboard:
         loop = asyncio.get_running_loop()
 
         async def stream():
+            # The stream ends once the server is asked to stop: it would hold the shutdown for its grace.
+            stopping = asyncio.ensure_future(self.stopping.wait())
             try:
                 yield b"retry: 1000\n\n"
                 yield _clock_event()
                 next_clock = loop.time() + CLOCK_PERIOD_S
                 while True:
-                    try:
-                        event = await asyncio.wait_for(mailbox.get(), max(0.0, next_clock - loop.time()))
-                    except asyncio.TimeoutError:
-                        event = None
+                    arrival = asyncio.ensure_future(mailbox.get())
+                    timeout = max(0.0, next_clock - loop.time())
+                    await asyncio.wait({arrival, stopping}, timeout=timeout, return_when=asyncio.FIRST_COMPLETED)
+                    if stopping.done():
+                        arrival.cancel()
+                        return
+                    event = arrival.result() if arrival.done() else None
+                    arrival.cancel()
                     if loop.time() >= next_clock:
                         yield _clock_event()
                         next_clock = loop.time() + CLOCK_PERIOD_S
                     if event is not None:
                         yield event.sse()
             finally:
+                stopping.cancel()
                 self.broadcaster.unsubscribe(mailbox)
 
         return StreamingResponse(
@@ -190,6 +217,7 @@ class Dashboard:
         finally:
             if first:
                 self._note_pending(node, None)
+            self.poll_quickly()
         if reply is not None:
             return JSONResponse(reply)
         if node == self.view.dashboard_process:  # stopping as asked: the supervisor carries on without us
@@ -249,6 +277,14 @@ def _control_error(exc: ControlError, unavailable: bool = False) -> JSONResponse
     if unavailable and status != 502:
         status = 503
     return JSONResponse({"error": str(exc), "kind": exc.kind}, status_code=status)
+
+
+def _settled(status: dict) -> bool:
+    """Every node of a supervisor's status is running and ready, or stopped (False without a status)."""
+    nodes = status.get("nodes")
+    return nodes is not None and all(
+        node["state"] == "stopped" or (node["state"] == "running" and node["ready"]) for node in nodes
+    )
 
 
 def _clock_event() -> bytes:

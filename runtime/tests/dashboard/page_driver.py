@@ -164,6 +164,8 @@ class RobotPage:
     def stop(self, process: str) -> None:
         self.wait_for_live_data(process)
         self.click("stop", process, confirm=self.critical[process] or process == self.dashboard)
+        if process != self.dashboard:
+            self.open_log(process)  # while it stops and its streams go stale (its refreshes take seconds)
         self.wait(lambda: self.node(process)["state"] == "stopped", f"stop_of_{process}")
         if process == self.dashboard:
             self.wait(lambda: not self.live(), "page_notices_its_dashboard_stopped")
@@ -192,10 +194,11 @@ class RobotPage:
         self.check(f"started_{process}")
 
     def exercise(self, process: str) -> None:
-        """Its log, a restart, a stop and a start, the page checked after each."""
+        """Its log, a restart, a stop and a start, the page checked after each. A node's log is read while
+        it stops; the dashboard's before its restart (its stop takes the log away with the page's server)."""
         if process == self.dashboard:
             self.errors.expect(CONNECTION_LOST)
-        self.open_log(process)
+            self.open_log(process)
         self.restart(process)
         self.stop(process)
         self.start(process)

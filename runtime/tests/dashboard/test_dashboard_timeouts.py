@@ -64,3 +64,66 @@ def test_the_event_stream_keeps_its_clock_with_nothing_else_to_send(tmp_path, mo
         return chunks
 
     assert len(asyncio.run(clock_events())) == CLOCKS
+
+
+def dashboard_of(control, tmp_path) -> Dashboard:
+    return Dashboard(
+        load_robot_view(MOCK_ARM),
+        control,
+        Broadcaster(),
+        telemetry=None,
+        web_dir=tmp_path / "no-page",
+        token="owner-token",
+        allowed=HostAllowList("127.0.0.1"),
+    )
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_the_event_stream_ends_as_soon_as_the_server_is_asked_to_stop(tmp_path, monkeypatch):
+    monkeypatch.setattr(app, "CLOCK_PERIOD_S", TEST_TIMEOUT_S)  # nothing else would end the wait
+    dashboard = dashboard_of(control_client.ControlClient(tmp_path / "no.sock"), tmp_path)
+
+    async def read_until_stopped() -> list[bytes]:
+        response = await dashboard.events(None)
+        chunks = [await anext(response.body_iterator) for _ in range(2)]  # the retry, the first clock
+        asyncio.get_running_loop().call_later(SHORT_TIMEOUT_S, dashboard.note_stopping)
+        return chunks + [chunk async for chunk in response.body_iterator]
+
+    chunks = asyncio.run(asyncio.wait_for(read_until_stopped(), 10 * SHORT_TIMEOUT_S))
+    assert chunks[1].startswith(b"event: clock") and len(chunks) == 2
+
+
+class SettlingSupervisor:
+    """A supervisor whose one node is ready from its `ready_from`th status on; counts the status requests."""
+
+    def __init__(self, ready_from: int):
+        self.ready_from = ready_from
+        self.requests = 0
+
+    async def status(self) -> dict:
+        self.requests += 1
+        ready = self.requests >= self.ready_from
+        return {"nodes": [{"name": "lidar", "state": "running", "pid": 7, "restarts": 0, "ready": ready}]}
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_the_status_is_polled_quickly_until_every_node_is_ready_and_at_once_after_an_action(tmp_path, monkeypatch):
+    monkeypatch.setattr(app, "STATUS_POLL_S", TEST_TIMEOUT_S)  # a slow poll would not come during the test
+    supervisor = SettlingSupervisor(ready_from=3)
+    dashboard = dashboard_of(supervisor, tmp_path)
+
+    async def requests_over_time() -> list[int]:
+        poller = asyncio.create_task(dashboard._poll_status())
+        counts = []
+        for _ in range(2):
+            await asyncio.sleep(10 * app.QUICK_POLL_S)
+            counts.append(supervisor.requests)
+        dashboard.poll_quickly()
+        await asyncio.sleep(app.QUICK_POLL_S)
+        counts.append(supervisor.requests)
+        poller.cancel()
+        return counts
+
+    # Three requests until the node is ready (the third says so), none more while it stays so; one more at once
+    # after an action.
+    assert asyncio.run(requests_over_time()) == [3, 3, 4]
