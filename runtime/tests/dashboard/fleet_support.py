@@ -149,9 +149,27 @@ def zenoh_peer(endpoint: str, user: str | None = None, password: str | None = No
     session = zenoh.open(config)
     try:
         time.sleep(PEER_SETTLE_S)
-        yield session
+        yield BlockingPuts(session)
     finally:
         session.close()
+
+
+class BlockingPuts:
+    """A Zenoh session whose puts wait for room in the link's queue: Zenoh drops a put whose queue is full by
+    default (on a busy machine, after a few large junk statuses, the good one after them was dropped), and a
+    test's puts must all arrive, in order."""
+
+    def __init__(self, session):
+        self.session = session
+
+    def put(self, key: str, payload, **options) -> None:
+        import zenoh
+
+        options.setdefault("congestion_control", zenoh.CongestionControl.BLOCK)
+        self.session.put(key, payload, **options)
+
+    def __getattr__(self, name: str):
+        return getattr(self.session, name)
 
 
 def linked_to_fleet(session) -> bool:
