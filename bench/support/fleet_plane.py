@@ -209,6 +209,11 @@ def measure(robots: int, window_s: float, withdrawn: int = WITHDRAWALS, page_cha
             server.wait(10)
 
 
+def shown_now(page) -> list:
+    """The probe's changes the page has shown so far: [changed at (ms), shown at (ms)]."""
+    return page.evaluate("window.__shown")
+
+
 def cpu_window(pid: int, seconds: float) -> float:
     before, started = cpu_seconds(pid), time.monotonic()
     time.sleep(seconds)
@@ -241,7 +246,7 @@ def loaded(
             page.goto(page_url)
             cpu_before, started, put_before = cpu_seconds(pid), time.monotonic(), counter.value
             api_latencies, seen = [], set()
-            while time.monotonic() - started < window_s or len(page.evaluate("window.__shown")) < page_changes:
+            while time.monotonic() - started < window_s or (page_changes and len(shown_now(page)) < page_changes):
                 if time.monotonic() - started > window_s + LINK_TIMEOUT_S:
                     raise RuntimeError(f"the fleet page showed fewer than {page_changes} changes of {PROBE}")
                 for robot in robots_now(api):
@@ -254,7 +259,7 @@ def loaded(
             cpu = 100.0 * (cpu_seconds(pid) - cpu_before) / elapsed
             statuses_per_s = (counter.value - put_before) / elapsed
             rss = rss_mib(pid)
-            shown = page.evaluate("window.__shown")
+            shown = shown_now(page)
             chromium.close()
         withdrawn = withdraw()  # while the robots still publish
         page_latencies = [shown_at - int(put_at) for put_at, shown_at in shown[1:]]  # the first load aside
