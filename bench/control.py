@@ -11,6 +11,8 @@ MEASUREMENTS (adding one is adding its module's name):
   same bytes in 80-byte lines and against `cat`.
 - fleet_junk: fleet server memory while a Zenoh peer sends 20000 junk keys in 4 rounds, each forgotten
   before the next, against the idle server.
+--quick: each measurement's own short run (phases of 0.5 s; a flood of 8 MiB; 2 rounds of 400 junk keys,
+forgotten after 1.5 s), for the tests.
 """
 
 import argparse

@@ -14,7 +14,7 @@ nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-
 one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire. Last, the delay from SIGINT
 to exit as a distribution: an idle follower per backend, started afresh --stop-trials times, SIGINT at
 a random moment after its READY=1. The binaries are brought up to date with `make cpp` first (a no-op
-when they are). --quick: 0.5 s of steady running, 200 Hz only, 20 samples, a 1 s rate window, 2 stops.
+when they are). --quick: 0.25 s of steady running, 200 Hz only, 20 samples, a 1 s rate window, 2 stops.
 """
 
 import argparse
@@ -70,7 +70,7 @@ robot_config {
 BACKENDS = ("Python", "C++")
 STARTUP_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 5.0
-STEADY_S, QUICK_STEADY_S = 5.0, 0.5
+STEADY_S, QUICK_STEADY_S = 5.0, 0.25  # a quick window still spans 25 ticks of a 100 Hz node
 TORQUE_ENABLE_ADDRESS = register("Torque_Enable").address
 TOPICS = {"leader": "/leader/joint_states", "lidar": "/scan"}  # what each node publishes
 DEVICE_READY = ("leader", "follower")  # nodes whose first use of their bus the emulator sees

@@ -7,7 +7,8 @@ clock; the dashboard server (python -m joshua_runtime.dashboard, on a joshuac bu
 naming those topics) streams them. Latency: headless Chromium (Debian's, under Playwright) notes the
 wall clock when the page's DOM shows a message's stamp. CPU: the server's utime+stime from /proc with
 0, 1 and 10 SSE clients. Stalled: a client that sends its request and never reads; the server's RSS
-is sampled while frames keep coming.
+is sampled while frames keep coming. --quick: 1 s per measurement, no warm-up beyond the first
+message each client gets (for the tests).
 """
 
 import argparse
@@ -54,9 +55,11 @@ CHROMIUM_FLAGS = [
     "--disable-sync",
     "--no-first-run",
 ]
-WARMUP_S = 3.0
-RUN_S, QUICK_RUN_S = 20.0, 2.0  # seconds per measurement; --quick only shows that every step works
+WARMUP_S, QUICK_WARMUP_S = 3.0, 0.0
+LEAVE_S, QUICK_LEAVE_S = 1.0, 0.0  # after a group of SSE clients stops, before the next connects
+RUN_S, QUICK_RUN_S = 20.0, 1.0  # seconds per measurement; --quick only shows that every step works
 SERVER_START_TIMEOUT_S = 60.0
+POLL_S = 0.02
 DOM_PROBE = """
 window.__latency = {joints: [], image: []};
 new MutationObserver((mutations) => {
@@ -176,7 +179,7 @@ class SseReader(threading.Thread):
         connection.close()
 
 
-def measure_browser(port: int, token: str, seconds: float) -> dict:
+def measure_browser(port: int, token: str, seconds: float, warm_up_s: float) -> dict:
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
@@ -185,7 +188,7 @@ def measure_browser(port: int, token: str, seconds: float) -> dict:
         page.add_init_script(DOM_PROBE)
         page.goto(f"http://127.0.0.1:{port}/#token={token}")
         page.wait_for_selector("[data-testid^='camera-']", timeout=30_000)
-        time.sleep(WARMUP_S)
+        time.sleep(warm_up_s)
         page.evaluate("window.__latency = {joints: [], image: []}")
         cpu = server_cpu_percent_of_run(page, seconds)
         latency = page.evaluate("window.__latency")
@@ -218,9 +221,10 @@ def stalled_client(port: int, token: str, pid: int, seconds: float) -> list[floa
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="short runs (about 20 s in all)")
+    parser.add_argument("--quick", action="store_true", help="short runs, no warm-up (for the tests)")
     args = parser.parse_args()
     run_s = QUICK_RUN_S if args.quick else RUN_S
+    warm_up_s, leave_s = (QUICK_WARMUP_S, QUICK_LEAVE_S) if args.quick else (WARMUP_S, LEAVE_S)
     with tempfile.TemporaryDirectory(prefix="bench-dashboard-") as directory:
         source = Path(directory) / "bench_dashboard.pbtxt"
         bridge_port = free_port()
@@ -259,9 +263,15 @@ def main() -> int:
                     if time.monotonic() > deadline or server.poll() is not None:
                         raise SystemExit("the dashboard server did not start") from None
                     time.sleep(0.2)
-            time.sleep(WARMUP_S)
+            time.sleep(warm_up_s)
             token = token_path(Path(directory) / "none.sock").read_text().strip()
-            report(port, token, server.pid, run_s, lambda: bridge_cpu_percent(out, bridge_port, TOPICS, run_s))
+            report(
+                port,
+                token,
+                server.pid,
+                (run_s, warm_up_s, leave_s),
+                lambda: bridge_cpu_percent(out, bridge_port, TOPICS, run_s),
+            )
         finally:
             publisher.close()
             server.terminate()
@@ -269,7 +279,9 @@ def main() -> int:
     return 0
 
 
-def report(port: int, token: str, pid: int, run_s: float, bridge) -> None:
+def report(port: int, token: str, pid: int, seconds: tuple[float, float, float], bridge) -> None:
+    """The figures, each measured for `run_s` after `warm_up_s`, `leave_s` between groups of SSE clients."""
+    run_s, warm_up_s, leave_s = seconds
     idle = server_cpu_percent(pid, run_s)
     print(
         f"publishing {JOINT_HZ:g} Hz JointState (6 joints) and {IMAGE_FPS:g} fps {WIDTH}x{HEIGHT} rgb8 Image; "
@@ -277,7 +289,7 @@ def report(port: int, token: str, pid: int, run_s: float, bridge) -> None:
     )
     print(f"server CPU with no client: {idle:.1f} %")
 
-    browser = measure_browser(port, token, run_s)
+    browser = measure_browser(port, token, run_s, warm_up_s)
     for kind in ("joints", "image"):
         values = browser["latency"][kind]
         print(
@@ -299,7 +311,10 @@ def report(port: int, token: str, pid: int, run_s: float, bridge) -> None:
         readers = [SseReader(port, token) for _ in range(count)]
         for reader in readers:
             reader.start()
-        time.sleep(WARMUP_S)
+        deadline = time.monotonic() + SERVER_START_TIMEOUT_S
+        while not all(reader.events for reader in readers) and time.monotonic() < deadline:
+            time.sleep(POLL_S)
+        time.sleep(warm_up_s)
         for reader in readers:
             reader.events, reader.joint_latency_ms = 0, []
         cpu = server_cpu_percent(pid, run_s)
@@ -312,7 +327,7 @@ def report(port: int, token: str, pid: int, run_s: float, bridge) -> None:
             f"events/s per client min {min(rates):.1f} max {max(rates):.1f}, "
             f"joints latency p50 {percentile(latency, 50):.1f} ms p99 {percentile(latency, 99):.1f} ms"
         )
-        time.sleep(1.0)
+        time.sleep(leave_s)
 
     samples = stalled_client(port, token, pid, run_s * 2)
     print(

@@ -9,8 +9,8 @@ rollout's time, and each robot's, from the start of its batch to its outcome (th
 beside the floor of the same machine: one `ansible-playbook` run of a playbook doing nothing but reach the
 same robots (`ping`).
 
-Fleet plane: bench/support/fleet_plane.py (50 robots; 10 with --quick), and how soon a robot whose dashboard
-stops is listed offline.
+Fleet plane: bench/support/fleet_plane.py (50 robots; with --quick 2, windows of 1 s, the loaded one until
+the page showed one change, and 2 withdrawals), and how soon a robot whose dashboard stops is listed offline.
 """
 
 import argparse
@@ -31,8 +31,8 @@ from testsupport.joshuac_cli import joshuac  # noqa: E402
 from testsupport.ssh_robots import VENV_BIN, ssh_robots  # noqa: E402
 
 ROBOTS, QUICK_ROBOTS = 3, 2
-PLANE_ROBOTS, QUICK_PLANE_ROBOTS = 50, 10
-WINDOW_S, QUICK_WINDOW_S = 20.0, 5.0
+PLANE_ROBOTS, QUICK_PLANE_ROBOTS = 50, 2
+WINDOW_S, QUICK_WINDOW_S = 20.0, 1.0
 MOCK = """robot_config {
   name: "mock"
   mode: MODE_TELEOPERATION
@@ -102,7 +102,7 @@ def rollout(robots: int, releases: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer robots and a shorter window")
+    parser.add_argument("--quick", action="store_true", help="fewer robots, shorter windows, one release")
     args = parser.parse_args()
     if os.geteuid() != 0:
         print("bench/fleet.py: the rollout needs root (network namespaces); run it as root", file=sys.stderr)
@@ -112,6 +112,7 @@ def main() -> None:
         QUICK_PLANE_ROBOTS if args.quick else PLANE_ROBOTS,
         QUICK_WINDOW_S if args.quick else WINDOW_S,
         fleet_plane.QUICK_WITHDRAWALS if args.quick else fleet_plane.WITHDRAWALS,
+        fleet_plane.QUICK_PAGE_CHANGES if args.quick else 0,
     )
     print(plane.summary(), flush=True)
 

@@ -16,7 +16,7 @@ Each case is run --runs times; the figures are medians (and the worst run) in se
   watch               link down -> the Discovery Server watch says "unreachable"
 
 Ratios compare each time with first discovery by multicast, measured in the same run.
---quick: one run of each case, for the tests.
+--quick: one run of each case, the link down 1 s and 3 s > a lease of 1.5 s, a server lease of 1 s (for the tests).
 """
 
 import argparse
@@ -34,10 +34,11 @@ from testsupport.hosts import virtual_hosts
 from testsupport.probe_output import ProbeOutput
 
 RATE_HZ = 20.0
-OUTAGE_S = 5.0
+OUTAGE_S, QUICK_OUTAGE_S = 5.0, 1.0  # at RATE_HZ both outages outlast the RELIABLE history of DEPTH
 DEPTH = 10
 SHORT_LEASE = Timing(lease_ms=3000, announcement_ms=1000)
-SERVER_TIMING = ServerTiming()
+QUICK_SHORT_LEASE = Timing(lease_ms=1500, announcement_ms=500)
+SERVER_TIMING, QUICK_SERVER_TIMING = ServerTiming(), ServerTiming(lease_ms=1000, announcement_ms=250)
 WAIT_S = 60.0  # anything that should happen and has not by then ends the bench
 BASE_DOMAIN = 150
 
@@ -68,12 +69,12 @@ def first_discovery(env: dict, tmp: Path, server: bool) -> float:
         return first_message_after(listener, both_up)
 
 
-def server_restarted(env: dict, tmp: Path) -> tuple[float, float]:
+def server_restarted(env: dict, tmp: Path, timing: ServerTiming = SERVER_TIMING) -> tuple[float, float]:
     """(new listener <- old talker, old listener <- new talker), seconds after the server runs again."""
     with virtual_hosts("robot", "gpu") as hosts:
         hosts.block_multicast()
         server_xml = tmp / "server.xml"
-        server_xml.write_text(server_profile(SERVER_TIMING))
+        server_xml.write_text(server_profile(timing))
         server = start_server(hosts["robot"], env, profile=server_xml)
         clients = client_env(env, write_profile(tmp / "client.xml", server=(hosts["robot"].address, 11811)))
         probe(hosts["robot"], clients, "talk", "--rate", str(RATE_HZ))
@@ -84,7 +85,7 @@ def server_restarted(env: dict, tmp: Path) -> tuple[float, float]:
         new_listener = probe(hosts["gpu"], clients, "listen", "--name", "new_listener")
         new_talker = probe(hosts["robot"], clients, "talk", "--name", "new_talker", "--first-seq", "1000000")
         ready(new_listener, new_talker)
-        time.sleep(2 * SERVER_TIMING.lease_ms / 1000)
+        time.sleep(2 * timing.lease_ms / 1000)
         start_server(hosts["robot"], env, profile=server_xml)
         running = time.monotonic()
         return first_message_after(new_listener, running), first_message_after(old_listener, running, 1_000_000)
@@ -138,11 +139,13 @@ def summary(values: list[float]) -> str:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5, help="runs of each case")
-    parser.add_argument("--quick", action="store_true", help="one run of each case (for the tests)")
+    parser.add_argument("--quick", action="store_true", help="one run of each case, shorter outages (for the tests)")
     args = parser.parse_args()
     if os.geteuid() != 0:
         raise SystemExit("multihost_dds needs root: it makes network namespaces")
     runs = 1 if args.quick else max(1, args.runs)
+    outage_s, short_lease = (QUICK_OUTAGE_S, QUICK_SHORT_LEASE) if args.quick else (OUTAGE_S, SHORT_LEASE)
+    lease_s = short_lease.lease_ms / 1000
     env = dict(os.environ, ROS_AUTOMATIC_DISCOVERY_RANGE="SUBNET", PYTHONUNBUFFERED="1")
     env.setdefault("ROS_DOMAIN_ID", str(BASE_DOMAIN + os.getpid() % 50))
     figures: dict[str, list[float]] = {}
@@ -154,15 +157,15 @@ def main() -> int:
             figures.setdefault("first discovery, Discovery Server", []).append(
                 first_discovery(env, Path(tmp), server=True)
             )
-            new, old = server_restarted(env, Path(tmp))
+            new, old = server_restarted(env, Path(tmp), QUICK_SERVER_TIMING if args.quick else SERVER_TIMING)
             figures.setdefault("server restarted: new <- old", []).append(new)
             figures.setdefault("server restarted: old <- new", []).append(old)
             for name, qos in (("RELIABLE depth 10", reliable), ("BEST_EFFORT", best_effort)):
-                resumed, lost, sent = link_down(env, Path(tmp), qos, Timing(), OUTAGE_S)
-                figures.setdefault(f"link down 5 s, {name}: resumed", []).append(resumed)
-                losses.setdefault(f"link down 5 s, {name}", []).append((lost, sent))
-            resumed, _, _ = link_down(env, Path(tmp), [], SHORT_LEASE, 2 * SHORT_LEASE.lease_ms / 1000)
-            figures.setdefault("link down 6 s > lease 3 s: found again", []).append(resumed)
+                resumed, lost, sent = link_down(env, Path(tmp), qos, Timing(), outage_s)
+                figures.setdefault(f"link down {outage_s:g} s, {name}: resumed", []).append(resumed)
+                losses.setdefault(f"link down {outage_s:g} s, {name}", []).append((lost, sent))
+            resumed, _, _ = link_down(env, Path(tmp), [], short_lease, 2 * lease_s)
+            figures.setdefault(f"link down {2 * lease_s:g} s > lease {lease_s:g} s: found again", []).append(resumed)
             figures.setdefault("watch: link down -> unreachable", []).append(watch_detection(env))
     floor = statistics.median(figures["first discovery, multicast"])
     print(f"{runs} run(s) per case, talker at {RATE_HZ:g} Hz on one host, listener on the other")

@@ -23,7 +23,8 @@ received; a control tick with a chunk in force; an action LeRobot's client sent 
 first command the actuator executes from the model call on it, p50 and p99 over the calls measured.
 The setups take turns, round after round, so the machine's load falls on all of them alike; the
 figures sum the rounds. (c) and (d) need root (network namespaces); without it (c) is not measured
-and (d) runs on 127.0.0.1. --quick: one round of a few seconds each, for the tests.
+and (d) runs on 127.0.0.1. --quick: one round without warm-up, each setup measured for a second or until
+the latency of its first model call is in, whichever is later (for the tests).
 """
 
 import argparse
@@ -67,7 +68,8 @@ JOINT_STATE, JOINT_TRAJECTORY = "sensor_msgs/msg/JointState", "trajectory_msgs/m
 FIRST_COMMAND_TIMEOUT_S = 300.0
 STOP_TIMEOUT_S = 10.0
 MARGIN_S = 60.0  # beyond first command, warm-up and measurement, before a robot side is taken for hung
-WARM_UP_S, QUICK_SECONDS = 2.0, 4.0
+WARM_UP_S, QUICK_SECONDS = 2.0, 1.0
+QUICK_CALLS = 1  # model calls a quick measurement waits for, so each setup's latency is measured
 LEROBOT_PORT = 8080  # inside the "gpu" host's own namespace; on 127.0.0.1 a free port
 BENCH = Path(__file__).resolve().parent
 LABELS = {
@@ -160,7 +162,7 @@ def robot_side(place, module: str, spec: dict, env: dict, timeout_s: float) -> d
     return json.loads(stdout.strip().splitlines()[-1])
 
 
-def measure_node(settings: dict, message_type: str, seconds: float, env: dict, node_place, robot_place) -> dict:
+def measure_node(settings: dict, message_type: str, window: dict, env: dict, node_place, robot_place) -> dict:
     """The policy node with this action type on `node_place`, the robot side on `robot_place`."""
     policy = dict(settings["policy"], topic=dict(settings["policy"]["topic"], message_type=message_type))
     node = node_place.popen(node_command(policy), env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -169,12 +171,12 @@ def measure_node(settings: dict, message_type: str, seconds: float, env: dict, n
         "camera": settings["camera"]["topic"],
         "state": settings["follower"]["topic"],
         "action": policy["topic"],
-        "seconds": seconds,
-        "warm_up_s": WARM_UP_S,
+        **window,
         "first_command_timeout_s": FIRST_COMMAND_TIMEOUT_S,
     }
+    timeout_s = 2 * FIRST_COMMAND_TIMEOUT_S + window["seconds"] + MARGIN_S
     try:
-        result = robot_side(robot_place, "support.chunk_peer", spec, env, FIRST_COMMAND_TIMEOUT_S + seconds + MARGIN_S)
+        result = robot_side(robot_place, "support.chunk_peer", spec, env, timeout_s)
     finally:
         stop(node)
     if "error" in result:
@@ -182,7 +184,7 @@ def measure_node(settings: dict, message_type: str, seconds: float, env: dict, n
     return result
 
 
-def measure_lerobot(policy_dir: Path, seconds: float, env: dict, server_place, client_place) -> dict:
+def measure_lerobot(policy_dir: Path, window: dict, env: dict, server_place, client_place) -> dict:
     """LeRobot's policy server on `server_place`, its RobotClient with the bench's robot on `client_place`."""
     from support.lerobot_async import policy_server_command
 
@@ -196,14 +198,12 @@ def measure_lerobot(policy_dir: Path, seconds: float, env: dict, server_place, c
         "port": port,
         "policy_dir": str(policy_dir),
         "fps": POLICY_HZ,
-        "seconds": seconds,
-        "warm_up_s": WARM_UP_S,
+        **window,
         "first_command_timeout_s": FIRST_COMMAND_TIMEOUT_S,
     }
+    timeout_s = 2 * FIRST_COMMAND_TIMEOUT_S + window["seconds"] + MARGIN_S
     try:
-        result = robot_side(
-            client_place, "support.lerobot_async", spec, env, FIRST_COMMAND_TIMEOUT_S + seconds + MARGIN_S
-        )
+        result = robot_side(client_place, "support.lerobot_async", spec, env, timeout_s)
     finally:
         stop(server)
     if "error" in result:
@@ -219,10 +219,12 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=30.0, help="measurement per setup, over all rounds")
     parser.add_argument("--rounds", type=int, default=3, help="turns each setup takes")
-    parser.add_argument("--quick", action="store_true", help="one short round (for the tests)")
+    parser.add_argument("--quick", action="store_true", help="one short round without warm-up (for the tests)")
     args = parser.parse_args()
     rounds = 1 if args.quick else max(1, args.rounds)
     seconds = QUICK_SECONDS if args.quick else args.seconds / rounds
+    warm_up_s = 0.0 if args.quick else WARM_UP_S
+    window = {"seconds": seconds, "warm_up_s": warm_up_s, "min_calls": QUICK_CALLS if args.quick else 0}
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
     with tempfile.TemporaryDirectory(prefix="joshua-bench-remote-") as tmp, ExitStack() as stack:
         os.chdir(tmp)  # LeRobot's async inference writes logs/ into the working directory
@@ -238,8 +240,8 @@ def main() -> int:
         compressed = compiled_settings(DESCRIPTION.replace("{message_type}", COMPRESSED), model, "bench_remote.pbtxt")
         results = {key: Result(label) for key, label in LABELS.items()}
         setups = {
-            "a": lambda: measure_node(raw, JOINT_STATE, seconds, env, Here, Here),
-            "b": lambda: measure_node(raw, JOINT_TRAJECTORY, seconds, env, Here, Here),
+            "a": lambda: measure_node(raw, JOINT_STATE, window, env, Here, Here),
+            "b": lambda: measure_node(raw, JOINT_TRAJECTORY, window, env, Here, Here),
         }
         if can_make_hosts():
             from testsupport.hosts import virtual_hosts
@@ -247,15 +249,15 @@ def main() -> int:
             hosts = stack.enter_context(virtual_hosts("robot", "gpu"))
             across = dict(env, ROS_AUTOMATIC_DISCOVERY_RANGE="SUBNET")  # the subnet is the hosts' own switch
             robot, gpu = hosts["robot"], hosts["gpu"]
-            setups["c"] = lambda: measure_node(compressed, JOINT_TRAJECTORY, seconds, across, gpu, robot)
-            setups["d"] = lambda: measure_lerobot(policy_dir, seconds, across, gpu, robot)
+            setups["c"] = lambda: measure_node(compressed, JOINT_TRAJECTORY, window, across, gpu, robot)
+            setups["d"] = lambda: measure_lerobot(policy_dir, window, across, gpu, robot)
         else:
             results["c"].note = "not measured: network namespaces need root"
             results["d"] = Result("(d) LeRobot async (127.0.0.1)", "no namespaces without root")
-            setups["d"] = lambda: measure_lerobot(policy_dir, seconds, env, Here, Here)
+            setups["d"] = lambda: measure_lerobot(policy_dir, window, env, Here, Here)
         print(
             f"ACT on CPU, camera and arm state at {POLICY_HZ} Hz, actuator at {CONTROL_HZ:g} Hz, {rounds} round(s) of "
-            f"{seconds:g} s per setup after {WARM_UP_S:g} s of warm-up, setups in turn"
+            f"{seconds:g} s per setup after {warm_up_s:g} s of warm-up, setups in turn"
         )
         for _ in range(rounds):
             for key, setup in setups.items():

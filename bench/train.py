@@ -16,8 +16,9 @@
    ACT on the same 320x240 video recording (support/training_steps.py), lerobot-train with torch's
    default threads and with joshua-train's one, run in turn (the best of `rounds` runs each); then
    joshua-train with --image-size 160x120.
---quick: fewer steps everywhere (batch 1024, MJX and imitation skipped, 5k PPO steps, a short
-recording, 3 training steps of batch 1, one round, lerobot-train on one thread only, no resized run).
+--quick: fewer steps everywhere (batch 1024, MJX and imitation skipped, 500 env steps, one PPO update of
+1024 steps per run and 2 evaluation episodes, a short recording, 2 training steps of batch 1, one round,
+lerobot-train on one thread only, no resized run).
 """
 
 import argparse
@@ -40,7 +41,9 @@ from testsupport import tiny_act  # noqa: E402
 # The step-time comparison (section 4): recording, training steps, batch, data-loader workers, rounds, and
 # whether lerobot-train also runs on torch's default threads (one per core).
 STEP_RUN = dict(episodes=4, frames=50, steps=20, batch_size=4, workers=2, rounds=2, default_threads=True)
-QUICK_STEP_RUN = dict(episodes=1, frames=10, steps=3, batch_size=1, workers=0, rounds=1, default_threads=False)
+QUICK_STEP_RUN = dict(episodes=1, frames=10, steps=2, batch_size=1, workers=0, rounds=1, default_threads=False)
+# --quick: env steps per batch, and PPO steps of each run (one update: ppo.SAMPLES_PER_UPDATE) and its evaluation
+QUICK_ENV_STEPS, QUICK_PPO_STEPS, QUICK_EPISODES = 500, 1024, 2
 RESIZED = "160x120"
 
 
@@ -77,7 +80,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
-    steps = 2_000 if args.quick else 20_000
+    steps = QUICK_ENV_STEPS if args.quick else 20_000
     print("== env steps/s (C MuJoCo, random actions)")
     for batch in (1, 64) if args.quick else (1, 64, 1024):
         print(f"mujoco so100_reach batch {batch:>4}: {env_steps_per_s(envs.REACH, batch, steps):10.0f} env steps/s")
@@ -86,9 +89,9 @@ def main() -> None:
         print(row)
 
     print("== PPO env steps/s against raw physics on every core (so100_reach)")
-    ppo_throughput.report(2_048 if args.quick else 30_000)
-    ppo_steps = 5_000 if args.quick else 30_000
-    episodes = 10 if args.quick else 50
+    ppo_throughput.report(QUICK_PPO_STEPS if args.quick else 30_000)
+    ppo_steps = QUICK_PPO_STEPS if args.quick else 30_000
+    episodes = QUICK_EPISODES if args.quick else 50
     print(f"== PPO on so100_reach, {ppo_steps} steps, seed 0")
     with tempfile.TemporaryDirectory() as scratch:
         start = time.perf_counter()

@@ -5,8 +5,9 @@
 SPEC_JSON names the camera, state and action topics (compiled settings), the action type (JointState:
 every message is a command; JointTrajectory: chunks followed with the actuators' own rule at CONTROL_HZ),
 the image message (raw Image or JPEG CompressedImage, as camera nodes send it), the measurement and
-warm-up seconds. It publishes tiny_act's picture and arm pose at POLICY_HZ, waits for the first command,
-lets WARM_UP pass, measures, and prints one JSON line: {"commands", "seconds", "latencies_s"} (or
+warm-up seconds and the model calls to measure at least ("min_calls": the measurement goes on past its
+seconds until that many came). It publishes tiny_act's picture and arm pose at POLICY_HZ, waits for the
+first command, lets WARM_UP pass, measures, and prints one JSON line: {"commands", "seconds", "latencies_s"} (or
 {"error"} when no command came). "latency": from an observation's header stamp to the first command
 executed from the model call on it.
 """
@@ -123,7 +124,7 @@ class Peer:
         self.node.create_subscription(JointTrajectory, topic["name"], receive, topic_qos(topic))
         self.node.create_timer(1.0 / CONTROL_HZ, tick)
 
-    def measure(self, seconds: float, warm_up_s: float, first_command_timeout_s: float) -> dict:
+    def measure(self, seconds: float, warm_up_s: float, first_command_timeout_s: float, min_calls: int = 0) -> dict:
         deadline = time.monotonic() + first_command_timeout_s
         while not self.commands:
             if time.monotonic() > deadline:
@@ -132,6 +133,9 @@ class Peer:
         time.sleep(warm_up_s)
         start, first_latency = self.now_s(), len(self.latencies_s)
         time.sleep(seconds)
+        deadline = time.monotonic() + first_command_timeout_s
+        while len(self.latencies_s) - first_latency < min_calls and time.monotonic() < deadline:
+            time.sleep(POLL_S)
         end = self.now_s()
         commands = sum(1 for t in list(self.commands) if start <= t < end)
         return {"commands": commands, "seconds": end - start, "latencies_s": self.latencies_s[first_latency:]}
@@ -148,7 +152,9 @@ def main() -> int:
     spec = json.loads(sys.argv[1])
     peer = Peer(spec)
     try:
-        result = peer.measure(spec["seconds"], spec["warm_up_s"], spec["first_command_timeout_s"])
+        result = peer.measure(
+            spec["seconds"], spec["warm_up_s"], spec["first_command_timeout_s"], spec.get("min_calls", 0)
+        )
     finally:
         peer.close()
     print(json.dumps(result), flush=True)

@@ -55,21 +55,27 @@ class FleetMemory:
 
 
 KEYS, ROUNDS = 5000, 4  # 20000 junk keys in all
-QUICK_KEYS, QUICK_ROUNDS = 1000, 2
-FORGET_AFTER_S = 5.0
+QUICK_KEYS, QUICK_ROUNDS = 400, 2  # past MARKER_EVERY, so the marker is put between junk keys too
+FORGET_AFTER_S, QUICK_FORGET_AFTER_S = 5.0, 1.5  # both longer than OFFLINE_AFTER_S, as the server requires
+QUICK_SETTLE_S = 0.2
 
 
 def measure(quick: bool = False) -> FleetMemory:
-    """Print and return the figures of one run (2 rounds of 1000 keys when `quick`, else 4 of 5000)."""
-    keys, rounds = (QUICK_KEYS, QUICK_ROUNDS) if quick else (KEYS, ROUNDS)
-    result = fleet_memory(keys, rounds)
+    """Print and return the figures of one run (when `quick` 2 rounds of 400 keys, forgotten after 1.5 s and
+    settling 0.2 s; else 4 of 5000, forgotten after 5 s)."""
+    if quick:
+        result = fleet_memory(QUICK_KEYS, QUICK_ROUNDS, QUICK_FORGET_AFTER_S, QUICK_SETTLE_S)
+    else:
+        result = fleet_memory(KEYS, ROUNDS)
     print(result.summary(), flush=True)
     return result
 
 
-def fleet_memory(keys: int, rounds: int = ROUNDS, forget_after_s: float = FORGET_AFTER_S) -> FleetMemory:
+def fleet_memory(
+    keys: int, rounds: int = ROUNDS, forget_after_s: float = FORGET_AFTER_S, settle_s: float = SETTLE_S
+) -> FleetMemory:
     """Run the measurement on a fresh fleet server: `rounds` times, `keys` junk keys then their eviction
-    (`forget_after_s`); RSS idle before, at the peak, and after each eviction."""
+    (`forget_after_s`); RSS idle before, at the peak, and after each eviction (each read `settle_s` after)."""
     endpoint, http_port = f"tcp/127.0.0.1:{_free_port()}", _free_port()
     log = tempfile.TemporaryFile("w+")
     server = subprocess.Popen(
@@ -92,7 +98,7 @@ def fleet_memory(keys: int, rounds: int = ROUNDS, forget_after_s: float = FORGET
         with _peer(endpoint) as peer:
             peer.put(f"joshua/{MARKER}/status", _status(MARKER, 1))
             _wait_listed(api, lambda robots: any(r["name"] == MARKER for r in robots))
-            time.sleep(SETTLE_S)
+            time.sleep(settle_s)
             floor = _rss_mib(server.pid)
             sampler = _Sampler(server.pid)
             after, speeds = [], []
@@ -107,7 +113,7 @@ def fleet_memory(keys: int, rounds: int = ROUNDS, forget_after_s: float = FORGET
                 _wait_listed(api, lambda robots, done=done: any(r["error"] == done for r in robots), note)
                 speeds.append(keys / (time.monotonic() - started))
                 _wait_listed(api, lambda robots: not robots, note)
-                time.sleep(SETTLE_S)
+                time.sleep(settle_s)
                 after.append(_rss_mib(server.pid))
             sampler.stop()
         return FleetMemory(keys, floor, max(sampler.peak, floor), tuple(after), most, speeds[0])

@@ -36,7 +36,8 @@ SERVER_START_TIMEOUT_S = 60.0
 LINK_TIMEOUT_S = 60.0
 PROBE = "bench_probe"  # the robot whose statuses carry their put time and its last change's, in its error text
 LEAVER = "bench_leaver"  # the robot whose dashboard starts and stops, WITHDRAWALS times
-WITHDRAWALS, QUICK_WITHDRAWALS = 20, 5
+WITHDRAWALS, QUICK_WITHDRAWALS = 20, 2
+QUICK_PAGE_CHANGES = 2  # the first load and one change: one page latency
 WITHDRAWAL_POLL_S = 0.002
 OFFLINE_AFTER_S = 10.0  # joshua-fleet's default --offline-after: how long a silent robot still shows online
 CHANGE_PERIOD_S = 1.3  # the probe's status changes this often (longer than the page's refresh: each change shows)
@@ -171,7 +172,9 @@ def withdrawals(api: str, endpoint: str, leaver: tuple[str, str], times: int) ->
     return latencies
 
 
-def measure(robots: int, window_s: float, withdrawn: int = WITHDRAWALS) -> PlaneFigures:
+def measure(robots: int, window_s: float, withdrawn: int = WITHDRAWALS, page_changes: int = 0) -> PlaneFigures:
+    """The figures of `robots` over windows of `window_s` (the loaded one longer if need be, until the page
+    showed `page_changes` of the probe's changes) and `withdrawn` withdrawals."""
     names = [PROBE] + [f"bench_robot_{i:02d}" for i in range(robots - 1)]
     credentials = [(name, secrets.token_urlsafe(18)) for name in names]
     leaver = (LEAVER, secrets.token_urlsafe(18))
@@ -199,11 +202,16 @@ def measure(robots: int, window_s: float, withdrawn: int = WITHDRAWALS) -> Plane
             idle_cpu, idle_rss = cpu_window(server.pid, window_s), rss_mib(server.pid)
             return loaded(
                 server.pid, api, f"http://127.0.0.1:{port}/", endpoint, credentials, window_s, idle_cpu, idle_rss,
-                lambda: withdrawals(api, endpoint, leaver, withdrawn),
+                lambda: withdrawals(api, endpoint, leaver, withdrawn), page_changes,
             )  # fmt: skip
         finally:
             server.terminate()
             server.wait(10)
+
+
+def shown_now(page) -> list:
+    """The probe's changes the page has shown so far: [changed at (ms), shown at (ms)]."""
+    return page.evaluate("window.__shown")
 
 
 def cpu_window(pid: int, seconds: float) -> float:
@@ -212,7 +220,9 @@ def cpu_window(pid: int, seconds: float) -> float:
     return 100.0 * (cpu_seconds(pid) - before) / (time.monotonic() - started)
 
 
-def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_rss, withdraw) -> PlaneFigures:
+def loaded(
+    pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_rss, withdraw, page_changes
+) -> PlaneFigures:
     from playwright.sync_api import sync_playwright
 
     groups = [credentials[i : i + SESSIONS_PER_PROCESS] for i in range(0, len(credentials), SESSIONS_PER_PROCESS)]
@@ -236,7 +246,9 @@ def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_r
             page.goto(page_url)
             cpu_before, started, put_before = cpu_seconds(pid), time.monotonic(), counter.value
             api_latencies, seen = [], set()
-            while time.monotonic() - started < window_s:
+            while time.monotonic() - started < window_s or (page_changes and len(shown_now(page)) < page_changes):
+                if time.monotonic() - started > window_s + LINK_TIMEOUT_S:
+                    raise RuntimeError(f"the fleet page showed fewer than {page_changes} changes of {PROBE}")
                 for robot in robots_now(api):
                     error = robot.get("error") or ""
                     if robot["name"] == PROBE and "put at " in error and error not in seen:
@@ -247,7 +259,7 @@ def loaded(pid, api, page_url, endpoint, credentials, window_s, idle_cpu, idle_r
             cpu = 100.0 * (cpu_seconds(pid) - cpu_before) / elapsed
             statuses_per_s = (counter.value - put_before) / elapsed
             rss = rss_mib(pid)
-            shown = page.evaluate("window.__shown")
+            shown = shown_now(page)
             chromium.close()
         withdrawn = withdraw()  # while the robots still publish
         page_latencies = [shown_at - int(put_at) for put_at, shown_at in shown[1:]]  # the first load aside

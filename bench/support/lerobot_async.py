@@ -6,7 +6,8 @@ another. The client side runs as a process too, so it can sit on the robot's hos
     python -m support.lerobot_async SPEC_JSON       (from bench/)
 
 SPEC_JSON gives the server's address and port, the policy directory, the rate, the measurement and
-warm-up seconds. It waits for the server to listen, starts LeRobot's RobotClient with a robot made for
+warm-up seconds, and the chunks to measure at least ("min_calls": the measurement goes on past its seconds
+until that many came). It waits for the server to listen, starts LeRobot's RobotClient with a robot made for
 the bench (support/benchrobot.py: the same camera picture and joint state the ROS setups publish, from
 testsupport/tiny_act.py; its `send_action` is the actuator), and prints one JSON line
 {"commands", "seconds", "latencies_s"}: actions executed in the measurement and, for each chunk, the time
@@ -106,6 +107,9 @@ def measure(spec: dict) -> dict:
         time.sleep(spec["warm_up_s"])
         start, reactions_before = time.time(), len(client.reactions)
         time.sleep(spec["seconds"])
+        deadline = time.monotonic() + spec["first_command_timeout_s"]
+        while len(client.reactions) - reactions_before < spec.get("min_calls", 0) and time.monotonic() < deadline:
+            time.sleep(POLL_S)
         end = time.time()
         executed = [t for t in list(client.executed) if start <= t < end]
         return {"commands": len(executed), "seconds": end - start, "latencies_s": client.reactions[reactions_before:]}
