@@ -276,9 +276,9 @@ def _replay(args, parser) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line `argv` and return its exit code; without `argv` (the command itself), run
-    sys.argv and end the process (process_end.py): torch's and LeRobot's teardown at interpreter exit
-    would add 1.4-2.7 s to every command on a busy 2-core machine."""
+    """Run the command line `argv` and return its exit code; without `argv` (the `joshua-train` script),
+    run sys.argv and end the process (process_end.py): torch's and LeRobot's teardown at interpreter
+    exit would add 1.4-2.7 s to every command on a busy 2-core machine."""
     if argv is not None:
         return _run(list(argv))
     end_process(_run(sys.argv[1:]))
@@ -311,4 +311,4 @@ def _run(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))  # returns, so that `python -m cProfile -m joshua_runtime.train.cli` can report
