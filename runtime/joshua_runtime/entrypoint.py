@@ -8,20 +8,18 @@ format version, and runs the class the node-type registry names for the node's t
 Exit codes (`joshua_core.exit_codes`): 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device
 failure, 6 data lost (the node could not save data it had taken in).
 
-Once a node has run, `run_node` ends the process itself (see `end_process`): the DDS library's
+Once a node has run, `run_node` ends the process itself (process_end.py): the DDS library's
 teardown at interpreter exit alone takes 0.2-0.4 s, too much for the 0.5 s shutdown contract.
 """
 
-import atexit
 import importlib
-import os
 import sys
-import threading
 
 from joshua_core.node_types import spec
 from joshua_core.settings import SettingsFormatError
 from joshua_core.settings import parse as parse_settings
 from joshua_runtime.errors import JoshuaError, SettingsError
+from joshua_runtime.process_end import end_process
 
 
 def node_class(node_type: str):
@@ -31,26 +29,6 @@ def node_class(node_type: str):
         raise SettingsError(f"no runtime implementation for node type {node_type!r}")
     module_name, class_name = entry.runtime_class.split(":")
     return getattr(importlib.import_module(module_name), class_name)
-
-
-def end_process(code: int) -> None:
-    """Exit like a normal interpreter exit, minus the slow native teardown.
-
-    Non-daemon threads are joined and atexit handlers run, as `sys.exit` would do; then stdio is
-    flushed and the process ends with os._exit, skipping interpreter finalization and the C++
-    static destructors of the DDS libraries.
-    """
-    current = threading.current_thread()
-    for thread in threading.enumerate():
-        if thread is not current and not thread.daemon:
-            thread.join()
-    atexit._run_exitfuncs()
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):
-            pass
-    os._exit(code)
 
 
 def run_node(literal: dict, exit_process: bool = True) -> int:

@@ -26,6 +26,7 @@ import time
 
 from joshua_runtime.ai import writer_channel
 from joshua_runtime.errors import DataLostError, JoshuaError, SettingsError
+from joshua_runtime.process_end import end_process
 
 ERRORS = {cls.__name__: cls for cls in (JoshuaError, SettingsError, DataLostError)}
 COMMANDS = {
@@ -239,4 +240,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    end_process(main(sys.argv[1:]))  # without LeRobot's teardown, seconds of the recorder's stop
