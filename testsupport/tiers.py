@@ -98,6 +98,7 @@ def shared_group(item: pytest.Item) -> str | None:
 @pytest.hookimpl(tryfirst=True)  # before `-m` deselects: every collected test is tiered and checked
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     untiered = []
+    grouping = config.pluginmanager.hasplugin("xdist")  # the mark is xdist's (other Pythons' runs lack it)
     for item in items:
         tiers = tiers_of(item, config.rootpath)
         if not tiers:
@@ -105,7 +106,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         for tier in sorted(tiers):
             if not item.get_closest_marker(tier):
                 item.add_marker(tier)
-        group = shared_group(item)
+        group = shared_group(item) if grouping else None
         if group and not item.get_closest_marker("xdist_group"):
             item.add_marker(pytest.mark.xdist_group(group))
     config.stash[UNTIERED] = untiered
