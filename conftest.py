@@ -11,7 +11,10 @@ import pytest
 from testsupport.node_process import NodeProcess
 from testsupport.ros_domains import claimed_domain
 
-pytest_plugins = ["testsupport.tiers"]  # marks every test with its tiers (unit, process, ros, ...)
+pytest_plugins = [
+    "testsupport.tiers",  # marks every test with its tiers (unit, process, ros, ...)
+    "testsupport.xdist_groups",  # keeps the tests of an xdist_group on one worker
+]
 
 # MuJoCo reads MUJOCO_GL once, at its first import in a process; tests that render in this process (the
 # training demonstrations) need EGL, as there is no display. Node processes choose their own.
