@@ -43,3 +43,17 @@ def test_tests_of_a_group_share_a_worker(tmp_path):
         workers.setdefault(test, set()).add(worker)
     assert set(workers) == {"test_written", "test_module_fixture"}, done.stdout[-3000:]
     assert all(len(used) == 1 for used in workers.values()), workers
+
+
+def test_a_pytest_run_a_worker_starts_without_xdist_is_left_alone(tmp_path):
+    """A test's own pytest run inherits the worker's PYTEST_XDIST_WORKER; there xdist may not be installed."""
+    (tmp_path / "test_grouped.py").write_text(GROUPED)
+    (tmp_path / "conftest.py").write_text('pytest_plugins = ["testsupport.tiers", "testsupport.xdist_groups"]\n')
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:xdist", "-q", "-m", "unit or not unit",
+         "--rootdir", str(tmp_path), str(tmp_path / "test_grouped.py")],
+        cwd=tmp_path, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin", "PYTEST_XDIST_WORKER": "gw0"},
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-2000:]
+    assert "8 passed" in done.stdout

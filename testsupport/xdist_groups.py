@@ -22,7 +22,8 @@ def group_suffix(item: pytest.Item) -> str:
 
 @pytest.hookimpl(trylast=True)  # after every hook that marks groups, xdist's own included
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    if not os.environ.get("PYTEST_XDIST_WORKER") or not config.getvalue("loadgroup"):
+    # The worker's variable also reaches pytest runs a test starts, where xdist may not be installed.
+    if not os.environ.get("PYTEST_XDIST_WORKER") or not config.getoption("loadgroup", False):
         return
     from _pytest.nodeid import coerce_node_id
 
