@@ -128,7 +128,7 @@ class Dashboard:
 
     async def _poll_status(self) -> None:
         loop = asyncio.get_running_loop()
-        self.quick_until = loop.time() + QUICK_POLL_WINDOW_S  # the nodes start with this server, or restart
+        self.poll_quickly()  # the nodes start with this server, or restart
         while True:
             self.poll_now.clear()
             try:
