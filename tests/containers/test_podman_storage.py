@@ -5,6 +5,7 @@ run state directory, so a container that ended is `exited` (not left `stopped`, 
 import time
 
 import pytest
+from robot_container import state
 
 from testsupport.podman import PODMAN_TIMEOUT_S, unique_name
 
@@ -18,13 +19,9 @@ def test_a_container_that_ended_is_cleaned_up_by_its_exit_command(podman, base_i
     podman.run("run", "--detach", "--network=none", "--name", name, base_image, "true")
     try:
         deadline = time.monotonic() + PODMAN_TIMEOUT_S
-        state = ""
-        while time.monotonic() < deadline:
-            state = podman.run("inspect", "--format", "{{.State.Status}}", name).stdout.strip()
-            if state == "exited":
-                break
+        while (now := state(podman, name)) != "exited" and time.monotonic() < deadline:
             time.sleep(0.1)
-        assert state == "exited", f"the container stayed {state!r}: its cleanup command did not run"
+        assert now == "exited", f"the container stayed {now!r}: its cleanup command did not run"
         assert podman.run("wait", name, timeout=PODMAN_TIMEOUT_S).stdout.strip() == "0"
     finally:
         podman.remove_container(name)

@@ -39,18 +39,22 @@ def test_a_supervisor_that_never_answers_is_a_timeout_error(tmp_path, monkeypatc
     assert str(raised.value) == f"the supervisor did not answer 'status' within {SHORT_TIMEOUT_S:g} s"
 
 
-@pytest.mark.timeout(TEST_TIMEOUT_S)
-def test_the_event_stream_keeps_its_clock_with_nothing_else_to_send(tmp_path, monkeypatch):
-    monkeypatch.setattr(app, "CLOCK_PERIOD_S", SHORT_TIMEOUT_S)
-    dashboard = Dashboard(
+def dashboard_of(control, tmp_path) -> Dashboard:
+    return Dashboard(
         load_robot_view(MOCK_ARM),
-        control_client.ControlClient(tmp_path / "no.sock"),
+        control,
         Broadcaster(),
         telemetry=None,
         web_dir=tmp_path / "no-page",
         token="owner-token",
         allowed=HostAllowList("127.0.0.1"),
     )
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_the_event_stream_keeps_its_clock_with_nothing_else_to_send(tmp_path, monkeypatch):
+    monkeypatch.setattr(app, "CLOCK_PERIOD_S", SHORT_TIMEOUT_S)
+    dashboard = dashboard_of(control_client.ControlClient(tmp_path / "no.sock"), tmp_path)
 
     async def clock_events() -> list[bytes]:
         response = await dashboard.events(None)
@@ -64,18 +68,6 @@ def test_the_event_stream_keeps_its_clock_with_nothing_else_to_send(tmp_path, mo
         return chunks
 
     assert len(asyncio.run(clock_events())) == CLOCKS
-
-
-def dashboard_of(control, tmp_path) -> Dashboard:
-    return Dashboard(
-        load_robot_view(MOCK_ARM),
-        control,
-        Broadcaster(),
-        telemetry=None,
-        web_dir=tmp_path / "no-page",
-        token="owner-token",
-        allowed=HostAllowList("127.0.0.1"),
-    )
 
 
 @pytest.mark.timeout(TEST_TIMEOUT_S)
