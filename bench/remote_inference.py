@@ -162,6 +162,12 @@ def robot_side(place, module: str, spec: dict, env: dict, timeout_s: float) -> d
     return json.loads(stdout.strip().splitlines()[-1])
 
 
+def robot_side_timeout_s(window: dict) -> float:
+    """How long a robot side may take: the first command, the first model calls a quick run waits for, its
+    measurement and a margin."""
+    return 2 * FIRST_COMMAND_TIMEOUT_S + window["seconds"] + MARGIN_S
+
+
 def measure_node(settings: dict, message_type: str, window: dict, env: dict, node_place, robot_place) -> dict:
     """The policy node with this action type on `node_place`, the robot side on `robot_place`."""
     policy = dict(settings["policy"], topic=dict(settings["policy"]["topic"], message_type=message_type))
@@ -174,7 +180,7 @@ def measure_node(settings: dict, message_type: str, window: dict, env: dict, nod
         **window,
         "first_command_timeout_s": FIRST_COMMAND_TIMEOUT_S,
     }
-    timeout_s = 2 * FIRST_COMMAND_TIMEOUT_S + window["seconds"] + MARGIN_S
+    timeout_s = robot_side_timeout_s(window)
     try:
         result = robot_side(robot_place, "support.chunk_peer", spec, env, timeout_s)
     finally:
@@ -201,7 +207,7 @@ def measure_lerobot(policy_dir: Path, window: dict, env: dict, server_place, cli
         **window,
         "first_command_timeout_s": FIRST_COMMAND_TIMEOUT_S,
     }
-    timeout_s = 2 * FIRST_COMMAND_TIMEOUT_S + window["seconds"] + MARGIN_S
+    timeout_s = robot_side_timeout_s(window)
     try:
         result = robot_side(client_place, "support.lerobot_async", spec, env, timeout_s)
     finally:

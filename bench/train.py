@@ -43,7 +43,7 @@ from testsupport import tiny_act  # noqa: E402
 STEP_RUN = dict(episodes=4, frames=50, steps=20, batch_size=4, workers=2, rounds=2, default_threads=True)
 QUICK_STEP_RUN = dict(episodes=1, frames=10, steps=2, batch_size=1, workers=0, rounds=1, default_threads=False)
 # --quick: env steps per batch, and PPO steps of each run (one update: ppo.SAMPLES_PER_UPDATE) and its evaluation
-QUICK_ENV_STEPS, QUICK_PPO_STEPS, QUICK_EPISODES = 500, 1024, 2
+QUICK_ENV_STEPS, QUICK_PPO_STEPS, QUICK_EPISODES = 500, ppo.SAMPLES_PER_UPDATE, 2
 RESIZED = "160x120"
 
 
