@@ -79,12 +79,20 @@ def _pybricks_hub(directory: Path, stack: ExitStack) -> list[str]:
     return [f"base.ble_transport=tcp-client:127.0.0.1:{port}", f"base.hub={HUB_ADDRESS}"]
 
 
+# Its recorder saves the episode in progress when it stops, and waits for its dataset writer to import LeRobot
+# first: on a busy machine that outlasts the description's default graces (5 s + 2 s) at each of its stops,
+# and the recorder ends by SIGKILL (its episode left for the next start to recover). The tests here are
+# about the page's controls, not about graces or the recorder's saving: shorter graces end those waits sooner.
+RECORDER_GRACES = ("shutdown.sigint_grace_s=2", "shutdown.sigterm_grace_s=1")
+
 ROBOTS = {
     "so100_sim": ConfigRobot("so100_sim"),
     "mock_arm": ConfigRobot("mock_arm"),
     "lego_bot_simulated": ConfigRobot("lego_bot", ("mode=MODE_SIMULATION",)),
     "lego_bot_emulated_hub": ConfigRobot("lego_bot", emulators=_pybricks_hub),
-    "so100_leader_follower_emulated": ConfigRobot("so100_leader_follower", emulators=_leader_follower_devices),
+    "so100_leader_follower_emulated": ConfigRobot(
+        "so100_leader_follower", RECORDER_GRACES, emulators=_leader_follower_devices
+    ),
 }
 
 
