@@ -19,7 +19,7 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 from api_contract import check_event, check_reply
@@ -272,7 +272,8 @@ class PageErrors:
 
 
 class WatchedBrowser:
-    """A Playwright browser whose every page is watched by `errors`."""
+    """A Playwright browser whose every page is watched by `errors`. Each page has a browser context of its
+    own (cookies, storage and cache), closed with it."""
 
     def __init__(self, instance, errors: PageErrors):
         self.instance = instance
@@ -283,19 +284,29 @@ class WatchedBrowser:
 
 
 @contextmanager
-def browser():
-    """Debian's headless Chromium under Playwright (never a downloaded browser). Yields a WatchedBrowser:
-    a page error nobody expected fails the test when the block ends."""
+def headless_chromium():
+    """Debian's headless Chromium under Playwright (never a downloaded browser), for `browser(instance)`."""
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
         instance = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_FLAGS)
-        watched = WatchedBrowser(instance, PageErrors())
         try:
-            yield watched
-            watched.errors.check()
+            yield instance
         finally:
             instance.close()
+
+
+@contextmanager
+def browser(instance=None):
+    """A WatchedBrowser on Chromium `instance` (one started for this block when None): a page error nobody
+    expected fails the test when the block ends, and the pages opened in the block are closed then."""
+    with ExitStack() as stack:
+        if instance is None:
+            instance = stack.enter_context(headless_chromium())
+        watched = WatchedBrowser(instance, PageErrors())
+        stack.callback(lambda: [page.close() for page in watched.errors.pages if not page.is_closed()])
+        yield watched
+        watched.errors.check()
 
 
 def screenshot(page, name: str) -> Path:

@@ -6,7 +6,15 @@ page at phone width. Screenshots of each step: test-artifacts/dashboard/controls
 
 import pytest
 from config_robots import ROBOTS, devices
-from dashboard_support import EventReader, browser, dashboard_token, free_port, running_robot, screenshot
+from dashboard_support import (
+    EventReader,
+    browser,
+    dashboard_token,
+    free_port,
+    headless_chromium,
+    running_robot,
+    screenshot,
+)
 from page_driver import PAGE_TIMEOUT_MS, RobotPage
 
 from joshua_runtime.dashboard.robot_view import RATE, load_robot_view
@@ -24,6 +32,14 @@ OVERFLOWING = """() => [...document.querySelectorAll("body *")]
   .slice(0, 40)"""
 
 
+@pytest.fixture(scope="module")
+def module_chromium():
+    """One Chromium for the tests of this module (a start costs seconds); each page has a browser context of
+    its own, and each test its own watch for page errors."""
+    with headless_chromium() as instance:
+        yield instance
+
+
 def open_page(chromium, port: int, control_socket, viewport=DESKTOP):
     page = chromium.new_page(viewport=viewport)
     page.set_default_timeout(PAGE_TIMEOUT_MS)
@@ -33,14 +49,14 @@ def open_page(chromium, port: int, control_socket, viewport=DESKTOP):
 
 @pytest.mark.timeout(ROBOT_TIMEOUT_S)
 @pytest.mark.parametrize("label", list(ROBOTS))
-def test_every_process_control_of_a_robot_of_config(label, tmp_path, ros_env):
+def test_every_process_control_of_a_robot_of_config(label, tmp_path, ros_env, module_chromium):
     robot = ROBOTS[label]
     port = free_port()
     with devices(robot, tmp_path) as overrides:
         overrides += [f"dashboard.port={port}", "dashboard.bind=127.0.0.1"]
         with (
             running_robot(robot.description, tmp_path, ros_env, port, overrides) as control_socket,
-            browser() as chromium,
+            browser(module_chromium) as chromium,
         ):
             page = open_page(chromium, port, control_socket)
             driver = RobotPage(page, chromium.errors, control_socket, tmp_path / "out" / "manifest.json", label)
@@ -73,9 +89,12 @@ PENDING = """robot_config {{ name: "pending_robot" mode: MODE_TELEOPERATION
 """
 
 
-def test_a_restart_is_pending_in_every_page_and_a_critical_stop_asks_first(tmp_path, ros_env):
+def test_a_restart_is_pending_in_every_page_and_a_critical_stop_asks_first(tmp_path, ros_env, module_chromium):
     port = free_port()
-    with running_robot(PENDING.format(port=port), tmp_path, ros_env, port) as control_socket, browser() as chromium:
+    with (
+        running_robot(PENDING.format(port=port), tmp_path, ros_env, port) as control_socket,
+        browser(module_chromium) as chromium,
+    ):
         pages = [open_page(chromium, port, control_socket) for _ in range(2)]
         driver = RobotPage(pages[0], chromium.errors, control_socket, tmp_path / "out" / "manifest.json", "pending")
         for page in pages:
@@ -111,11 +130,11 @@ def test_a_restart_is_pending_in_every_page_and_a_critical_stop_asks_first(tmp_p
         driver.check("pending_robot_done")
 
 
-def test_the_page_at_phone_width_has_every_control_in_reach(tmp_path, ros_env):
+def test_the_page_at_phone_width_has_every_control_in_reach(tmp_path, ros_env, module_chromium):
     port = free_port()
     overrides = [f"dashboard.port={port}"]
     with running_robot(ROBOTS["mock_arm"].description, tmp_path, ros_env, port, overrides) as control_socket:
-        with browser() as chromium:
+        with browser(module_chromium) as chromium:
             page = open_page(chromium, port, control_socket, PHONE)
             driver = RobotPage(page, chromium.errors, control_socket, tmp_path / "out" / "manifest.json", "phone")
             for testid in (
