@@ -62,20 +62,51 @@ export function useInferenceStatus(node: string): InferenceEvent | null {
   return useLatest("inference", "node", node);
 }
 
-/** The latest joint state of `topic` and those of the PLOT_WINDOW_S before it (oldest first, at most HISTORY_LIMIT). */
-export function useJointStates(topic: string): { latest: JointStateEvent | null; history: JointStateEvent[] } {
-  const [state, setState] = useState<{ latest: JointStateEvent | null; history: JointStateEvent[] }>({
-    latest: null, history: [],
+/** The page shows joint states at most this often (ms): a robot publishes them at 30-100 Hz, and drawing
+ * every one of them kept a core busy with the plots. Every event still enters the history. */
+export const JOINT_REFRESH_MS = 100;
+
+type JointStates = { latest: JointStateEvent | null; history: JointStateEvent[] };
+
+/** `history` with `arrived` appended, only the PLOT_WINDOW_S up to the newest (oldest first, at most HISTORY_LIMIT). */
+function appendToWindow(history: JointStateEvent[], arrived: JointStateEvent[]): JointStateEvent[] {
+  const newest = arrived[arrived.length - 1].server_time_s;
+  const since = newest - PLOT_WINDOW_S;
+  const inWindow = (event: JointStateEvent) => event.server_time_s >= since && event.server_time_s <= newest;
+  return [...history.filter(inWindow), ...arrived.filter(inWindow)].slice(-HISTORY_LIMIT);
+}
+
+/** The latest joint state of `topic` and those of the PLOT_WINDOW_S before it (oldest first, at most
+ * HISTORY_LIMIT), shown at most every JOINT_REFRESH_MS: an event after a quiet spell at once, those that
+ * follow it sooner together at the end of the spell. */
+export function useJointStates(topic: string): JointStates {
+  const [state, setState] = useState<JointStates>({ latest: null, history: [] });
+  const pending = useRef<{ arrived: JointStateEvent[]; lastShownMs: number; timer: number | null }>({
+    arrived: [], lastShownMs: -Infinity, timer: null,
   });
+  const show = useCallback(() => {
+    const waiting = pending.current;
+    const arrived = waiting.arrived;
+    waiting.arrived = [];
+    waiting.timer = null;
+    waiting.lastShownMs = performance.now();
+    if (arrived.length > 0) {
+      setState((previous) => ({ latest: arrived[arrived.length - 1], history: appendToWindow(previous.history, arrived) }));
+    }
+  }, []);
   const listener = useCallback((data: unknown) => {
     const event = data as JointStateEvent;
     if (event.topic !== topic) return;
-    setState((previous) => {
-      const since = event.server_time_s - PLOT_WINDOW_S;
-      const kept = previous.history.filter((old) => old.server_time_s >= since && old.server_time_s <= event.server_time_s);
-      return { latest: event, history: [...kept, event].slice(-HISTORY_LIMIT) };
-    });
-  }, [topic]);
+    const waiting = pending.current;
+    waiting.arrived.push(event);
+    if (waiting.timer !== null) return;
+    const wait = waiting.lastShownMs + JOINT_REFRESH_MS - performance.now();
+    if (wait <= 0) show();
+    else waiting.timer = window.setTimeout(show, wait);
+  }, [topic, show]);
+  useEffect(() => () => {
+    if (pending.current.timer !== null) window.clearTimeout(pending.current.timer);
+  }, []);
   useEventListener("joints", listener);
   return state;
 }

@@ -3,13 +3,16 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 import { App } from "../components/App";
 import { CameraView } from "../components/CameraView";
 import { JointPlot } from "../components/JointPlot";
+import { JointStatePanel } from "../components/JointStatePanel";
 import { EventHubProvider } from "../hooks/EventHubContext";
 import { staleness } from "../hooks/staleness";
+import { JOINT_REFRESH_MS } from "../hooks/streams";
 import { valueRange } from "../plotScale";
 import { EventHub } from "../sse";
 import type { JointStateEvent, StreamInfo } from "../types";
 
 afterEach(() => {
+  vi.useRealTimers();
   vi.unstubAllGlobals();
   sessionStorage.clear();
 });
@@ -68,6 +71,23 @@ describe("JointPlot", () => {
     expect(path.match(/M/g)).toHaveLength(2); // 96 -> 100 is a gap of 4 s
     const xs = [...path.matchAll(/[ML]([\d.]+),/g)].map((m) => Number(m[1]));
     expect(xs).toEqual([144, 180, 324, 342]); // 360 wide for 10 s: now - 6 s, now - 5 s, now - 1 s, now - 0.5 s
+  });
+});
+
+describe("JointStatePanel", () => {
+  it("shows a burst of joint states once per refresh, the first at once, and plots every one", () => {
+    vi.useFakeTimers({ toFake: ["setTimeout", "clearTimeout", "setInterval", "clearInterval", "performance", "Date"] });
+    const hub = new EventHub("/api/events", () => ({}));
+    const stream: StreamInfo = { topic: "/j", message_type: "sensor_msgs/msg/JointState", kind: "joints", stale_after_s: 1.5 };
+    const { container } = render(<EventHubProvider hub={hub}><JointStatePanel streams={[stream]} rates={{}} /></EventHubProvider>);
+    const start = Date.now() / 1000;
+    for (let i = 0; i < 20; i++) send(hub, "joints", joints(start + i * 0.001, i + 1));
+    const position = () => screen.getByTestId("joint-/j-a-position").textContent;
+    expect(position()).toBe("1"); // the first of the burst at once; the other 19 wait for the refresh
+    act(() => vi.advanceTimersByTime(JOINT_REFRESH_MS));
+    expect(position()).toBe("20");
+    const plotted = container.querySelector("[data-testid=joint-plot-position] path")!.getAttribute("d")!;
+    expect(plotted.match(/[ML]/g)).toHaveLength(20);
   });
 });
 
