@@ -36,6 +36,7 @@ run: setup
 ## demo-train: scripted demonstrations in simulation -> a small ACT -> the registry -> the simulated arm driven
 ## by it through a generated supervisor (scripts/demo_train.py). Outputs go to DEMO_DIR (new or empty; default
 ## a fresh out/demo-train/<UTC time>); the registry is DEMO_DIR/registry unless JOSHUA_MODEL_REGISTRY is set.
+## DEMO_SECONDS: how long the policy drives the simulated arm, counted from its first command.
 DEMO_DIR ?= out/demo-train/$(shell date -u +%Y%m%dT%H%M%SZ)
 DEMO_EPISODES ?= 10
 DEMO_STEPS ?= 200

@@ -1,5 +1,7 @@
 """Watches the simulated SO-100 over ROS for `make demo-train`: commands received, grasp point against the goal."""
 
+import time
+
 import numpy as np
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -23,6 +25,7 @@ class ArmWatch:
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self.commands = 0
+        self.first_command_at: float | None = None  # time.monotonic() of the first command
         self.latest_m = self.start_m = None
         self.node.create_subscription(JointState, state_topic, self._state, QOS)
         self.node.create_subscription(JointState, command_topic, self._command, QOS)
@@ -44,6 +47,7 @@ class ArmWatch:
     def _command(self, _message: JointState) -> None:
         if self.commands == 0:
             self.start_m = self.latest_m
+            self.first_command_at = time.monotonic()
         self.commands += 1
 
     def spin(self, seconds: float) -> None:

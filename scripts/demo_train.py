@@ -7,7 +7,9 @@ Every step is a command a user could type (each is printed before it runs), all 
    a progress bar), evaluated in simulation;
 3. `joshua-registry import`: the policy enters the model registry as NAME;
 4. `joshuac build` of a MODE_SIMULATION description whose INFERENCE node serves `registry:NAME`,
-   and its generated supervisor.py run for a few seconds, while this script listens to the arm.
+   and its generated supervisor.py run while this script listens to the arm: once the policy has
+   driven it for `--seconds` (counted from its first command, however long the nodes took to start
+   and load it), the supervisor is stopped with SIGINT and stops the nodes.
 
 The evidence printed at the end: how many commands the policy sent, and how far the grasp point
 was from the demonstrated goal when the policy started and when the run stopped.
@@ -17,6 +19,7 @@ Exit codes: 0 success, 1 a step failed or the policy sent nothing, 2 bad argumen
 import argparse
 import os
 import shlex
+import signal
 import subprocess
 import sys
 import time
@@ -27,6 +30,11 @@ POLICY_NAME = "demo_act"
 STATE_TOPIC = "/so100/joint_states"
 COMMAND_TOPIC = "/so100/command"
 CAMERA_TOPIC = "/camera/image_raw"
+# How long the robot may take to start and send the policy's first command (loading LeRobot on a busy CPU).
+FIRST_COMMAND_TIMEOUT_S = 300.0
+# The supervisor's own --duration beyond that, so that it stops even when this script is killed.
+DURATION_MARGIN_S = 60.0
+WATCH_SLICE_S = 0.1
 DESCRIPTION = """# Written by `make demo-train`: the simulated SO-100 driven by the ACT policy it trained.
 robot_config {{
   name: "demo_train"
@@ -58,7 +66,9 @@ def parse_args(argv):
     parser.add_argument("--episodes", type=int, default=10, help="scripted demonstrations")
     parser.add_argument("--steps", type=int, default=200, help="training steps")
     parser.add_argument("--eval-episodes", type=int, default=10, help="simulated evaluation episodes after training")
-    parser.add_argument("--seconds", type=float, default=20.0, help="how long the built robot runs")
+    parser.add_argument(
+        "--seconds", type=float, default=20.0, help="how long the policy drives the arm, from its first command"
+    )
     args = parser.parse_args(argv)
     for name in ("episodes", "steps", "seconds"):
         if getattr(args, name) <= 0:
@@ -93,7 +103,8 @@ def train_and_import(args, output: Path, env: dict) -> None:
 
 
 def run_in_simulation(args, output: Path, env: dict) -> dict:
-    """Build the description, run its supervisor for `args.seconds`; what the arm did meanwhile."""
+    """Build the description, run its supervisor until the policy has driven the arm for `args.seconds`;
+    what the arm did meanwhile."""
     description = output / "demo_train.pbtxt"
     description.write_text(
         DESCRIPTION.format(state=STATE_TOPIC, command=COMMAND_TOPIC, camera=CAMERA_TOPIC, policy=POLICY_NAME)
@@ -103,19 +114,37 @@ def run_in_simulation(args, output: Path, env: dict) -> dict:
     from arm_watch import ArmWatch  # beside this script (rclpy, MuJoCo: imported only now)
 
     with ArmWatch(STATE_TOPIC, COMMAND_TOPIC) as watch:
-        supervisor = [sys.executable, robot / "supervisor.py", "--duration", args.seconds]
+        backstop_s = FIRST_COMMAND_TIMEOUT_S + args.seconds + DURATION_MARGIN_S
+        supervisor = [sys.executable, robot / "supervisor.py", "--duration", backstop_s]
         supervisor += ["--no-control", "--log-dir", output / "logs"]
         print("$ " + shlex.join(str(part) for part in supervisor), flush=True)
         process = subprocess.Popen([str(part) for part in supervisor], env=env)
         try:
+            watch_until_driven(watch, process, args.seconds)
             while process.poll() is None:
-                watch.spin(0.1)
+                watch.spin(WATCH_SLICE_S)
         except KeyboardInterrupt:  # Ctrl-C reached the supervisor too: let its cascade stop the nodes
             process.wait()
             raise
         if process.returncode != 0:
             raise StepFailed(f"supervisor.py exited with {process.returncode} (node logs in {output / 'logs'})")
         return watch.summary()
+
+
+def watch_until_driven(watch, process: subprocess.Popen, seconds: float) -> None:
+    """Listen until the policy has sent commands for `seconds` (or sent none for FIRST_COMMAND_TIMEOUT_S),
+    then stop the supervisor with SIGINT, its shutdown cascade."""
+    started = time.monotonic()
+    while process.poll() is None:
+        watch.spin(WATCH_SLICE_S)
+        first = watch.first_command_at
+        if first is None and time.monotonic() - started > FIRST_COMMAND_TIMEOUT_S:
+            print(f"demo-train: no command from the policy within {FIRST_COMMAND_TIMEOUT_S:.0f} s", flush=True)
+            break
+        if first is not None and time.monotonic() - first >= seconds:
+            break
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
 
 
 def main(argv=None) -> int:

@@ -2,6 +2,8 @@
 
 The same commands as the full walkthrough (DEMO_* variables only shrink it): its evidence line must
 show the served policy commanding the MuJoCo SO-100 and bringing the grasp point toward the goal.
+DEMO_SECONDS counts from the policy's first command, so a few seconds show it however long the policy
+node takes to load LeRobot on a busy machine.
 """
 
 import re
@@ -14,7 +16,7 @@ from testsupport.joshuac_cli import ROOT
 
 pytestmark = [pytest.mark.ai, pytest.mark.process, pytest.mark.xdist_group("checkout")]  # `make setup`
 
-SMALL = ["DEMO_EPISODES=2", "DEMO_STEPS=20", "DEMO_EVAL_EPISODES=1", "DEMO_SECONDS=15"]
+SMALL = ["DEMO_EPISODES=2", "DEMO_STEPS=20", "DEMO_EVAL_EPISODES=1", "DEMO_SECONDS=5"]
 MAKE_TIMEOUT_S = 300
 EVIDENCE = re.compile(
     r"the policy sent (\d+) commands; the grasp point was ([\d.]+) m from the demonstrated goal "

@@ -3,6 +3,9 @@
 The source is a bag the project's bag writer wrote (a leader's JointState as action, a follower's
 JointState and a camera's Image as observations, 30 messages a second); the leader's first position
 counts the messages, so each frame's action says which moment of the bag it was taken from.
+The commands that run LeRobot run through the command's `main` in this process, which has LeRobot
+loaded already (a process of its own imports torch and LeRobot again: about 5 CPU-s a command); `info`,
+which needs neither, and the bad-input cases run the installed `joshua-dataset` itself.
 """
 
 import json
@@ -13,6 +16,7 @@ from pathlib import Path
 import numpy as np
 from test_ai_recorder import load
 
+from joshua_runtime.datasets import dataset_cli as dataset_command
 from testsupport.arm_bag import CAMERA, FOLLOWER, JOINTS, LEADER, write_arm_bag
 
 DATASET = str(Path(sys.executable).parent / "joshua-dataset")
@@ -37,18 +41,27 @@ def ok(env, *arguments) -> str:
     return result.stdout
 
 
+def ok_here(capsys, *arguments) -> str:
+    """`joshua-dataset ARGUMENTS` through its `main` in this process; what it printed."""
+    capsys.readouterr()
+    code = dataset_command.main(list(map(str, arguments)))
+    printed = capsys.readouterr()
+    assert code == 0, printed.err
+    return printed.out
+
+
 def actions(dataset, episode: int) -> list[float]:
     start = dataset.meta.episodes[episode]["dataset_from_index"]
     stop = dataset.meta.episodes[episode]["dataset_to_index"]
     return [float(dataset[i]["action"][0]) for i in range(start, stop)]
 
 
-def test_from_bag_merge_split_delete_and_info_write_datasets_lerobot_loads(tmp_path, ai_env, lerobot_offline):
+def test_from_bag_merge_split_delete_and_info_write_datasets_lerobot_loads(tmp_path, ai_env, lerobot_offline, capsys):
     bag = write_bag(tmp_path / "session")
     pick, place = tmp_path / "pick", tmp_path / "place"
     common = ["--action", LEADER, "--inputs", FOLLOWER, CAMERA, "--fps", FPS]
-    assert ok(ai_env, "from-bag", bag, pick, *common, "--task", "pick").startswith(f"wrote {pick}: 1 episode of ")
-    ok(ai_env, "from-bag", bag, place, *common, "--task", "place")
+    assert ok_here(capsys, "from-bag", bag, pick, *common, "--task", "pick").startswith(f"wrote {pick}: 1 episode of ")
+    ok_here(capsys, "from-bag", bag, place, *common, "--task", "place")
     converted = load(pick)
     assert converted.meta.total_episodes == 1
     assert set(converted.meta.features) >= {"action", "observation.state", "observation.images.camera"}
@@ -59,7 +72,7 @@ def test_from_bag_merge_split_delete_and_info_write_datasets_lerobot_loads(tmp_p
     assert converted[0]["observation.images.camera"].shape == (3, HEIGHT, WIDTH)
 
     merged = tmp_path / "merged"
-    ok(ai_env, "merge", merged, pick, place)
+    ok_here(capsys, "merge", merged, pick, place)
     both = load(merged)
     assert both.meta.total_episodes == 2 and len(both) == 2 * len(taken)
     assert [both.meta.episodes[e]["tasks"] for e in range(2)] == [["pick"], ["place"]]
@@ -73,13 +86,13 @@ def test_from_bag_merge_split_delete_and_info_write_datasets_lerobot_loads(tmp_p
     assert f"2 episodes, {2 * len(taken)} frames" in ok(ai_env, "info", merged).splitlines()[0]
 
     splits = tmp_path / "splits"
-    ok(ai_env, "split", merged, splits, "train=0", "val=1")
+    ok_here(capsys, "split", merged, splits, "train=0", "val=1")
     assert [load(splits / name).meta.episodes[0]["tasks"] for name in ("train", "val")] == [["pick"], ["place"]]
 
     only_place = tmp_path / "only_place"
-    ok(ai_env, "delete-episode", merged, "0", "--output", only_place)
+    ok_here(capsys, "delete-episode", merged, "0", "--output", only_place)
     assert load(only_place).meta.episodes[0]["tasks"] == ["place"] and load(merged).meta.total_episodes == 2
-    assert ok(ai_env, "delete-episode", merged, "1").endswith("1 episodes left\n")
+    assert ok_here(capsys, "delete-episode", merged, "1").endswith("1 episodes left\n")
     kept = load(merged)
     assert kept.meta.total_episodes == 1 and kept.meta.episodes[0]["tasks"] == ["pick"]
     assert actions(kept, 0) == taken
