@@ -10,13 +10,15 @@ Every robot is a network namespace plus a mount namespace of its own, in which /
 separation directory and login records stay inside the robot. Its sshd (`/usr/sbin/sshd -D -f CONFIG`)
 listens on the robot's address only, with a host key and authorized key made for the test in `directory`;
 root logs in with that key. The deployer is one more host on the same switch, where `joshua-fleet` runs
-Ansible with the test's private key, known_hosts and Ansible directories. Leaving the block kills every
-process of the hosts (sshd, supervisors, nodes) and deletes the namespaces (hosts.py).
+Ansible with the test's private key, known_hosts and Ansible directories, and SSH connection sharing of its
+own (CONTROL_DIR_PREFIX): fleets of tests running at once never share a connection. Leaving the block kills
+every process of the hosts (sshd, supervisors, nodes) and deletes the namespaces (hosts.py).
 """
 
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -31,6 +33,12 @@ SSHD_READY_TIMEOUT_S = 20.0
 SSHD_POLL_S = 0.1
 DEPLOY_TIMEOUT_S = 900.0  # a rollout of a few robots on a busy machine
 VENV_BIN = Path(sys.executable).parent
+# The deployer's SSH connection sharing (Ansible's ControlPersist masters) keeps its sockets here, one directory
+# per fleet: by default they are in ~/.ansible/cp, named after address, port and user alone, so that the
+# deployers of two fleets at once (the same addresses, each on its own switch) would use each other's masters
+# and run their commands on the other fleet's robots. In /tmp, not the test directory: a socket's path must
+# stay under 108 bytes (sun_path), and ssh adds 17 to it while it makes one.
+CONTROL_DIR_PREFIX = "ssh-control-"
 
 
 @dataclass
@@ -53,9 +61,10 @@ class SshRobot:
 
 
 class SshFleet:
-    def __init__(self, network: HostNetwork, directory: Path, names: list[str]):
+    def __init__(self, network: HostNetwork, directory: Path, names: list[str], control_dir: Path):
         self.network = network
         self.directory = directory
+        self.control_dir = control_dir
         self.robots = {name: SshRobot(network[name]) for name in names}
         self.deployer = network[DEPLOYER]
 
@@ -110,6 +119,7 @@ class SshFleet:
             ANSIBLE_HOME=str(home),
             ANSIBLE_LOCAL_TEMP=str(home / "tmp"),
             ANSIBLE_PRIVATE_KEY_FILE=str(keys / "user"),
+            ANSIBLE_SSH_CONTROL_PATH_DIR=str(self.control_dir),
             ANSIBLE_REMOTE_USER="root",
             ANSIBLE_SSH_COMMON_ARGS=f"-o UserKnownHostsFile={keys / 'known_hosts'} -o StrictHostKeyChecking=yes",
             PATH=f"{VENV_BIN}:{os.environ.get('PATH', '')}",
@@ -134,8 +144,8 @@ def ssh_robots(
     """Robots `names` (host names as hosts.py takes them) with sshd running, and a deployer, for the block.
     Robots named in `without_sshd` get no sshd (an unreachable robot); `opt_sizes` gives some a smaller /opt
     (`{"arm2": "8m"}`: a full disk)."""
-    with virtual_hosts(DEPLOYER, *names) as network:
-        fleet = SshFleet(network, Path(directory), list(names))
+    with virtual_hosts(DEPLOYER, *names) as network, tempfile.TemporaryDirectory(prefix=CONTROL_DIR_PREFIX) as control:
+        fleet = SshFleet(network, Path(directory), list(names), Path(control))
         fleet.make_keys()
         for name, robot in fleet.robots.items():
             fleet.mount_private(robot, (opt_sizes or {}).get(name))
