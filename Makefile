@@ -58,11 +58,10 @@ image: setup
 	$(VENV)/python scripts/image.py $(CONFIG) $(if $(BASE),--base $(BASE)) $(if $(ENGINE),--engine $(ENGINE)) \
 		$(if $(CONTEXT),--context $(CONTEXT)) $(foreach override,$(SET),--set $(override))
 
-## test: every test, in parallel workers; tests that must not overlap share an xdist_group (testsupport/tiers.py);
-## those marked `alone` (SSH rollouts to simulated computers) run afterwards, one at a time.
+## test: every test, in parallel workers; tests that must not overlap share an xdist_group (testsupport/tiers.py).
+## None needs the machine to itself: simulated computers, their SSH rollouts and bag playback timing run beside the rest.
 test: setup
-	$(VENV)/pytest -n $(TEST_WORKERS) --dist loadgroup -m "not alone" $(PYTEST_ARGS)
-	$(VENV)/pytest -m alone $(PYTEST_ARGS)
+	$(VENV)/pytest -n $(TEST_WORKERS) --dist loadgroup $(PYTEST_ARGS)
 
 ## test-fast: the unit tier alone (compiler, rules, drivers against in-process emulators): no processes, no ROS;
 ## in as many workers as `make test` (its tests wait too: 28 CPU-s in 62 s in one process).

@@ -18,9 +18,7 @@ import pytest
 from testsupport.joshuac_cli import joshuac
 from testsupport.ssh_robots import SshFleet, ssh_robots
 
-# The machine to itself: in parallel runs of the suite, beside other tests' simulated computers, the deploys
-# failed to reach the robots' sshd ("Data could not be sent to remote host"); run alone they pass.
-pytestmark = [pytest.mark.timeout(1500), pytest.mark.alone]
+pytestmark = pytest.mark.timeout(1500)
 
 ROBOTS = {"arm_1": "arm1", "arm_2": "arm2", "arm_3": "arm3"}  # fleet robot name -> simulated host
 RELEASE_KEY = "/opt/joshua/release.pub"  # on each robot (its private /opt)
