@@ -24,6 +24,7 @@ import json
 import math
 import os
 import pathlib
+import signal
 import sys
 import time
 from collections import deque
@@ -123,6 +124,9 @@ def main(argv: list[str] | None = None) -> int:
     from joshua_runtime.errors import JoshuaError
     from joshua_runtime.tools.topic_graph import NoMessage
 
+    # Ctrl-C (SIGINT) stops every command, also when it was started with SIGINT ignored (a shell's background
+    # job, a test runner's worker): Python keeps an inherited SIG_IGN, and `play --loop` would never end.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=domain, signal_handler_options=SignalHandlerOptions.NO)
     node = rclpy.create_node(

@@ -68,9 +68,14 @@ def record_bag(start_node, ros_client, output):
     return open_bag(bag)
 
 
+def sigint_ignored() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def play(env, bag, *options) -> subprocess.Popen:
     """The player, its publishers made PUBLISHERS_FIRST_S before its first message, so this process's graph
-    queries and subscriptions find them before a short bag is over."""
+    queries and subscriptions find them before a short bag is over. It starts with SIGINT ignored, as a
+    shell's background job (or a pytest-xdist worker's child) does: Ctrl-C must stop it all the same."""
     return subprocess.Popen(
         [
             sys.executable,
@@ -86,6 +91,7 @@ def play(env, bag, *options) -> subprocess.Popen:
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=sigint_ignored,
     )
 
 
