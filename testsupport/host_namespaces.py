@@ -6,6 +6,7 @@ holding the files that keep each host's mount namespace alive). Nothing is added
 network: every interface is created inside a namespace of the set.
 """
 
+import contextlib
 import json
 import os
 import subprocess
@@ -38,15 +39,16 @@ def create_state_dir(path: Path) -> None:
 
 
 def remove_state_dir(path: Path) -> None:
-    """Unmount the set's mount namespace files and its tmpfs, then remove the directory (absent parts skipped)."""
+    """Unmount the set's mount namespace files and its tmpfs, then remove the directory (absent parts skipped:
+    two test workers making sets at once may both remove the same stale set)."""
     if path.is_dir() and os.path.ismount(path):
         for namespace_file in sorted(path.glob("*.mnt")):
             if os.path.ismount(namespace_file):
                 run("umount", str(namespace_file), check=False)
         run("umount", "--lazy", str(path), check=False)
-    if path.is_dir():
+    with contextlib.suppress(FileNotFoundError):
         for leftover in path.iterdir():
-            leftover.unlink()
+            leftover.unlink(missing_ok=True)
         path.rmdir()
 
 
