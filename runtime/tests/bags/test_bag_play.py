@@ -57,6 +57,11 @@ def record_bag(start_node, ros_client, output):
     arm = start_node(settings["arm"])
     recorder = start_node(settings["recorder"])
     assert ros_client.spin_until(lambda: latched.get_subscription_count() > 0, WAIT_S), recorder.failure()
+    # The recording window starts once the arm publishes and the recorder's subscription to it is known: a
+    # busy machine took longer than the window to start the arm node.
+    ros_client.listen(ARM, JointState, RELIABLE)
+    assert ros_client.spin_until(lambda: ros_client.count(ARM) > 0, WAIT_S), arm.failure()
+    assert ros_client.subscriptions_info(ARM, WAIT_S), recorder.failure()
     ros_client.spin_until(lambda: False, RECORD_S / 2)
     latched.publish(String(data="second"))
     ros_client.spin_until(lambda: False, RECORD_S / 2)
