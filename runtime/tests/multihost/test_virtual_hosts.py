@@ -172,7 +172,9 @@ import json, os, signal, subprocess
 from testsupport.hosts import virtual_hosts
 from testsupport.probe_output import ProbeOutput
 with virtual_hosts("robot") as hosts:
-    sleeper = hosts["robot"].popen(["sleep", "600"])
+    # Dies only once the sleeper is inside the robot: dying sooner races the sleeper's own entry into it.
+    sleeper = hosts["robot"].popen(["sh", "-c", "echo inside; exec sleep 600"], stdout=subprocess.PIPE)
+    assert sleeper.stdout.readline() == b"inside\\n"
     open({str(report)!r}, "w").write(json.dumps({{"set": hosts.set_name, "netns": hosts["robot"].netns, "pid": sleeper.pid}}))
     os.kill(os.getpid(), signal.SIGKILL)
 """
