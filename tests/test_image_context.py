@@ -37,16 +37,22 @@ def test_the_image_context_is_the_build_its_bundle_and_a_multi_stage_containerfi
     out = build_image_context(tmp_path, "so100_sim")
     containerfile = (out / "Containerfile").read_text()
     assert "\nARG BASE=debian:bookworm-slim\n" in containerfile
-    assert "\nFROM ${BASE} AS build\n" in containerfile and containerfile.count("\nFROM ${BASE}\n") == 1
-    assert "\nFROM build AS cpp\n" not in containerfile  # the simulation runs no C++ node
+    # One stage from the base, the robot's, which the image is: the environment is installed where it runs.
+    assert "\nFROM ${BASE} AS robot\n" in containerfile and containerfile.count("FROM ${BASE}") == 1
+    assert containerfile.count("\nFROM robot\n") == 1
+    assert "\nFROM robot AS cpp\n" not in containerfile  # the simulation runs no C++ node
+    assert not [line for line in containerfile.splitlines() if line.startswith("COPY") and "/opt/joshua/venv" in line]
     assert "RUN JOSHUA_INSTALLER=pip sh /opt/joshua/so100_sim/install.sh /opt/joshua/venv --no-index" in containerfile
     assert 'LABEL io.joshua.robot="so100_sim" io.joshua.stop-timeout="7"' in containerfile  # 3 s + 1 s + 3 s
     assert "\nSTOPSIGNAL SIGINT\n" in containerfile
     assert containerfile.endswith(
         '\nENTRYPOINT ["/usr/bin/catatonit", "--", "/opt/joshua/venv/bin/python3", "-S", "/opt/joshua/so100_sim/supervisor.py"]\n'
     )
-    final = containerfile.split("\nFROM ${BASE}\n")[1]
-    assert "for package in python3 catatonit libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1;" in final
+    robot_stage, final = containerfile.split("\nFROM robot\n")
+    assert (
+        "for package in python3 catatonit libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 libgl1 python3-venv;"
+        in robot_stage
+    )
     assert "JOSHUA_WEB_DIR=/opt/joshua/so100_sim/web" in final
     assert (out / "web" / "index.html").read_bytes() == (ROOT / "web" / "dist" / "index.html").read_bytes()
     # The build context is exactly what the stamp lists, so install.sh finds every file it checks.
@@ -58,9 +64,9 @@ def test_the_image_context_is_the_build_its_bundle_and_a_multi_stage_containerfi
 def test_a_robot_with_cpp_nodes_compiles_them_in_a_stage_of_their_own(tmp_path):
     out = build_image_context(tmp_path, "so100_leader_follower")
     containerfile = (out / "Containerfile").read_text()
-    build, cpp_and_final = containerfile.split("\nFROM build AS cpp\n")
-    cpp, final = cpp_and_final.split("\nFROM ${BASE}\n")
-    assert "g++" not in build and "g++ make nlohmann-json3-dev libpython3.11-dev" in cpp and "g++" not in final
+    robot_stage, cpp_and_final = containerfile.split("\nFROM robot AS cpp\n")
+    cpp, final = cpp_and_final.split("\nFROM robot\n")
+    assert "g++" not in robot_stage and "g++ make nlohmann-json3-dev libpython3.11-dev" in cpp and "g++" not in final
     assert (
         "RUN make -C /opt/joshua/so100_leader_follower/cpp -j2 VENV=/opt/joshua/venv BUILD=/tmp/joshua/build "
         "/tmp/joshua/build/bin/actuator_subscriber /tmp/joshua/build/bin/encoder_publisher\n"
@@ -68,7 +74,7 @@ def test_a_robot_with_cpp_nodes_compiles_them_in_a_stage_of_their_own(tmp_path):
     assert (
         'COPY --from=cpp ["/tmp/joshua/build/bin/actuator_subscriber", "/opt/joshua/bin/actuator_subscriber"]' in final
     )
-    assert "libpython3.11;" in final
+    assert "for package in python3 catatonit libpython3.11 python3-venv;" in robot_stage
     assert (out / "cpp" / "Makefile").read_bytes() == (ROOT / "cpp" / "Makefile").read_bytes()
     assert (out / "cpp" / "nodes" / "actuator_subscriber.cpp").is_file()
     # What the robot needs from the host, in the header's run command and its list.

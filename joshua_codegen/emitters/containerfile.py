@@ -1,9 +1,9 @@
 """Containerfile and .containerignore of `build --image`: a multi-stage image that runs the robot's supervisor.
 
-Stages: `build` installs the bundle (OUT/wheels, OUT/install.sh) into a virtual environment at its
-final path; `cpp` (only for a robot with C++ binaries) compiles them there against that environment,
-so the rpaths they carry hold the image's paths; the last stage is the base with the run-time system
-packages, the environment, the build and the binaries: no compiler, no pip cache, no secret.
+Stages: `robot` is the base with the run-time system packages and the user, the bundle (OUT/wheels,
+OUT/install.sh) installed into a virtual environment where it runs (no stage copies it); `cpp` (only
+for a robot with C++ binaries) compiles them on top of it, against that environment, so the rpaths they
+carry hold the image's paths; the image is `robot` with the binaries: no compiler, no pip cache, no secret.
 """
 
 import math
@@ -11,7 +11,7 @@ import posixpath
 import re
 from dataclasses import dataclass
 
-from joshua_codegen.bundle import DEFAULT_VENV, extras
+from joshua_codegen.bundle import DEFAULT_VENV, REQUIREMENTS, extras
 from joshua_codegen.emitters import process_launch, supervisor
 from joshua_codegen.model import Robot
 from joshua_codegen.render import template
@@ -24,6 +24,9 @@ PAGE_DIR = "web"  # the dashboard's page, in the build context and under the pre
 CPP_DIR = "cpp"  # the C++ nodes' sources, in the build context
 CPP_BUILD_DIR = "/tmp/joshua/build"
 CPP_JOBS = 2
+# The cache mount pip keeps the requirements' wheels in (`RUN --mount=type=cache,id=...`), shared by the builds.
+WHEEL_CACHE_ID = "joshua-wheels"
+WHEEL_CACHE = "/var/cache/joshua-wheels"
 CA_SECRET = "ca-certificates"  # `--secret id=ca-certificates,src=FILE`: the CA bundle pip trusts while building
 USER = "joshua"
 USER_ID = 1000
@@ -34,7 +37,7 @@ STOP_MARGIN_S = 3.0  # beyond the cascade's graces: the supervisor reaps, cleans
 STOP_TIMEOUT_LABEL = "io.joshua.stop-timeout"
 ROBOT_LABEL = "io.joshua.robot"
 # Debian packages each stage needs; the ones the base already has are not installed again.
-BUILD_PACKAGES = ("python3", "python3-venv")
+BUILD_PACKAGES = ("python3", "python3-venv")  # what makes the environment, in the robot's stage
 CPP_PACKAGES = ("g++", "make", "nlohmann-json3-dev", "libpython3.11-dev")
 RUN_PACKAGES = ("python3", "catatonit")
 CPP_RUN_PACKAGES = ("libpython3.11",)  # the ROS message libraries the binaries load need libpython's symbols
@@ -109,9 +112,12 @@ def containerfile(robot: Robot, prefix: str, binaries: list[str], page: bool) ->
         prefix=prefix,
         venv=VENV,
         default_base=DEFAULT_BASE,
-        build_packages=BUILD_PACKAGES,
         cpp_packages=CPP_PACKAGES,
         final_packages=run_packages(robot, binaries),
+        robot_packages=list(dict.fromkeys([*run_packages(robot, binaries), *BUILD_PACKAGES])),
+        requirements=REQUIREMENTS,
+        wheel_cache_id=WHEEL_CACHE_ID,
+        wheel_cache=WHEEL_CACHE,
         binaries=binaries,
         cpp_dir=posixpath.join(prefix, CPP_DIR),
         cpp_build_dir=CPP_BUILD_DIR,
