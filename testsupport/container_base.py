@@ -8,6 +8,8 @@ libpython for the C++ nodes), so an image build installs no system package excep
 the C++ nodes' build stage. The tarball is cached under $XDG_CACHE_HOME/joshua/ (~/.cache/joshua/),
 named after what it holds, so that reruns of the tests and other checkouts on the machine reuse it;
 a lock keeps two test runs from making it at the same time. Tests import it into their own storage.
+Beside it, `build_cache()` holds the cache mounts of the images' builds (the wheels pip downloads), which every
+test storage of the machine uses (testsupport/podman.py), so that the wheels come from PyPI once.
 """
 
 import fcntl
@@ -39,6 +41,11 @@ REPOSITORY = "localhost/joshua-base/debian-bookworm"
 
 def cache_root() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "joshua"
+
+
+def build_cache() -> Path:
+    """The cache mounts (`RUN --mount=type=cache`) the image builds of every test storage on the machine share."""
+    return cache_root() / "build-cache"
 
 
 def base_key() -> str:

@@ -1,8 +1,12 @@
 """Podman confined to one directory, for tests and benchmarks: its storage, its configuration, no host network.
 
-Every container's storage (`graphroot`, build caches through TMPDIR) lives under the directory
+Every container's storage (`graphroot`, temporary files through TMPDIR) lives under the directory
 given, through the configuration files podman reads from CONTAINERS_CONF and CONTAINERS_STORAGE_CONF,
-so that `make image` run with `Podman.environment()` lands there too. Its run state (`runroot`) lives
+so that `make image` run with `Podman.environment()` lands there too. The directory of a build's cache
+mounts (`RUN --mount=type=cache`: the wheels pip downloads), which podman keeps under TMPDIR, may instead be a
+link to a directory shared by every storage of the machine (`build_cache`), so that a wheel is
+downloaded once per machine rather than once per storage; the mounts are shared as in any one storage,
+and pip keeps its cache consistent under concurrent installs. Its run state (`runroot`) lives
 in a short directory of its own under /run, removed by close(): podman hands the runroot to the
 cleanup command a container's exit runs, which refuses one longer than 50 characters (a test's
 directory is longer), and then every `podman run` waits 20 s for an exit that is never recorded. The
@@ -25,6 +29,9 @@ PODMAN_TIMEOUT_S = 120.0  # one podman command other than a build
 BUILD_TIMEOUT_S = 1200.0  # an image build: pip installs the ROS 2 wheels from PyPI, g++ compiles the C++ nodes
 PID_MAX = Path("/proc/sys/kernel/pid_max")
 RUN_STATE_PARENT = "/run"  # a runroot here is short enough for podman's 50-character limit
+# Where under TMPDIR podman keeps the cache mounts of builds: podman 4.3's buildah names the directory
+# `buildah-cache`, later ones add the user's uid.
+BUILD_CACHE_NAMES = ("buildah-cache", f"buildah-cache-{os.getuid()}")
 
 
 def engine_missing() -> str | None:
@@ -45,13 +52,18 @@ def _limits() -> list[str]:
 
 
 class Podman:
-    """podman with its storage and configuration under `directory`; close() removes its run state."""
+    """podman with its storage and configuration under `directory`, its builds' cache mounts in `build_cache` when
+    given (else under `directory` too); close() removes its run state."""
 
-    def __init__(self, directory: Path):
+    def __init__(self, directory: Path, build_cache: Path | None = None):
         self.directory = directory
         self.runroot = Path(tempfile.mkdtemp(prefix="joshua-podman-", dir=RUN_STATE_PARENT))
         self.tmp = directory / "tmp"
         self.tmp.mkdir(parents=True, exist_ok=True)
+        if build_cache is not None:
+            build_cache.mkdir(parents=True, exist_ok=True)
+            for name in BUILD_CACHE_NAMES:
+                (self.tmp / name).symlink_to(build_cache, target_is_directory=True)
         limits = ", ".join(f'"{limit}"' for limit in _limits())
         self.containers_conf = directory / "containers.conf"
         self.containers_conf.write_text(

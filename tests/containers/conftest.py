@@ -1,8 +1,9 @@
 """Container images of robots built with `make image` from a debootstrap base, once per test session.
 
-Podman keeps everything in a directory of the session (testsupport/podman.py); the base comes from
-the machine's cache (testsupport/container_base.py). Containers run in a network namespace each test
-makes, or with no network at all.
+Podman keeps everything in a directory of the session (testsupport/podman.py) except the builds' cache
+mounts: those (the wheels pip downloads) and the base come from the machine's cache
+(testsupport/container_base.py). Containers run in a network namespace each test makes, or with no
+network at all.
 """
 
 import os
@@ -33,7 +34,7 @@ FLEET_LINK = "dashboard.zenoh_connect=tcp/127.0.0.1:7447"  # where compose.yaml'
 def podman(tmp_path_factory):
     missing = engine_missing()
     assert missing is None, missing
-    with Podman(tmp_path_factory.mktemp("podman")) as podman:
+    with Podman(tmp_path_factory.mktemp("podman"), build_cache=container_base.build_cache()) as podman:
         yield podman
 
 
