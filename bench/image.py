@@ -103,8 +103,8 @@ def main() -> int:
         print(f"base, cached: import {time.monotonic() - started:.1f} s into an empty storage")
 
         tag, cold = make_image(podman, base, args.config, work / "context")
-        wheels = "from the machine's build cache where it holds them (--quick)" if args.quick else "from PyPI"
-        print(f"build, cold (empty storage, wheels {wheels}): {cold:.1f} s")
+        wheels = "wheels from PyPI" if not args.quick else "--quick: wheels from the machine's build cache if there"
+        print(f"build, cold (empty storage; {wheels}): {cold:.1f} s")
         if not args.quick:
             _, cached = make_image(podman, base, args.config, work / "context", CHANGED_DESCRIPTION)
             print(
