@@ -5,8 +5,8 @@ given, through the configuration files podman reads from CONTAINERS_CONF and CON
 so that `make image` run with `Podman.environment()` lands there too. The directory of a build's cache
 mounts (`RUN --mount=type=cache`: the wheels pip downloads), which podman keeps under TMPDIR, may instead be a
 link to a directory shared by every storage of the machine (`build_cache`), so that a wheel is
-downloaded once per machine rather than once per storage; the mounts are shared as in any one storage,
-and pip keeps its cache consistent under concurrent installs. Its run state (`runroot`) lives
+downloaded once per machine rather than once per storage; a build holds its cache mount alone while it
+runs (`sharing=locked`, with buildah's lock file inside the shared directory). Its run state (`runroot`) lives
 in a short directory of its own under /run, removed by close(): podman hands the runroot to the
 cleanup command a container's exit runs, which refuses one longer than 50 characters (a test's
 directory is longer), and then every `podman run` waits 20 s for an exit that is never recorded. The
