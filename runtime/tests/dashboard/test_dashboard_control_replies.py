@@ -113,11 +113,16 @@ def test_acting_on_a_node_being_restarted_is_409(supervised, tmp_path):
 
 @pytest.mark.process
 def test_a_robot_stopping_answers_503(tmp_path):
-    with running_robot(STUBBORN, tmp_path, dict(os.environ)) as control_socket:
+    # stubborn holds the robot in its stop for as long as the test needs (a busy machine took more than 3 s
+    # to see plain stopped and ask): the test ends the hold itself by killing stubborn.
+    held = STUBBORN.replace("sigint_grace_s: 3", f"sigint_grace_s: {WAIT_S:.0f}")
+    with running_robot(held, tmp_path, dict(os.environ)) as control_socket:
         with dashboard_client(control_socket, tmp_path) as client:
-            os.kill(parent_pid(node_pid(control_socket, "stubborn")), signal.SIGTERM)  # the supervisor
-            wait_for_state(control_socket, "plain", "stopped")  # stubborn holds the robot in its stop for 3 s
+            stubborn = node_pid(control_socket, "stubborn")
+            os.kill(parent_pid(stubborn), signal.SIGTERM)  # the supervisor
+            wait_for_state(control_socket, "plain", "stopped")
             reply = client.post("/api/nodes/plain/start")
+            os.kill(stubborn, signal.SIGKILL)
     assert reply.status_code == 503 and reply.json() == {"error": "the robot is stopping", "kind": "stopping"}
 
 
