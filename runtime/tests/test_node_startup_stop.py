@@ -32,10 +32,24 @@ entrypoint.run_node({{"format_version": FORMAT_VERSION, "name": "slow", "type": 
 """
 
 
+def default_signals() -> None:
+    """In the child before exec: SIGINT and SIGTERM at their defaults and unblocked, as supervisor.py starts a
+    node. A test worker's process may hold them ignored or blocked after earlier tests, and both last across exec."""
+    stop_signals = (signal.SIGINT, signal.SIGTERM)
+    for number in stop_signals:
+        signal.signal(number, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, stop_signals)
+
+
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_signal_during_start_ends_the_node_cleanly(signum, ros_env):
     process = subprocess.Popen(
-        [sys.executable, "-c", SCRIPT], env=ros_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [sys.executable, "-c", SCRIPT],
+        env=ros_env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=default_signals,
     )
     try:
         assert process.stdout.readline().strip() == STARTUP_MARKER
@@ -78,6 +92,7 @@ def test_signal_while_the_runtime_imports_rclpy_ends_the_node_with_0_and_no_trac
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=default_signals,
     )
     try:
         assert process.stdout.readline().strip() == IMPORT_MARKER
@@ -123,6 +138,7 @@ def test_sigint_while_a_generated_entrypoint_loads_the_runtime_ends_it_with_0_an
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=default_signals,
     )
     try:
         assert process.stdout.readline().strip() == RUNTIME_MARKER
