@@ -41,16 +41,21 @@ def default_signals() -> None:
     signal.pthread_sigmask(signal.SIG_UNBLOCK, stop_signals)
 
 
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
-def test_signal_during_start_ends_the_node_cleanly(signum, ros_env):
-    process = subprocess.Popen(
-        [sys.executable, "-c", SCRIPT],
-        env=ros_env,
+def start_python(env: dict, *args: str) -> subprocess.Popen:
+    """`python -c ARGS...` started as the supervisor starts a node (default_signals), its output piped as text."""
+    return subprocess.Popen(
+        [sys.executable, "-c", *args],
+        env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         preexec_fn=default_signals,
     )
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_signal_during_start_ends_the_node_cleanly(signum, ros_env):
+    process = start_python(ros_env, SCRIPT)
     try:
         assert process.stdout.readline().strip() == STARTUP_MARKER
         sent = time.monotonic()
@@ -86,14 +91,7 @@ entrypoint.run_node({{"format_version": FORMAT_VERSION, "name": "slow", "type": 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_signal_while_the_runtime_imports_rclpy_ends_the_node_with_0_and_no_traceback(signum, ros_env):
-    process = subprocess.Popen(
-        [sys.executable, "-c", SLOW_IMPORT_SCRIPT],
-        env=ros_env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        preexec_fn=default_signals,
-    )
+    process = start_python(ros_env, SLOW_IMPORT_SCRIPT)
     try:
         assert process.stdout.readline().strip() == IMPORT_MARKER
         process.send_signal(signum)
@@ -132,14 +130,7 @@ def test_sigint_while_a_generated_entrypoint_loads_the_runtime_ends_it_with_0_an
     )
     entrypoint = tmp_path / "arm.py"
     entrypoint.write_text(render(plan_text(description))["nodes/arm.py"])
-    process = subprocess.Popen(
-        [sys.executable, "-c", SLOW_RUNTIME_SCRIPT, str(entrypoint)],
-        env=ros_env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        preexec_fn=default_signals,
-    )
+    process = start_python(ros_env, SLOW_RUNTIME_SCRIPT, str(entrypoint))
     try:
         assert process.stdout.readline().strip() == RUNTIME_MARKER
         process.send_signal(signal.SIGINT)
