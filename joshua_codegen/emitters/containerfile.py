@@ -65,14 +65,15 @@ def stop_timeout_s(robot: Robot) -> int:
     return math.ceil(robot.sigint_grace_s + robot.sigterm_grace_s + STOP_MARGIN_S)
 
 
-def run_packages(robot: Robot, binaries: list[str]) -> list[str]:
-    """Debian packages of the final stage: Python, the init, and what the robot's extras and binaries need."""
+def robot_packages(robot: Robot, binaries: list[str]) -> list[str]:
+    """Debian packages of the robot's stage (the image): Python, the init, what the robot's extras and binaries
+    need, and what makes the environment there; each once, in that order."""
     packages = list(RUN_PACKAGES)
     for extra in extras(robot):
         packages += EXTRA_PACKAGES.get(extra, ())
     if binaries:
         packages += CPP_RUN_PACKAGES
-    return packages
+    return list(dict.fromkeys([*packages, *BUILD_PACKAGES]))
 
 
 def run_options(robot: Robot) -> list[RunOption]:
@@ -113,8 +114,7 @@ def containerfile(robot: Robot, prefix: str, binaries: list[str], page: bool) ->
         venv=VENV,
         default_base=DEFAULT_BASE,
         cpp_packages=CPP_PACKAGES,
-        final_packages=run_packages(robot, binaries),
-        robot_packages=list(dict.fromkeys([*run_packages(robot, binaries), *BUILD_PACKAGES])),
+        robot_packages=robot_packages(robot, binaries),
         requirements=REQUIREMENTS,
         wheel_cache_id=WHEEL_CACHE_ID,
         wheel_cache=WHEEL_CACHE,
