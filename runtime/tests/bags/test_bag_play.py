@@ -80,7 +80,7 @@ def sigint_ignored() -> None:
 def play(env, bag, *options) -> subprocess.Popen:
     """The player, its publishers made PUBLISHERS_FIRST_S before its first message, so this process's graph
     queries and subscriptions find them before a short bag is over. It starts with SIGINT ignored, as a
-    shell's background job (or a pytest-xdist worker's child) does: Ctrl-C must stop it all the same."""
+    shell's background job does (and a test worker's child may): Ctrl-C must stop it all the same."""
     return subprocess.Popen(
         [
             sys.executable,
