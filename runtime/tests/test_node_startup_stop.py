@@ -7,10 +7,10 @@ import time
 
 import pytest
 
+from joshua_codegen.supervisor import policy
+
 STARTUP_MARKER = "starting slowly"
-STOP_TIMEOUT_S = (
-    20.0  # far below SLOW_START_S, which a node that waited out its start would take; room for a busy machine
-)
+STOP_TIMEOUT_S = 5.0
 SLOW_START_S = 60.0
 
 SCRIPT = f"""
@@ -33,12 +33,12 @@ entrypoint.run_node({{"format_version": FORMAT_VERSION, "name": "slow", "type": 
 
 
 def default_signals() -> None:
-    """In the child before exec: SIGINT and SIGTERM at their defaults and unblocked, as supervisor.py starts a
-    node. A test worker's process may hold them ignored or blocked after earlier tests, and both last across exec."""
-    stop_signals = (signal.SIGINT, signal.SIGTERM)
-    for number in stop_signals:
+    """In the child before exec: the signals supervisor.py resets at their defaults, its stop signals unblocked,
+    as it starts a node. A test worker's process may hold them ignored or blocked after earlier tests, and both
+    last across exec."""
+    for number in policy.RESET_IN_CHILD:
         signal.signal(number, signal.SIG_DFL)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, stop_signals)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, policy.STOP_SIGNALS)
 
 
 def start_python(env: dict, *args: str) -> subprocess.Popen:
