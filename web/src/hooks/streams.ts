@@ -84,15 +84,13 @@ export function useJointStates(topic: string): JointStates {
   const pending = useRef<{ arrived: JointStateEvent[]; lastShownMs: number; timer: number | null }>({
     arrived: [], lastShownMs: -Infinity, timer: null,
   });
-  const show = useCallback(() => {
+  const show = useCallback(() => { // called with at least one event waiting
     const waiting = pending.current;
     const arrived = waiting.arrived;
     waiting.arrived = [];
     waiting.timer = null;
     waiting.lastShownMs = performance.now();
-    if (arrived.length > 0) {
-      setState((previous) => ({ latest: arrived[arrived.length - 1], history: appendToWindow(previous.history, arrived) }));
-    }
+    setState((previous) => ({ latest: arrived[arrived.length - 1], history: appendToWindow(previous.history, arrived) }));
   }, []);
   const listener = useCallback((data: unknown) => {
     const event = data as JointStateEvent;
