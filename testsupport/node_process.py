@@ -9,6 +9,31 @@ import sys
 import time
 from pathlib import Path
 
+from joshua_codegen.supervisor import policy
+
+
+def default_signals() -> None:
+    """In the child before exec: the signals supervisor.py resets at their defaults, its stop signals unblocked,
+    as it starts a node. A test worker's process may hold them ignored or blocked after earlier tests, and both
+    last across exec."""
+    for number in policy.RESET_IN_CHILD:
+        signal.signal(number, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, policy.STOP_SIGNALS)
+
+
+def start_python(env: dict, *args: str, stderr=subprocess.PIPE) -> subprocess.Popen:
+    """`python -c ARGS...` started as the supervisor starts a node (default_signals), its output piped as text
+    (its stderr to `stderr` when given a file)."""
+    return subprocess.Popen(
+        [sys.executable, "-c", *args],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=stderr,
+        text=True,
+        preexec_fn=default_signals,
+    )
+
+
 NODE_STOP_TIMEOUT_S = 5.0
 NODE_EXIT_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
 

@@ -23,6 +23,7 @@ from joshua_runtime.errors import JoshuaError
 from joshua_runtime.messages import message_class
 from joshua_runtime.notify import Notifier
 from joshua_runtime.qos import qos_profile
+from joshua_runtime.ros_teardown import leave_ros
 from joshua_runtime.stop_signal import StopRequested, StopSignal
 
 SHUTDOWN_POLL_S = 0.05
@@ -130,10 +131,6 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
             except JoshuaError as exc:
                 print(f"{settings.name}: error while closing: {exc}", file=sys.stderr, flush=True)
                 code = code or exc.exit_code
-        if executor is not None:
-            executor.shutdown(timeout_sec=0)
-        if ros_node is not None:
-            ros_node.destroy_node()
-        rclpy.try_shutdown()
+        leave_ros(executor, ros_node, exit_code=code)
         notifier.close()
     return code

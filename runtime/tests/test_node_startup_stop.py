@@ -1,13 +1,11 @@
 """A node stopped while it is still starting (importing, opening a device) exits at once, with code 0."""
 
 import signal
-import subprocess
-import sys
 import time
 
 import pytest
 
-from joshua_codegen.supervisor import policy
+from testsupport.node_process import start_python
 
 STARTUP_MARKER = "starting slowly"
 STOP_TIMEOUT_S = 5.0
@@ -30,27 +28,6 @@ class SlowStart(JoshuaNode):
 entrypoint.node_class = lambda node_type: SlowStart
 entrypoint.run_node({{"format_version": FORMAT_VERSION, "name": "slow", "type": "CUSTOM"}})
 """
-
-
-def default_signals() -> None:
-    """In the child before exec: the signals supervisor.py resets at their defaults, its stop signals unblocked,
-    as it starts a node. A test worker's process may hold them ignored or blocked after earlier tests, and both
-    last across exec."""
-    for number in policy.RESET_IN_CHILD:
-        signal.signal(number, signal.SIG_DFL)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, policy.STOP_SIGNALS)
-
-
-def start_python(env: dict, *args: str) -> subprocess.Popen:
-    """`python -c ARGS...` started as the supervisor starts a node (default_signals), its output piped as text."""
-    return subprocess.Popen(
-        [sys.executable, "-c", *args],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        preexec_fn=default_signals,
-    )
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])

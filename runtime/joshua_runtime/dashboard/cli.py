@@ -153,9 +153,9 @@ async def serve(args) -> None:
         if link_task:
             link_task.cancel()
             link.close()
-        telemetry.close()
         for line in rate_limit.pending():
             print(f"dashboard: {line}", file=sys.stderr, flush=True)
+        telemetry.close()  # the last: it may end the process (ros_teardown.py)
 
 
 async def notify_manager(server, notifier, url: str) -> None:

@@ -19,6 +19,7 @@ from joshua_runtime.dashboard import frames
 from joshua_runtime.dashboard.api_schema import event_kind
 from joshua_runtime.dashboard.robot_view import IMAGE, JOINTS, SCAN, Inference, RobotView
 from joshua_runtime.messages import message_class
+from joshua_runtime.ros_teardown import leave_ros
 
 REPORT_PERIOD_S = 1.0
 IMAGE_MAX_FPS = 30.0
@@ -123,9 +124,7 @@ class Telemetry:
         self._stop.set()
         if self.thread.is_alive():
             self.thread.join()
-        self.executor.shutdown(timeout_sec=0)
-        self.node.destroy_node()
-        rclpy.try_shutdown(context=self.context)
+        leave_ros(self.executor, self.node, self.context)
 
     def send_episode_command(self, recorder: str, command: str) -> None:
         """Publish an episode command (`start TASK`, `stop`, `next` ...) to a recorder node."""

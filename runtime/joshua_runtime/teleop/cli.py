@@ -16,6 +16,7 @@ import termios
 import threading
 import tty
 
+from joshua_runtime.ros_teardown import leave_ros
 from joshua_runtime.teleop.mapping import KeyboardTeleop, joy_velocity
 
 KEY_HELP = "w/s forward/back, a/d turn, q/e/z/c curves, space stop, +/- speed, Esc quit"
@@ -124,8 +125,7 @@ def main(argv: list[str] | None = None) -> int:
         # A reliable sample still in the writer's queue dies with the process: wait for its acknowledgement.
         if not publisher.wait_for_all_acked(Duration(seconds=STOP_ACK_TIMEOUT_S)):
             print("joshua-teleop: warning: the zero Twist was not acknowledged by every subscriber", file=sys.stderr)
-        node.destroy_node()
-        rclpy.try_shutdown()
+        leave_ros(None, node)
     return 0
 
 

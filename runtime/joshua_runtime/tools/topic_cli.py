@@ -122,6 +122,7 @@ def main(argv: list[str] | None = None) -> int:
     from rclpy.signals import SignalHandlerOptions
 
     from joshua_runtime.errors import JoshuaError
+    from joshua_runtime.ros_teardown import leave_ros
     from joshua_runtime.tools.topic_graph import NoMessage
 
     # Ctrl-C (SIGINT) stops every command, also when it was started with SIGINT ignored (a shell's background
@@ -134,20 +135,20 @@ def main(argv: list[str] | None = None) -> int:
     )
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
+    code = 1  # an exception this function does not handle ends the process with 1 too
     try:
-        return COMMANDS[args.command](node, executor, args) or 0
+        code = COMMANDS[args.command](node, executor, args) or 0
     except KeyboardInterrupt:
-        return 0
+        code = 0
     except NoMessage as exc:
         print(f"joshua-topic: {exc}", file=sys.stderr)
-        return EXIT_NO_MESSAGE
+        code = EXIT_NO_MESSAGE
     except JoshuaError as exc:
         print(f"joshua-topic: {exc}", file=sys.stderr)
-        return EXIT_USAGE if exc.exit_code == EXIT_USAGE else 1
+        code = EXIT_USAGE if exc.exit_code == EXIT_USAGE else 1
     finally:
-        executor.shutdown(timeout_sec=0)
-        node.destroy_node()
-        rclpy.try_shutdown(context=context)
+        leave_ros(executor, node, context, exit_code=code)
+    return code
 
 
 class UsageError(Exception):
