@@ -87,7 +87,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'mock_arm',
-    'supervisor_code': '8b6f26c01660c8df',
+    'supervisor_code': '6d17fc4869b54389',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -1093,6 +1093,9 @@ class CgroupContainment:
     def before_sleep(self):
         return None
 
+    def node_exited(self) -> None:
+        pass
+
     def poll(self, now: float) -> None:
         pass
 
@@ -1202,6 +1205,11 @@ class NodeTracker:
         due, None while no node has a process."""
         self.stale = True
         return self.next_poll if self.busy() else None
+
+    def node_exited(self) -> None:
+        """A node's process exited: the next question about its processes walks /proc again, also in the
+        instant of the last walk (what the node started just before its exit was not there yet)."""
+        self.stale = True
 
     def poll(self, now: float) -> None:
         if now >= self.next_poll and self.busy():
@@ -3385,6 +3393,7 @@ class Supervisor(StopCascade):
         self.outcome.on_node_exit(node.spec, code)
         if code != 0:  # it may not have removed its shared-memory segments
             self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
+        self.containment.node_exited()
         if self.stopping or node.stop_requested:
             node.state = "stopping" if node.alive() else "stopped"
             return
@@ -3485,6 +3494,11 @@ class Supervisor(StopCascade):
                     continue
                 node.restart_at = None
                 self.launch(node)
+            elif node.state in ("failed", "finished") and node.alive():
+                # Without a cgroup, a process in flight to the supervisor as the node exited (its parent
+                # exiting at that moment too) is found only once it arrived.
+                log(node.name, "killing what it left behind, found after its exit")
+                self.signal_node(node, signal.SIGKILL)
         self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
         if self.next_status is not None and now >= self.next_status:
             self.next_status = now + self.options.status_interval

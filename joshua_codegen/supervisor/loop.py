@@ -274,6 +274,7 @@ class Supervisor(StopCascade):
         self.outcome.on_node_exit(node.spec, code)
         if code != 0:  # it may not have removed its shared-memory segments
             self.abandoned_since = min(node.started_at_wall, self.abandoned_since or node.started_at_wall)
+        self.containment.node_exited()
         if self.stopping or node.stop_requested:
             node.state = "stopping" if node.alive() else "stopped"
             return
@@ -374,6 +375,11 @@ class Supervisor(StopCascade):
                     continue
                 node.restart_at = None
                 self.launch(node)
+            elif node.state in ("failed", "finished") and node.alive():
+                # Without a cgroup, a process in flight to the supervisor as the node exited (its parent
+                # exiting at that moment too) is found only once it arrived.
+                log(node.name, "killing what it left behind, found after its exit")
+                self.signal_node(node, signal.SIGKILL)
         self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
         if self.next_status is not None and now >= self.next_status:
             self.next_status = now + self.options.status_interval

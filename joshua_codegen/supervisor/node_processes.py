@@ -90,6 +90,9 @@ class CgroupContainment:
     def before_sleep(self):
         return None
 
+    def node_exited(self) -> None:
+        pass
+
     def poll(self, now: float) -> None:
         pass
 
@@ -199,6 +202,11 @@ class NodeTracker:
         due, None while no node has a process."""
         self.stale = True
         return self.next_poll if self.busy() else None
+
+    def node_exited(self) -> None:
+        """A node's process exited: the next question about its processes walks /proc again, also in the
+        instant of the last walk (what the node started just before its exit was not there yet)."""
+        self.stale = True
 
     def poll(self, now: float) -> None:
         if now >= self.next_poll and self.busy():

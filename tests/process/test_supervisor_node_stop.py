@@ -78,7 +78,10 @@ def test_a_node_that_dies_takes_what_it_started_along_before_its_restart(tmp_pat
         first = escaped_launches(tmp_path, "dying")[0]
         assert not any(alive(pid) for pid in first), f"{first} outlived the node's death\n{supervisor.log()}"
         supervisor.wait_log(r"dying: failed for good after 1 restarts")
-        wait_until(lambda: not any(alive(pid) for pid in second), "what the last launch started to die")
+        try:
+            wait_until(lambda: not any(alive(pid) for pid in second), "what the last launch started to die")
+        except AssertionError as exc:
+            raise AssertionError(f"{exc}\n{supervisor.log()}") from None
         assert states(out, sock)["dying"]["state"] == "failed"
         assert re.search(r"^\[.*\] dying: killing what it left behind", supervisor.log(), re.M)
     finally:
