@@ -1,18 +1,10 @@
 """The defaults of every unset field, per node type: the one place both rules and model read them."""
 
 from joshua_core import servo_topics
+from joshua_core.message_types import JOINT_STATE, ODOMETRY
 from joshua_core.models import DEVICES, GL_BACKENDS, OUTPUT_FORMATS
-from joshua_core.node_types import (
-    BASE_WHEEL_JOINTS,
-    FOXGLOVE_BRIDGE,
-    JOINT_STATE,
-    NODE_TYPES,
-    ODOMETRY,
-    SIMULATION_ENGINE,
-    Family,
-    NodeTypeSpec,
-    TopicRole,
-)
+from joshua_core.node_families import Family, TopicRole
+from joshua_core.node_types import BASE_WHEEL_JOINTS, FOXGLOVE_BRIDGE, NODE_TYPES, SIMULATION_ENGINE, NodeTypeSpec
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_core.so100 import SO100_JOINTS, SO100_SERVO_IDS
 

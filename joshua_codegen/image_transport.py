@@ -14,8 +14,9 @@ from dataclasses import replace
 from joshua_codegen import defaults, placement, topology
 from joshua_codegen.positions import node_path
 from joshua_core.feature_keys import COMPRESSED_SEGMENT
+from joshua_core.message_types import IMAGE_TYPES
 from joshua_core.models import BAG_FORMAT
-from joshua_core.node_types import IMAGE_TYPES, Family
+from joshua_core.node_families import Family
 from joshua_core.schema import robot_config_pb2 as pb
 
 IMAGE, COMPRESSED_IMAGE = IMAGE_TYPES

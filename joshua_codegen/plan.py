@@ -4,9 +4,8 @@ import json
 import os
 from dataclasses import replace
 
-from joshua_codegen import defaults, escape, image_transport, node_settings, placement, topology
+from joshua_codegen import defaults, escape, image_transport, node_settings, placement, service_processes, topology
 from joshua_codegen.model import (
-    ControlRouter,
     Device,
     DiscoveryServer,
     Endpoint,
@@ -18,11 +17,11 @@ from joshua_codegen.model import (
     Topic,
 )
 from joshua_codegen.positions import node_path
-from joshua_core import control_plane
 from joshua_core import dashboard as dashboard_facts
-from joshua_core import discovery as discovery_facts
+from joshua_core.message_types import IMAGE_TYPES
 from joshua_core.models import BUILTIN_PREFIX, REGISTRY_PREFIX
-from joshua_core.node_types import FOXGLOVE_BRIDGE, IMAGE_TYPES, NODE_TYPES, SIMULATION_ENGINE, Family
+from joshua_core.node_families import Family
+from joshua_core.node_types import NODE_TYPES
 from joshua_core.schema import robot_config_pb2 as pb
 
 SUBSCRIBE_DEPTH = 10  # history of a subscription whose publishers state none (or are outside the description)
@@ -63,17 +62,21 @@ def plan(description: pb.RobotDescription, source: str) -> Robot:
         section = node_settings.for_simulation(config, [model.settings for model in simulated])
         simulation = node_settings.for_engine(config, engine, section)
         model_file = _file_named(section.model)
-        processes += (_engine_process(engine, any(_carries_images(model) for model in simulated), model_file),)
+        processes += (
+            service_processes.engine_process(engine, any(_carries_images(model) for model in simulated), model_file),
+        )
     topics = _topics(nodes)
     foxglove = _foxglove_settings(config, topics) if config.HasField("foxglove") else None
     if foxglove is not None:
-        processes += (_foxglove_process(foxglove.name, any(t.message_type in IMAGE_TYPES for t in topics)),)
+        processes += (
+            service_processes.foxglove_process(foxglove.name, any(t.message_type in IMAGE_TYPES for t in topics)),
+        )
     if config.HasField("dashboard"):
-        processes += (_dashboard_process(config, any(_carries_images(model) for model in nodes)),)
+        processes += (service_processes.dashboard_process(config, any(_carries_images(model) for model in nodes)),)
     hosts, discovery, control = (), None, None
     if placement.has_hosts(config):
         hosts, discovery, processes = _placed(config, processes)
-        control = _control_router(config, hosts)
+        control = service_processes.control_router(config, hosts)
     return Robot(
         name=config.name,
         mode=mode,
@@ -116,45 +119,9 @@ def _placed(config: pb.RobotConfig, processes: tuple[Process, ...]):
     if config.HasField("discovery"):
         server = next(h for h in hosts if h.name == config.discovery.server_host)
         discovery = DiscoveryServer(server.name, server.address, placement.discovery_port(config))
-        placed.insert(0, _discovery_process(discovery))
-    placed += [_host_agent_process(config, host, hosts) for host in hosts]
+        placed.insert(0, service_processes.discovery_process(discovery))
+    placed += [service_processes.host_agent_process(config, host, hosts) for host in hosts]
     return hosts, discovery, tuple(placed)
-
-
-def _control_router(config: pb.RobotConfig, hosts: tuple[Host, ...]) -> ControlRouter | None:
-    """Where the hosts' agents meet, with `control { }`: the control host's address and port, over TLS when
-    the hosts hold certificates."""
-    if not config.HasField("control"):
-        return None
-    name = placement.control_host(config)
-    address = next(h.address for h in hosts if h.name == name)
-    credentials = {field: getattr(config.control, field) for field in control_plane.CREDENTIAL_FIELDS}
-    tls = control_plane.uses_tls(credentials)
-    return ControlRouter(name, control_plane.endpoint(address, placement.control_port(config), tls))
-
-
-def _host_agent_process(config: pb.RobotConfig, host: Host, hosts: tuple[Host, ...]) -> Process:
-    """The agent of one host: it reports the Discovery Server's reachability to its supervisor and, with
-    `control { }`, joins the other hosts' agents over Zenoh (the control host's agent listens, the others
-    connect), with the paths of its host's credentials; the router's dictionary only on the router's host."""
-    args = []
-    router = _control_router(config, hosts)
-    if router is not None:
-        args += ["--listen" if host.name == router.host else "--connect", router.endpoint]
-        for field in control_plane.CREDENTIAL_FIELDS:
-            path = getattr(config.control, field)
-            if path and (field != "users_file" or host.name == router.host):
-                args += [control_plane.credential_flag(field), path]
-    process = _service_process(control_plane.process_name(host.name), control_plane.PROCESS_TYPE, False, False, args)
-    return replace(process, host=host.name)
-
-
-def _discovery_process(server: DiscoveryServer) -> Process:
-    """The Fast DDS Discovery Server: critical (no process of any host finds another without it), started
-    before the other processes of its host."""
-    args = ["--address", server.address, "--port", str(server.port)]
-    process = _service_process(discovery_facts.PROCESS_NAME, discovery_facts.PROCESS_TYPE, True, False, args)
-    return replace(process, host=server.host, starts_first=True)
 
 
 def _grace(shutdown: pb.Shutdown, field: str, default: float) -> float:
@@ -320,34 +287,6 @@ def _cpp_args(model: NodeModel) -> tuple[str, ...]:
     return tuple(args)
 
 
-def _service_process(
-    name: str, node_type: str, critical: bool, carries_images: bool, args=(), env=(), inputs=()
-) -> Process:
-    """A Python process joshuac adds beside the described nodes, restarted on failure."""
-    return Process(
-        name=name,
-        node_type=node_type,
-        kind="python",
-        entrypoint=f"nodes/{name}.py",
-        executable="",
-        args=tuple(args),
-        cpp_binary="",
-        cpp_args=(),
-        restart="RESTART_ON_FAILURE",
-        max_restarts=defaults.MAX_RESTARTS,
-        critical=critical,
-        env=tuple(env),
-        devices=(),
-        carries_images=carries_images,
-        inputs=tuple(inputs),
-    )
-
-
-def _engine_process(name: str, carries_images: bool, inputs: tuple[str, ...]) -> Process:
-    """The simulation engine: critical, as the simulated robot is nothing without it. Its input: the MJCF file."""
-    return _service_process(name, SIMULATION_ENGINE.name, True, carries_images, inputs=inputs)
-
-
 def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):
     """The Foxglove bridge serves every typed topic, subscribed with a QoS all its publishers serve."""
     served = [
@@ -356,34 +295,6 @@ def _foxglove_settings(config: pb.RobotConfig, topics: tuple[Topic, ...]):
         if t.message_type
     ]
     return node_settings.for_foxglove(config, defaults.FOXGLOVE_NAME, served)
-
-
-def _foxglove_process(name: str, carries_images: bool) -> Process:
-    """The bridge process: not critical (a viewer must not stop the robot)."""
-    return _service_process(name, FOXGLOVE_BRIDGE.name, False, carries_images)
-
-
-def _dashboard_process(config: pb.RobotConfig, carries_images: bool) -> Process:
-    """The web dashboard: its entrypoint runs `python -m joshua_runtime.dashboard` with `args`; it
-    subscribes to every topic, images included when the robot has some."""
-    dashboard = config.dashboard
-    port = dashboard.port if dashboard.HasField("port") else dashboard_facts.DEFAULT_PORT
-    args = ["--port", str(port), "--bind", dashboard.bind or dashboard_facts.DEFAULT_BIND]
-    if dashboard.zenoh_connect:
-        args += ["--zenoh-connect", dashboard.zenoh_connect]
-    for name in dashboard.allowed_host:
-        args += ["--allowed-host", name]
-    for field in dashboard_facts.FLEET_CREDENTIAL_FIELDS:  # paths only: the dashboard reads the files
-        if getattr(dashboard, field):
-            args += [dashboard_facts.credential_flag(field), getattr(dashboard, field)]
-    return _service_process(
-        dashboard_facts.PROCESS_NAME,
-        dashboard_facts.PROCESS_TYPE,
-        False,
-        carries_images,
-        args,
-        sorted(config.env.items()),
-    )
 
 
 def _topics(nodes: tuple[NodeModel, ...]) -> tuple[Topic, ...]:

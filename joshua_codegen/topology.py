@@ -8,7 +8,7 @@ from joshua_codegen import defaults
 from joshua_codegen.positions import Path, node_path
 from joshua_codegen.ros_names import resolve_topic, topic_problem
 from joshua_core import servo_topics
-from joshua_core.node_types import TopicRole
+from joshua_core.node_families import TopicRole
 from joshua_core.schema import robot_config_pb2 as pb
 
 PUBLISHER, SUBSCRIBER, READER = "publisher", "subscriber", "reader"

@@ -13,7 +13,8 @@ from joshua_codegen.check import check_text
 from joshua_codegen.compile import node_settings
 from joshua_codegen.plan import plan
 from joshua_core.models import BUILTIN_MODELS
-from joshua_core.node_types import NODE_TYPES, PROCESS_TYPES, SIMULATION_ENGINE, Family, cpp_binaries
+from joshua_core.node_families import Family
+from joshua_core.node_types import NODE_TYPES, PROCESS_TYPES, SIMULATION_ENGINE, cpp_binaries
 from joshua_core.schema import robot_config_pb2 as pb
 from joshua_runtime.sim import model
 

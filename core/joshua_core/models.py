@@ -1,7 +1,8 @@
 """Names both sides agree on for models and data: built-in MJCF models, GL backends, policy types, output formats
 and the model-registry prefix, and what message types a reader takes."""
 
-from joshua_core.node_types import BASE_WHEEL_JOINTS, Family, NodeTypeSpec
+from joshua_core.node_families import Family
+from joshua_core.node_types import BASE_WHEEL_JOINTS, NodeTypeSpec
 from joshua_core.so100 import SO100_JOINTS
 
 # `simulation { model: "builtin:NAME" }` names an MJCF model shipped with joshua_runtime.

@@ -10,48 +10,18 @@ checks that the layers agree, tests/test_type_lists.py that no prose lists types
 
 import sys
 from dataclasses import dataclass, field
-from enum import Enum
 
 from joshua_core.devices import LDS01_BAUD_RATE, STS3215_DEFAULT_BAUD_RATE
 from joshua_core.fixed_topics import ROBOT_DESCRIPTION, TF, TF_STATIC, FixedTopic
-
-
-class TextEnum(str, Enum):  # noqa: UP042 (joshua_core runs on Python 3.10, which has no StrEnum)
-    """An enum whose members are their text, also in str() and format() (enum.StrEnum, which needs Python 3.11)."""
-
-    def __str__(self) -> str:
-        return self.value
-
-    __format__ = str.__format__
-
-
-class Family(TextEnum):
-    """What a node type is about. Behaviour that depends on it compares with these members, never with text."""
-
-    CAMERA = "camera"
-    LIDAR = "lidar"
-    ENCODER = "encoder"
-    ACTUATOR = "actuator"
-    CALIBRATION = "calibration"
-    INFERENCE = "inference"
-    RECORDER = "recorder"
-    BASE = "base"
-    STATE_PUBLISHER = "state_publisher"
-    CUSTOM = "custom"
-    SIMULATION = "simulation"
-    BRIDGE = "bridge"
-
-
-class TopicRole(TextEnum):
-    """What a node type does with its topic_name (NONE: it has none, CUSTOM declares its topics)."""
-
-    PUBLISHES = "publishes"
-    SUBSCRIBES = "subscribes"
-    NONE = ""
-
-
-# The families that read joints through an STS3215 servo bus (or stand in for one that does).
-SERVO_BUS_FAMILIES = frozenset({Family.ENCODER, Family.ACTUATOR, Family.CALIBRATION})
+from joshua_core.message_types import (
+    IMAGE_TYPES,
+    JOINT_COMMAND_TYPES,
+    JOINT_STATE,
+    LASER_SCAN,
+    OBSERVATION_TYPES,
+    TWIST,
+)
+from joshua_core.node_families import SERVO_BUS_FAMILIES, Family, TopicRole
 
 # Fields every node type reads (QoS, restart policy, environment) are not listed per type.
 _SERVO_BUS_FIELDS = frozenset(
@@ -94,19 +64,8 @@ _BASE_FIELDS = frozenset(
 # Parameters every C++ node binary receives first, as `-p name:=value`.
 _CPP_TOPIC_PARAMETERS = ("topic_name", "message_type", "qos_depth", "qos_reliability", "qos_durability", "qos_history")
 _CPP_BUS_PARAMETERS = ("serial_port", "baud_rate", "device_ids", "joint_names", "calibration_file", "rate_hz")
-JOINT_STATE = "sensor_msgs/msg/JointState"
-# An action chunk: timed joint positions, as ros2_control's joint_trajectory_controller takes them.
-JOINT_TRAJECTORY = "trajectory_msgs/msg/JointTrajectory"
-# What a joint command topic carries: one goal per message, or a chunk of timed goals.
-JOINT_COMMAND_TYPES = (JOINT_STATE, JOINT_TRAJECTORY)
-TWIST = "geometry_msgs/msg/Twist"
-ODOMETRY = "nav_msgs/msg/Odometry"
 # The wheel joints a differential-drive base publishes unless its joint_names say otherwise.
 BASE_WHEEL_JOINTS = ("left_wheel", "right_wheel")
-IMAGE_TYPES = ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage")
-LASER_SCAN = "sensor_msgs/msg/LaserScan"
-# What a policy can observe and a dataset can record: images and joint states.
-OBSERVATION_TYPES = IMAGE_TYPES + (JOINT_STATE,)
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.node_types import TopicRole
+from joshua_core.node_families import TopicRole
 from joshua_core.schema import robot_config_pb2 as pb
 
 TYPE_LISTS = {

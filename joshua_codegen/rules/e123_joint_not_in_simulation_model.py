@@ -23,7 +23,7 @@ from joshua_codegen import defaults
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_core.models import BUILTIN_MODEL_JOINTS, BUILTIN_PREFIX
-from joshua_core.node_types import Family
+from joshua_core.node_families import Family
 from joshua_core.schema import robot_config_pb2 as pb
 
 TYPE_LISTS = {

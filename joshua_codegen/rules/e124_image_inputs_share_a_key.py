@@ -19,7 +19,7 @@ Example:
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
 from joshua_core.feature_keys import image_feature
-from joshua_core.node_types import IMAGE_TYPES
+from joshua_core.message_types import IMAGE_TYPES
 
 CODE = "E124"
 NAME = "image-inputs-share-a-key"

@@ -14,7 +14,7 @@ Example:
 
 from joshua_codegen.diagnostics import ERROR
 from joshua_codegen.rules.context import Finding
-from joshua_core.node_types import TopicRole
+from joshua_core.node_families import TopicRole
 
 TYPE_LISTS = {"subscriber_types": lambda entry: entry.topic == TopicRole.SUBSCRIBES}
 CODE = "E207"

@@ -29,7 +29,7 @@ Example:
 from joshua_codegen.diagnostics import WARNING
 from joshua_codegen.rules.context import Finding
 from joshua_codegen.values import suggest
-from joshua_core.node_types import TopicRole
+from joshua_core.node_families import TopicRole
 
 TYPE_LISTS = {
     "subscriber_types": lambda entry: entry.topic == TopicRole.SUBSCRIBES,

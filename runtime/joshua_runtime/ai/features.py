@@ -10,8 +10,8 @@
 """
 
 from joshua_core.feature_keys import IMAGE_PREFIX, image_feature, image_key  # noqa: F401 (part of this mapping)
-from joshua_core.node_types import IMAGE_TYPES, OBSERVATION_TYPES
-from joshua_core.node_types import JOINT_STATE as JOINT_STATE  # keys.JOINT_STATE for the recorder and inference
+from joshua_core.message_types import IMAGE_TYPES, OBSERVATION_TYPES
+from joshua_core.message_types import JOINT_STATE as JOINT_STATE  # keys.JOINT_STATE for the recorder and inference
 from joshua_core.settings import TopicSettings
 from joshua_runtime.errors import SettingsError
 

@@ -30,7 +30,7 @@ import math
 import threading
 import time
 
-from joshua_core.node_types import JOINT_COMMAND_TYPES
+from joshua_core.message_types import JOINT_COMMAND_TYPES
 from joshua_runtime.ai import cpu_threads, data_only, instruction, model_files, registry, saved_policy
 from joshua_runtime.ai import features as keys
 from joshua_runtime.ai.chunked_inference import ChunkedInference

@@ -6,7 +6,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from joshua_core.dashboard import PROCESS_TYPE as DASHBOARD_TYPE
-from joshua_core.node_types import DATA_SUBSCRIBER, IMAGE_TYPES, INFERENCE, JOINT_STATE, LASER_SCAN
+from joshua_core.message_types import IMAGE_TYPES, JOINT_STATE, LASER_SCAN
+from joshua_core.node_types import DATA_SUBSCRIBER, INFERENCE
 from joshua_runtime.ai import episode_protocol
 from joshua_runtime.dashboard.api_schema import named
 from joshua_runtime.errors import SettingsError

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from joshua_core.node_types import JOINT_TRAJECTORY
+from joshua_core.message_types import JOINT_TRAJECTORY
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
 DROP_LOG_PERIOD_S = 2.0  # at most one "action chunk dropped" line per this many seconds

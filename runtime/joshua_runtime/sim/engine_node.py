@@ -7,7 +7,7 @@ types and QoS, and publishes /diagnostics for the servo nodes among them (sim/di
 The bridges' render streams are drawn in their own thread; everything else runs on the node's ROS timers.
 """
 
-from joshua_core.node_types import IMAGE_TYPES
+from joshua_core.message_types import IMAGE_TYPES
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.node import JoshuaNode
 from joshua_runtime.sim.gl_backend import configure_gl

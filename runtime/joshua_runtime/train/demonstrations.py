@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from joshua_core.node_types import IMAGE_TYPES
+from joshua_core.message_types import IMAGE_TYPES
 from joshua_core.settings import TopicSettings
 from joshua_core.so100 import SO100_JOINTS
 from joshua_runtime.ai import features as keys
