@@ -163,20 +163,24 @@ class Dashboard:
 
         async def stream():
             # The stream ends once the server is asked to stop: it would hold the shutdown for its grace.
+            # One task waits for the next event across clock ticks; both end with the stream, also when the
+            # client goes away (Starlette cancels the stream as it waits).
             stopping = asyncio.ensure_future(self.stopping.wait())
+            arrival = None
             try:
                 yield b"retry: 1000\n\n"
                 yield _clock_event()
                 next_clock = loop.time() + CLOCK_PERIOD_S
                 while True:
-                    arrival = asyncio.ensure_future(mailbox.get())
+                    if arrival is None:
+                        arrival = asyncio.ensure_future(mailbox.get())
                     timeout = max(0.0, next_clock - loop.time())
                     await asyncio.wait({arrival, stopping}, timeout=timeout, return_when=asyncio.FIRST_COMPLETED)
                     if stopping.done():
-                        arrival.cancel()
                         return
-                    event = arrival.result() if arrival.done() else None
-                    arrival.cancel()
+                    event = None
+                    if arrival.done():
+                        event, arrival = arrival.result(), None
                     if loop.time() >= next_clock:
                         yield _clock_event()
                         next_clock = loop.time() + CLOCK_PERIOD_S
@@ -184,6 +188,8 @@ class Dashboard:
                         yield event.sse()
             finally:
                 stopping.cancel()
+                if arrival is not None:
+                    arrival.cancel()
                 self.broadcaster.unsubscribe(mailbox)
 
         return StreamingResponse(

@@ -1,4 +1,5 @@
-"""The dashboard's own timeouts end where it means them to, on every Python the runtime supports.
+"""The dashboard's own timeouts end where it means them to, and its event stream ends cleanly, on every Python
+the runtime supports.
 
 asyncio.wait_for's timeout is asyncio.TimeoutError, which only Python 3.11 made the builtin TimeoutError: a
 supervisor that never answers must still be a ControlError of kind timeout, and the event stream's clock must
@@ -83,6 +84,30 @@ def test_the_event_stream_ends_as_soon_as_the_server_is_asked_to_stop(tmp_path, 
 
     chunks = asyncio.run(asyncio.wait_for(read_until_stopped(), 10 * SHORT_TIMEOUT_S))
     assert chunks[1].startswith(b"event: clock") and len(chunks) == 2
+
+
+@pytest.mark.timeout(TEST_TIMEOUT_S)
+def test_a_client_that_goes_away_leaves_no_task_of_its_stream_behind(tmp_path, monkeypatch):
+    """A browser that closes its page cancels the stream as it waits for the next event (Starlette cancels it)."""
+    monkeypatch.setattr(app, "CLOCK_PERIOD_S", TEST_TIMEOUT_S)  # the stream waits for an event meanwhile
+    dashboard = dashboard_of(control_client.ControlClient(tmp_path / "no.sock"), tmp_path)
+
+    async def tasks_left_after_a_disconnection() -> list[asyncio.Task]:
+        response = await dashboard.events(None)
+
+        async def read_all() -> None:
+            async for _chunk in response.body_iterator:
+                pass
+
+        reader = asyncio.ensure_future(read_all())
+        await asyncio.sleep(SHORT_TIMEOUT_S)  # the retry and the first clock are read; it waits for more
+        reader.cancel()
+        await asyncio.gather(reader, return_exceptions=True)
+        await asyncio.sleep(0)  # what the stream cancelled as it ended finishes cancelling
+        return [task for task in asyncio.all_tasks() if task is not asyncio.current_task()]
+
+    assert asyncio.run(tasks_left_after_a_disconnection()) == []
+    assert dashboard.broadcaster.mailboxes == set()
 
 
 class SettlingSupervisor:
