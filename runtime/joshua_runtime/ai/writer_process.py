@@ -9,8 +9,9 @@ node's Python process never imports torch, so its ROS thread keeps its timing wh
     node  --commands (writer_channel: configure, start, frame, stop, discard, undo, close)-->  process
     node  <--events (log lines, episode events, the error that ended the writer)------  process
 
-The process ignores SIGINT and SIGTERM (the supervisor signals the whole process group): the node
-saves the episode in progress by sending `close`, and the process ends once it is saved. It dies with
+The process ignores SIGINT and SIGTERM (the supervisor signals the whole process group), from its start
+on (they are blocked until it ignores them): the node saves the episode in progress by sending `close`,
+and the process ends once it is saved. It dies with
 the node (PR_SET_PDEATHSIG, and at the end of its command pipe), leaving the episode in progress to
 the staging directory that the next start recovers, exactly as a killed node would.
 """
@@ -43,6 +44,7 @@ LOAD_WAIT_AT_CLOSE_S = 120.0
 PR_SET_PDEATHSIG = 1
 EXIT_PARENT_GONE = 1
 LOG_LEVELS = ("debug", "info", "warning", "error")
+STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
 class WriterProcess:
@@ -59,11 +61,17 @@ class WriterProcess:
         self.opened = threading.Event()
         commands_read, commands_write = os.pipe()
         events_read, events_write = os.pipe()
-        self.process = subprocess.Popen(
-            [sys.executable, "-m", __name__, str(commands_read), str(events_write)],
-            pass_fds=(commands_read, events_write),
-            stdin=subprocess.DEVNULL,
-        )
+        # Blocked from before its exec until it ignores them: a stop signal to the node's process group as the
+        # process's interpreter starts then waits for it, and is dropped, instead of killing it.
+        unblocked = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+        try:
+            self.process = subprocess.Popen(
+                [sys.executable, "-m", __name__, str(commands_read), str(events_write)],
+                pass_fds=(commands_read, events_write),
+                stdin=subprocess.DEVNULL,
+            )
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, unblocked)
         os.close(commands_read)
         os.close(events_write)
         self._commands = writer_channel.Sender(os.fdopen(commands_write, "wb"))
@@ -165,6 +173,7 @@ class WriterProcess:
             self.error = (DataLostError if self._frames_sent else JoshuaError)(
                 f"the dataset writer process ended unexpectedly (exit code {code}){lost}"
             )
+            self.opened.set()  # a stop waiting for it to load LeRobot has nothing more to wait for
             self.on_event("failed", message=str(self.error))
 
 
@@ -190,8 +199,9 @@ def _die_with_parent() -> None:
 
 def main(argv: list[str]) -> int:
     """The process: open an EpisodeWriter as the node asks, apply its commands until `close`."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    for number in STOP_SIGNALS:
+        signal.signal(number, signal.SIG_IGN)  # a stop signal pending since the start is dropped here
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
     parent = os.getppid()
     _die_with_parent()
     if os.getppid() != parent:
