@@ -87,7 +87,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'so100_leader_follower',
-    'supervisor_code': '6d17fc4869b54389',
+    'supervisor_code': 'bb9017ea0bdcbbcf',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -967,7 +967,11 @@ class Guard:
         supervisor = os.getpid()
         self.pid = os.fork()
         if self.pid == 0:
-            os.close(self.fd)
+            # Only its pipe and the standard streams: a descriptor it kept (the control socket's listener above
+            # all) would outlive the supervisor while the guard cleans up, and a supervisor started again
+            # meanwhile would find the socket served.
+            os.closerange(3, read_end)
+            os.closerange(read_end + 1, os.sysconf("SC_OPEN_MAX"))
             self.serve(read_end, supervisor)
         os.close(read_end)
 

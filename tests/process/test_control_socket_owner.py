@@ -5,11 +5,22 @@ supervisor (which then does not start) and by `ctl`, and a client of another use
 directory that stands for /tmp."""
 
 import os
+import re
 import signal
 
 import pytest
 from control_harness import RawClient, ctl, start_robot, status
-from supervisor_harness import WAIT_S, Supervisor, build, custom_node, events, robot
+from supervisor_harness import (
+    WAIT_S,
+    Supervisor,
+    build,
+    children_of,
+    command_line,
+    custom_node,
+    events,
+    robot,
+    wait_until,
+)
 
 from joshua_codegen.supervisor.policy import EXIT_PREFLIGHT
 from testsupport.other_user import OTHER_UID, as_other_user
@@ -128,6 +139,28 @@ def test_a_socket_of_another_running_supervisor_is_not_taken_over(tmp_path):
     finally:
         first.signal()
         assert first.wait() == 0
+
+
+def test_a_killed_supervisors_socket_is_free_at_once_while_its_guard_still_cleans_up(tmp_path):
+    """The guard, forked from the supervisor, ends what it left behind; it holds none of its sockets meanwhile."""
+    out, sock, _, log, first = start_robot(tmp_path)
+    guard = next(pid for pid in children_of(first.pid) if str(out / "supervisor.py") in command_line(pid))
+    os.kill(guard, signal.SIGSTOP)  # as a guard still busy killing the nodes of a large robot
+    try:
+        first.signal(signal.SIGKILL)
+        first.wait()
+        second = Supervisor(out, "--control-socket", str(sock))
+        try:
+            second.wait_log(r"started: 1 of 1 nodes running")
+            node = int(re.search(r"steady: started pid (\d+)", second.log()).group(1))
+            # its program under way before the stop (a SIGINT before it is ends it as a signal does)
+            wait_until(lambda: (node, "start") in [(pid, text) for _, pid, text in events(log)], "the node to start")
+        finally:
+            second.signal()
+            code = second.wait()
+    finally:
+        os.kill(guard, signal.SIGCONT)
+    assert code == 0, second.log()
 
 
 def test_a_socket_left_by_a_killed_supervisor_is_replaced_and_any_other_file_is_kept(tmp_path):
