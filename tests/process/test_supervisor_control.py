@@ -51,6 +51,8 @@ def test_a_node_that_ignores_sigint_is_stopped_with_sigterm_after_the_grace(tmp_
         tmp_path, custom_node("stubborn", tmp_path / "events.log", "SIGINT=ignore")
     )
     try:
+        # A CUSTOM node counts as started once it is exec'd; it ignores SIGINT once its program says "start".
+        wait_until(lambda: any(name == "stubborn" for name, _, _ in events(log)), "the stubborn node to start")
         assert ctl(out, sock, "stop", "stubborn").stdout == "stubborn: stopped\n"
         assert [text for name, _, text in events(log) if name == "stubborn"] == [
             "start",
