@@ -131,9 +131,8 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
             except JoshuaError as exc:
                 print(f"{settings.name}: error while closing: {exc}", file=sys.stderr, flush=True)
                 code = code or exc.exit_code
-        propagating = (
-            sys.exc_info()[1] is not None
-        )  # an exception none of the above handled: it ends the process with 1
+        # An exception none of the above handled ends the process with 1, also should the teardown hang.
+        propagating = sys.exc_info()[1] is not None
         leave_ros(executor, ros_node, exit_code=1 if propagating else code)
         notifier.close()
     return code
