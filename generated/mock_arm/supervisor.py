@@ -87,7 +87,7 @@ from collections.abc import MutableMapping
 
 ROBOT = {
     'name': 'mock_arm',
-    'supervisor_code': 'bb9017ea0bdcbbcf',
+    'supervisor_code': 'd7bbb0ff7d76d8c6',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
@@ -845,9 +845,10 @@ class TrackedProcesses:
         for pid in [pid for pid, pidfd in self.known.items() if pidfd in ended]:
             self.forget(pid)
 
-    def kill_all(self) -> None:
+    def kill_all(self) -> list[int]:
         """Stop every known process (a stopped process cannot fork), add their children until a pass
-        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
+        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all;
+        the PIDs killed."""
         stopped: set[int] = set()
         settled = False
         while True:
@@ -859,9 +860,11 @@ class TrackedProcesses:
                     break
                 settled = True
                 time.sleep(STOP_SETTLE_S)
-        for pid, pidfd in list(self.known.items()):
-            send_signal(pidfd, signal.SIGKILL)
+        killed = list(self.known)
+        for pid in killed:
+            send_signal(self.known[pid], signal.SIGKILL)
             self.forget(pid)
+        return killed
 
 
 def descendants_of(root: int, exclude: set[int]) -> list[int]:
@@ -1029,6 +1032,8 @@ class Guard:
 # a process orphaned before the supervisor saw it is recognised by it.
 NODE_MARK_VARIABLE = "JOSHUA_SUPERVISOR_NODE"
 
+ENDED_STATES = ("failed", "finished")  # a node in one of these does not run again unless asked to
+
 
 def node_mark(supervisor: int, name: str) -> str:
     return f"{supervisor}:{name}"
@@ -1135,6 +1140,11 @@ class NodeDescendants(TrackedProcesses):
         self.tracker.update()
         self.kill_all()
 
+    def kill_all(self) -> list[int]:
+        killed = super().kill_all()
+        self.tracker.strangers.update(killed)  # dying, maybe not gone by the next walk: not a leftover found then
+        return killed
+
 
 class NodeTracker:
     """Without a cgroup: every descendant of the supervisor, attributed to the node that started it.
@@ -1219,6 +1229,16 @@ class NodeTracker:
         if now >= self.next_poll and self.busy():
             self.update()
             self.next_poll = now + TRACKING_POLL_S
+            self.kill_late_leftovers()
+
+    def kill_late_leftovers(self) -> None:
+        """Kill what a node that will not run again left behind and the walk found only after its exit: a process
+        on its way to the supervisor as the node exited (its own parent exiting at that moment too). A node that
+        restarts has its leftovers killed before the restart; a cgroup never misses one."""
+        for node in self.nodes:
+            if node.state in ENDED_STATES and node.processes.known:
+                log(node.name, "killing what it left behind, found after its exit")
+                node.processes.kill_all()
 
     def close(self) -> None:
         for node in self.nodes:
@@ -3498,11 +3518,6 @@ class Supervisor(StopCascade):
                     continue
                 node.restart_at = None
                 self.launch(node)
-            elif node.state in ("failed", "finished") and node.alive():
-                # Without a cgroup, a process in flight to the supervisor as the node exited (its parent
-                # exiting at that moment too) is found only once it arrived.
-                log(node.name, "killing what it left behind, found after its exit")
-                self.signal_node(node, signal.SIGKILL)
         self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
         if self.next_status is not None and now >= self.next_status:
             self.next_status = now + self.options.status_interval

@@ -203,9 +203,10 @@ class TrackedProcesses:
         for pid in [pid for pid, pidfd in self.known.items() if pidfd in ended]:
             self.forget(pid)
 
-    def kill_all(self) -> None:
+    def kill_all(self) -> list[int]:
         """Stop every known process (a stopped process cannot fork), add their children until a pass
-        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all."""
+        finds none new (once more after STOP_SETTLE_S, for forks that were in flight), then SIGKILL all;
+        the PIDs killed."""
         stopped: set[int] = set()
         settled = False
         while True:
@@ -217,9 +218,11 @@ class TrackedProcesses:
                     break
                 settled = True
                 time.sleep(STOP_SETTLE_S)
-        for pid, pidfd in list(self.known.items()):
-            send_signal(pidfd, signal.SIGKILL)
+        killed = list(self.known)
+        for pid in killed:
+            send_signal(self.known[pid], signal.SIGKILL)
             self.forget(pid)
+        return killed
 
 
 def descendants_of(root: int, exclude: set[int]) -> list[int]:

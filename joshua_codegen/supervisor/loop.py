@@ -375,11 +375,6 @@ class Supervisor(StopCascade):
                     continue
                 node.restart_at = None
                 self.launch(node)
-            elif node.state in ("failed", "finished") and node.alive():
-                # Without a cgroup, a process in flight to the supervisor as the node exited (its parent
-                # exiting at that moment too) is found only once it arrived.
-                log(node.name, "killing what it left behind, found after its exit")
-                self.signal_node(node, signal.SIGKILL)
         self.readiness.on_timer(now, self.stopping)  # after launches: a CUSTOM program is ready as it starts
         if self.next_status is not None and now >= self.next_status:
             self.next_status = now + self.options.status_interval

@@ -22,6 +22,8 @@ from joshua_codegen.supervisor.robot import ROBOT
 # a process orphaned before the supervisor saw it is recognised by it.
 NODE_MARK_VARIABLE = "JOSHUA_SUPERVISOR_NODE"
 
+ENDED_STATES = ("failed", "finished")  # a node in one of these does not run again unless asked to
+
 
 def node_mark(supervisor: int, name: str) -> str:
     return f"{supervisor}:{name}"
@@ -128,6 +130,11 @@ class NodeDescendants(TrackedProcesses):
         self.tracker.update()
         self.kill_all()
 
+    def kill_all(self) -> list[int]:
+        killed = super().kill_all()
+        self.tracker.strangers.update(killed)  # dying, maybe not gone by the next walk: not a leftover found then
+        return killed
+
 
 class NodeTracker:
     """Without a cgroup: every descendant of the supervisor, attributed to the node that started it.
@@ -212,6 +219,16 @@ class NodeTracker:
         if now >= self.next_poll and self.busy():
             self.update()
             self.next_poll = now + TRACKING_POLL_S
+            self.kill_late_leftovers()
+
+    def kill_late_leftovers(self) -> None:
+        """Kill what a node that will not run again left behind and the walk found only after its exit: a process
+        on its way to the supervisor as the node exited (its own parent exiting at that moment too). A node that
+        restarts has its leftovers killed before the restart; a cgroup never misses one."""
+        for node in self.nodes:
+            if node.state in ENDED_STATES and node.processes.known:
+                log(node.name, "killing what it left behind, found after its exit")
+                node.processes.kill_all()
 
     def close(self) -> None:
         for node in self.nodes:
