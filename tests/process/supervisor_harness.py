@@ -179,6 +179,16 @@ def wait_until(predicate, what: str, timeout: float = WAIT_S, poll: float = POLL
     raise AssertionError(f"timed out after {timeout} s waiting for {what}")
 
 
+def wait_started(log: Path, name: str, pid: int | None = None) -> None:
+    """Wait until the BEHAVE program of node `name` (of process `pid` when given) wrote "start": its signal
+    handlers are in place. The supervisor counts a CUSTOM node started, and ready, once it is exec'd; a signal
+    before this ends it as the signal does."""
+    wait_until(
+        lambda: any(e[0] == name and e[2] == "start" and pid in (None, e[1]) for e in events(log)),
+        f"{name} to start" if pid is None else f"{name} (pid {pid}) to start",
+    )
+
+
 def process_state(pid: int) -> str | None:
     """The /proc state letter of a process (Z for a zombie), or None when it is gone."""
     try:

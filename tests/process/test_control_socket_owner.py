@@ -19,7 +19,7 @@ from supervisor_harness import (
     custom_node,
     events,
     robot,
-    wait_until,
+    wait_started,
 )
 
 from joshua_codegen.supervisor.policy import EXIT_PREFLIGHT
@@ -152,9 +152,7 @@ def test_a_killed_supervisors_socket_is_free_at_once_while_its_guard_still_clean
         second = Supervisor(out, "--control-socket", str(sock))
         try:
             second.wait_log(r"started: 1 of 1 nodes running")
-            node = int(re.search(r"steady: started pid (\d+)", second.log()).group(1))
-            # its program under way before the stop (a SIGINT before it is ends it as a signal does)
-            wait_until(lambda: (node, "start") in [(pid, text) for _, pid, text in events(log)], "the node to start")
+            wait_started(log, "steady", int(re.search(r"steady: started pid (\d+)", second.log()).group(1)))
         finally:
             second.signal()
             code = second.wait()

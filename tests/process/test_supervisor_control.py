@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 from control_harness import ctl, start_robot, status, talker_node
-from supervisor_harness import custom_node, events, unstamped, wait_until
+from supervisor_harness import custom_node, events, unstamped, wait_started, wait_until
 
 from joshua_codegen.supervisor import node_log
 
@@ -51,8 +51,7 @@ def test_a_node_that_ignores_sigint_is_stopped_with_sigterm_after_the_grace(tmp_
         tmp_path, custom_node("stubborn", tmp_path / "events.log", "SIGINT=ignore")
     )
     try:
-        # A CUSTOM node counts as started once it is exec'd; it ignores SIGINT once its program says "start".
-        wait_until(lambda: any(name == "stubborn" for name, _, _ in events(log)), "the stubborn node to start")
+        wait_started(log, "stubborn")  # it ignores SIGINT from then on
         assert ctl(out, sock, "stop", "stubborn").stdout == "stubborn: stopped\n"
         assert [text for name, _, text in events(log) if name == "stubborn"] == [
             "start",

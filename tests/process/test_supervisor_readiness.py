@@ -5,7 +5,7 @@ import re
 import signal
 import socket
 
-from supervisor_harness import PYTHON, Supervisor, build, custom_node, events, quoted, robot, wait_until
+from supervisor_harness import PYTHON, Supervisor, build, custom_node, quoted, robot, wait_started
 
 
 def test_the_robot_is_ready_when_every_node_said_so(tmp_path, ros_env):
@@ -47,11 +47,8 @@ def test_a_robot_of_custom_nodes_only_is_ready_without_status_lines(tmp_path):
         supervisor.wait_log(r"supervisor: ready: 2 of 2 nodes ready \([\d.]+ s after start\)")
         upstream.settimeout(5)
         assert upstream.recv(4096) == b"READY=1\nSTATUS=2 of 2 nodes ready"
-        # Ready when started is the supervisor's view; the programs stop cleanly once their handlers are in place.
-        wait_until(
-            lambda: {(name, text) for name, _, text in events(log)} >= {("a", "start"), ("b", "start")},
-            "both programs to start",
-        )
+        for name in ("a", "b"):  # ready when started is the supervisor's view; they stop cleanly from then on
+            wait_started(log, name)
         supervisor.signal(signal.SIGINT)
         assert supervisor.wait() == 0
     finally:
