@@ -7,6 +7,7 @@ node_process.NodeProcess there reads output at exit.
 """
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -233,3 +234,30 @@ def save_tiny_diffusion(directory, height: int, width: int, action_min: np.ndarr
     # What `joshua-registry import` keeps from the training dataset: the action names.
     (directory / "joshua_features.json").write_text(json.dumps({"action": ["wrist.pos", "gripper.pos"]}))
     return directory
+
+
+# A sitecustomize: the interpreter sleeps {starting} s as it starts, and any import of lerobot sleeps {lerobot} s first.
+SLOW_START_HOOK = """
+import sys, time
+
+time.sleep({starting})
+
+
+class SlowLeRobot:
+    def find_spec(self, name, path=None, target=None):
+        if name == "lerobot":
+            time.sleep({lerobot})
+        return None
+
+
+sys.meta_path.insert(0, SlowLeRobot())
+"""
+
+
+def slow_lerobot_env(tmp_path, env: dict, seconds: float, starting_s: float = 0.0) -> dict:
+    """`env` with a sitecustomize on PYTHONPATH that makes any import of lerobot sleep `seconds` first, and each
+    Python process sleep `starting_s` as its interpreter starts (before any code of its own runs)."""
+    hooks = tmp_path / "hooks"
+    hooks.mkdir()
+    (hooks / "sitecustomize.py").write_text(SLOW_START_HOOK.format(starting=starting_s, lerobot=seconds))
+    return dict(env, PYTHONPATH=os.pathsep.join(filter(None, [str(hooks), env.get("PYTHONPATH")])))

@@ -13,29 +13,15 @@ import signal
 import time
 from pathlib import Path
 
-from ai_support import RELIABLE, NodeProcess
+from ai_support import RELIABLE, NodeProcess, slow_lerobot_env
 from std_msgs.msg import String
 from test_ai_recorder import Sensors, load, record_one, recorder_settings, send
 
 READY = r"ready: recording 3 topics"
 WRITER_READY = r"dataset writer ready [\d.]+ s after the start"
 GONE_TIMEOUT_S = 30.0  # only ends a wait for a process that never goes
-# Installed on PYTHONPATH by two tests: any process that imports lerobot first sleeps this long.
 SLOW_LEROBOT_S = 8.0
 NEVER_S = 600.0
-SLOW_IMPORT_HOOK = """
-import sys, time
-
-
-class SlowLeRobot:
-    def find_spec(self, name, path=None, target=None):
-        if name == "lerobot":
-            time.sleep({seconds})
-        return None
-
-
-sys.meta_path.insert(0, SlowLeRobot())
-"""
 
 
 def children(pid: int) -> list[int]:
@@ -123,14 +109,6 @@ def test_a_writer_process_that_dies_ends_the_node_with_exit_6(tmp_path, ai_env, 
     assert len(errors) == 1, node.output
     assert "the dataset writer process ended unexpectedly (exit code -9)" in errors[0]
     assert "frames in progress is lost" in errors[0]
-
-
-def slow_lerobot_env(tmp_path, ai_env, seconds: float) -> dict:
-    """ai_env with a sitecustomize on PYTHONPATH that makes any import of lerobot sleep `seconds` first."""
-    hooks = tmp_path / "hooks"
-    hooks.mkdir()
-    (hooks / "sitecustomize.py").write_text(SLOW_IMPORT_HOOK.format(seconds=seconds))
-    return dict(ai_env, PYTHONPATH=os.pathsep.join(filter(None, [str(hooks), ai_env.get("PYTHONPATH")])))
 
 
 def test_a_stop_before_the_writer_has_loaded_lerobot_saves_the_frames_recorded_meanwhile(

@@ -11,6 +11,8 @@ import signal
 import threading
 import time
 
+from ai_support import slow_lerobot_env
+
 from joshua_runtime.ai.writer_process import WriterProcess
 from joshua_runtime.errors import DataLostError
 
@@ -18,21 +20,6 @@ STARTING_S = 2.0  # how long the writer's interpreter spends in its site hook be
 NEVER_S = 600.0
 CLOSE_TIMEOUT_S = 30.0  # far less than the 120 s a stop waits for a writer still loading LeRobot
 FRAMES = 3
-HOOKS = """
-import sys, time
-
-time.sleep({starting})
-
-
-class NeverLeRobot:
-    def find_spec(self, name, path=None, target=None):
-        if name == "lerobot":
-            time.sleep({never})
-        return None
-
-
-sys.meta_path.insert(0, NeverLeRobot())
-"""
 
 
 class Log:
@@ -45,10 +32,8 @@ class Log:
 
 def slow_writer(tmp_path, monkeypatch, starting_s: float) -> WriterProcess:
     """A writer whose interpreter spends `starting_s` in its site hook and then never finishes importing LeRobot."""
-    hooks = tmp_path / "hooks"
-    hooks.mkdir()
-    (hooks / "sitecustomize.py").write_text(HOOKS.format(starting=starting_s, never=NEVER_S))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(filter(None, [str(hooks), os.environ.get("PYTHONPATH")])))
+    env = slow_lerobot_env(tmp_path, dict(os.environ), NEVER_S, starting_s)
+    monkeypatch.setenv("PYTHONPATH", env["PYTHONPATH"])
     return WriterProcess(str(tmp_path / "dataset"), 30, "so100", False, Log(), lambda event, **_details: None)
 
 
