@@ -108,6 +108,11 @@ def host_path(host: str, path: str = "") -> str:
     return f"{HOSTS_DIR}/{host}/{path}" if path else f"{HOSTS_DIR}/{host}"
 
 
+SUPERVISOR_CODE_PATH = "supervisor_code.py"  # the code supervisor.py runs (emitters/supervisor.py)
+# Python files that are modules another generated script runs, not scripts themselves.
+NOT_SCRIPTS = (SUPERVISOR_CODE_PATH,)
+
+
 def is_executable(path: str) -> bool:
     """Generated scripts get mode 0755, everything else 0644."""
-    return path.endswith((".py", ".sh"))
+    return path.endswith((".py", ".sh")) and path.rsplit("/", 1)[-1] not in NOT_SCRIPTS

@@ -4,7 +4,7 @@ import argparse
 import os
 import sys
 
-from joshua_codegen.supervisor.common import log
+from joshua_codegen.supervisor.common import find_program, log
 from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
 from joshua_codegen.supervisor.control_socket import control_name, default_control_socket
 from joshua_codegen.supervisor.ctl import ctl
@@ -24,10 +24,22 @@ def positive_seconds(text):
     return value
 
 
-def parse_arguments(argv):
-    import shutil
+class StartHelpFormatter(argparse.HelpFormatter):
+    """argparse's help layout for the terminal's width, which argparse itself would ask shutil for: importing shutil
+    (and the compression modules it loads) costs every start about 1.5 ms, as argparse makes a formatter per option."""
 
-    parser = argparse.ArgumentParser(description=f"Run the nodes of robot {ROBOT['name']}.")
+    def __init__(self, prog):
+        try:
+            columns = int(os.environ.get("COLUMNS", "")) or os.get_terminal_size(sys.__stdout__.fileno()).columns
+        except (ValueError, OSError, AttributeError):
+            columns = 80
+        super().__init__(prog, width=max(columns, 40) - 2)
+
+
+def parse_arguments(argv):
+    parser = argparse.ArgumentParser(
+        description=f"Run the nodes of robot {ROBOT['name']}.", formatter_class=StartHelpFormatter
+    )
     parser.add_argument(
         "--skip-preflight", action="store_true", help="start even when devices, models or programs are missing"
     )
@@ -68,19 +80,19 @@ def parse_arguments(argv):
     parser.add_argument("--supervisord-listener", action="store_true", help=argparse.SUPPRESS)
     options = parser.parse_args(argv)
     if "/" not in options.python:
-        options.python = shutil.which(options.python) or options.python
+        options.python = find_program(options.python, os.environ.get("PATH", os.defpath)) or options.python
     return options
 
 
 def main(argv):
-    import traceback
-
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
     options = parse_arguments(argv)
     try:
         return supervise(options)
     except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
+        import traceback
+
         log("supervisor", "internal error (a bug in supervisor.py); its traceback:")
         traceback.print_exc()
         return EXIT_INTERNAL

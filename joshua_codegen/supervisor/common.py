@@ -54,3 +54,13 @@ def group_alive(pgid: int) -> bool:
 
 def under_script_dir(path: str) -> str:
     return path if os.path.isabs(path) else os.path.join(SCRIPT_DIR, path)
+
+
+def find_program(name: str, search_path: str) -> str | None:
+    """The first executable file `name` in the directories of `search_path` (shutil.which's answer for a
+    bare name, without importing shutil and the compression modules it loads: a few ms of every start)."""
+    for directory in search_path.split(os.pathsep):
+        candidate = os.path.join(directory or os.curdir, name)
+        if os.access(candidate, os.X_OK) and os.path.isfile(candidate):
+            return candidate
+    return None

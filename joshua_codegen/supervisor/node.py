@@ -3,7 +3,7 @@
 import os
 
 from joshua_codegen.supervisor.build import running_build
-from joshua_codegen.supervisor.common import group_alive, log
+from joshua_codegen.supervisor.common import find_program, group_alive, log
 from joshua_codegen.supervisor.node_processes import NODE_MARK_VARIABLE, node_mark
 from joshua_codegen.supervisor.policy import (
     CPP_FALLBACK_WARNING,
@@ -65,12 +65,10 @@ class Node:
         return os.path.join(self.build.path(self.build.robot["cpp_bin_dir"]), self.spec["cpp_binary"])
 
     def custom_program(self):
-        import shutil
-
         executable = self.spec["executable"]
         if "/" in executable:
             return os.path.abspath(executable)
-        return shutil.which(executable, path=self.environment.get("PATH", os.defpath))
+        return find_program(executable, self.environment.get("PATH", os.defpath))
 
     def command(self):
         """(argv, backend) chosen at launch: the C++ binary when it is executable, else Python."""

@@ -7,7 +7,7 @@ from supervisor_harness import Supervisor, alive, build, custom_node, events, ro
 
 from joshua_codegen.supervisor.policy import EXIT_INTERNAL, INTERNAL_ERRORS_MAX
 
-# (the line a fault is put after in the generated supervisor.py, supervisor arguments, how it is reached)
+# (the line a fault is put after in the generated supervisor_code.py, supervisor arguments, how it is reached)
 FAULTS = {
     "timer": ("    def print_status(self, now):\n", ["--status-interval", "0.3"], None),
     "control request": ("    def status(self) -> dict:\n", [], "status"),
@@ -20,7 +20,7 @@ def test_an_unexpected_exception_stops_every_node_with_the_cascade_and_exits_70(
     anchor, args, ctl_command = FAULTS[where]
     log = tmp_path / "events.log"
     out = build(tmp_path, robot([custom_node("a", log), custom_node("b", log, "SIGINT=ignore")]))
-    script = out / "supervisor.py"
+    script = out / "supervisor_code.py"  # the code supervisor.py runs: edited, it is compiled from this source
     text = script.read_text()
     assert text.count(anchor) == 1
     script.write_text(text.replace(anchor, anchor + "        raise RuntimeError('injected fault')\n"))
@@ -49,7 +49,7 @@ def test_an_unexpected_exception_stops_every_node_with_the_cascade_and_exits_70(
 def test_a_fault_that_keeps_coming_back_ends_with_sigkill_and_no_node_left(tmp_path):
     log = tmp_path / "events.log"
     out = build(tmp_path, robot([custom_node("deaf", log, "SIGINT=ignore", "SIGTERM=ignore")], sigint=30, sigterm=30))
-    script = out / "supervisor.py"
+    script = out / "supervisor_code.py"  # the code supervisor.py runs: edited, it is compiled from this source
     anchor = "    def reap(self):\n"  # runs on every turn of the loop, stopping or not
     text = script.read_text()
     assert text.count(anchor) == 1

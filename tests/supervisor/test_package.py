@@ -1,8 +1,11 @@
-"""The supervisor package: standard library only, one namespace when joined, and the joined file runs."""
+"""The supervisor package: standard library only, one namespace when joined, and the joined code runs."""
 
 import ast
+import marshal
+import os
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -32,14 +35,22 @@ def top_level_names(tree: ast.Module) -> set[str]:
     return names
 
 
-def generated_supervisor() -> str:
+def generated_supervisor() -> dict[str, str]:
+    """supervisor.py and supervisor_code.py, as joshuac writes them for the mock arm."""
     from google.protobuf import text_format
 
     from joshua_core.schema import RobotDescription
 
     config = ROOT / "config/robots/mock_arm.pbtxt"
     description = text_format.Parse(config.read_text(), RobotDescription())
-    return render(plan(description, config.name))[emitter.SUPERVISOR_PATH]
+    files = render(plan(description, config.name))
+    return {path: files[path] for path in (emitter.SUPERVISOR_PATH, emitter.CODE_PATH)}
+
+
+def write_supervisor(directory: Path) -> Path:
+    for path, content in generated_supervisor().items():
+        (directory / path).write_text(content)
+    return directory / emitter.SUPERVISOR_PATH
 
 
 def test_every_module_is_joined_once_and_robot_is_left_to_the_emitter():
@@ -73,29 +84,31 @@ def test_top_level_names_are_unique_across_modules():
             seen[defined] = name
 
 
-def test_generated_file_defines_exactly_the_names_of_the_placeholder_robot_module():
+def test_supervisor_py_holds_the_placeholder_robot_modules_names_and_the_code_file_every_other():
     from joshua_codegen.supervisor import robot
 
-    text = generated_supervisor()
+    files = generated_supervisor()
+    text, code = files[emitter.SUPERVISOR_PATH], files[emitter.CODE_PATH]
     tree = ast.parse(text)
     joined = set()
     for name in package.MODULES:
         joined |= top_level_names(module_tree(name))
-    data_names = top_level_names(tree) - joined
+    assert top_level_names(ast.parse(code)) == joined
+    data_names = top_level_names(tree) - {"supervisor_bytecode"}  # what compiles the code file or reads it cached
     assert data_names == top_level_names(module_tree(package.ROBOT_MODULE))
+    assert not data_names & joined
     robot_literal = next(
         node.value
         for node in tree.body
         if isinstance(node, ast.Assign) and isinstance(node.targets[0], ast.Name) and node.targets[0].id == "ROBOT"
     )
     assert ast.literal_eval(robot_literal).keys() == robot.ROBOT.keys()
-    assert "joshua_codegen" not in text
+    assert "joshua_codegen" not in text and "joshua_codegen" not in code
 
 
 @pytest.mark.process
-def test_joined_file_runs_with_the_standard_library_alone(tmp_path):
-    script = tmp_path / "supervisor.py"
-    script.write_text(generated_supervisor())
+def test_joined_code_runs_with_the_standard_library_alone(tmp_path):
+    script = write_supervisor(tmp_path)
     result = subprocess.run(
         [sys.executable, "-I", "-S", str(script), "--help"], capture_output=True, text=True, timeout=30, check=False
     )
@@ -117,3 +130,54 @@ def test_placeholder_robot_writes_the_settings_format_the_compiler_writes():
     from joshua_core.settings import FORMAT_VERSION
 
     assert ROBOT["settings_format_version"] == FORMAT_VERSION
+
+
+def run_help(script: Path, cache: Path, **env: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-S", str(script), "--help"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+        env={"PATH": os.environ["PATH"], "XDG_CACHE_HOME": str(cache), **env},
+    )
+
+
+def cached_code(cache: Path) -> list[Path]:
+    return sorted((cache / emitter.BYTECODE_CACHE).glob("*.bytecode"))
+
+
+@pytest.mark.process
+def test_the_first_start_keeps_the_code_compiled_and_the_next_run_it_from_the_cache(tmp_path):
+    script, cache = write_supervisor(tmp_path), tmp_path / "cache"
+    first = run_help(script, cache)
+    assert first.returncode == 0 and "--skip-preflight" in first.stdout, first.stderr
+    [kept] = cached_code(cache)
+    assert (kept.parent.stat().st_mode & 0o777, kept.parent.stat().st_uid) == (0o700, os.geteuid())
+    assert isinstance(marshal.loads(kept.read_bytes()), types.CodeType)
+    kept.write_bytes(marshal.dumps(compile("print('the cached code ran')", "other.py", "exec")))
+    assert run_help(script, cache).stdout == "the cached code ran\n"
+
+
+@pytest.mark.process
+@pytest.mark.parametrize("case", ["edited code file", "cache open to others", "PYTHONDONTWRITEBYTECODE"])
+def test_the_cache_is_not_used_for_other_code_or_when_others_may_write_it_and_not_written_when_asked(tmp_path, case):
+    script, cache = write_supervisor(tmp_path), tmp_path / "cache"
+    assert run_help(script, cache).returncode == 0
+    [kept] = cached_code(cache)
+    kept.write_bytes(marshal.dumps(compile("print('the cached code ran')", "other.py", "exec")))
+    env = {}
+    if case == "edited code file":
+        code = tmp_path / emitter.CODE_PATH
+        code.write_text(code.read_text().replace("Run the nodes of robot", "Run (edited) the nodes of robot"))
+    elif case == "cache open to others":
+        kept.parent.chmod(0o777)
+    else:
+        kept.unlink()
+        env["PYTHONDONTWRITEBYTECODE"] = "1"
+    result = run_help(script, cache, **env)
+    assert result.returncode == 0, result.stderr
+    assert "the cached code ran" not in result.stdout and "--skip-preflight" in result.stdout
+    assert ("Run (edited) the nodes" in result.stdout) == (case == "edited code file")
+    expected = {"edited code file": 2, "cache open to others": 1, "PYTHONDONTWRITEBYTECODE": 0}[case]
+    assert len(cached_code(cache)) == expected
