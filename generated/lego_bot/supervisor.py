@@ -122,7 +122,7 @@ def supervisor_bytecode():
     """The code of supervisor_code.py beside this file, compiled. Compiling its 4,000 lines costs a start about 20 ms,
     so the first start keeps it in this user's cache (~/.cache/joshua/supervisor/, by the code's hash and this
     Python's bytecode version), unless PYTHONDONTWRITEBYTECODE is set. A cache directory of another user, or one
-    others may write to, is neither read nor written."""
+    others may write to, is neither read nor written, nor is one where the home directory is unknown."""
     import marshal
     from importlib.util import MAGIC_NUMBER, source_hash
 
@@ -135,24 +135,30 @@ def supervisor_bytecode():
 
     def cache_is_own() -> bool:
         status = os.stat(cache)
-        return status.st_uid == os.geteuid() and not status.st_mode & 0o022
+        return os.path.isabs(cache) and status.st_uid == os.geteuid() and not status.st_mode & 0o022
 
     try:
         if cache_is_own():
             with open(kept, "rb") as kept_file:
-                return marshal.loads(kept_file.read())
+                code = marshal.loads(kept_file.read())
+            if isinstance(code, type(supervisor_bytecode.__code__)):
+                return code
     except (OSError, EOFError, ValueError, TypeError):
         pass
     code = compile(source, "supervisor_code.py", "exec", dont_inherit=True)
-    if not sys.dont_write_bytecode:
+    if not sys.dont_write_bytecode and os.path.isabs(cache):
+        temporary = f"{kept}.{os.getpid()}"
         try:
             os.makedirs(cache, mode=0o700, exist_ok=True)
             if cache_is_own():
-                with open(f"{kept}.{os.getpid()}", "wb") as kept_file:
+                with open(temporary, "wb") as kept_file:
                     kept_file.write(marshal.dumps(code))
-                os.replace(f"{kept}.{os.getpid()}", kept)
+                os.replace(temporary, kept)
         except OSError:
-            pass
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
     return code
 
 

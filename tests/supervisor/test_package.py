@@ -140,6 +140,7 @@ def run_help(script: Path, cache: Path, **env: str) -> subprocess.CompletedProce
         timeout=30,
         check=False,
         env={"PATH": os.environ["PATH"], "XDG_CACHE_HOME": str(cache), **env},
+        cwd=script.parent,
     )
 
 
@@ -160,7 +161,9 @@ def test_the_first_start_keeps_the_code_compiled_and_the_next_run_it_from_the_ca
 
 
 @pytest.mark.process
-@pytest.mark.parametrize("case", ["edited code file", "cache open to others", "PYTHONDONTWRITEBYTECODE"])
+@pytest.mark.parametrize(
+    "case", ["edited code file", "cache open to others", "PYTHONDONTWRITEBYTECODE", "no code in it", "relative home"]
+)
 def test_the_cache_is_not_used_for_other_code_or_when_others_may_write_it_and_not_written_when_asked(tmp_path, case):
     script, cache = write_supervisor(tmp_path), tmp_path / "cache"
     assert run_help(script, cache).returncode == 0
@@ -172,6 +175,10 @@ def test_the_cache_is_not_used_for_other_code_or_when_others_may_write_it_and_no
         code.write_text(code.read_text().replace("Run the nodes of robot", "Run (edited) the nodes of robot"))
     elif case == "cache open to others":
         kept.parent.chmod(0o777)
+    elif case == "no code in it":
+        kept.write_bytes(marshal.dumps(["no", "code"]))
+    elif case == "relative home":  # and XDG_CACHE_HOME relative too, which the XDG rules ignore
+        env.update(HOME="home", XDG_CACHE_HOME="elsewhere")
     else:
         kept.unlink()
         env["PYTHONDONTWRITEBYTECODE"] = "1"
@@ -179,5 +186,6 @@ def test_the_cache_is_not_used_for_other_code_or_when_others_may_write_it_and_no
     assert result.returncode == 0, result.stderr
     assert "the cached code ran" not in result.stdout and "--skip-preflight" in result.stdout
     assert ("Run (edited) the nodes" in result.stdout) == (case == "edited code file")
-    expected = {"edited code file": 2, "cache open to others": 1, "PYTHONDONTWRITEBYTECODE": 0}[case]
+    expected = {"edited code file": 2, "PYTHONDONTWRITEBYTECODE": 0}.get(case, 1)
     assert len(cached_code(cache)) == expected
+    assert sorted(path.name for path in tmp_path.iterdir()) == sorted(["cache", *generated_supervisor()])
