@@ -92,7 +92,8 @@ class Host:
         netem.impair(self.network.switch, self.netns, HOST_INTERFACE, delay_ms, loss_percent)
 
     def kill_processes(self) -> None:
-        """SIGKILL and reap the processes started here, then any process still in the host's namespace."""
+        """SIGKILL and reap the processes started here, then any process still in the host's namespace (and remove
+        the cgroups of the robots' supervisors among them)."""
         for process in self.processes:
             if process.poll() is None:
                 process.send_signal(signal.SIGKILL)
@@ -101,6 +102,7 @@ class Host:
             except subprocess.TimeoutExpired:
                 pass
         stale_hosts.kill_namespace_processes(self.netns)
+        stale_hosts.remove_supervisor_cgroups({process.pid for process in self.processes})
 
 
 class HostNetwork:

@@ -7,6 +7,7 @@ runner's timeout, say) is removed by the next set made on the machine: the proce
 namespaces (all started by that maker) are killed, the namespaces deleted, its directory unmounted.
 """
 
+import glob
 import json
 import os
 import re
@@ -14,6 +15,7 @@ import signal
 import time
 from pathlib import Path
 
+from joshua_codegen.supervisor import containment
 from testsupport import host_namespaces as ns
 
 SET_PREFIX = "jth"
@@ -49,17 +51,32 @@ def owner_alive(set_name: str, state_dir: Path) -> bool:
 
 
 def kill_namespace_processes(namespace: str) -> None:
-    """SIGKILL every process in the network namespace and wait (bounded) until none is left."""
+    """SIGKILL every process in the network namespace and wait (bounded) until none is left; then remove the
+    cgroups the robots' supervisors among them made, which their guards, killed as well, did not."""
     deadline = time.monotonic() + KILL_WAIT_S
+    killed = set()
     while pids := ns.network_namespace_pids(namespace):
         for pid in pids:
             try:
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+        killed.update(pids)
         if time.monotonic() > deadline:
             raise ns.HostSetupError(f"processes {pids} in namespace {namespace} did not end after SIGKILL")
         time.sleep(KILL_POLL_S)
+    remove_supervisor_cgroups(killed)
+
+
+def remove_supervisor_cgroups(supervisors: set[int]) -> None:
+    """Remove the cgroups `joshua-<robot>-<pid>` that supervisors of these pids made below this process's cgroup
+    (the hosts' processes share it: a network namespace has the machine's cgroups)."""
+    mount, own = containment.cgroup2_mount(), containment.own_cgroup()
+    if mount is None or own is None:
+        return
+    for pid in supervisors:
+        for path in glob.glob(os.path.join(mount, own.lstrip("/"), f"joshua-*-{pid}")):
+            containment.remove_cgroup(path)
 
 
 def remove_set(set_name: str) -> None:
