@@ -492,6 +492,72 @@ def restore_fd_limit() -> None:
             pass
 
 
+# Forking a child into a cgroup as the kernel makes it (clone3 with CLONE_INTO_CGROUP), instead of moving it there.
+
+
+# Moving the first process into a cgroup (a write to cgroup.procs) waits for an RCU grace period in the kernel,
+# about 10 ms that every start of the robot paid before its first node ran; a child made in its cgroup waits for none.
+SYS_CLONE3 = 435  # one number on every Linux architecture: clone3 came after the syscall tables were unified
+CLONE_INTO_CGROUP = 0x200000000  # Linux 5.7
+
+
+class CloneArgs(ctypes.Structure):
+    """struct clone_args of linux/sched.h, up to its `cgroup` field (CLONE_ARGS_SIZE_VER2)."""
+
+    _fields_ = [
+        (name, ctypes.c_uint64)
+        for name in (
+            "flags",
+            "pidfd",
+            "child_tid",
+            "parent_tid",
+            "exit_signal",
+            "stack",
+            "stack_size",
+            "tls",
+            "set_tid",
+            "set_tid_size",
+            "cgroup",
+        )
+    ]
+
+
+def load_syscall():
+    """libc's syscall(), called holding the interpreter's lock as os.fork() forks (None where ctypes cannot)."""
+    try:
+        call = ctypes.PyDLL(None, use_errno=True).syscall
+    except (OSError, AttributeError):
+        return None
+    call.restype = ctypes.c_long
+    call.argtypes = [ctypes.c_long, ctypes.c_void_p, ctypes.c_size_t]
+    return call
+
+
+SYSCALL = load_syscall()
+
+
+def fork_into_cgroup(path: str) -> int:
+    """os.fork(), the child made in the cgroup at `path`: 0 in the child, its pid in the parent. Raises OSError, with
+    no child made, where the kernel, a seccomp filter or the cgroup refuses."""
+    if SYSCALL is None:
+        raise OSError(errno.ENOSYS, "no libc syscall() to call clone3 with")
+    directory = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    try:
+        arguments = CloneArgs(flags=CLONE_INTO_CGROUP, exit_signal=signal.SIGCHLD, cgroup=directory)
+        ctypes.pythonapi.PyOS_BeforeFork()
+        pid = SYSCALL(SYS_CLONE3, ctypes.byref(arguments), ctypes.sizeof(arguments))
+        if pid == 0:
+            ctypes.pythonapi.PyOS_AfterFork_Child()
+            return 0
+        error = ctypes.get_errno()
+        ctypes.pythonapi.PyOS_AfterFork_Parent()
+    finally:
+        os.close(directory)
+    if pid < 0:
+        raise OSError(error, f"clone3 into {path}: {os.strerror(error)}")
+    return pid
+
+
 # Keeping every descendant of the supervisor killable: a cgroup where writable, else /proc tracking.
 
 
@@ -558,6 +624,19 @@ def cgroup_usable(path: str) -> bool:
             code = 0
         finally:
             os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status) == 0
+
+
+def cgroup_made_in(path: str) -> bool:
+    """Whether a child can be forked in the cgroup (clone3) and live: tried once by a short-lived child. The kernel
+    kills such a child where this process's cgroup was ever killed through cgroup.kill (and the new one not)."""
+    try:
+        pid = fork_into_cgroup(path)
+    except OSError:
+        return False
+    if pid == 0:
+        os._exit(0)
     _, status = os.waitpid(pid, 0)
     return os.waitstatus_to_exitcode(status) == 0
 
@@ -896,14 +975,19 @@ class NodeCgroup:
     """A node's own cgroup: every process it started stays in it, whatever session, group or parent it
     moves to (only a write to the cgroup tree moves a process out)."""
 
-    def __init__(self, path: str):
-        self.join = path  # the cgroup each of the node's processes joins before exec
+    def __init__(self, path: str, made_in: bool):
+        self.path = path
+        self.made_in = made_in  # whether its process is forked in the cgroup, else
+        self.join = None if made_in else path  # the cgroup the forked process joins before exec
+
+    def fork(self) -> int:
+        return fork_into_cgroup(self.path) if self.made_in else os.fork()
 
     def pids(self) -> list[int]:
-        return cgroup_pids(self.join)
+        return cgroup_pids(self.path)
 
     def alive(self) -> bool:
-        return cgroup_populated(self.join)
+        return cgroup_populated(self.path)
 
     def signal(self, pids: list[int], number: int) -> None:
         for pid in pids:
@@ -913,16 +997,20 @@ class NodeCgroup:
                 pass
 
     def kill(self) -> None:
-        kill_cgroup(self.join)
+        kill_cgroup(self.path)
+        # The kernel kills a child forked into a cgroup whose count of kills differs from its parent's cgroup's
+        # (Linux 6.18 at least): after a kill, the node's processes join its cgroup after their fork.
+        self.made_in, self.join = False, self.path
 
 
 class CgroupContainment:
     """A new cgroup of the supervisor's, holding one cgroup per node and no process of its own."""
 
-    def __init__(self, path: str, nodes):
+    def __init__(self, path: str, nodes, made_in: bool):
         self.cgroup = path  # the guard kills and removes it with everything below
+        self.made_in = made_in  # whether nodes are forked in their cgroups (clone3), else moved there
         for node in nodes:
-            node.processes = NodeCgroup(os.path.join(path, node.name))
+            node.processes = NodeCgroup(os.path.join(path, node.name), made_in)
 
     def adopt(self, node) -> None:
         """Give a node a reload adds its own cgroup; raises OSError when it cannot be made."""
@@ -931,11 +1019,11 @@ class CgroupContainment:
             os.mkdir(path)
         except FileExistsError:
             pass
-        node.processes = NodeCgroup(path)
+        node.processes = NodeCgroup(path, self.made_in)
 
     def release(self, node) -> None:
         """Remove the cgroup of a node a reload took away, once it is empty."""
-        remove_cgroup(node.processes.join)
+        remove_cgroup(node.processes.path)
 
     def pids(self) -> list[int]:
         """The processes of every node."""
@@ -963,6 +1051,9 @@ class NodeDescendants(TrackedProcesses):
         super().__init__()
         self.tracker = tracker
         self.join = None
+
+    def fork(self) -> int:
+        return os.fork()
 
     def pids(self) -> list[int]:
         self.tracker.update()
@@ -1105,9 +1196,12 @@ def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
                 reason = f"cannot create a cgroup per node in {path}: {exc}"
             else:
                 probe = os.path.join(path, nodes[0].name) if nodes else path
-                if cgroup_usable(probe):
+                made_in = cgroup_made_in(probe)
+                if made_in or cgroup_usable(probe):
                     log("supervisor", f"nodes run in cgroup {path}")
-                    return CgroupContainment(path, nodes)
+                    if not made_in:
+                        log("supervisor", "each node joins its cgroup after its fork (clone3 cannot fork it there)")
+                    return CgroupContainment(path, nodes, made_in)
                 reason = f"a process cannot join {probe}"
             remove_cgroup(path)
     log(
@@ -3182,7 +3276,7 @@ class Supervisor(StopCascade):
         try:
             if node_log is not None:
                 read_end, write_end = node_log.open_pipe()
-            pid = os.fork()
+            pid = node.processes.fork()
             if pid == 0:
                 child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
         except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies

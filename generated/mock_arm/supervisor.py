@@ -72,7 +72,7 @@ import sys
 
 ROBOT = {
     'name': 'mock_arm',
-    'supervisor_code': '31ab4c56ea97c8bd',
+    'supervisor_code': '1dee63ba28c88b8d',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

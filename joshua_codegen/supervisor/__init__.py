@@ -22,6 +22,7 @@ MODULES = (
     "build",
     "reload_plan",
     "fd_limit",
+    "cgroup_fork",
     "containment",
     "children",
     "guard",

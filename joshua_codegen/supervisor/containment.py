@@ -5,6 +5,7 @@ import select
 import signal
 import time
 
+from joshua_codegen.supervisor.cgroup_fork import fork_into_cgroup
 from joshua_codegen.supervisor.policy import (
     CGROUP_EMPTY_POLL_S,
     KILL_WAIT_S,
@@ -74,6 +75,19 @@ def cgroup_usable(path: str) -> bool:
             code = 0
         finally:
             os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return os.waitstatus_to_exitcode(status) == 0
+
+
+def cgroup_made_in(path: str) -> bool:
+    """Whether a child can be forked in the cgroup (clone3) and live: tried once by a short-lived child. The kernel
+    kills such a child where this process's cgroup was ever killed through cgroup.kill (and the new one not)."""
+    try:
+        pid = fork_into_cgroup(path)
+    except OSError:
+        return False
+    if pid == 0:
+        os._exit(0)
     _, status = os.waitpid(pid, 0)
     return os.waitstatus_to_exitcode(status) == 0
 

@@ -199,7 +199,7 @@ class Supervisor(StopCascade):
         try:
             if node_log is not None:
                 read_end, write_end = node_log.open_pipe()
-            pid = os.fork()
+            pid = node.processes.fork()
             if pid == 0:
                 child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
         except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies

@@ -2,9 +2,11 @@
 
 import os
 
+from joshua_codegen.supervisor.cgroup_fork import fork_into_cgroup
 from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.containment import (
     TrackedProcesses,
+    cgroup_made_in,
     cgroup_pids,
     cgroup_populated,
     cgroup_usable,
@@ -44,14 +46,19 @@ class NodeCgroup:
     """A node's own cgroup: every process it started stays in it, whatever session, group or parent it
     moves to (only a write to the cgroup tree moves a process out)."""
 
-    def __init__(self, path: str):
-        self.join = path  # the cgroup each of the node's processes joins before exec
+    def __init__(self, path: str, made_in: bool):
+        self.path = path
+        self.made_in = made_in  # whether its process is forked in the cgroup, else
+        self.join = None if made_in else path  # the cgroup the forked process joins before exec
+
+    def fork(self) -> int:
+        return fork_into_cgroup(self.path) if self.made_in else os.fork()
 
     def pids(self) -> list[int]:
-        return cgroup_pids(self.join)
+        return cgroup_pids(self.path)
 
     def alive(self) -> bool:
-        return cgroup_populated(self.join)
+        return cgroup_populated(self.path)
 
     def signal(self, pids: list[int], number: int) -> None:
         for pid in pids:
@@ -61,16 +68,20 @@ class NodeCgroup:
                 pass
 
     def kill(self) -> None:
-        kill_cgroup(self.join)
+        kill_cgroup(self.path)
+        # The kernel kills a child forked into a cgroup whose count of kills differs from its parent's cgroup's
+        # (Linux 6.18 at least): after a kill, the node's processes join its cgroup after their fork.
+        self.made_in, self.join = False, self.path
 
 
 class CgroupContainment:
     """A new cgroup of the supervisor's, holding one cgroup per node and no process of its own."""
 
-    def __init__(self, path: str, nodes):
+    def __init__(self, path: str, nodes, made_in: bool):
         self.cgroup = path  # the guard kills and removes it with everything below
+        self.made_in = made_in  # whether nodes are forked in their cgroups (clone3), else moved there
         for node in nodes:
-            node.processes = NodeCgroup(os.path.join(path, node.name))
+            node.processes = NodeCgroup(os.path.join(path, node.name), made_in)
 
     def adopt(self, node) -> None:
         """Give a node a reload adds its own cgroup; raises OSError when it cannot be made."""
@@ -79,11 +90,11 @@ class CgroupContainment:
             os.mkdir(path)
         except FileExistsError:
             pass
-        node.processes = NodeCgroup(path)
+        node.processes = NodeCgroup(path, self.made_in)
 
     def release(self, node) -> None:
         """Remove the cgroup of a node a reload took away, once it is empty."""
-        remove_cgroup(node.processes.join)
+        remove_cgroup(node.processes.path)
 
     def pids(self) -> list[int]:
         """The processes of every node."""
@@ -111,6 +122,9 @@ class NodeDescendants(TrackedProcesses):
         super().__init__()
         self.tracker = tracker
         self.join = None
+
+    def fork(self) -> int:
+        return os.fork()
 
     def pids(self) -> list[int]:
         self.tracker.update()
@@ -253,9 +267,12 @@ def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
                 reason = f"cannot create a cgroup per node in {path}: {exc}"
             else:
                 probe = os.path.join(path, nodes[0].name) if nodes else path
-                if cgroup_usable(probe):
+                made_in = cgroup_made_in(probe)
+                if made_in or cgroup_usable(probe):
                     log("supervisor", f"nodes run in cgroup {path}")
-                    return CgroupContainment(path, nodes)
+                    if not made_in:
+                        log("supervisor", "each node joins its cgroup after its fork (clone3 cannot fork it there)")
+                    return CgroupContainment(path, nodes, made_in)
                 reason = f"a process cannot join {probe}"
             remove_cgroup(path)
     log(
