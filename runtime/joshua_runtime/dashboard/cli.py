@@ -119,8 +119,10 @@ async def serve(args) -> None:
     url = args.public_url or page_url(args.bind, port)
     # ROS is loaded once the settings are known to be good, so that a mistake in them is told in one line also
     # where rclpy is not importable (apt's ROS not sourced).
+    from joshua_runtime.dashboard.frame_memory import set_up_for_frames
     from joshua_runtime.dashboard.telemetry import Telemetry
 
+    set_up_for_frames()
     broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
     control = control_client(args.manifest, control_socket)
