@@ -18,7 +18,8 @@ from joshua_runtime.notify import Notifier
 WEB_DIR_VARIABLE = "JOSHUA_WEB_DIR"
 DEFAULT_WEB_DIR = Path(os.environ.get(WEB_DIR_VARIABLE) or Path(__file__).resolve().parents[3] / "web" / "dist")
 SHUTDOWN_GRACE_S = 1
-NOTIFY_POLL_S = 0.05  # how often the start of the server is checked, then the watchdog pinged (it waits its half)
+NOTIFY_POLL_S = 0.05  # how often the start of the server is checked
+WATCHDOG_LOOKS = 4  # the watchdog is looked at this often per interval, and pinged once half of it has passed
 
 
 def port_number(text: str) -> int:
@@ -162,13 +163,15 @@ async def serve(args) -> None:
 
 async def notify_manager(server, notifier, url: str) -> None:
     """READY=1 to the process manager (supervisor.py, systemd) once the server listens, then the
-    watchdog's pings while the event loop runs."""
+    watchdog's pings while the event loop runs (when the manager asks for them)."""
     while not server.started:
         await asyncio.sleep(NOTIFY_POLL_S)
     notifier.ready(f"serving {url}")
+    if notifier.watchdog_interval_s is None:
+        return
     while True:
         notifier.watchdog()
-        await asyncio.sleep(NOTIFY_POLL_S)
+        await asyncio.sleep(notifier.watchdog_interval_s / WATCHDOG_LOOKS)
 
 
 def main(argv=None) -> int:
