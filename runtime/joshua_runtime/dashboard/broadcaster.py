@@ -13,6 +13,9 @@ import time
 from collections import OrderedDict
 from typing import NamedTuple
 
+# Events as compact JSON; NaN and infinities are refused (frames.py turns them into null).
+_JSON = json.JSONEncoder(separators=(",", ":"), allow_nan=False)
+
 
 class Mailbox:
     """One client's pending events: at most one per key, oldest key first. Used from the event loop only."""
@@ -131,7 +134,7 @@ class Broadcaster:
         if loop is None or loop.is_closed():
             return
         stamped = {**data, "server_time_s": round(time.time(), 3)}
-        payload = Event.of(kind, json.dumps(stamped, separators=(",", ":"), allow_nan=False))
+        payload = Event.of(kind, _JSON.encode(stamped))
         try:
             loop.call_soon_threadsafe(self._deliver, key, payload)
         except RuntimeError:  # the server is shutting down
