@@ -300,12 +300,18 @@ def report(port: int, token: str, pid: int, seconds: tuple[float, float, float],
         f"server CPU with 1 browser: {browser['server_cpu']:.1f} % "
         f"(+{browser['server_cpu'] - idle:.1f} % for the client)"
     )
-    bridge_cpu, bridge_rates = bridge()
+    bridge_cpu, bridge_rates, bridge_latency = bridge()
     rates = ", ".join(f"{topic} {rate:.1f}/s" for topic, rate in bridge_rates.items())
     print(
         f"peer: the Foxglove bridge with 1 client taking both streams whole ({rates}): CPU {bridge_cpu:.1f} %; "
         f"dashboard with 1 browser / bridge: {browser['server_cpu'] / bridge_cpu:.2f}x"
     )
+    for kind, topic in (("joints", JOINT_TOPIC), ("image", IMAGE_TOPIC)):
+        values = bridge_latency[topic]
+        print(
+            f"peer: publish -> its client (Python, websockets), {kind:6s}: p50 {percentile(values, 50):6.1f} ms  "
+            f"p99 {percentile(values, 99):6.1f} ms  ({len(values)} messages)"
+        )
 
     for count in (1, 10):
         readers = [SseReader(port, token) for _ in range(count)]

@@ -117,8 +117,9 @@ class Dashboard:
 
     def note_stopping(self) -> None:
         """This server is about to stop (called from the event loop's thread): requests waiting for the
-        supervisor get their answer now rather than be cut by the shutdown."""
+        supervisor get their answer now rather than be cut by the shutdown, and event streams end."""
         self.stopping.set()
+        self.broadcaster.wake_all()
 
     def poll_quickly(self) -> None:
         """Ask the supervisor for its status now, then every QUICK_POLL_S until every node has settled (called
@@ -162,34 +163,24 @@ class Dashboard:
         loop = asyncio.get_running_loop()
 
         async def stream():
-            # The stream ends once the server is asked to stop: it would hold the shutdown for its grace.
-            # One task waits for the next event across clock ticks; both end with the stream, also when the
-            # client goes away (Starlette cancels the stream as it waits).
-            stopping = asyncio.ensure_future(self.stopping.wait())
-            arrival = None
+            # The stream ends once the server is asked to stop (note_stopping wakes its wait): it would hold the
+            # shutdown for its grace. It waits for events across clock ticks and sends those that came meanwhile
+            # in one write; a client that goes away ends it as it waits (Starlette cancels the stream).
             try:
                 yield b"retry: 1000\n\n"
                 yield _clock_event()
                 next_clock = loop.time() + CLOCK_PERIOD_S
-                while True:
-                    if arrival is None:
-                        arrival = asyncio.ensure_future(mailbox.get())
-                    timeout = max(0.0, next_clock - loop.time())
-                    await asyncio.wait({arrival, stopping}, timeout=timeout, return_when=asyncio.FIRST_COMPLETED)
-                    if stopping.done():
+                while not self.stopping.is_set():
+                    await mailbox.wait(max(0.0, next_clock - loop.time()))
+                    if self.stopping.is_set():
                         return
-                    event = None
-                    if arrival.done():
-                        event, arrival = arrival.result(), None
+                    chunk = b"".join(event.sse for event in mailbox.take_all())
                     if loop.time() >= next_clock:
-                        yield _clock_event()
+                        chunk = _clock_event() + chunk
                         next_clock = loop.time() + CLOCK_PERIOD_S
-                    if event is not None:
-                        yield event.sse()
+                    if chunk:
+                        yield chunk
             finally:
-                stopping.cancel()
-                if arrival is not None:
-                    arrival.cancel()
                 self.broadcaster.unsubscribe(mailbox)
 
         return StreamingResponse(

@@ -13,13 +13,16 @@ import time
 from collections import OrderedDict
 from typing import NamedTuple
 
+# Events as compact JSON; NaN and infinities are refused (frames.py turns them into null).
+_JSON = json.JSONEncoder(separators=(",", ":"), allow_nan=False)
+
 
 class Mailbox:
     """One client's pending events: at most one per key, oldest key first. Used from the event loop only."""
 
     def __init__(self):
         self._pending: OrderedDict[str, Event] = OrderedDict()
-        self._ready = asyncio.Event()
+        self._waiter: asyncio.Future | None = None
         self.dropped = 0
 
     def put(self, key: str, payload: "Event") -> None:
@@ -27,7 +30,27 @@ class Mailbox:
             self.dropped += 1
             del self._pending[key]
         self._pending[key] = payload
-        self._ready.set()
+        self.wake()
+
+    def wake(self) -> None:
+        """End a `wait` under way (an event came, or the reader must look at something else)."""
+        waiter = self._waiter
+        if waiter is not None and not waiter.done():
+            waiter.set_result(None)
+
+    async def wait(self, timeout: float | None = None) -> bool:
+        """Wait until an event is pending (True), or until `timeout` passes or `wake()` (False when none is)."""
+        if not self._pending:
+            loop = asyncio.get_running_loop()
+            self._waiter = waiter = loop.create_future()
+            timer = loop.call_later(timeout, _end_wait, waiter) if timeout is not None else None
+            try:
+                await waiter
+            finally:
+                self._waiter = None
+                if timer is not None:
+                    timer.cancel()
+        return bool(self._pending)
 
     async def get(self) -> "Event":
         """The oldest pending event (waits for one)."""
@@ -35,24 +58,36 @@ class Mailbox:
 
     async def get_with_key(self) -> tuple[str, "Event"]:
         """The oldest pending event with its key (waits for one)."""
-        while not self._pending:
-            self._ready.clear()
-            await self._ready.wait()
+        while not await self.wait():
+            pass
         return self._pending.popitem(last=False)
+
+    def take_all(self) -> list["Event"]:
+        """Every pending event, oldest first, without waiting (none pending: an empty list)."""
+        events = list(self._pending.values())
+        self._pending.clear()
+        return events
 
     def pending_bytes(self) -> int:
         return sum(len(event.data) for event in self._pending.values())
 
 
+def _end_wait(waiter: asyncio.Future) -> None:
+    if not waiter.done():
+        waiter.set_result(None)
+
+
 class Event(NamedTuple):
-    """One event: its kind (the SSE event name) and its data as JSON text."""
+    """One event: its kind (the SSE event name), its data as JSON text and as Server-Sent Event bytes."""
 
     kind: str
     data: str
+    sse: bytes  # `event: KIND` and the JSON data on one line, encoded once for every client
 
-    def sse(self) -> bytes:
-        """The event as Server-Sent Event bytes: `event: KIND` and the JSON data on one line."""
-        return f"event: {self.kind}\ndata: {self.data}\n\n".encode()
+    @classmethod
+    def of(cls, kind: str, data: str) -> "Event":
+        """The event of `kind` with `data` (JSON text on one line)."""
+        return cls(kind, data, f"event: {kind}\ndata: {data}\n\n".encode())
 
 
 class Broadcaster:
@@ -84,6 +119,11 @@ class Broadcaster:
         self.mailboxes.discard(mailbox)
         self.viewers.discard(mailbox)
 
+    def wake_all(self) -> None:
+        """End every mailbox's `wait` under way (called from the event loop's thread)."""
+        for mailbox in self.mailboxes:
+            mailbox.wake()
+
     def attach(self, loop: asyncio.AbstractEventLoop) -> None:
         """Deliver events in `loop` (the server's) from now on; events published before are dropped."""
         self.loop = loop
@@ -94,7 +134,7 @@ class Broadcaster:
         if loop is None or loop.is_closed():
             return
         stamped = {**data, "server_time_s": round(time.time(), 3)}
-        payload = Event(kind, json.dumps(stamped, separators=(",", ":"), allow_nan=False))
+        payload = Event.of(kind, _JSON.encode(stamped))
         try:
             loop.call_soon_threadsafe(self._deliver, key, payload)
         except RuntimeError:  # the server is shutting down

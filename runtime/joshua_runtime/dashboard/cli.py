@@ -18,7 +18,8 @@ from joshua_runtime.notify import Notifier
 WEB_DIR_VARIABLE = "JOSHUA_WEB_DIR"
 DEFAULT_WEB_DIR = Path(os.environ.get(WEB_DIR_VARIABLE) or Path(__file__).resolve().parents[3] / "web" / "dist")
 SHUTDOWN_GRACE_S = 1
-NOTIFY_POLL_S = 0.05  # how often the start of the server is checked, then the watchdog pinged (it waits its half)
+NOTIFY_POLL_S = 0.05  # how often the start of the server is checked
+WATCHDOG_LOOKS = 4  # the watchdog is looked at this often per interval, and pinged once half of it has passed
 
 
 def port_number(text: str) -> int:
@@ -119,8 +120,10 @@ async def serve(args) -> None:
     url = args.public_url or page_url(args.bind, port)
     # ROS is loaded once the settings are known to be good, so that a mistake in them is told in one line also
     # where rclpy is not importable (apt's ROS not sourced).
+    from joshua_runtime.dashboard.frame_memory import set_up_for_frames
     from joshua_runtime.dashboard.telemetry import Telemetry
 
+    set_up_for_frames()
     broadcaster = Broadcaster()
     telemetry = Telemetry(view, broadcaster)
     control = control_client(args.manifest, control_socket)
@@ -160,13 +163,15 @@ async def serve(args) -> None:
 
 async def notify_manager(server, notifier, url: str) -> None:
     """READY=1 to the process manager (supervisor.py, systemd) once the server listens, then the
-    watchdog's pings while the event loop runs."""
+    watchdog's pings while the event loop runs (when the manager asks for them)."""
     while not server.started:
         await asyncio.sleep(NOTIFY_POLL_S)
     notifier.ready(f"serving {url}")
+    if notifier.watchdog_interval_s is None:
+        return
     while True:
         notifier.watchdog()
-        await asyncio.sleep(NOTIFY_POLL_S)
+        await asyncio.sleep(notifier.watchdog_interval_s / WATCHDOG_LOOKS)
 
 
 def main(argv=None) -> int:

@@ -15,7 +15,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from joshua_runtime.ai import episode_protocol
-from joshua_runtime.dashboard import frames
+from joshua_runtime.dashboard import cdr, frames
 from joshua_runtime.dashboard.api_schema import event_kind
 from joshua_runtime.dashboard.robot_view import IMAGE, JOINTS, SCAN, Inference, RobotView
 from joshua_runtime.messages import message_class
@@ -138,7 +138,8 @@ class Telemetry:
 
     def _subscribe(self, stream):
         """A subscription that takes messages serialized, as DDS delivers them: counting one costs no decoding,
-        and only those that become events are decoded (a 640x480 frame nobody watches never is)."""
+        and only those that become events are decoded (a 640x480 frame nobody watches never is), joint
+        states and images straight from their bytes (cdr.py)."""
         from rclpy.serialization import deserialize_message
 
         make_event = _EVENT_MAKERS.get(stream.kind)
@@ -155,7 +156,10 @@ class Telemetry:
                 return
             self.last_sent[stream.topic] = now
             try:
-                data = make_event(stream.topic, deserialize_message(serialized, message_type))
+                message = cdr.decode(stream.message_type, serialized)
+                if message is None:
+                    message = deserialize_message(serialized, message_type)
+                data = make_event(stream.topic, message)
             except ValueError as exc:
                 self.node.get_logger().warning(f"{stream.topic}: {exc}", throttle_duration_sec=5.0)
                 return
