@@ -206,8 +206,10 @@ def supervisor_bytecode():
     kept = os.path.join(cache, f"{(MAGIC_NUMBER + source_hash(source)).hex()}.bytecode")
 
     def cache_is_own() -> bool:
+        if not os.path.isabs(cache):
+            return False
         status = os.stat(cache)
-        return os.path.isabs(cache) and status.st_uid == os.geteuid() and not status.st_mode & 0o022
+        return status.st_uid == os.geteuid() and not status.st_mode & 0o022
 
     try:
         if cache_is_own():

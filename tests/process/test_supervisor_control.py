@@ -19,11 +19,13 @@ def test_restart_stop_and_start_a_node_while_the_others_run(tmp_path):
         before = status(out, sock)
         assert {name: node["state"] for name, node in before.items()} == {"steady": "running", "talker": "running"}
         assert before["steady"]["ready"] and before["steady"]["restarts"] == 0
+        wait_started(log, "steady")  # a SIGINT before its handler is in place would end it unseen
 
         restarted = ctl(out, sock, "restart", "steady")
         new_pid = status(out, sock)["steady"]["pid"]
         assert restarted.returncode == 0 and restarted.stdout == f"steady: running (pid {new_pid})\n"
         assert new_pid != before["steady"]["pid"]
+        wait_started(log, "steady", new_pid)
         assert [text for name, _, text in events(log) if name == "steady"] == ["start", "got SIGINT exit", "start"]
         assert status(out, sock)["talker"]["pid"] == before["talker"]["pid"]
 
