@@ -72,7 +72,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': '1dee63ba28c88b8d',
+    'supervisor_code': '65902b474946b0d8',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

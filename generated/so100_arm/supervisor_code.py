@@ -536,11 +536,21 @@ def load_syscall():
 SYSCALL = load_syscall()
 
 
+def single_threaded() -> bool:
+    try:
+        return len(os.listdir("/proc/self/task")) == 1
+    except OSError:
+        return False
+
+
 def fork_into_cgroup(path: str) -> int:
     """os.fork(), the child made in the cgroup at `path`: 0 in the child, its pid in the parent. Raises OSError, with
-    no child made, where the kernel, a seccomp filter or the cgroup refuses."""
+    no child made, where the kernel, a seccomp filter or the cgroup refuses, and in a process of several threads:
+    clone3 runs none of the C library's fork handlers, so a lock another thread held would stay held in the child."""
     if SYSCALL is None:
         raise OSError(errno.ENOSYS, "no libc syscall() to call clone3 with")
+    if not single_threaded():
+        raise OSError(errno.ENOTSUP, "clone3 forks a single-threaded process only")
     directory = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     try:
         arguments = CloneArgs(flags=CLONE_INTO_CGROUP, exit_signal=signal.SIGCHLD, cgroup=directory)
@@ -981,7 +991,12 @@ class NodeCgroup:
         self.join = None if made_in else path  # the cgroup the forked process joins before exec
 
     def fork(self) -> int:
-        return fork_into_cgroup(self.path) if self.made_in else os.fork()
+        if self.made_in:
+            try:
+                return fork_into_cgroup(self.path)
+            except OSError:  # refused now (out of processes, say): this fork and the next the other way
+                self.made_in, self.join = False, self.path
+        return os.fork()
 
     def pids(self) -> list[int]:
         return cgroup_pids(self.path)

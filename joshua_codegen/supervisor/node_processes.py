@@ -52,7 +52,12 @@ class NodeCgroup:
         self.join = None if made_in else path  # the cgroup the forked process joins before exec
 
     def fork(self) -> int:
-        return fork_into_cgroup(self.path) if self.made_in else os.fork()
+        if self.made_in:
+            try:
+                return fork_into_cgroup(self.path)
+            except OSError:  # refused now (out of processes, say): this fork and the next the other way
+                self.made_in, self.join = False, self.path
+        return os.fork()
 
     def pids(self) -> list[int]:
         return cgroup_pids(self.path)
