@@ -252,7 +252,13 @@ class Supervisor:
         return self.log_path.read_text()
 
     def wait_log(self, pattern: str, timeout: float = WAIT_S) -> re.Match:
-        return wait_until(lambda: re.search(pattern, self.log(), re.M), f"{pattern!r} in the supervisor log", timeout)
+        """The first match of `pattern` in the supervisor's log; a timeout's message holds the log as it was."""
+        try:
+            return wait_until(
+                lambda: re.search(pattern, self.log(), re.M), f"{pattern!r} in the supervisor log", timeout
+            )
+        except AssertionError as exc:
+            raise AssertionError(f"{exc}; the log:\n{self.log()}") from None
 
     def signal(self, number: int = signal.SIGINT) -> float:
         self.process.send_signal(number)
