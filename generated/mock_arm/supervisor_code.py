@@ -624,29 +624,22 @@ def join_cgroup(path: str) -> None:
         procs.write(str(os.getpid()))
 
 
-def cgroup_usable(path: str) -> bool:
-    """Whether a child can join the cgroup: tried once by a short-lived forked child."""
-    pid = os.fork()
-    if pid == 0:
-        code = 1
-        try:
-            join_cgroup(path)
-            code = 0
-        finally:
-            os._exit(code)
-    _, status = os.waitpid(pid, 0)
-    return os.waitstatus_to_exitcode(status) == 0
-
-
-def cgroup_made_in(path: str) -> bool:
-    """Whether a child can be forked in the cgroup (clone3) and live: tried once by a short-lived child. The kernel
-    kills such a child where this process's cgroup was ever killed through cgroup.kill (and the new one not)."""
+def cgroup_usable(path: str, made_in: bool) -> bool:
+    """Whether a child can be forked in the cgroup (clone3, `made_in`), else join it after its fork, and live: tried
+    once by a short-lived child. The kernel kills a child forked in where this process's cgroup was ever killed
+    through cgroup.kill (and the new one not)."""
     try:
-        pid = fork_into_cgroup(path)
+        pid = fork_into_cgroup(path) if made_in else os.fork()
     except OSError:
         return False
     if pid == 0:
-        os._exit(0)
+        code = 1
+        try:
+            if not made_in:
+                join_cgroup(path)
+            code = 0
+        finally:
+            os._exit(code)
     _, status = os.waitpid(pid, 0)
     return os.waitstatus_to_exitcode(status) == 0
 
@@ -987,15 +980,19 @@ class NodeCgroup:
 
     def __init__(self, path: str, made_in: bool):
         self.path = path
-        self.made_in = made_in  # whether its process is forked in the cgroup, else
-        self.join = None if made_in else path  # the cgroup the forked process joins before exec
+        self.made_in = made_in  # whether its process is forked in the cgroup, else it joins it before exec
+
+    @property
+    def join(self) -> str | None:
+        """The cgroup a forked process of the node joins before exec (None: it is forked in it)."""
+        return None if self.made_in else self.path
 
     def fork(self) -> int:
         if self.made_in:
             try:
                 return fork_into_cgroup(self.path)
             except OSError:  # refused now (out of processes, say): this fork and the next the other way
-                self.made_in, self.join = False, self.path
+                self.made_in = False
         return os.fork()
 
     def pids(self) -> list[int]:
@@ -1015,7 +1012,7 @@ class NodeCgroup:
         kill_cgroup(self.path)
         # The kernel kills a child forked into a cgroup whose count of kills differs from its parent's cgroup's
         # (Linux 6.18 at least): after a kill, the node's processes join its cgroup after their fork.
-        self.made_in, self.join = False, self.path
+        self.made_in = False
 
 
 class CgroupContainment:
@@ -1211,8 +1208,8 @@ def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
                 reason = f"cannot create a cgroup per node in {path}: {exc}"
             else:
                 probe = os.path.join(path, nodes[0].name) if nodes else path
-                made_in = cgroup_made_in(probe)
-                if made_in or cgroup_usable(probe):
+                made_in = cgroup_usable(probe, made_in=True)
+                if made_in or cgroup_usable(probe, made_in=False):
                     log("supervisor", f"nodes run in cgroup {path}")
                     if not made_in:
                         log("supervisor", "each node joins its cgroup after its fork (clone3 cannot fork it there)")

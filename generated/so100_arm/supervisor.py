@@ -72,7 +72,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': '65902b474946b0d8',
+    'supervisor_code': '25ea625d3675f5ff',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -65,29 +65,22 @@ def join_cgroup(path: str) -> None:
         procs.write(str(os.getpid()))
 
 
-def cgroup_usable(path: str) -> bool:
-    """Whether a child can join the cgroup: tried once by a short-lived forked child."""
-    pid = os.fork()
-    if pid == 0:
-        code = 1
-        try:
-            join_cgroup(path)
-            code = 0
-        finally:
-            os._exit(code)
-    _, status = os.waitpid(pid, 0)
-    return os.waitstatus_to_exitcode(status) == 0
-
-
-def cgroup_made_in(path: str) -> bool:
-    """Whether a child can be forked in the cgroup (clone3) and live: tried once by a short-lived child. The kernel
-    kills such a child where this process's cgroup was ever killed through cgroup.kill (and the new one not)."""
+def cgroup_usable(path: str, made_in: bool) -> bool:
+    """Whether a child can be forked in the cgroup (clone3, `made_in`), else join it after its fork, and live: tried
+    once by a short-lived child. The kernel kills a child forked in where this process's cgroup was ever killed
+    through cgroup.kill (and the new one not)."""
     try:
-        pid = fork_into_cgroup(path)
+        pid = fork_into_cgroup(path) if made_in else os.fork()
     except OSError:
         return False
     if pid == 0:
-        os._exit(0)
+        code = 1
+        try:
+            if not made_in:
+                join_cgroup(path)
+            code = 0
+        finally:
+            os._exit(code)
     _, status = os.waitpid(pid, 0)
     return os.waitstatus_to_exitcode(status) == 0
 

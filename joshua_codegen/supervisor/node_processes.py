@@ -6,7 +6,6 @@ from joshua_codegen.supervisor.cgroup_fork import fork_into_cgroup
 from joshua_codegen.supervisor.common import log
 from joshua_codegen.supervisor.containment import (
     TrackedProcesses,
-    cgroup_made_in,
     cgroup_pids,
     cgroup_populated,
     cgroup_usable,
@@ -48,15 +47,19 @@ class NodeCgroup:
 
     def __init__(self, path: str, made_in: bool):
         self.path = path
-        self.made_in = made_in  # whether its process is forked in the cgroup, else
-        self.join = None if made_in else path  # the cgroup the forked process joins before exec
+        self.made_in = made_in  # whether its process is forked in the cgroup, else it joins it before exec
+
+    @property
+    def join(self) -> str | None:
+        """The cgroup a forked process of the node joins before exec (None: it is forked in it)."""
+        return None if self.made_in else self.path
 
     def fork(self) -> int:
         if self.made_in:
             try:
                 return fork_into_cgroup(self.path)
             except OSError:  # refused now (out of processes, say): this fork and the next the other way
-                self.made_in, self.join = False, self.path
+                self.made_in = False
         return os.fork()
 
     def pids(self) -> list[int]:
@@ -76,7 +79,7 @@ class NodeCgroup:
         kill_cgroup(self.path)
         # The kernel kills a child forked into a cgroup whose count of kills differs from its parent's cgroup's
         # (Linux 6.18 at least): after a kill, the node's processes join its cgroup after their fork.
-        self.made_in, self.join = False, self.path
+        self.made_in = False
 
 
 class CgroupContainment:
@@ -272,8 +275,8 @@ def contain_nodes(nodes, supervisor: int, no_cgroup: bool):
                 reason = f"cannot create a cgroup per node in {path}: {exc}"
             else:
                 probe = os.path.join(path, nodes[0].name) if nodes else path
-                made_in = cgroup_made_in(probe)
-                if made_in or cgroup_usable(probe):
+                made_in = cgroup_usable(probe, made_in=True)
+                if made_in or cgroup_usable(probe, made_in=False):
                     log("supervisor", f"nodes run in cgroup {path}")
                     if not made_in:
                         log("supervisor", "each node joins its cgroup after its fork (clone3 cannot fork it there)")

@@ -41,12 +41,12 @@ print(os.waitstatus_to_exitcode(status), next((line for line in text.splitlines(
 # Run in a new interpreter: whether clone3 counts as usable for a supervisor whose own cgroup was killed before.
 KILLED_SUPERVISOR = """
 import os, sys
-from joshua_codegen.supervisor.containment import cgroup_made_in, join_cgroup, kill_cgroup
+from joshua_codegen.supervisor.containment import cgroup_usable, join_cgroup, kill_cgroup
 
 killed, fresh = sys.argv[1], sys.argv[2]
 kill_cgroup(killed)
 join_cgroup(killed)
-print(cgroup_made_in(fresh))
+print(cgroup_usable(fresh, made_in=True))
 """
 
 
