@@ -134,8 +134,10 @@ def test_find_port_watches_a_device_appear_and_vanish(tmp_path, capsys):
         time.sleep(0.3)
         links.append(PtyLink(tmp_path / "ttyUSB0"))
 
-    threading.Thread(target=plug).start()
+    plugger = threading.Thread(target=plug)
+    plugger.start()
     code, out, _ = run(capsys, "find-port", "--watch", 5, "--pattern", pattern)
+    plugger.join()  # the device appears before PtyLink returns it: the watch can end first
     assert code == 0 and out.splitlines()[-1] == f"appeared: {tmp_path / 'ttyUSB0'}"
     change = find_port.find_port_interactive(
         lambda: find_port.list_devices([pattern]), lambda prompt: links.pop().close()
