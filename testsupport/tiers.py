@@ -50,6 +50,7 @@ DIRECTORY_TIERS = {
     "runtime/tests/interpreters": PROCESS,  # fresh environments of other Pythons, install.sh runs
     "runtime/tests/lego": UNIT,
     "runtime/tests/multihost": PROCESS,  # simulated computers: network namespaces and the processes in them
+    "runtime/tests/node_starter": PROCESS,  # a starter process and the nodes it forks
     "runtime/tests/rollout": UNIT,
     "runtime/tests/sensors": UNIT,
     "runtime/tests/servo": UNIT,

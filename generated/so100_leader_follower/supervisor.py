@@ -72,7 +72,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_leader_follower',
-    'supervisor_code': '25ea625d3675f5ff',
+    'supervisor_code': '8f746b7ee01e812b',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -61,6 +61,15 @@ CPP_FALLBACK_WARNING = (
     "set cpp_bin_dir in the description to the directory holding them)"
 )
 
+# The node starter (node_starter.py): Python nodes are forked from one process that imported their types, when a
+# robot has this many of them at least (one node gains little, and would share the starter's memory with none).
+STARTER_MIN_NODES = 2
+STARTER_READY_TIMEOUT_S = 20.0  # its imports done by then, else every Python node starts its own interpreter
+STARTER_REPLY_TIMEOUT_S = 5.0  # a fork through it answers in milliseconds; silence this long means it is stuck
+STARTER_STOP_TIMEOUT_S = 1.0  # it ends when its socket closes; after this it is killed
+STARTER_STOP_POLL_S = 0.005
+STARTER_TITLE_SLACK = 256  # bytes of command line beyond the longest node's, for paths a reload may bring
+
 
 # What every part of supervisor.py uses: the log line, prctl, exit-status text, process groups, paths.
 
@@ -1352,11 +1361,19 @@ class Node:
             return os.path.abspath(executable)
         return find_program(executable, self.environment.get("PATH", os.defpath))
 
+    def runs_cpp(self):
+        binary = self.cpp_binary()
+        return binary is not None and os.path.isfile(binary) and os.access(binary, os.X_OK)
+
+    def runs_python(self):
+        """Whether its next launch runs its Python entrypoint."""
+        return self.spec["kind"] != "custom" and not self.runs_cpp()
+
     def command(self):
         """(argv, backend) chosen at launch: the C++ binary when it is executable, else Python."""
         binary = self.cpp_binary()
         if binary is not None:
-            if os.path.isfile(binary) and os.access(binary, os.X_OK):
+            if self.runs_cpp():
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
                 log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))
@@ -1382,6 +1399,177 @@ class Node:
         if self.state == "backoff":
             return f"restarting in {max(0.0, self.restart_at - now):.2f} s ({self.last_exit})"
         return f"{self.state}" + (f" ({self.last_exit})" if self.last_exit else "")
+
+
+# The node starter: Python nodes forked from one process that imported their types once (joshua_runtime.node_starter).
+
+
+STARTER_CODE = (
+    "import sys; del sys.path[0]; from joshua_runtime.node_starter.server import main; sys.exit(main(sys.argv[1:]))"
+)
+STARTER_REPLY_BYTES = 4096
+STARTER_NAME = "node-starter"  # its name in the supervisor's log
+
+
+class NodeStarter:
+    """The starter process of one supervisor: started at the first node it serves, ended with the supervisor.
+    Once it fails, every Python node starts its own interpreter again."""
+
+    def __init__(self, python: str, nodes):
+        self.python = python
+        self.node_types = sorted({node.spec["type"] for node in nodes})
+        self.title_room = max(len(os.fsencode(python)) + len(os.fsencode(node.entrypoint())) + 2 for node in nodes)
+        self.pid = None
+        self.channel = None
+        self.state = "idle"  # idle, starting, ready, failed, stopped
+
+    def serves(self, node, argv: list[str]) -> bool:
+        """Whether the node's process comes from the starter: its Python entrypoint, run with the starter's
+        interpreter and no variables of its own (which could change what the imports did)."""
+        return (
+            self.state not in ("failed", "stopped")
+            and argv == [self.python, node.entrypoint()]
+            and not node.spec["env"]
+        )
+
+    def ready(self, supervisor) -> bool:
+        """Whether it can start nodes, started (in the robot's environment, the guard told of it) and waited
+        for first when it is not running yet. A stop signal (on the supervisor's wakeup descriptor) ends the
+        wait: False."""
+        if self.state == "idle":
+            self.start({**os.environ, **supervisor.build.robot["env"]}, supervisor.pid)
+            if self.pid is not None:
+                supervisor.guard.track(self.pid)
+        if self.state == "starting":
+            self.wait_ready(supervisor)
+        return self.state == "ready"
+
+    def start(self, environment: dict[str, str], supervisor: int) -> None:
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        argv = [self.python, "-c", STARTER_CODE, "--socket-fd", str(theirs.fileno()), *self.node_types]
+        room = self.title_room + STARTER_TITLE_SLACK - len(b"\0".join(os.fsencode(part) for part in argv))
+        argv += [""] * max(0, room)  # empty arguments, room for the command line of each node forked from it
+        blocked = STOP_SIGNALS + (signal.SIGCHLD,)
+        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
+        try:
+            os.set_inheritable(theirs.fileno(), True)
+            pid = os.fork()
+            if pid == 0:
+                ours.close()
+                child_exec(argv, environment, supervisor, None, None)
+        except OSError as exc:
+            ours.close()
+            self.fail(f"cannot start: {exc}")
+            return
+        finally:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
+            theirs.close()
+        self.pid, self.channel, self.state = pid, ours, "starting"
+        self.deadline = time.monotonic() + STARTER_READY_TIMEOUT_S
+        log(STARTER_NAME, f"started pid {pid}: importing {', '.join(self.node_types)} for the Python nodes")
+
+    def wait_ready(self, supervisor) -> None:
+        poller = select.poll()
+        poller.register(self.channel.fileno(), select.POLLIN)
+        poller.register(supervisor.wakeup, select.POLLIN)
+        while self.state == "starting" and not supervisor.requests:
+            left = self.deadline - time.monotonic()
+            if left <= 0:
+                self.fail(f"not ready after {STARTER_READY_TIMEOUT_S:g} s")
+                return
+            events = dict(poller.poll(left * 1000))
+            if events.get(self.channel.fileno()):
+                if self.channel.recv(STARTER_REPLY_BYTES) == b"ready":
+                    self.state = "ready"
+                    log(STARTER_NAME, "ready: Python nodes are forked from it")
+                else:
+                    self.fail("ended before it was ready")
+            elif events.get(supervisor.wakeup):
+                supervisor.drain_wakeup()  # a signal: a stop request ends the wait; an exit is reaped after it
+
+    def launch(self, entries, supervisor: int) -> list:
+        """Fork the nodes of `entries` ((node, output descriptor or None) each), asked for all at once: for each,
+        its pid, an OSError when the starter could not fork it (out of processes, say), or None when the starter
+        failed before it answered (it is then ended, and said so)."""
+        results = [None] * len(entries)
+        try:
+            for number, (node, output) in enumerate(entries):
+                self.channel.sendmsg([starter_request(number, node, supervisor)], descriptor_message(output))
+            poller = select.poll()
+            poller.register(self.channel.fileno(), select.POLLIN)
+            waiting = len(entries)
+            while waiting and poller.poll(STARTER_REPLY_TIMEOUT_S * 1000):
+                kind, number, text = parse_reply(self.channel.recv(STARTER_REPLY_BYTES))
+                if kind is None or not 0 <= number < len(entries) or results[number] is not None:
+                    self.fail(f"answered {text!r}")
+                    return results
+                results[number] = int(text) if kind == "pid" else OSError(text)
+                waiting -= 1
+        except OSError as exc:
+            self.fail(f"cannot reach it: {exc}")
+            return results
+        if waiting:
+            self.fail(f"no answer for {waiting} of {len(entries)} nodes in {STARTER_REPLY_TIMEOUT_S:g} s")
+        return results
+
+    def fail(self, reason: str) -> None:
+        log(STARTER_NAME, f"warning: {reason}; each Python node starts its own interpreter from now on")
+        self.close()
+        self.state = "failed"
+
+    def exited(self, status: int) -> None:
+        """Its process ended (reaped by the supervisor)."""
+        pid, self.pid = self.pid, None
+        if self.state not in ("failed", "stopped"):
+            self.fail(f"pid {pid} {exit_text(status)}")
+
+    def stop(self) -> None:
+        """The robot stops: it is told to end (its socket closed), and starts nothing more."""
+        if self.channel is not None:
+            self.channel.close()
+            self.channel = None
+        self.state = "stopped"
+
+    def close(self) -> None:
+        """End it: its socket closed, then killed if it has not exited within STARTER_STOP_TIMEOUT_S."""
+        if self.channel is not None:
+            self.channel.close()
+            self.channel = None
+        if self.pid is None:
+            return
+        deadline = time.monotonic() + STARTER_STOP_TIMEOUT_S
+        try:
+            while os.waitpid(self.pid, os.WNOHANG) == (0, 0):
+                if time.monotonic() > deadline:
+                    os.kill(self.pid, signal.SIGKILL)
+                    os.waitpid(self.pid, 0)
+                    break
+                time.sleep(STARTER_STOP_POLL_S)
+        except ChildProcessError:  # reaped already
+            pass
+        self.pid = None
+
+
+def starter_request(number: int, node, supervisor: int) -> bytes:
+    """Request `number`: NUL-separated, the number, the entrypoint, the node's cgroup, the supervisor's pid, then
+    the node's environment as NAME=VALUE (joshua_runtime.node_starter reads it)."""
+    fields = [str(number), node.entrypoint(), node.processes.path, str(supervisor)]
+    fields += [f"{name}={value}" for name, value in node.environment.items()]
+    return b"\0".join(os.fsencode(field) for field in fields)
+
+
+def descriptor_message(output: int | None) -> list:
+    return [] if output is None else [(socket.SOL_SOCKET, socket.SCM_RIGHTS, struct.pack("i", output))]
+
+
+def parse_reply(reply: bytes) -> tuple[str | None, int, str]:
+    """("pid", request number, pid) or ("error", request number, text); (None, -1, text) for anything else."""
+    text = reply.decode(errors="replace")
+    kind, _, rest = text.partition(" ")
+    number, _, value = rest.partition(" ")
+    if kind not in ("pid", "error") or not number.isdigit() or (kind == "pid" and not value.isdigit()):
+        return None, -1, text
+    return kind, int(number), value
 
 
 # What this host's agent last said of the Discovery Server (one of a robot on several hosts), for `ctl status`.
@@ -3030,6 +3218,8 @@ class StopCascade:
         for node in self.nodes:
             if node.state == "backoff":
                 node.state = "stopped"
+        if self.starter is not None:
+            self.starter.stop()
         self.enter_stage("SIGINT", signal.SIGINT, self.build.sigint_grace_s)
 
     def enter_stage(self, stage, number, grace):
@@ -3095,6 +3285,8 @@ class StopCascade:
         """Children of the supervisor that belong to no node: orphans that left their group and that
         neither a cgroup nor the tracking attributes to a node."""
         known = set(self.by_pid) | {self.guard.pid} | set(self.containment.pids())
+        if self.starter is not None:
+            known.add(self.starter.pid)
         try:
             with open(f"/proc/{self.pid}/task/{self.pid}/children") as listing:
                 children = [int(pid) for pid in listing.read().split()]
@@ -3130,10 +3322,115 @@ class StopCascade:
             self.request_stop("internal error (a bug in supervisor.py)")
 
 
+# Launching nodes: forked and exec'd by the supervisor, or forked from the node starter, many at once.
+
+
+class Launching:
+    """The Supervisor's launches (a mixin of it): `launch_all` of nodes in one go, `launch` of one."""
+
+    def node_starter(self):
+        """A NodeStarter for the Python nodes, where they are STARTER_MIN_NODES at least and each runs in its own
+        cgroup (without, its descendants are told apart by their environment at exec) as the supervisor's
+        child (a subreaper adopts what the starter forks), unless --no-node-starter."""
+        python_nodes = [node for node in self.nodes if node.runs_python() and not node.spec["env"]]
+        if (
+            self.options.no_node_starter
+            or len(python_nodes) < STARTER_MIN_NODES
+            or PRCTL is None
+            or not isinstance(self.containment, CgroupContainment)
+        ):
+            return None
+        return NodeStarter(self.options.python, python_nodes)
+
+    def launch(self, node):
+        self.launch_all([node])
+
+    def launch_all(self, nodes):
+        """Launch `nodes`: first those the supervisor forks itself, then those the starter forks (started and
+        waited for first, when it is not running yet). A stop asked for meanwhile leaves the rest as they are."""
+        commands = {node.name: node.command() for node in nodes}
+        forked = [
+            node for node in nodes if self.starter is not None and self.starter.serves(node, commands[node.name][0])
+        ]
+        for node in nodes:
+            if node not in forked:
+                if self.requests:
+                    return
+                self.spawn(node, *commands[node.name], pid=None)
+        if not forked or (not self.starter.ready(self) and self.requests):
+            return
+        outputs = {}
+        for node in forked:
+            try:
+                outputs[node.name] = self.output_pipe(node)
+            except OSError as exc:
+                self.start_failed(node, exc, (None, None))
+        forked = [node for node in forked if node.name in outputs]
+        results = [None] * len(forked)
+        if self.starter.state == "ready":
+            results = self.starter.launch([(node, outputs[node.name][1]) for node in forked], self.pid)
+        for node, result in zip(forked, results):
+            if result is None and self.starter.state == "failed":
+                node.processes.kill()  # a node forked before the starter failed would otherwise run twice
+            self.spawn(node, *commands[node.name], pid=result, output=outputs[node.name])
+
+    def output_pipe(self, node):
+        node_log = self.logs.get(node.name)
+        return node_log.open_pipe() if node_log is not None else (None, None)
+
+    def spawn(self, node, argv, backend, pid, output=None):
+        """Take the node's process as running: `pid` forked by the starter, an OSError it met, or None: fork and
+        exec it here, with its output pipe (`output`, opened here when not given)."""
+        node.backend = backend
+        node.input_marks = input_marks(node.spec["inputs"])
+        read_end, write_end = output or (None, None)
+        blocked = STOP_SIGNALS + (signal.SIGCHLD,)
+        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
+        try:
+            if isinstance(pid, OSError):
+                raise pid
+            if output is None:
+                read_end, write_end = self.output_pipe(node)
+            if pid is None:
+                pid = node.processes.fork()
+                if pid == 0:
+                    child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
+        except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
+            self.start_failed(node, exc, (read_end, write_end))
+            return
+        finally:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
+        if read_end is not None:
+            os.close(write_end)
+            node_log = self.logs[node.name]
+            self.readers[read_end] = lambda: self.read_output(node_log, read_end)
+        node.pid = node.pgid = pid
+        node.state = "running"
+        node.started_at = time.monotonic()
+        node.started_at_wall = time.time()
+        self.by_pid[pid] = node
+        self.guard.track(pid)
+        log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
+        self.readiness.on_launch(node, node.started_at)
+
+    def start_failed(self, node, exc, output):
+        for fd in output:
+            if fd is not None:
+                os.close(fd)
+        log(node.name, f"cannot start: {exc}")
+        node.last_exit = f"start failed: {exc}"
+        self.after_exit(node, failed=True, ran_for=0.0)
+
+    def read_output(self, node_log, fd):
+        if not node_log.read(fd):
+            del self.readers[fd]
+            os.close(fd)
+
+
 # The event loop: launching, reaping and restarts with backoff.
 
 
-class Supervisor(StopCascade):
+class Supervisor(StopCascade, Launching):
     def __init__(self, options):
         self.options = options
         self.run_mark = RunMark()
@@ -3143,6 +3440,7 @@ class Supervisor(StopCascade):
         self.by_pid = {}
         self.guard = Guard(None)
         self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
+        self.starter = None  # the NodeStarter that forks the Python nodes, where one is used (from run())
         self.pid = os.getpid()
         self.wakeup = None
         self.poller = Poller()
@@ -3210,6 +3508,7 @@ class Supervisor(StopCascade):
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
         self.containment = contain_nodes(self.nodes, self.pid, self.options.no_cgroup)
+        self.starter = self.node_starter()
         self.guard = Guard(self.containment.cgroup)
         self.guard.start()
         self.install_signals()
@@ -3219,10 +3518,7 @@ class Supervisor(StopCascade):
             names = ", ".join(node.name for node in self.first)
             log("supervisor", f"starting {names} first; the others once it is ready")
             self.held_until = time.monotonic() + FIRST_READY_TIMEOUT_S
-        for node in self.first or self.nodes:
-            if self.requests:
-                break  # asked to stop while starting: the rest stay pending
-            self.launch(node)
+        self.launch_all(self.first or self.nodes)  # asked to stop while starting: the rest stay pending
         running = sum(node.state == "running" for node in self.nodes)
         log(
             "supervisor",
@@ -3241,9 +3537,7 @@ class Supervisor(StopCascade):
         if now >= self.held_until and not all(node.ready for node in self.first):
             log("supervisor", f"warning: not ready after {FIRST_READY_TIMEOUT_S:g} s: starting the other nodes anyway")
         self.held_until = None
-        for node in self.nodes:
-            if node.state == "pending" and not node.stop_requested:
-                self.launch(node)
+        self.launch_all([node for node in self.nodes if node.state == "pending" and not node.stop_requested])
 
     def turn(self):
         """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
@@ -3265,6 +3559,8 @@ class Supervisor(StopCascade):
             self.on_timers()
 
     def shut_down(self):
+        if self.starter is not None:
+            self.starter.close()
         self.guard.stop()
         if self.containment is not None:
             self.containment.close()
@@ -3278,46 +3574,6 @@ class Supervisor(StopCascade):
 
     # Launching and reaping
 
-    def launch(self, node):
-        argv, node.backend = node.command()
-        node.input_marks = input_marks(node.spec["inputs"])
-        node_log = self.logs.get(node.name)
-        read_end = write_end = None
-        blocked = STOP_SIGNALS + (signal.SIGCHLD,)
-        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
-        try:
-            if node_log is not None:
-                read_end, write_end = node_log.open_pipe()
-            pid = node.processes.fork()
-            if pid == 0:
-                child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
-        except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
-            for fd in (read_end, write_end):
-                if fd is not None:
-                    os.close(fd)
-            log(node.name, f"cannot start: {exc}")
-            node.last_exit = f"start failed: {exc}"
-            self.after_exit(node, failed=True, ran_for=0.0)
-            return
-        finally:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
-        if node_log is not None:
-            os.close(write_end)
-            self.readers[read_end] = lambda: self.read_output(node_log, read_end)
-        node.pid = node.pgid = pid
-        node.state = "running"
-        node.started_at = time.monotonic()
-        node.started_at_wall = time.time()
-        self.by_pid[pid] = node
-        self.guard.track(pid)
-        log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
-        self.readiness.on_launch(node, node.started_at)
-
-    def read_output(self, node_log, fd):
-        if not node_log.read(fd):
-            del self.readers[fd]
-            os.close(fd)
-
     def reap(self):
         self.abandoned_since = None
         while True:
@@ -3328,7 +3584,9 @@ class Supervisor(StopCascade):
             if pid == 0:
                 break
             node = self.by_pid.pop(pid, None)
-            if pid == self.guard.pid:
+            if self.starter is not None and pid == self.starter.pid:
+                self.starter.exited(status)
+            elif pid == self.guard.pid:
                 self.guard.pid = None
                 log(
                     "supervisor",
@@ -3432,6 +3690,8 @@ class Supervisor(StopCascade):
         timeout = max(0.0, min(moments) - now) if moments else None
         if any(node.state == "stopping" and node.pid is None for node in self.nodes):  # what it left is dying
             timeout = LEFTOVER_POLL_S if timeout is None else min(timeout, LEFTOVER_POLL_S)
+        if self.requests:  # taken while the loop did not sleep (a wait for the node starter drains the wakeup)
+            timeout = 0.0
         return timeout
 
     def wait(self, timeout):
@@ -3799,6 +4059,12 @@ def parse_arguments(argv):
         "--no-cgroup",
         action="store_true",
         help="track the nodes' descendants through /proc even where a cgroup could hold them",
+    )
+    parser.add_argument(
+        "--no-node-starter",
+        action="store_true",
+        help="start each Python node in an interpreter of its own, instead of forking the Python nodes from one "
+        "process that imported their node types once",
     )
     parser.add_argument(
         "--control-socket",

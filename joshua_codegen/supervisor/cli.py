@@ -64,6 +64,12 @@ def parse_arguments(argv):
         help="track the nodes' descendants through /proc even where a cgroup could hold them",
     )
     parser.add_argument(
+        "--no-node-starter",
+        action="store_true",
+        help="start each Python node in an interpreter of its own, instead of forking the Python nodes from one "
+        "process that imported their node types once",
+    )
+    parser.add_argument(
         "--control-socket",
         default=default_control_socket(control_name(ROBOT)),
         metavar="PATH",

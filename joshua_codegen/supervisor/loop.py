@@ -1,12 +1,10 @@
 """The event loop: launching, reaping and restarts with backoff."""
 
 import os
-import shlex
 import signal
 import time
 
 from joshua_codegen.supervisor.build import running_build
-from joshua_codegen.supervisor.children import child_exec
 from joshua_codegen.supervisor.common import (
     PR_SET_CHILD_SUBREAPER,
     PRCTL,
@@ -20,6 +18,7 @@ from joshua_codegen.supervisor.control import ControlPlane, control_clients_max
 from joshua_codegen.supervisor.control_socket import ControlSocketError
 from joshua_codegen.supervisor.fd_limit import raise_fd_limit
 from joshua_codegen.supervisor.guard import Guard
+from joshua_codegen.supervisor.launching import Launching
 from joshua_codegen.supervisor.node import Node
 from joshua_codegen.supervisor.node_log import open_node_logs
 from joshua_codegen.supervisor.node_processes import contain_nodes
@@ -37,14 +36,13 @@ from joshua_codegen.supervisor.policy import (
     STOP_SIGNALS,
 )
 from joshua_codegen.supervisor.poller import Poller
-from joshua_codegen.supervisor.reload_plan import input_marks
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.run_mark import RunMark
 from joshua_codegen.supervisor.shm import remove_abandoned_segments
 from joshua_codegen.supervisor.stop_cascade import StopCascade
 
 
-class Supervisor(StopCascade):
+class Supervisor(StopCascade, Launching):
     def __init__(self, options):
         self.options = options
         self.run_mark = RunMark()
@@ -54,6 +52,7 @@ class Supervisor(StopCascade):
         self.by_pid = {}
         self.guard = Guard(None)
         self.containment = None  # where each node's processes are kept apart (see node_processes.py), from run()
+        self.starter = None  # the NodeStarter that forks the Python nodes, where one is used (from run())
         self.pid = os.getpid()
         self.wakeup = None
         self.poller = Poller()
@@ -121,6 +120,7 @@ class Supervisor(StopCascade):
         else:
             log("supervisor", "warning: prctl is unavailable; nodes will outlive a killed supervisor")
         self.containment = contain_nodes(self.nodes, self.pid, self.options.no_cgroup)
+        self.starter = self.node_starter()
         self.guard = Guard(self.containment.cgroup)
         self.guard.start()
         self.install_signals()
@@ -130,10 +130,7 @@ class Supervisor(StopCascade):
             names = ", ".join(node.name for node in self.first)
             log("supervisor", f"starting {names} first; the others once it is ready")
             self.held_until = time.monotonic() + FIRST_READY_TIMEOUT_S
-        for node in self.first or self.nodes:
-            if self.requests:
-                break  # asked to stop while starting: the rest stay pending
-            self.launch(node)
+        self.launch_all(self.first or self.nodes)  # asked to stop while starting: the rest stay pending
         running = sum(node.state == "running" for node in self.nodes)
         log(
             "supervisor",
@@ -152,9 +149,7 @@ class Supervisor(StopCascade):
         if now >= self.held_until and not all(node.ready for node in self.first):
             log("supervisor", f"warning: not ready after {FIRST_READY_TIMEOUT_S:g} s: starting the other nodes anyway")
         self.held_until = None
-        for node in self.nodes:
-            if node.state == "pending" and not node.stop_requested:
-                self.launch(node)
+        self.launch_all([node for node in self.nodes if node.state == "pending" and not node.stop_requested])
 
     def turn(self):
         """One turn of the loop: wait, reap, take stop requests, run what is due. After an internal error
@@ -176,6 +171,8 @@ class Supervisor(StopCascade):
             self.on_timers()
 
     def shut_down(self):
+        if self.starter is not None:
+            self.starter.close()
         self.guard.stop()
         if self.containment is not None:
             self.containment.close()
@@ -189,46 +186,6 @@ class Supervisor(StopCascade):
 
     # Launching and reaping
 
-    def launch(self, node):
-        argv, node.backend = node.command()
-        node.input_marks = input_marks(node.spec["inputs"])
-        node_log = self.logs.get(node.name)
-        read_end = write_end = None
-        blocked = STOP_SIGNALS + (signal.SIGCHLD,)
-        signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
-        try:
-            if node_log is not None:
-                read_end, write_end = node_log.open_pipe()
-            pid = node.processes.fork()
-            if pid == 0:
-                child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
-        except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
-            for fd in (read_end, write_end):
-                if fd is not None:
-                    os.close(fd)
-            log(node.name, f"cannot start: {exc}")
-            node.last_exit = f"start failed: {exc}"
-            self.after_exit(node, failed=True, ran_for=0.0)
-            return
-        finally:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, blocked)
-        if node_log is not None:
-            os.close(write_end)
-            self.readers[read_end] = lambda: self.read_output(node_log, read_end)
-        node.pid = node.pgid = pid
-        node.state = "running"
-        node.started_at = time.monotonic()
-        node.started_at_wall = time.time()
-        self.by_pid[pid] = node
-        self.guard.track(pid)
-        log(node.name, f"started pid {pid} ({node.backend}): {shlex.join(argv)}")
-        self.readiness.on_launch(node, node.started_at)
-
-    def read_output(self, node_log, fd):
-        if not node_log.read(fd):
-            del self.readers[fd]
-            os.close(fd)
-
     def reap(self):
         self.abandoned_since = None
         while True:
@@ -239,7 +196,9 @@ class Supervisor(StopCascade):
             if pid == 0:
                 break
             node = self.by_pid.pop(pid, None)
-            if pid == self.guard.pid:
+            if self.starter is not None and pid == self.starter.pid:
+                self.starter.exited(status)
+            elif pid == self.guard.pid:
                 self.guard.pid = None
                 log(
                     "supervisor",
@@ -343,6 +302,8 @@ class Supervisor(StopCascade):
         timeout = max(0.0, min(moments) - now) if moments else None
         if any(node.state == "stopping" and node.pid is None for node in self.nodes):  # what it left is dying
             timeout = LEFTOVER_POLL_S if timeout is None else min(timeout, LEFTOVER_POLL_S)
+        if self.requests:  # taken while the loop did not sleep (a wait for the node starter drains the wakeup)
+            timeout = 0.0
         return timeout
 
     def wait(self, timeout):

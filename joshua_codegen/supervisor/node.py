@@ -70,11 +70,19 @@ class Node:
             return os.path.abspath(executable)
         return find_program(executable, self.environment.get("PATH", os.defpath))
 
+    def runs_cpp(self):
+        binary = self.cpp_binary()
+        return binary is not None and os.path.isfile(binary) and os.access(binary, os.X_OK)
+
+    def runs_python(self):
+        """Whether its next launch runs its Python entrypoint."""
+        return self.spec["kind"] != "custom" and not self.runs_cpp()
+
     def command(self):
         """(argv, backend) chosen at launch: the C++ binary when it is executable, else Python."""
         binary = self.cpp_binary()
         if binary is not None:
-            if os.path.isfile(binary) and os.access(binary, os.X_OK):
+            if self.runs_cpp():
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
                 log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))

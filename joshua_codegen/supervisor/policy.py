@@ -37,3 +37,12 @@ CPP_FALLBACK_WARNING = (
     "(make cpp in the joshuac repository builds the binaries into build/bin; "
     "set cpp_bin_dir in the description to the directory holding them)"
 )
+
+# The node starter (node_starter.py): Python nodes are forked from one process that imported their types, when a
+# robot has this many of them at least (one node gains little, and would share the starter's memory with none).
+STARTER_MIN_NODES = 2
+STARTER_READY_TIMEOUT_S = 20.0  # its imports done by then, else every Python node starts its own interpreter
+STARTER_REPLY_TIMEOUT_S = 5.0  # a fork through it answers in milliseconds; silence this long means it is stuck
+STARTER_STOP_TIMEOUT_S = 1.0  # it ends when its socket closes; after this it is killed
+STARTER_STOP_POLL_S = 0.005
+STARTER_TITLE_SLACK = 256  # bytes of command line beyond the longest node's, for paths a reload may bring

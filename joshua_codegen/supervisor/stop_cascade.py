@@ -29,6 +29,8 @@ class StopCascade:
         for node in self.nodes:
             if node.state == "backoff":
                 node.state = "stopped"
+        if self.starter is not None:
+            self.starter.stop()
         self.enter_stage("SIGINT", signal.SIGINT, self.build.sigint_grace_s)
 
     def enter_stage(self, stage, number, grace):
@@ -94,6 +96,8 @@ class StopCascade:
         """Children of the supervisor that belong to no node: orphans that left their group and that
         neither a cgroup nor the tracking attributes to a node."""
         known = set(self.by_pid) | {self.guard.pid} | set(self.containment.pids())
+        if self.starter is not None:
+            known.add(self.starter.pid)
         try:
             with open(f"/proc/{self.pid}/task/{self.pid}/children") as listing:
                 children = [int(pid) for pid in listing.read().split()]
