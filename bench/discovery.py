@@ -7,7 +7,10 @@ start them, with the Fast DDS profile joshuac gives them. An observer process st
 records when each node appears in its graph (`get_node_names`); once all are up, a second observer
 starts and records how long it takes to see all N. Each node prints the moment its imports are done
 (just before rclpy.init), so "discovery" is the time from there to visible, without Python's start.
-Every case runs as the machine is ("quiet") and under load (one busy-looping burner process per
+Then the same nodes as a built robot, started by its supervisor.py: from the supervisor's start to every node
+visible, its Python nodes forked from the node starter and, for comparison, each in an interpreter of its own
+(--no-node-starter); the goal is all 32 visible within GOAL_S, the max over the runs. Every case runs as the
+machine is ("quiet") and under load (one busy-looping burner process per
 core, at the nodes' priority, started and stopped here); "unseen" counts nodes an observer had not
 seen after OBSERVE_TIMEOUT_S. Then PSS per node (/proc/PID/smaps_rollup) of N
 running nodes, with the profile of processes that carry images (large shared-memory segment) and
@@ -30,11 +33,16 @@ from support.described_nodes import PYTHON, compiled_settings, write_fastdds_pro
 from support.ros_env import bench_environment
 
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
+from joshua_codegen.plan import plan
+from joshua_codegen.render import render
+from joshua_codegen.write import write_tree
+from joshua_core.schema import RobotDescription
 
 NAME = "disc"
 OBSERVER_POLL_S = 0.005
 OBSERVE_TIMEOUT_S = 60.0  # a node not seen by then counts as unseen
 STOP_TIMEOUT_S = 10.0
+GOAL_S = 1.5  # 32 Python nodes visible on the graph within this of the supervisor's start, on 2 cores
 IMPORTED = "imported at "
 READY, SEEN = "starting at ", "seen "
 # The node process: the generated entrypoint's call, with the moment its imports end printed first.
@@ -157,6 +165,44 @@ def run_case(count: int, env: dict) -> dict[str, list[float]]:
     }
 
 
+def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) -> float | None:
+    """Seconds from the supervisor's start to all `count` nodes visible (None: some never were)."""
+    from google.protobuf import text_format
+
+    out = directory / f"robot{count}"
+    if not out.exists():
+        write_tree(render(plan(text_format.Parse(description(count), RobotDescription()), "disc.pbtxt")), out)
+    observer, _ = start_observer(count, env)
+    command = [PYTHON, str(out / "supervisor.py"), "--no-control", "--log-dir", str(directory / "logs")]
+    supervisor = Lines(command + ([] if starter else ["--no-node-starter"]), env)
+    started = time.monotonic()
+    try:
+        seen = seen_times(observer, count)
+    finally:
+        observer.stop()
+        supervisor.stop()
+    return max(seen.values()) - started if len(seen) == count else None
+
+
+def supervised_cases(sizes: list[int], runs: int, env: dict, directory: Path) -> None:
+    print(f"supervisor.py start -> all visible, seconds, max of {runs} run(s); goal for 32 nodes: {GOAL_S} s")
+    print(f"{'load':<6} {'nodes':>5} {'node starter':>13} {'own interpreter':>16} {'ratio':>6}")
+    for busy in (False, True):
+        for count in sizes:
+            times = {True: [], False: []}
+            with cpu_load(busy):
+                for _ in range(runs):
+                    for starter in (True, False):  # taking turns, so that both see the same machine
+                        times[starter].append(supervised_visible_s(count, env, directory, starter))
+            worst = {key: None if None in values else max(values) for key, values in times.items()}
+            shown = {key: "unseen" if value is None else f"{value:.2f}" for key, value in worst.items()}
+            ratio = f"{worst[False] / worst[True]:.2f}" if None not in worst.values() else "-"
+            print(
+                f"{'busy' if busy else 'quiet':<6} {count:>5} {shown[True]:>13} {shown[False]:>16} {ratio:>6}",
+                flush=True,
+            )
+
+
 @contextmanager
 def cpu_load(busy: bool):
     """One busy-looping process per core while the block runs (none when not `busy`)."""
@@ -232,6 +278,7 @@ def main() -> int:
                     f"{sum(results['missed']):>6}",
                     flush=True,
                 )
+        supervised_cases(sizes, runs, env, Path(tmp))
         count = max(sizes)
         print(f"PSS per node, {count} nodes running:")
         for label, profile in (("with the image segment", images), ("without", plain)):
