@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'lego_bot',
-    'supervisor_code': '6a34b7b023eb2ee3',
+    'supervisor_code': '599bf8a82fa1e1ec',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
