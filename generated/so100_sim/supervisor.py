@@ -30,7 +30,9 @@ data; the code it runs is supervisor_code.py beside it, the same for every robot
   it is critical. A node that ended abnormally has its Fast DDS files in /dev/shm removed.
 - Shutdown on SIGINT, SIGTERM or SIGHUP (or at the end of --duration): SIGINT to every node's group at
   once, SIGTERM after SIGINT_GRACE_S to those left, SIGKILL after SIGTERM_GRACE_S more. A second
-  SIGINT/SIGTERM skips to the next step.
+  SIGINT/SIGTERM skips to the next step. A node that needs longer to stop cleanly (the recorder saving
+  frames) sends EXTEND_TIMEOUT_USEC=N meanwhile, as systemd allows: SIGTERM waits until N µs after its
+  last ask (STOP_EXTENSION_MAX_S after the SIGINT at most).
 - Backend: a node with a C++ binary runs CPP_BIN_DIR/<binary> when it is an executable file at launch,
   else its Python entrypoint after one warning line.
 - Control socket: a Unix socket of mode 0600 in a directory of the user's own of mode 0700 (anything
@@ -72,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_sim',
-    'supervisor_code': '8f746b7ee01e812b',
+    'supervisor_code': 'bfe544f6b40da410',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -39,6 +39,10 @@ STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait f
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+# A stopping node may hold its SIGTERM by asking for more time (EXTEND_TIMEOUT_USEC, see notify.py), up to this
+# long after its SIGINT: a bound for a node that keeps asking. The recorder asks while it saves the frames it
+# recorded before its dataset writer had loaded LeRobot, a wait it bounds at 120 s itself.
+STOP_EXTENSION_MAX_S = 120.0
 # A process that starts first (a robot's Discovery Server) is waited for this long to be ready before the
 # others start anyway (they keep asking it, so they find each other once it serves).
 FIRST_READY_TIMEOUT_S = 10.0
@@ -1330,6 +1334,8 @@ class Node:
         self.ready_deadline = None  # when it is warned about for not being ready
         self.status_text = ""  # its last STATUS= notification
         self.stop_requested = False  # stopped over the control socket: no restart until started again
+        self.stop_extension_limit = None  # since its SIGINT: the latest end of the more time it may ask for
+        self.stop_extended_until = None  # since its SIGINT: it asked for more time to stop until then (notify.py)
         self.input_marks = {}  # the file_mark of each of its inputs as it last launched (reload_plan.py)
         self.environment = self.make_environment()
 
@@ -1381,6 +1387,15 @@ class Node:
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
         return [self.python, self.entrypoint()], "Python"
+
+    def sigint_sent(self, now):
+        """Its stop began with SIGINT: from now on it may ask for more time before SIGTERM (notify.py)."""
+        self.stop_extension_limit = now + STOP_EXTENSION_MAX_S
+        self.stop_extended_until = None
+
+    def stop_held(self, now):
+        """Whether it asked for more time to stop and that time has not run out (its SIGTERM waits)."""
+        return self.stop_extended_until is not None and now < self.stop_extended_until
 
     def alive(self):
         """Whether anything it started may still run: its process, its process group, its cgroup's or
@@ -1620,6 +1635,7 @@ class DiscoveryReport:
 
 NOTIFY_VARIABLES = ("NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID")
 NOTIFY_DATAGRAM_MAX = 4096
+EXTEND_FIELD = "EXTEND_TIMEOUT_USEC"  # a stopping node asks for more time before its SIGTERM
 UCRED = struct.Struct("3i")  # pid, uid, gid
 
 
@@ -1653,7 +1669,9 @@ class Readiness:
     do); a CUSTOM program when it starts (it need not speak the protocol). A node not ready READY_TIMEOUT_S after its start gets one warning and keeps
     running. When every running node is ready, the supervisor logs "ready: N of N nodes ready" and,
     when it runs under systemd itself (Type=notify), passes READY=1 on to its own NOTIFY_SOCKET.
-    WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that).
+    WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that). A stopping node that needs longer than
+    the SIGINT grace to stop cleanly sends EXTEND_TIMEOUT_USEC=N (as systemd takes it while a unit stops): its
+    SIGTERM waits until N µs after its last such message, at most STOP_EXTENSION_MAX_S after its SIGINT.
     """
 
     def __init__(self, nodes, robot_name):
@@ -1682,6 +1700,7 @@ class Readiness:
         """A node just started: runtime nodes (Python or C++) are ready once they say so; a CUSTOM
         program, which may not speak sd_notify, is ready now."""
         silent = {"custom": "a CUSTOM program"}.get(node.backend)
+        node.stop_extension_limit = node.stop_extended_until = None
         node.ready = silent is not None
         node.ready_deadline = None if node.ready else now + READY_TIMEOUT_S
         if node.ready:
@@ -1717,6 +1736,18 @@ class Readiness:
                 node.ready = True
                 node.ready_deadline = None
                 self.on_ready(node, now, node.status_text)
+            if fields.get(EXTEND_FIELD, "").isdigit():
+                self.extend_stop(node, int(fields[EXTEND_FIELD]) / 1e6, now)
+
+    def extend_stop(self, node, seconds, now):
+        """A node asks for `seconds` more before SIGTERM; only while it is stopping since a SIGINT."""
+        if node.stop_extension_limit is None or node.state != "stopping":
+            return
+        first = node.stop_extended_until is None
+        node.stop_extended_until = min(now + seconds, node.stop_extension_limit)
+        if first:
+            why = f" ({node.status_text})" if node.status_text else ""
+            log(node.name, f"stopping takes longer: it asks for {seconds:g} s more{why}")
 
     def on_ready(self, node, now, status):
         log(node.name, f"ready after {now - node.started_at:.2f} s" + (f": {status}" if status else ""))
@@ -2401,6 +2432,20 @@ def peer_credentials(connection: socket.socket) -> tuple[int, int, int]:
     return UCRED.unpack(connection.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, UCRED.size))
 
 
+def listener_gone(pid: int) -> bool:
+    """Whether the process that listened on a socket (its SO_PEERCRED pid) has exited. A process it forked may
+    still hold the listener a while (its guard before closing what it inherited, a node before its exec), and
+    the kernel still takes connections for it, but nothing will ever accept them."""
+    if pid <= 0:
+        return False  # not known in this pid namespace
+    try:
+        with open(f"/proc/{pid}/stat") as stat_file:
+            state = stat_file.read().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, ProcessLookupError):
+        return True
+    return state in ("Z", "X")
+
+
 def may_control(uid: int) -> bool:
     """Whether a peer of `uid` may take part in this user's control socket: the same user, or root."""
     return uid in (os.geteuid(), 0)
@@ -2477,7 +2522,8 @@ class SocketFile:
         return listener
 
     def clear_stale(self) -> None:
-        """Remove a socket left at the path by a supervisor that was killed; refuse anything else there."""
+        """Remove a socket left at the path by a supervisor that was killed (nobody listens, or only processes it
+        forked still hold its listener); refuse anything else there."""
         try:
             info = os.stat(self.name, dir_fd=self.directory, follow_symlinks=False)
         except FileNotFoundError:
@@ -2496,6 +2542,9 @@ class SocketFile:
             raise ControlSocketError(f"{self.path} cannot be probed ({exc.strerror or exc}); {ANOTHER_PATH}") from None
         finally:
             probe.close()
+        if listener_gone(pid):  # its supervisor was killed; what it had just forked still holds the listener
+            os.unlink(self.name, dir_fd=self.directory)
+            return
         raise ControlSocketError(f"another supervisor (pid {pid}) serves it; stop it, or {ANOTHER_PATH}")
 
     def remove(self) -> None:
@@ -3081,6 +3130,7 @@ class ControlPlane:
         }
         node.stop_requested = True
         node.state = "stopping"
+        node.sigint_sent(time.monotonic())
         log(node.name, f"{reason}: sending SIGINT")
         self.supervisor.signal_node(node, signal.SIGINT)
 
@@ -3173,6 +3223,8 @@ class ControlPlane:
                     item["then"](node)
                 for connection in item["waiters"]:
                     connection.answer(self.action_reply(node))
+            elif now >= item["deadline"] and item["stage"] == "SIGINT" and node.stop_held(now):
+                item["deadline"] = node.stop_extended_until  # it asked for more time to stop cleanly
             elif now >= item["deadline"]:
                 grace = self.supervisor.build.sigterm_grace_s
                 stage, number = (
@@ -3225,9 +3277,12 @@ class StopCascade:
     def enter_stage(self, stage, number, grace):
         self.stage = stage
         self.stage_deadline = time.monotonic() + grace
+        now = time.monotonic()
         for node in self.nodes:
             if node.alive():
                 node.state = "stopping"
+                if stage == "SIGINT" and node.stop_extension_limit is None:
+                    node.sigint_sent(now)
                 if stage != "SIGINT":
                     self.outcome.escalated = True
                     log(node.name, f"still running: escalating to {stage}")
@@ -3239,6 +3294,11 @@ class StopCascade:
 
     def escalate(self):
         if self.stage == "SIGINT":
+            now = time.monotonic()
+            held = [node.stop_extended_until for node in self.nodes if node.alive() and node.stop_held(now)]
+            if held:  # a node asked for more time to stop cleanly: SIGTERM once it has run out
+                self.stage_deadline = max(held)
+                return
             self.enter_stage("SIGTERM", signal.SIGTERM, self.build.sigterm_grace_s)
         elif self.stage == "SIGTERM":
             self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)

@@ -220,6 +220,7 @@ class ControlPlane:
         }
         node.stop_requested = True
         node.state = "stopping"
+        node.sigint_sent(time.monotonic())
         log(node.name, f"{reason}: sending SIGINT")
         self.supervisor.signal_node(node, signal.SIGINT)
 
@@ -312,6 +313,8 @@ class ControlPlane:
                     item["then"](node)
                 for connection in item["waiters"]:
                     connection.answer(self.action_reply(node))
+            elif now >= item["deadline"] and item["stage"] == "SIGINT" and node.stop_held(now):
+                item["deadline"] = node.stop_extended_until  # it asked for more time to stop cleanly
             elif now >= item["deadline"]:
                 grace = self.supervisor.build.sigterm_grace_s
                 stage, number = (

@@ -35,6 +35,20 @@ def peer_credentials(connection: socket.socket) -> tuple[int, int, int]:
     return UCRED.unpack(connection.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED, UCRED.size))
 
 
+def listener_gone(pid: int) -> bool:
+    """Whether the process that listened on a socket (its SO_PEERCRED pid) has exited. A process it forked may
+    still hold the listener a while (its guard before closing what it inherited, a node before its exec), and
+    the kernel still takes connections for it, but nothing will ever accept them."""
+    if pid <= 0:
+        return False  # not known in this pid namespace
+    try:
+        with open(f"/proc/{pid}/stat") as stat_file:
+            state = stat_file.read().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, ProcessLookupError):
+        return True
+    return state in ("Z", "X")
+
+
 def may_control(uid: int) -> bool:
     """Whether a peer of `uid` may take part in this user's control socket: the same user, or root."""
     return uid in (os.geteuid(), 0)
@@ -111,7 +125,8 @@ class SocketFile:
         return listener
 
     def clear_stale(self) -> None:
-        """Remove a socket left at the path by a supervisor that was killed; refuse anything else there."""
+        """Remove a socket left at the path by a supervisor that was killed (nobody listens, or only processes it
+        forked still hold its listener); refuse anything else there."""
         try:
             info = os.stat(self.name, dir_fd=self.directory, follow_symlinks=False)
         except FileNotFoundError:
@@ -130,6 +145,9 @@ class SocketFile:
             raise ControlSocketError(f"{self.path} cannot be probed ({exc.strerror or exc}); {ANOTHER_PATH}") from None
         finally:
             probe.close()
+        if listener_gone(pid):  # its supervisor was killed; what it had just forked still holds the listener
+            os.unlink(self.name, dir_fd=self.directory)
+            return
         raise ControlSocketError(f"another supervisor (pid {pid}) serves it; stop it, or {ANOTHER_PATH}")
 
     def remove(self) -> None:

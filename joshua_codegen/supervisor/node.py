@@ -8,6 +8,7 @@ from joshua_codegen.supervisor.node_processes import NODE_MARK_VARIABLE, node_ma
 from joshua_codegen.supervisor.policy import (
     CPP_FALLBACK_WARNING,
     RESTART_DELAY_INITIAL_S,
+    STOP_EXTENSION_MAX_S,
 )
 from joshua_codegen.supervisor.robot import ROBOT
 
@@ -39,6 +40,8 @@ class Node:
         self.ready_deadline = None  # when it is warned about for not being ready
         self.status_text = ""  # its last STATUS= notification
         self.stop_requested = False  # stopped over the control socket: no restart until started again
+        self.stop_extension_limit = None  # since its SIGINT: the latest end of the more time it may ask for
+        self.stop_extended_until = None  # since its SIGINT: it asked for more time to stop until then (notify.py)
         self.input_marks = {}  # the file_mark of each of its inputs as it last launched (reload_plan.py)
         self.environment = self.make_environment()
 
@@ -90,6 +93,15 @@ class Node:
         if self.spec["kind"] == "custom":
             return [self.custom_program() or self.spec["executable"], *self.spec["args"]], "custom"
         return [self.python, self.entrypoint()], "Python"
+
+    def sigint_sent(self, now):
+        """Its stop began with SIGINT: from now on it may ask for more time before SIGTERM (notify.py)."""
+        self.stop_extension_limit = now + STOP_EXTENSION_MAX_S
+        self.stop_extended_until = None
+
+    def stop_held(self, now):
+        """Whether it asked for more time to stop and that time has not run out (its SIGTERM waits)."""
+        return self.stop_extended_until is not None and now < self.stop_extended_until
 
     def alive(self):
         """Whether anything it started may still run: its process, its process group, its cgroup's or

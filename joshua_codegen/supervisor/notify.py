@@ -11,6 +11,7 @@ from joshua_codegen.supervisor.policy import READY_TIMEOUT_S
 
 NOTIFY_VARIABLES = ("NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID")
 NOTIFY_DATAGRAM_MAX = 4096
+EXTEND_FIELD = "EXTEND_TIMEOUT_USEC"  # a stopping node asks for more time before its SIGTERM
 UCRED = struct.Struct("3i")  # pid, uid, gid
 
 
@@ -44,7 +45,9 @@ class Readiness:
     do); a CUSTOM program when it starts (it need not speak the protocol). A node not ready READY_TIMEOUT_S after its start gets one warning and keeps
     running. When every running node is ready, the supervisor logs "ready: N of N nodes ready" and,
     when it runs under systemd itself (Type=notify), passes READY=1 on to its own NOTIFY_SOCKET.
-    WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that).
+    WATCHDOG=1 is not enforced here (systemd's WatchdogSec= does that). A stopping node that needs longer than
+    the SIGINT grace to stop cleanly sends EXTEND_TIMEOUT_USEC=N (as systemd takes it while a unit stops): its
+    SIGTERM waits until N µs after its last such message, at most STOP_EXTENSION_MAX_S after its SIGINT.
     """
 
     def __init__(self, nodes, robot_name):
@@ -73,6 +76,7 @@ class Readiness:
         """A node just started: runtime nodes (Python or C++) are ready once they say so; a CUSTOM
         program, which may not speak sd_notify, is ready now."""
         silent = {"custom": "a CUSTOM program"}.get(node.backend)
+        node.stop_extension_limit = node.stop_extended_until = None
         node.ready = silent is not None
         node.ready_deadline = None if node.ready else now + READY_TIMEOUT_S
         if node.ready:
@@ -108,6 +112,18 @@ class Readiness:
                 node.ready = True
                 node.ready_deadline = None
                 self.on_ready(node, now, node.status_text)
+            if fields.get(EXTEND_FIELD, "").isdigit():
+                self.extend_stop(node, int(fields[EXTEND_FIELD]) / 1e6, now)
+
+    def extend_stop(self, node, seconds, now):
+        """A node asks for `seconds` more before SIGTERM; only while it is stopping since a SIGINT."""
+        if node.stop_extension_limit is None or node.state != "stopping":
+            return
+        first = node.stop_extended_until is None
+        node.stop_extended_until = min(now + seconds, node.stop_extension_limit)
+        if first:
+            why = f" ({node.status_text})" if node.status_text else ""
+            log(node.name, f"stopping takes longer: it asks for {seconds:g} s more{why}")
 
     def on_ready(self, node, now, status):
         log(node.name, f"ready after {now - node.started_at:.2f} s" + (f": {status}" if status else ""))

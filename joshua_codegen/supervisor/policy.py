@@ -16,6 +16,10 @@ STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait f
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
+# A stopping node may hold its SIGTERM by asking for more time (EXTEND_TIMEOUT_USEC, see notify.py), up to this
+# long after its SIGINT: a bound for a node that keeps asking. The recorder asks while it saves the frames it
+# recorded before its dataset writer had loaded LeRobot, a wait it bounds at 120 s itself.
+STOP_EXTENSION_MAX_S = 120.0
 # A process that starts first (a robot's Discovery Server) is waited for this long to be ready before the
 # others start anyway (they keep asking it, so they find each other once it serves).
 FIRST_READY_TIMEOUT_S = 10.0

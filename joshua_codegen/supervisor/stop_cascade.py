@@ -36,9 +36,12 @@ class StopCascade:
     def enter_stage(self, stage, number, grace):
         self.stage = stage
         self.stage_deadline = time.monotonic() + grace
+        now = time.monotonic()
         for node in self.nodes:
             if node.alive():
                 node.state = "stopping"
+                if stage == "SIGINT" and node.stop_extension_limit is None:
+                    node.sigint_sent(now)
                 if stage != "SIGINT":
                     self.outcome.escalated = True
                     log(node.name, f"still running: escalating to {stage}")
@@ -50,6 +53,11 @@ class StopCascade:
 
     def escalate(self):
         if self.stage == "SIGINT":
+            now = time.monotonic()
+            held = [node.stop_extended_until for node in self.nodes if node.alive() and node.stop_held(now)]
+            if held:  # a node asked for more time to stop cleanly: SIGTERM once it has run out
+                self.stage_deadline = max(held)
+                return
             self.enter_stage("SIGTERM", signal.SIGTERM, self.build.sigterm_grace_s)
         elif self.stage == "SIGTERM":
             self.enter_stage("SIGKILL", signal.SIGKILL, KILL_WAIT_S)

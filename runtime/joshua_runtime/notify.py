@@ -4,10 +4,12 @@ systemd (`Type=notify`) and supervisor.py both hand a node `NOTIFY_SOCKET`, the 
 datagram socket (a path, or `@name` in the abstract namespace). Each message is one datagram of
 newline-separated `KEY=VALUE` lines: `READY=1` once the node serves what it should, `STATUS=...` a
 one-line description, `WATCHDOG=1` at least every half `WATCHDOG_USEC` while the node's loop runs,
-`STOPPING=1` when it begins to stop. Without `NOTIFY_SOCKET` every call does nothing. Sending never
+`STOPPING=1` when it begins to stop, `EXTEND_TIMEOUT_USEC=N` while stopping takes longer than the manager's
+grace (a save in progress): the manager waits N µs more before its SIGTERM. Without `NOTIFY_SOCKET` every call does nothing. Sending never
 raises: a manager that went away must not take the node with it.
 """
 
+import contextlib
 import os
 import socket
 import threading
@@ -16,6 +18,10 @@ import time
 SOCKET_VARIABLE = "NOTIFY_SOCKET"
 WATCHDOG_USEC_VARIABLE = "WATCHDOG_USEC"
 WATCHDOG_PID_VARIABLE = "WATCHDOG_PID"
+# While a node asks for more time to stop, it asks for this much more every STOP_EXTENSION_ASK_S: five asks in
+# each extension, so one that waits for the CPU for a few seconds on a loaded machine does not let it run out.
+STOP_EXTENSION_S = 5.0
+STOP_EXTENSION_ASK_S = 1.0
 
 
 def socket_address(value: str) -> str | None:
@@ -79,6 +85,28 @@ class Notifier:
 
     def stopping(self) -> bool:
         return self.send("STOPPING=1")
+
+    @contextlib.contextmanager
+    def more_time_to_stop(self, why: str):
+        """While inside, ask the manager again and again for more time before it escalates the stop (SIGTERM)."""
+        if self.address is None:
+            yield
+            return
+        done = threading.Event()
+
+        def ask() -> None:
+            while True:
+                self.send(f"EXTEND_TIMEOUT_USEC={int(STOP_EXTENSION_S * 1e6)}", f"STATUS={one_line(why)}")
+                if done.wait(STOP_EXTENSION_ASK_S):
+                    return
+
+        asking = threading.Thread(target=ask, name="stop-extension", daemon=True)
+        asking.start()
+        try:
+            yield
+        finally:
+            done.set()
+            asking.join()
 
     def watchdog(self, now_s: float | None = None) -> bool:
         """Ping the watchdog when half its interval has passed since the last ping; True when pinged."""

@@ -1,11 +1,12 @@
-"""sd_notify from a real node process: READY=1 with what it serves, WATCHDOG=1 from its loop, STOPPING=1."""
+"""sd_notify from a real node process: READY=1 with what it serves, WATCHDOG=1 from its loop, STOPPING=1;
+EXTEND_TIMEOUT_USEC while a stop takes longer."""
 
 import os
 import signal
 import socket
 import time
 
-from joshua_runtime.notify import Notifier
+from joshua_runtime.notify import STOP_EXTENSION_ASK_S, STOP_EXTENSION_S, Notifier
 from testsupport.compiled_settings import compiled_node
 
 RECEIVE_TIMEOUT_S = 30.0
@@ -67,3 +68,23 @@ def test_a_path_socket_works_and_no_socket_means_silence(tmp_path):
         assert notifier.ready("serving\nthings")
         assert listener.recv(4096) == b"READY=1\nSTATUS=serving things"
     assert not Notifier.from_environment({}).ready("nobody listens")
+
+
+def test_more_time_to_stop_is_asked_for_again_and_again_while_it_lasts_and_never_after(tmp_path):
+    path = tmp_path / "notify"
+    with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as listener:
+        listener.bind(str(path))
+        notifier = Notifier(str(path))
+        with notifier.more_time_to_stop("saving 3 frames"):
+            asks = [receive_until(listener, "EXTEND_TIMEOUT_USEC")[-1] for _ in range(2)]
+        listener.settimeout(STOP_EXTENSION_ASK_S * 2)
+        try:
+            after = listener.recv(4096)
+        except TimeoutError:
+            after = None
+        notifier.close()
+    ask = {"EXTEND_TIMEOUT_USEC": str(int(STOP_EXTENSION_S * 1e6)), "STATUS": "saving 3 frames"}
+    assert asks == [ask, ask]
+    assert after is None
+    with Notifier(None).more_time_to_stop("nobody to ask"):
+        pass  # without a manager, nothing is sent and nothing fails

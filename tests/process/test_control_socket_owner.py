@@ -161,6 +161,73 @@ def test_a_killed_supervisors_socket_is_free_at_once_while_its_guard_still_clean
     assert code == 0, second.log()
 
 
+# A sitecustomize for a supervisor: os.closerange, the first thing its guard does after its fork (closing what it
+# inherited), waits until the file RELEASE exists; as a guard the kernel has not run yet on a busy machine, it holds
+# every descriptor of the supervisor meanwhile, the control socket's listener included.
+UNSCHEDULED_GUARD_HOOK = """
+import os, time
+
+closerange = os.closerange
+
+
+def closerange_once_released(*args):
+    deadline = time.monotonic() + {wait_s}
+    while not os.path.exists({release!r}) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    closerange(*args)
+
+
+os.closerange = closerange_once_released
+"""
+
+
+def socket_inodes(pid: int) -> set[str]:
+    found = set()
+    for fd in os.listdir(f"/proc/{pid}/fd"):
+        try:
+            target = os.readlink(f"/proc/{pid}/fd/{fd}")
+        except OSError:
+            continue
+        if target.startswith("socket:"):
+            found.add(target)
+    return found
+
+
+def test_a_socket_only_a_killed_supervisors_fresh_fork_still_holds_is_taken_over(tmp_path):
+    """A killed supervisor's guard that has not run yet holds the listener, and a connection to it succeeds; but
+    the supervisor that listened is gone and nothing will ever answer: the path is taken over, not refused."""
+    hooks, release = tmp_path / "hooks", tmp_path / "release"
+    hooks.mkdir()
+    (hooks / "sitecustomize.py").write_text(UNSCHEDULED_GUARD_HOOK.format(wait_s=WAIT_S * 3, release=str(release)))
+    log = tmp_path / "events.log"
+    out = build(tmp_path, robot([custom_node("steady", log)]))
+    sock = tmp_path / "run" / "r.sock"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(hooks), os.environ.get("PYTHONPATH")])))
+    first = Supervisor(out, "--control-socket", str(sock), env=env)
+    try:
+        first.wait_log(r"started: 1 of 1 nodes running")
+        guard = next(pid for pid in children_of(first.pid) if str(out / "supervisor.py") in command_line(pid))
+        os.kill(guard, signal.SIGSTOP)
+        assert socket_inodes(first.pid) & socket_inodes(guard)  # it has not closed what it inherited yet
+        first.signal(signal.SIGKILL)
+        first.wait()
+        second = Supervisor(out, "--control-socket", str(sock))
+        try:
+            second.wait_log(r"started: 1 of 1 nodes running|cannot serve")
+            assert "cannot serve" not in second.log(), second.log()
+            assert status(out, sock)["steady"]["pid"] == int(
+                re.search(r"steady: started pid (\d+)", second.log()).group(1)
+            )
+        finally:
+            second.signal()
+            code = second.wait()
+    finally:
+        release.touch()
+        os.kill(guard, signal.SIGCONT)
+        first.close()
+    assert code == 0, second.log()
+
+
 def test_a_socket_left_by_a_killed_supervisor_is_replaced_and_any_other_file_is_kept(tmp_path):
     out, sock, _, _, first = start_robot(tmp_path)
     first.signal(signal.SIGKILL)

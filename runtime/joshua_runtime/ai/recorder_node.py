@@ -16,7 +16,8 @@ Episodes: one starts when the node starts. Commands on the std_msgs/String topic
 (i.e. `/<node name>/episode`) control them (`start [task]`, `stop`, `discard`, `next`, `rerecord`);
 the node answers each on `~/episode_state` and reports its progress on `~/episode_progress`
 (episode_protocol.py; `joshua-episode` is the command-line client). SIGINT/SIGTERM save the episode
-in progress before the process exits. See `episode_writer.py` for the crash guarantees.
+in progress before the process exits; when that waits for the writer still loading LeRobot, the node asks its
+process manager for more time (EXTEND_TIMEOUT_USEC), so the save is not cut short by the SIGINT grace. See `episode_writer.py` for the crash guarantees.
 
 The node is ready (its "ready:" line, READY=1) as soon as it has subscribed: the dataset is written by a
 process of its own (writer_process.py), which imports LeRobot meanwhile; frames wait for it in a queue.
@@ -199,6 +200,6 @@ class RecorderNode(JoshuaNode):
         session = getattr(self, "session", None)
         if session is not None:
             session.close()
-        writer.close()
+        writer.close(self.notifier)  # a save that waits for LeRobot asks the supervisor for more time
         if writer.error is not None and not getattr(self, "error_reported", False):
             raise writer.error

@@ -16,6 +16,7 @@ the node (PR_SET_PDEATHSIG, and at the end of its command pipe), leaving the epi
 the staging directory that the next start recovers, exactly as a killed node would.
 """
 
+import contextlib
 import ctypes
 import os
 import queue
@@ -27,6 +28,7 @@ import time
 
 from joshua_runtime.ai import writer_channel
 from joshua_runtime.errors import DataLostError, JoshuaError, SettingsError
+from joshua_runtime.notify import Notifier
 from joshua_runtime.process_end import end_process
 
 ERRORS = {cls.__name__: cls for cls in (JoshuaError, SettingsError, DataLostError)}
@@ -111,11 +113,18 @@ class WriterProcess:
     def undo_last_episode(self) -> None:
         self._outbox.put(("undo", None, None))
 
-    def close(self) -> None:
+    def close(self, notifier: Notifier | None = None) -> None:
         """Send every queued command and `close`, then wait until the process has saved and exited.
 
         A process still importing LeRobot is stopped at once when no frame was recorded, else waited for
-        (at most LOAD_WAIT_AT_CLOSE_S), so that the frames recorded meanwhile are saved."""
+        (at most LOAD_WAIT_AT_CLOSE_S), so that the frames recorded meanwhile are saved; the node's process
+        manager (`notifier`) is asked for more time meanwhile, as that wait may outlast its SIGINT grace."""
+        waiting = not self.opened.is_set() and self.error is None and self._frames_total
+        why = f"saving {self._frames_total} frames: the dataset writer is still loading LeRobot"
+        with notifier.more_time_to_stop(why) if waiting and notifier else contextlib.nullcontext():
+            self._close()
+
+    def _close(self) -> None:
         if not self.opened.is_set() and self.error is None:
             if self._frames_total:
                 self.log.info(

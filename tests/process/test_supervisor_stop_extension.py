@@ -1,0 +1,113 @@
+"""A node that needs longer than the SIGINT grace to stop cleanly asks for more time, as systemd allows:
+EXTEND_TIMEOUT_USEC=N on NOTIFY_SOCKET while it stops holds its SIGTERM until N µs after the last ask.
+
+The recorder does that while it saves frames recorded before its dataset writer had loaded LeRobot."""
+
+import signal
+
+from supervisor_harness import (
+    PYTHON,
+    Supervisor,
+    build,
+    ctl,
+    events,
+    log_times,
+    quoted,
+    robot,
+    wait_started,
+)
+
+GRACE_S = 0.3
+EXTENSION_S = 1.0  # what the node asks for at each ask, more than three graces
+ASKING_S = 2.0  # how long a node that stops slowly keeps asking before it exits
+
+# A node program that, on SIGINT, asks for EXTENSION more seconds every ASK_EVERY seconds until ASKING seconds
+# have passed, then exits 0 (`then=exit`) or keeps running without asking (`then=stay`); SIGTERM ends it.
+# argv: LOG NAME EXTENSION ASK_EVERY ASKING then=exit|stay
+SLOW_STOPPER = r"""
+import os, signal, socket, sys, time
+log_path, name, extension, every, asking, then = sys.argv[1:7]
+address = os.environ["NOTIFY_SOCKET"]
+address = "\0" + address[1:] if address.startswith("@") else address
+
+def note(text):
+    with open(log_path, "a") as log:
+        log.write(f"{name} {os.getpid()} {text}\n")
+
+def on_sigterm(number, frame):
+    note("got SIGTERM exit")
+    os._exit(0)
+
+stopping = []
+signal.signal(signal.SIGINT, lambda number, frame: stopping.append(time.monotonic()))
+signal.signal(signal.SIGTERM, on_sigterm)
+note("start")
+while not stopping:
+    time.sleep(0.01)
+note("got SIGINT saving")
+with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as sender:
+    while time.monotonic() - stopping[0] < float(asking):
+        sender.sendto(f"EXTEND_TIMEOUT_USEC={int(float(extension) * 1e6)}\nSTATUS=saving".encode(), address)
+        time.sleep(float(every))
+if then == "exit":
+    note("saved")
+    os._exit(0)
+while True:
+    time.sleep(1)
+"""
+
+
+def slow_stopper(directory, name: str, every_s: float, asking_s: float, then: str) -> str:
+    script = directory / "slow_stopper.py"
+    script.write_text(SLOW_STOPPER)
+    args = [str(script), str(directory / "events.log"), name, str(EXTENSION_S), str(every_s), str(asking_s), then]
+    return f'node {{ name: "{name}" type: CUSTOM executable: "{PYTHON}" args: [{", ".join(map(quoted, args))}] }}'
+
+
+def test_a_node_asking_for_more_time_while_it_saves_is_not_escalated_and_the_run_ends_0(tmp_path):
+    out = build(tmp_path, robot([slow_stopper(tmp_path, "recorder", GRACE_S, ASKING_S, "exit")], GRACE_S, GRACE_S))
+    supervisor = Supervisor(out)
+    try:
+        wait_started(tmp_path / "events.log", "recorder")
+        supervisor.signal()
+        code = supervisor.wait(ASKING_S + EXTENSION_S + 10.0)
+    finally:
+        supervisor.close()
+    text = supervisor.log()
+    assert [e[2] for e in events(tmp_path / "events.log")] == ["start", "got SIGINT saving", "saved"], text
+    assert code == 0, text
+    assert "escalating" not in text
+    assert f"recorder: stopping takes longer: it asks for {EXTENSION_S:g} s more (saving)" in text
+
+
+def test_a_node_that_stops_asking_gets_sigterm_once_its_last_extension_ran_out(tmp_path):
+    out = build(tmp_path, robot([slow_stopper(tmp_path, "recorder", 10.0, 0.1, "stay")], GRACE_S, GRACE_S))
+    supervisor = Supervisor(out)
+    try:
+        wait_started(tmp_path / "events.log", "recorder")
+        supervisor.signal()
+        code = supervisor.wait(EXTENSION_S + 10.0)
+    finally:
+        supervisor.close()
+    text = supervisor.log()
+    assert [e[2] for e in events(tmp_path / "events.log")] == ["start", "got SIGINT saving", "got SIGTERM exit"], text
+    assert code == 1, text
+    (asked,) = log_times(text, r"recorder: stopping takes longer")
+    (escalated,) = log_times(text, r"recorder: still running: escalating to SIGTERM")
+    assert escalated - asked >= EXTENSION_S - 0.05, text  # held for the extension asked (log stamps round to 1 ms)
+
+
+def test_a_node_stopped_over_the_control_socket_may_ask_for_more_time_too(tmp_path):
+    out = build(tmp_path, robot([slow_stopper(tmp_path, "recorder", GRACE_S, ASKING_S, "exit")], GRACE_S, GRACE_S))
+    sock = tmp_path / "run" / "r.sock"
+    supervisor = Supervisor(out, "--control-socket", str(sock))
+    try:
+        wait_started(tmp_path / "events.log", "recorder")
+        stopped = ctl(out, sock, "stop", "recorder")
+        assert stopped.returncode == 0, stopped.stderr
+        assert "escalating" not in supervisor.log()
+        assert [e[2] for e in events(tmp_path / "events.log")] == ["start", "got SIGINT saving", "saved"]
+    finally:
+        supervisor.signal(signal.SIGINT)
+        code = supervisor.wait()
+    assert code == 0, supervisor.log()
