@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'mock_arm',
-    'supervisor_code': 'bfe544f6b40da410',
+    'supervisor_code': 'a84153650f2c89e1',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

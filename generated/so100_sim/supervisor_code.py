@@ -3426,12 +3426,13 @@ class Launching:
             except OSError as exc:
                 self.start_failed(node, exc, (None, None))
         forked = [node for node in forked if node.name in outputs]
+        asked = self.starter.state == "ready"
         results = [None] * len(forked)
-        if self.starter.state == "ready":
+        if asked:
             results = self.starter.launch([(node, outputs[node.name][1]) for node in forked], self.pid)
         for node, result in zip(forked, results):
-            if result is None and self.starter.state == "failed":
-                node.processes.kill()  # a node forked before the starter failed would otherwise run twice
+            if asked and result is None:
+                node.processes.kill()  # one the starter forked before it failed would otherwise run twice
             self.spawn(node, *commands[node.name], pid=result, output=outputs[node.name])
 
     def output_pipe(self, node):
@@ -3646,6 +3647,7 @@ class Supervisor(StopCascade, Launching):
             node = self.by_pid.pop(pid, None)
             if self.starter is not None and pid == self.starter.pid:
                 self.starter.exited(status)
+                self.guard.forget(pid)
             elif pid == self.guard.pid:
                 self.guard.pid = None
                 log(

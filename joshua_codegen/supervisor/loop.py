@@ -198,6 +198,7 @@ class Supervisor(StopCascade, Launching):
             node = self.by_pid.pop(pid, None)
             if self.starter is not None and pid == self.starter.pid:
                 self.starter.exited(status)
+                self.guard.forget(pid)
             elif pid == self.guard.pid:
                 self.guard.pid = None
                 log(
