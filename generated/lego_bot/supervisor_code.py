@@ -1437,6 +1437,7 @@ class NodeStarter:
         self.pid = None
         self.channel = None
         self.state = "idle"  # idle, starting, ready, failed, stopped
+        self.deadline = None  # while starting: when it is given up on if not ready
 
     def serves(self, node, argv: list[str]) -> bool:
         """Whether the node's process comes from the starter: its Python entrypoint, run with the starter's

@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_sim',
-    'supervisor_code': 'a84153650f2c89e1',
+    'supervisor_code': '99b4309d9c49aeea',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },
