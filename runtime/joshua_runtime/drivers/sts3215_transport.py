@@ -21,7 +21,7 @@ import serial
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.errors import DeviceError
 
-REPLY_TIMEOUT_S = 0.02  # wait for a status packet beyond its own transmission time
+REPLY_TIMEOUT_S = 0.02  # beyond a reply's transmission time; above an FTDI adapter's 16 ms latency timer
 MAX_RETRIES = 3  # extra attempts after a timeout or a corrupt reply
 WRITE_TIMEOUT_S = 0.1  # a write that cannot be queued in this time means a dead port
 READ_CHUNK_BYTES = 512

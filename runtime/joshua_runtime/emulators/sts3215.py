@@ -10,7 +10,9 @@ limits replies to PING and READ. A servo hears only packets sent at the line spe
 register selects (read from the pty's termios, as a UART is clocked). Two servos may share an id:
 both answer, and their replies collide on the wire (`collide`). Garbage is skipped and a stalled partial frame is dropped after
 PARTIAL_FRAME_TIMEOUT_S. Replies are delayed by their time on a wire at `baud_rate` plus the servo's
-Return_Delay_Time, and can be dropped or corrupted (bad checksum) at seeded random rates or on demand.
+Return_Delay_Time, plus `adapter_latency_s` when a USB adapter's latency timer is modelled (an FTDI
+chip holds a short reply 16 ms by default), and can be dropped or corrupted (bad checksum) at seeded
+random rates or on demand.
 """
 
 import os
@@ -69,6 +71,7 @@ class Sts3215Emulator:
         emulate_wire_time: bool = True,
         position: int = DEFAULT_POSITION,
         model_number: int = MODEL_NUMBER_STS3215,
+        adapter_latency_s: float = 0.0,
     ):
         self.link = Path(link)
         now = time.monotonic()
@@ -80,6 +83,7 @@ class Sts3215Emulator:
         self.corrupt_rate = corrupt_rate
         self.baud_rate = baud_rate
         self.emulate_wire_time = emulate_wire_time
+        self.adapter_latency_s = adapter_latency_s
         self.stats = Counter()  # packets, bad_checksums, replies, dropped, corrupted
         self.write_listeners: list[WriteListener] = []
         self.packet_listeners: list[PacketListener] = []
@@ -242,8 +246,11 @@ class Sts3215Emulator:
             self._handled.notify_all()
         if not wire:
             return
+        wait_s = self.adapter_latency_s
         if self.emulate_wire_time:
-            time.sleep(delay_s + (len(packet.raw) + len(wire)) * BITS_PER_BYTE / self.baud_rate)
+            wait_s += delay_s + (len(packet.raw) + len(wire)) * BITS_PER_BYTE / self.baud_rate
+        if wait_s > 0:
+            time.sleep(wait_s)
         try:
             os.write(fd, wire)
         except OSError:  # nobody reads the other side: the bytes are lost, as on a real bus

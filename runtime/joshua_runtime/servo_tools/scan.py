@@ -5,11 +5,13 @@ from dataclasses import dataclass
 
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES, decode_value, register
-from joshua_runtime.drivers.sts3215_transport import Expected, GarbledReply, NoAnswer
+from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, Expected, GarbledReply, NoAnswer
 from joshua_runtime.errors import DeviceError
 
 BROADCAST_QUIET_S = 0.02  # after a reply to a broadcast PING, this much silence ends the round
-SWEEP_REPLY_TIMEOUT_S = 0.01  # per id when pinging every id one by one
+# Per id when pinging every id one by one, once: the drivers' window, which outlasts the 16 ms an FTDI
+# adapter holds a short reply by default (a shorter one finds no servo behind such an adapter).
+SWEEP_REPLY_TIMEOUT_S = REPLY_TIMEOUT_S
 MODEL_NAMES = {777: "sts3215"}
 
 

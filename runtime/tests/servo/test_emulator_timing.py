@@ -1,0 +1,28 @@
+"""The STS3215 emulator models a USB adapter's latency timer, and the drivers and tools allow for it."""
+
+from joshua_runtime.drivers import sts3215_protocol as proto
+from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, Expected, SerialTransport
+from joshua_runtime.servo_tools.bus import open_bus
+from joshua_runtime.servo_tools.scan import scan
+
+FTDI_LATENCY_TIMER_S = 0.016  # an FTDI adapter's default: a short reply waits this long in the chip
+
+
+def test_a_reply_held_by_the_adapters_latency_timer_still_counts(emulators):
+    emulator = emulators("ttyFTDI", ids=[1], adapter_latency_s=FTDI_LATENCY_TIMER_S)
+    transport = SerialTransport(str(emulator.link), 1_000_000, max_retries=0)
+    transport.open()
+    try:
+        assert FTDI_LATENCY_TIMER_S < REPLY_TIMEOUT_S
+        assert transport.transact(proto.encode(1, proto.INST_PING), [Expected(1, 0)])[0].servo_id == 1
+    finally:
+        transport.close()
+
+
+def test_scan_sweeps_every_id_through_an_adapter_with_a_latency_timer(emulators):
+    emulator = emulators("ttyFTDISCAN", ids=[3, 200], adapter_latency_s=FTDI_LATENCY_TIMER_S)
+    emulator.corrupt_next_replies(1)  # a garbled broadcast reply: each id is pinged one by one
+    with open_bus(str(emulator.link)) as bus:
+        result = scan(bus, baud_rates=(1_000_000,))
+    assert [servo.id for servo in result.servos] == [3, 200]
+    assert emulator.stats["packets"] > proto.MAX_SERVO_ID
