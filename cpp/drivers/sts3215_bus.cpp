@@ -1,6 +1,7 @@
 // STS3215 transactions over a SerialPort, with the Python driver's timeouts, retries and messages.
 #include "drivers/sts3215_bus.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -148,6 +149,7 @@ int Sts3215Bus::receive(const Expected& item, Packet& packet) {
   const SteadyClock::time_point start = SteadyClock::now();
   const size_t discarded_before = parser_.discarded();
   uint8_t chunk[READ_CHUNK_BYTES];
+  bool looked_after_deadline = false;
   while (true) {
     if (auto popped = parser_.pop()) {
       if (!popped->checksum_ok) return REPLY_CORRUPT;
@@ -156,13 +158,16 @@ int Sts3215Bus::receive(const Expected& item, Packet& packet) {
       packet = std::move(*popped);
       return REPLY_OK;
     }
-    const double remaining = timeout - seconds_since(start);
-    if (remaining <= 0) {
+    if (looked_after_deadline) {
       // Bytes that framed no packet: usually two servos answering to one id.
       const bool garbled = parser_.pending() > 0 || parser_.discarded() > discarded_before;
       return garbled ? REPLY_GARBLED : REPLY_TIMEOUT;
     }
-    const size_t got = port_.read_some(chunk, sizeof chunk, remaining);
+    // Past the deadline, one last look: a reply that came in time is in the buffer even when this
+    // thread was kept off the CPU until after the deadline.
+    const double remaining = timeout - seconds_since(start);
+    looked_after_deadline = remaining <= 0;
+    const size_t got = port_.read_some(chunk, sizeof chunk, std::max(remaining, 0.0));
     parser_.feed(chunk, got);
   }
 }

@@ -1,8 +1,9 @@
 """The serial side of an STS3215 bus: send instruction packets, collect status packets, retry.
 
 A transaction writes one instruction and waits for the status packets it should produce. A missing
-reply (REPLY_TIMEOUT_S plus the reply's time on the wire) or a reply with a bad checksum makes it try
-again, up to `max_retries` more times, after discarding whatever is left in the input buffer. Bytes
+reply (none within REPLY_TIMEOUT_S plus the reply's time on the wire, nor in the input buffer when
+this thread next runs after that deadline) or a reply with a bad checksum makes it try again, up to
+`max_retries` more times, after discarding whatever is left in the input buffer. Bytes
 that never frame a packet (two servos answering at once) count as a garbled reply. The port is
 locked with flock on open, so a second program opening it gets PortBusy. A vanished port closes the
 transport and raises DeviceError; the owner reopens it later.
@@ -183,6 +184,7 @@ class SerialTransport:
         reply_bytes = STATUS_OVERHEAD_BYTES + item.param_bytes
         deadline = time.monotonic() + self.reply_timeout_s + reply_bytes * BITS_PER_BYTE / self.baud_rate
         discarded_before = self._parser.discarded
+        looked_after_deadline = False
         while True:
             packet = self._parser.pop()
             if packet is not None:
@@ -194,11 +196,14 @@ class SerialTransport:
                     raise _Corrupt(item.servo_id)
                 self.last_errors[packet.servo_id] = packet.code
                 return packet
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
+            if looked_after_deadline:
                 garbled = self._parser.pending or self._parser.discarded > discarded_before
                 raise (_Garbled if garbled else _NoAnswer)(item.servo_id)
-            self._parser.feed(self._read_some(remaining))
+            # Past the deadline, one last look: a reply that came in time is in the buffer even when
+            # this thread was kept off the CPU until after the deadline.
+            remaining = deadline - time.monotonic()
+            looked_after_deadline = remaining <= 0
+            self._parser.feed(self._read_some(max(remaining, 0.0)))
 
     def _read_some(self, wait_s: float) -> bytes:
         try:

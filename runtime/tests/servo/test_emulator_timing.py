@@ -1,11 +1,15 @@
-"""The STS3215 emulator models a USB adapter's latency timer, and the drivers and tools allow for it."""
+"""The STS3215 emulator models a USB adapter's latency timer, and the drivers and tools allow for it and for delays."""
+
+import time
 
 from joshua_runtime.drivers import sts3215_protocol as proto
+from joshua_runtime.drivers import sts3215_transport
 from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, Expected, SerialTransport
 from joshua_runtime.servo_tools.bus import open_bus
 from joshua_runtime.servo_tools.scan import scan
 
 FTDI_LATENCY_TIMER_S = 0.016  # an FTDI adapter's default: a short reply waits this long in the chip
+REPLY_LANDS_S = 0.05  # ample time for the emulator to answer one PING
 
 
 def test_a_reply_held_by_the_adapters_latency_timer_still_counts(emulators):
@@ -26,3 +30,30 @@ def test_scan_sweeps_every_id_through_an_adapter_with_a_latency_timer(emulators)
         result = scan(bus, baud_rates=(1_000_000,))
     assert [servo.id for servo in result.servos] == [3, 200]
     assert emulator.stats["packets"] > proto.MAX_SERVO_ID
+
+
+class LateClock:
+    """time.monotonic as a driver thread sees it when it is descheduled right after taking its deadline."""
+
+    def __init__(self, late_s: float):
+        self.late_s = late_s
+        self.calls = 0
+
+    def monotonic(self) -> float:
+        self.calls += 1
+        if self.calls == 1:
+            return time.monotonic()
+        if self.calls == 2:
+            time.sleep(REPLY_LANDS_S)  # meanwhile the servo answers and the reply waits in the buffer
+        return time.monotonic() + self.late_s
+
+
+def test_a_reply_waiting_in_the_buffer_counts_when_the_driver_thread_ran_late(emulators, monkeypatch):
+    emulator = emulators("ttyLATE", ids=[1])
+    transport = SerialTransport(str(emulator.link), 1_000_000, max_retries=0)
+    transport.open()
+    try:
+        monkeypatch.setattr(sts3215_transport, "time", LateClock(late_s=2 * REPLY_TIMEOUT_S))
+        assert transport.transact(proto.encode(1, proto.INST_PING), [Expected(1, 0)])[0].servo_id == 1
+    finally:
+        transport.close()
