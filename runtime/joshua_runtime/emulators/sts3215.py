@@ -13,6 +13,11 @@ PARTIAL_FRAME_TIMEOUT_S. Replies are delayed by their time on a wire at `baud_ra
 Return_Delay_Time, plus `adapter_latency_s` when a USB adapter's latency timer is modelled (an FTDI
 chip holds a short reply 16 ms by default), and can be dropped or corrupted (bad checksum) at seeded
 random rates or on demand.
+
+Hardware answers within microseconds, whatever the computer is doing: the serving thread asks for
+real-time scheduling (SCHED_FIFO at SERVING_PRIORITY, not inherited by forked children) so that a
+busy machine does not delay its replies past a driver's reply timeout. Without the permission
+(CAP_SYS_NICE) it serves at normal priority.
 """
 
 import os
@@ -44,6 +49,7 @@ STOP_JOIN_TIMEOUT_S = 1.0
 READ_CHUNK_BYTES = 4096
 BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
 RETURN_DELAY_UNIT_S = 2e-6
+SERVING_PRIORITY = 1  # lowest SCHED_FIFO level: ahead of every normal thread, behind the kernel's own
 CORRUPTION_MASK = 0x5A  # XORed into the checksum byte of a corrupted reply
 
 # Called from the serving thread after a write lands: (servo id, address, data, monotonic time).
@@ -116,6 +122,11 @@ class Sts3215Emulator:
         self._thread = None
         self._pty.close()
         self._pty = None
+
+    @property
+    def serving_thread_id(self) -> int | None:
+        """The kernel's id of the thread that answers the bus, while serving."""
+        return self._thread.native_id if self._thread else None
 
     @property
     def device_name(self) -> str | None:
@@ -212,6 +223,7 @@ class Sts3215Emulator:
 
     # --- serving ---------------------------------------------------------------------------
     def _serve(self) -> None:
+        _raise_to_realtime_priority()
         fd = self._pty.master_fd
         parser = proto.PacketParser()
         last_byte_at = time.monotonic()
@@ -331,6 +343,14 @@ class Sts3215Emulator:
             self.stats["corrupted"] += 1
             return reply[:-1] + bytes([reply[-1] ^ CORRUPTION_MASK])
         return reply
+
+
+def _raise_to_realtime_priority() -> None:
+    """Schedule the calling thread as SCHED_FIFO (Linux applies it to the thread alone), if permitted."""
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO | os.SCHED_RESET_ON_FORK, os.sched_param(SERVING_PRIORITY))
+    except (AttributeError, OSError):
+        pass  # no CAP_SYS_NICE: normal priority
 
 
 def collide(replies: list[bytes]) -> bytes:
