@@ -223,7 +223,7 @@ class Sts3215Emulator:
 
     # --- serving ---------------------------------------------------------------------------
     def _serve(self) -> None:
-        _raise_to_realtime_priority()
+        raise_to_realtime_priority()
         fd = self._pty.master_fd
         parser = proto.PacketParser()
         last_byte_at = time.monotonic()
@@ -345,7 +345,7 @@ class Sts3215Emulator:
         return reply
 
 
-def _raise_to_realtime_priority() -> None:
+def raise_to_realtime_priority() -> None:
     """Schedule the calling thread as SCHED_FIFO (Linux applies it to the thread alone), if permitted."""
     try:
         os.sched_setscheduler(0, os.SCHED_FIFO | os.SCHED_RESET_ON_FORK, os.sched_param(SERVING_PRIORITY))

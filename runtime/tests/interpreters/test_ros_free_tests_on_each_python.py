@@ -29,6 +29,7 @@ ROS_FREE_TESTS = (
     "runtime/tests/servo/test_driver.py",
     "runtime/tests/servo/test_emulator.py",
     "runtime/tests/servo/test_emulator_timing.py",
+    "runtime/tests/servo/test_emulator_process.py",
     "runtime/tests/servo/test_calibration.py",
     "runtime/tests/servo/test_command_guard.py",
     "runtime/tests/servo/test_servo_diagnostics.py",
