@@ -20,6 +20,7 @@ busy machine does not delay its replies past a driver's reply timeout. Without t
 (CAP_SYS_NICE) it serves at normal priority.
 """
 
+import copy
 import os
 import random
 import select
@@ -155,6 +156,17 @@ class Sts3215Emulator:
     def servos(self, servo_id: int) -> list[EmulatedServo]:
         """Every servo answering to `servo_id` (more than one when ids collide)."""
         return [servo for servo in self._servos if servo.id == servo_id]
+
+    def snapshot(self) -> list[EmulatedServo]:
+        """Copies of every servo's state, to carry the bus over to another process."""
+        with self._lock:
+            return copy.deepcopy(self._servos)
+
+    def restore(self, servos: list[EmulatedServo]) -> None:
+        """Take over servos from snapshot()."""
+        with self._lock:
+            self._servos = list(servos)
+            self._handled.notify_all()
 
     def move_by_hand(self, servo_id: int, position: float) -> None:
         """Turn a servo's shaft to `position` ticks (present-position frame)."""

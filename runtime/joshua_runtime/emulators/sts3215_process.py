@@ -11,8 +11,8 @@ microseconds for a servo. Here the emulator runs alone in a child process, all o
 and answers at once.
 Calls go to the child over a socket pair and return its answer; listeners run in this process on a
 thread of their own, with the child's timestamps (CLOCK_MONOTONIC is the machine's, so they compare
-with this process's). `servo()` is not offered (its object lives in the child), and stop() ends the
-child: a later start() begins with fresh servos.
+with this process's). `servo()` is not offered (its object lives in the child). stop() ends the
+child and keeps its servos here: they answer the API until a later start() hands them to a new child.
 """
 
 import os
@@ -55,6 +55,7 @@ class Sts3215EmulatorProcess:
         self._calls = threading.Lock()
         self._event_arrived = threading.Condition()
         self.device_name: str | None = None
+        self._unplugged: Sts3215Emulator | None = None  # the servos between stop() and start()
 
     # --- lifecycle -------------------------------------------------------------------------
     def start(self) -> "Sts3215EmulatorProcess":
@@ -70,7 +71,8 @@ class Sts3215EmulatorProcess:
         child_commands.close()
         child_events.close()
         self._commands = Connection(commands.detach())
-        self._commands.send((str(self.link), self._options))
+        servos = self._unplugged.snapshot() if self._unplugged else None
+        self._commands.send((str(self.link), self._options, servos))
         if not self._commands.poll(START_TIMEOUT_S):
             self.stop()
             raise EmulatorProcessError(f"the emulator process for {self.link} did not start")
@@ -78,7 +80,7 @@ class Sts3215EmulatorProcess:
         if not ok:
             self.stop()
             raise answer
-        self.device_name = answer
+        self.device_name, self._unplugged = answer, None
         threading.Thread(target=self._dispatch_events, args=(Connection(events.detach()),), daemon=True).start()
         return self
 
@@ -86,9 +88,12 @@ class Sts3215EmulatorProcess:
         """End the child (the pty goes with it, as when an adapter is unplugged)."""
         if self._child is None:
             return
+        servos = None
         try:
             self._commands.send(None)
-        except OSError:
+            if self._commands.poll(STOP_TIMEOUT_S):
+                servos = self._commands.recv()
+        except (EOFError, OSError):
             pass
         try:
             self._child.wait(STOP_TIMEOUT_S)
@@ -97,6 +102,9 @@ class Sts3215EmulatorProcess:
             self._child.wait()
         self._commands.close()
         self._child, self._commands, self.device_name = None, None, None
+        if servos is not None:
+            self._unplugged = Sts3215Emulator(self.link, **self._options)
+            self._unplugged.restore(servos)
 
     def __enter__(self) -> "Sts3215EmulatorProcess":
         return self.start()
@@ -107,7 +115,10 @@ class Sts3215EmulatorProcess:
     # --- the in-process API, forwarded ------------------------------------------------------
     def _call(self, name: str, *args):
         if self._commands is None:
-            raise EmulatorProcessError(f"the emulator for {self.link} is not running")
+            if self._unplugged is None:
+                raise EmulatorProcessError(f"the emulator for {self.link} has not started")
+            value = getattr(self._unplugged, name)
+            return value(*args) if callable(value) else value
         with self._calls:
             try:
                 self._commands.send((name, args))
@@ -198,9 +209,12 @@ def serve_child(commands: Connection, events: Connection) -> None:
     preempted while it holds the interpreter lock would hold up the serving thread's next reply.
     """
     raise_to_realtime_priority()
-    link, options = commands.recv()
+    link, options, servos = commands.recv()
     try:
-        emulator = Sts3215Emulator(link, **options).start()
+        emulator = Sts3215Emulator(link, **options)
+        if servos is not None:
+            emulator.restore(servos)
+        emulator.start()
     except Exception as exc:  # noqa: BLE001 - handed to the parent, which raises it
         commands.send((False, exc))
         return
@@ -217,10 +231,10 @@ def serve_child(commands: Connection, events: Connection) -> None:
                 commands.send((True, value(*args) if callable(value) else value))
             except Exception as exc:  # noqa: BLE001 - handed to the caller, which raises it
                 commands.send((False, exc))
-    except (EOFError, OSError):
-        pass  # the parent is gone
-    finally:
         emulator.stop()
+        commands.send(emulator.snapshot())
+    except (EOFError, OSError):
+        emulator.stop()  # the parent is gone
 
 
 if __name__ == "__main__":

@@ -40,13 +40,18 @@ def test_the_in_process_api_reaches_the_child(bus):
         bus.position(7)
 
 
-def test_stop_ends_the_child_and_removes_the_link(tmp_path):
-    emulator = Sts3215EmulatorProcess(tmp_path / "ttyGONE", ids=[1]).start()
+def test_stop_ends_the_child_and_keeps_the_servos_for_the_next_start(tmp_path):
+    emulator = Sts3215EmulatorProcess(tmp_path / "ttyGONE", ids=[1])
+    with pytest.raises(EmulatorProcessError, match="ttyGONE has not started"):
+        emulator.position(1)
+    emulator.start().move_by_hand(1, 1000)
     child = emulator._child
     emulator.stop()
     assert child.returncode is not None and not emulator.link.exists()
-    with pytest.raises(EmulatorProcessError, match="ttyGONE is not running"):
-        emulator.position(1)
+    assert emulator.position(1) == 1000  # read as after unplugging an adapter
+    with emulator:
+        with Sts3215Driver(str(emulator.link), [1]) as driver:
+            assert driver.read(1, "Present_Position") == 1000
 
 
 def test_replies_need_no_interpreter_lock_of_the_host(bus):
