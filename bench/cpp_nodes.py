@@ -2,19 +2,19 @@
 
     .venv/bin/python bench/cpp_nodes.py [--samples 300] [--fast-rate-hz 1000] [--quick]
 
-Every node runs against protocol-level emulators in this process (STS3215 buses, an LDS-01) over real
-DDS, started as the generated supervisor starts it: the Python entrypoint (`run_node(SETTINGS)`) or
-the C++ binary in build/bin with its `--ros-args`, with a generated robot's Fast DDS profile (its
-discovery timing; Fast DDS's defaults announce a new participant every 3 s after its first five, and
-a node's first scan then reached the waiting subscriber up to 3 s late in half of the starts). One
-node at a time, per backend: seconds from spawn
-to its first use of the device and to its first message, the CPU seconds used by then, CPU use while
-running at its rate, PSS, and seconds from SIGINT to exit 0. Then leader -> follower latency (both
-nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-rate-hz, about what
-one 1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire. Last, the delay from SIGINT
-to exit as a distribution: an idle follower per backend, started afresh --stop-trials times, SIGINT at
-a random moment after its READY=1. The binaries are brought up to date with `make cpp` first (a no-op
-when they are). --quick: 0.25 s of steady running, 200 Hz only, 20 samples, a 1 s rate window, 2 stops.
+Every node runs against protocol-level emulators over real DDS (the STS3215 buses each in a process of
+its own, whose replies wait on no thread of this one; an LDS-01 here), started as the generated
+supervisor starts it: the Python entrypoint (`run_node(SETTINGS)`) or the C++ binary in build/bin with
+its `--ros-args`, with a generated robot's Fast DDS profile (its discovery timing; Fast DDS's defaults
+announce a new participant every 3 s after its first five, and a node's first scan then reached the
+waiting subscriber up to 3 s late in half of the starts). One node at a time, per backend: seconds from
+spawn to its first use of the device and to its first message, the CPU seconds used by then, CPU use
+while running at its rate, PSS, and seconds from SIGINT to exit 0. Then leader -> follower latency (both
+nodes of one backend, measured as bench/teleop.py does) at 200 Hz and at --fast-rate-hz, about what one
+1 Mbaud bus allows: a SYNC_READ of six servos is ~0.9 ms on the wire. Last, the delay from SIGINT to
+exit as a distribution: an idle follower per backend, started afresh --stop-trials times, SIGINT at a
+random moment after its READY=1. The binaries are brought up to date with `make cpp` first (a no-op when
+they are). --quick: 0.25 s of steady running, 200 Hz only, 20 samples, a 1 s rate window, 2 stops.
 """
 
 import argparse
@@ -56,7 +56,7 @@ from joshua_codegen.emitters.process_launch import FASTDDS_PROFILE_VARIABLE
 from joshua_runtime.drivers.sts3215_protocol import INST_SYNC_READ
 from joshua_runtime.drivers.sts3215_table import register
 from joshua_runtime.emulators.lds01 import Lds01Emulator
-from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+from joshua_runtime.emulators.sts3215_process import Sts3215EmulatorProcess
 
 DESCRIPTION = """
 robot_config {
@@ -289,8 +289,8 @@ def main() -> int:
     )
     with tempfile.TemporaryDirectory() as directory:
         links = {name: Path(directory) / f"tty{name.upper()}" for name in ("leader", "follower", "lidar")}
-        leader_bus = Sts3215Emulator(links["leader"]).start()
-        follower_bus = Sts3215Emulator(links["follower"]).start()
+        leader_bus = Sts3215EmulatorProcess(links["leader"]).start()
+        follower_bus = Sts3215EmulatorProcess(links["follower"]).start()
         lidar = Lds01Emulator(links["lidar"]).start()
         device_ready: dict[str, float] = {}
         leader_bus.packet_listeners.append(

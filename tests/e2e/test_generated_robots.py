@@ -11,7 +11,7 @@ import pytest
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Image, JointState, LaserScan
 
-from joshua_runtime.emulators.sts3215 import Sts3215Emulator
+from joshua_runtime.emulators.sts3215_process import Sts3215EmulatorProcess
 from testsupport.joshuac_cli import ROOT, joshuac
 
 STARTUP_TIMEOUT_S = 40.0
@@ -106,8 +106,8 @@ def write_video(path, frames: int = 30) -> None:
 
 
 def test_leader_follower_description_teleoperates_emulated_buses(tmp_path, ros_env, ros_client):
-    leader_bus = Sts3215Emulator(tmp_path / "ttyLEADER").start()
-    follower_bus = Sts3215Emulator(tmp_path / "ttyFOLLOWER").start()
+    leader_bus = Sts3215EmulatorProcess(tmp_path / "ttyLEADER").start()  # answers whatever this process runs
+    follower_bus = Sts3215EmulatorProcess(tmp_path / "ttyFOLLOWER").start()
     video = tmp_path / "camera.avi"
     write_video(video)
     out = tmp_path / "out"
