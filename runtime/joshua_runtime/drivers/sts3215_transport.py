@@ -176,9 +176,26 @@ class SerialTransport:
             if discard_input:
                 self._serial.reset_input_buffer()
                 self._parser.clear()
-            self._serial.write(packet)
+            self._queue(packet)
         except (serial.SerialException, OSError, termios.error) as exc:
             self._lost(exc)
+
+    def _queue(self, packet: bytes) -> None:
+        """Hand every byte to the kernel, waiting at most WRITE_TIMEOUT_S for room in its buffer.
+
+        pyserial's write() also calls it a timeout when this thread was only kept off the CPU that long
+        after its bytes went through, and a busy computer then took a working port for a dead one.
+        """
+        fd = self._serial.fileno()  # non-blocking, as pyserial opens it
+        pending = memoryview(packet)
+        deadline = time.monotonic() + WRITE_TIMEOUT_S
+        while pending:
+            try:
+                pending = pending[os.write(fd, pending) :]
+            except BlockingIOError:
+                _, room, _ = select.select([], [fd], [], max(deadline - time.monotonic(), 0.0))
+                if not room:
+                    raise serial.SerialTimeoutException("Write timeout") from None
 
     def _receive(self, item: Expected) -> proto.Packet:
         reply_bytes = STATUS_OVERHEAD_BYTES + item.param_bytes

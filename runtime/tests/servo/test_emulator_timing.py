@@ -6,9 +6,11 @@ import subprocess
 import sys
 import time
 
+import serial
+
 from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers import sts3215_transport
-from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, Expected, SerialTransport
+from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, WRITE_TIMEOUT_S, Expected, SerialTransport
 from joshua_runtime.servo_tools.bus import open_bus
 from joshua_runtime.servo_tools.scan import scan
 
@@ -83,6 +85,17 @@ def test_a_reply_waiting_in_the_buffer_counts_when_the_driver_thread_ran_late(em
     transport.open()
     try:
         monkeypatch.setattr(sts3215_transport, "time", LateClock(late_s=2 * REPLY_TIMEOUT_S))
+        assert transport.transact(proto.encode(1, proto.INST_PING), [Expected(1, 0)])[0].servo_id == 1
+    finally:
+        transport.close()
+
+
+def test_a_write_that_went_through_is_no_dead_port_when_the_driver_thread_ran_late(emulators, monkeypatch):
+    emulator = emulators("ttyWRITE", ids=[1])
+    transport = SerialTransport(str(emulator.link), 1_000_000, max_retries=0)
+    transport.open()
+    try:
+        monkeypatch.setattr(serial.serialutil.Timeout, "TIME", LateClock(late_s=2 * WRITE_TIMEOUT_S).monotonic)
         assert transport.transact(proto.encode(1, proto.INST_PING), [Expected(1, 0)])[0].servo_id == 1
     finally:
         transport.close()
