@@ -16,8 +16,8 @@ random rates or on demand.
 
 Hardware answers within microseconds, whatever the computer is doing: the serving thread asks for
 real-time scheduling (SCHED_FIFO at SERVING_PRIORITY, not inherited by forked children) so that a
-busy machine does not delay its replies past a driver's reply timeout. Without the permission
-(CAP_SYS_NICE) it serves at normal priority.
+busy machine does not delay its replies past a driver's reply timeout (bench/servo_replies.py). Without
+the permission (CAP_SYS_NICE), or with realtime=False, it serves at normal priority.
 """
 
 import copy
@@ -79,6 +79,7 @@ class Sts3215Emulator:
         position: int = DEFAULT_POSITION,
         model_number: int = MODEL_NUMBER_STS3215,
         adapter_latency_s: float = 0.0,
+        realtime: bool = True,
     ):
         self.link = Path(link)
         now = time.monotonic()
@@ -91,6 +92,7 @@ class Sts3215Emulator:
         self.baud_rate = baud_rate
         self.emulate_wire_time = emulate_wire_time
         self.adapter_latency_s = adapter_latency_s
+        self.realtime = realtime
         self.stats = Counter()  # packets, bad_checksums, replies, dropped, corrupted
         self.write_listeners: list[WriteListener] = []
         self.packet_listeners: list[PacketListener] = []
@@ -235,7 +237,8 @@ class Sts3215Emulator:
 
     # --- serving ---------------------------------------------------------------------------
     def _serve(self) -> None:
-        raise_to_realtime_priority()
+        if self.realtime:
+            raise_to_realtime_priority()
         fd = self._pty.master_fd
         parser = proto.PacketParser()
         last_byte_at = time.monotonic()
