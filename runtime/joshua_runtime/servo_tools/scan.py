@@ -7,11 +7,14 @@ from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers.sts3215_table import BAUD_RATE_CODES, decode_value, register
 from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, Expected, GarbledReply, NoAnswer
 from joshua_runtime.errors import DeviceError
+from joshua_runtime.servo_tools.bus import TOOL_RETRIES
 
 BROADCAST_QUIET_S = 0.02  # after a reply to a broadcast PING, this much silence ends the round
-# Per id when pinging every id one by one, once: the drivers' window, which outlasts the 16 ms an FTDI
-# adapter holds a short reply by default (a shorter one finds no servo behind such an adapter).
+# Per id when pinging every id one by one: the drivers' window, which outlasts the 16 ms an FTDI
+# adapter holds a short reply by default (a shorter one finds no servo behind such an adapter), and a
+# silent id is asked twice, as the tools ask every servo: a reply that comes late once is not a miss.
 SWEEP_REPLY_TIMEOUT_S = REPLY_TIMEOUT_S
+SWEEP_RETRIES = TOOL_RETRIES
 MODEL_NAMES = {777: "sts3215"}
 
 
@@ -48,7 +51,7 @@ def scan(bus, baud_rates=tuple(BAUD_RATE_CODES)) -> ScanResult:
         packets, garbled = bus.transport.collect(proto.encode(proto.BROADCAST_ID, proto.INST_PING), BROADCAST_QUIET_S)
         counts = Counter(packet.servo_id for packet in packets if packet.servo_id <= proto.MAX_SERVO_ID)
         if garbled:
-            counts = _ping_every_id(bus)
+            counts = ping_every_id(bus)
         for servo_id in sorted(counts):
             if counts[servo_id] > 1:
                 shared.append((servo_id, baud_rate))
@@ -62,11 +65,11 @@ def scan(bus, baud_rates=tuple(BAUD_RATE_CODES)) -> ScanResult:
     return ScanResult(servos, shared)
 
 
-def _ping_every_id(bus) -> Counter:
+def ping_every_id(bus) -> Counter:
     """Ids answering an addressed PING (a garbled answer counts twice: a shared id)."""
     transport = bus.transport
     saved = transport.reply_timeout_s, transport.max_retries
-    transport.reply_timeout_s, transport.max_retries = SWEEP_REPLY_TIMEOUT_S, 0
+    transport.reply_timeout_s, transport.max_retries = SWEEP_REPLY_TIMEOUT_S, SWEEP_RETRIES
     counts = Counter()
     try:
         for servo_id in range(proto.MAX_SERVO_ID + 1):

@@ -10,7 +10,7 @@ from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers import sts3215_transport
 from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, WRITE_TIMEOUT_S, Expected, SerialTransport
 from joshua_runtime.servo_tools.bus import open_bus
-from joshua_runtime.servo_tools.scan import scan
+from joshua_runtime.servo_tools.scan import ping_every_id, scan
 
 FTDI_LATENCY_TIMER_S = 0.016  # an FTDI adapter's default: a short reply waits this long in the chip
 REPLY_LANDS_S = 0.05  # ample time for the emulator to answer one PING
@@ -45,6 +45,13 @@ def test_scan_sweeps_every_id_through_an_adapter_with_a_latency_timer(emulators)
         result = scan(bus, baud_rates=(1_000_000,))
     assert [servo.id for servo in result.servos] == [3, 200]
     assert emulator.stats["packets"] > proto.MAX_SERVO_ID
+
+
+def test_the_sweep_asks_a_silent_id_twice(emulators):
+    emulator = emulators("ttySWEEP", ids=[3, 200])
+    emulator.drop_next_replies(1)  # id 3's first answer is lost on the wire
+    with open_bus(str(emulator.link)) as bus:
+        assert sorted(ping_every_id(bus)) == [3, 200]
 
 
 class LateClock:
