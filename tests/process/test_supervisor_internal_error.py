@@ -23,11 +23,15 @@ def test_an_unexpected_exception_stops_every_node_with_the_cascade_and_exits_70(
     script = out / "supervisor_code.py"  # the code supervisor.py runs: edited, it is compiled from this source
     text = script.read_text()
     assert text.count(anchor) == 1
-    script.write_text(text.replace(anchor, anchor + "        raise RuntimeError('injected fault')\n"))
+    # The fault waits for both nodes' handlers: a SIGINT before its handler ends a node without a word.
+    trigger = tmp_path / "fail-now"
+    fault = f"        if os.path.exists({str(trigger)!r}):\n            raise RuntimeError('injected fault')\n"
+    script.write_text(text.replace(anchor, anchor + fault))
     sock = tmp_path / "run" / "r.sock"
     supervisor = Supervisor(out, "--control-socket", str(sock), *args)
     try:
         wait_until(lambda: len(events(log)) >= 2, "both nodes to start")
+        trigger.touch()
         if ctl_command:
             ctl(out, sock, ctl_command)
         code = supervisor.wait()
