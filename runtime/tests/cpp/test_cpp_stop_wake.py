@@ -55,7 +55,10 @@ def test_an_idle_node_sleeps_until_sigint_wakes_it(ros_env, cpp_bin_dir, buses, 
         listener.bind("\0" + name)
         node = CppNodeProcess(argv, {**ros_env, "NOTIFY_SOCKET": f"@{name}"})
         try:
-            receive_until(listener, "READY")
+            try:
+                receive_until(listener, "READY")
+            except AssertionError as exc:
+                raise AssertionError(f"{exc}; the node: {node.failure()}") from None
             time.sleep(SETTLE_S)
             before = main_thread_switches(node.process.pid)
             time.sleep(IDLE_WINDOW_S)
