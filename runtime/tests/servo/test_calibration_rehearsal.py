@@ -102,10 +102,16 @@ def rehearse(hand: Hand, command: list[str], still: tuple[str, ...] = ()) -> tup
                 )
             else:
                 continue
-            process.stdin.write("\n")
-            process.stdin.flush()
+            try:
+                process.stdin.write("\n")
+                process.stdin.flush()
+            except BrokenPipeError:  # it ended early: its exit code and stderr say why
+                break
     finally:
-        process.stdin.close()
+        try:
+            process.stdin.close()
+        except BrokenPipeError:
+            pass
         code = process.wait(EXIT_TIMEOUT_S)
     return code, transcript, process.stderr.read()
 
