@@ -4,13 +4,17 @@ Interpreter finalization tears down every module and runs the C++ static destruc
 loaded: the DDS library's alone take 0.2-0.4 s, and a process that imported torch and LeRobot spends
 1.4-2.7 s on a busy 2-core machine after its last line of work. Nodes (entrypoint.py), the recorder's
 dataset writer process and `joshua-train` end with `end_process` instead of returning to the
-interpreter.
+interpreter. `die_with_parent()` makes a process end with the one that started it.
 """
 
 import atexit
+import ctypes
 import os
+import signal
 import sys
 import threading
+
+PR_SET_PDEATHSIG = 1
 
 
 def end_process(code: int) -> None:
@@ -31,3 +35,11 @@ def end_process(code: int) -> None:
         except (OSError, ValueError):
             pass
     os._exit(code)
+
+
+def die_with_parent() -> None:
+    """Ask the kernel to SIGKILL this process when its parent dies (nothing where prctl cannot be called)."""
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass

@@ -17,7 +17,6 @@ the staging directory that the next start recovers, exactly as a killed node wou
 """
 
 import contextlib
-import ctypes
 import os
 import queue
 import signal
@@ -29,7 +28,7 @@ import time
 from joshua_runtime.ai import writer_channel
 from joshua_runtime.errors import DataLostError, JoshuaError, SettingsError
 from joshua_runtime.notify import Notifier
-from joshua_runtime.process_end import end_process
+from joshua_runtime.process_end import die_with_parent, end_process
 
 ERRORS = {cls.__name__: cls for cls in (JoshuaError, SettingsError, DataLostError)}
 COMMANDS = {
@@ -43,7 +42,6 @@ COMMANDS = {
 # How long closing waits for a process still importing LeRobot to save the frames recorded meanwhile
 # (a bound for a process that hangs; under the supervisor its SIGINT grace comes first).
 LOAD_WAIT_AT_CLOSE_S = 120.0
-PR_SET_PDEATHSIG = 1
 EXIT_PARENT_GONE = 1
 LOG_LEVELS = ("debug", "info", "warning", "error")
 STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
@@ -198,21 +196,13 @@ class _ChannelLog:
         return lambda text, **_options: self.sender.send("log", {"level": level, "text": str(text)})
 
 
-def _die_with_parent() -> None:
-    """Ask the kernel to SIGKILL this process when the node that started it dies."""
-    try:
-        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
-    except (OSError, AttributeError):
-        pass
-
-
 def main(argv: list[str]) -> int:
     """The process: open an EpisodeWriter as the node asks, apply its commands until `close`."""
     for number in STOP_SIGNALS:
         signal.signal(number, signal.SIG_IGN)  # a stop signal pending since the start is dropped here
     signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
     parent = os.getppid()
-    _die_with_parent()
+    die_with_parent()
     if os.getppid() != parent:
         return EXIT_PARENT_GONE
     commands = os.fdopen(int(argv[0]), "rb")

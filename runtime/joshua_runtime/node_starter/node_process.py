@@ -1,6 +1,5 @@
 """In a process forked from the node starter: become the node, as an exec'd interpreter running its entrypoint."""
 
-import ctypes
 import os
 import runpy
 import signal
@@ -9,9 +8,8 @@ import time
 import traceback
 
 from joshua_runtime.node_starter.process_title import set_command_line
-from joshua_runtime.process_end import end_process
+from joshua_runtime.process_end import die_with_parent, end_process
 
-PR_SET_PDEATHSIG = 1
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 EXIT_SETUP_FAILED = 127  # the code of a program that could not be started, as the supervisor's exec failure
 EXIT_ORPHANED = 125  # the supervisor ended before the node could start, as the supervisor's own child says
@@ -88,7 +86,7 @@ def become_node(request: NodeRequest, python: str, output: int | None, gate: int
         os.setsid()
         if not wait_for_supervisor(request.supervisor):
             os._exit(EXIT_ORPHANED)
-        ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        die_with_parent()
         if os.getppid() != request.supervisor:  # the supervisor ended in between: no death signal will come
             os._exit(EXIT_ORPHANED)
         os.environ.clear()
