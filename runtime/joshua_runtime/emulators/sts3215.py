@@ -15,7 +15,7 @@ chip holds a short reply 16 ms by default), and can be dropped or corrupted (bad
 random rates or on demand.
 
 Hardware answers within microseconds, whatever the computer is doing: the serving thread asks for
-real-time scheduling (SCHED_FIFO at SERVING_PRIORITY, not inherited by forked children) so that a
+real-time scheduling (SCHED_FIFO, realtime.py, not inherited by forked children) so that a
 busy machine does not delay its replies past a driver's reply timeout (bench/servo_replies.py). Without
 the permission (CAP_SYS_NICE), or with realtime=False, it serves at normal priority.
 """
@@ -40,6 +40,7 @@ from joshua_runtime.drivers.sts3215_table import (
     register,
 )
 from joshua_runtime.emulators.pty_link import PtyLink
+from joshua_runtime.emulators.realtime import raise_to_realtime_priority
 from joshua_runtime.emulators.sts3215_servo import EmulatedServo
 
 DEFAULT_IDS = (1, 2, 3, 4, 5, 6)
@@ -50,7 +51,6 @@ STOP_JOIN_TIMEOUT_S = 1.0
 READ_CHUNK_BYTES = 4096
 BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
 RETURN_DELAY_UNIT_S = 2e-6
-SERVING_PRIORITY = 1  # lowest SCHED_FIFO level: ahead of every normal thread, behind the kernel's own
 CORRUPTION_MASK = 0x5A  # XORed into the checksum byte of a corrupted reply
 
 # Called from the serving thread after a write lands: (servo id, address, data, monotonic time).
@@ -358,14 +358,6 @@ class Sts3215Emulator:
             self.stats["corrupted"] += 1
             return reply[:-1] + bytes([reply[-1] ^ CORRUPTION_MASK])
         return reply
-
-
-def raise_to_realtime_priority() -> None:
-    """Schedule the calling thread as SCHED_FIFO (Linux applies it to the thread alone), if permitted."""
-    try:
-        os.sched_setscheduler(0, os.SCHED_FIFO | os.SCHED_RESET_ON_FORK, os.sched_param(SERVING_PRIORITY))
-    except (AttributeError, OSError):
-        pass  # no CAP_SYS_NICE: normal priority
 
 
 def collide(replies: list[bytes]) -> bytes:

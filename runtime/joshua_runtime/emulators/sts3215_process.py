@@ -26,12 +26,12 @@ from collections import Counter
 from multiprocessing.connection import Connection
 from pathlib import Path
 
+from joshua_runtime.emulators.realtime import raise_to_realtime_priority
 from joshua_runtime.emulators.sts3215 import (
     POLL_INTERVAL_S,
     PacketListener,
     Sts3215Emulator,
     WriteListener,
-    raise_to_realtime_priority,
 )
 
 START_TIMEOUT_S = 10.0  # the child imports the emulator and creates the pty
