@@ -106,21 +106,17 @@ def go_between_forks_node(channel: socket.socket, request: NodeRequest, output: 
         os._exit(0)
 
 
-def request_waiting(channel: socket.socket) -> bool:
-    poller = select.poll()
-    poller.register(channel.fileno(), select.POLLIN)
-    return bool(poller.poll(0))
-
-
 def serve(channel: socket.socket) -> int:
     """Fork a node per request. The nodes asked for together wait behind a gate (a pipe) until all are forked:
     started at once, 32 nodes would take the processor from the starter and make the last wait seconds."""
     hooks = lttng_fork_hooks()
     signal.signal(signal.SIGCHLD, signal.SIG_IGN)
     channel.sendall(b"ready")
+    requests = select.poll()
+    requests.register(channel.fileno(), select.POLLIN)
     gate = None
     while True:
-        if gate is not None and not request_waiting(channel):
+        if gate is not None and not requests.poll(0):  # the last request of those asked for at once
             for end in gate:
                 os.close(end)  # the gate opens: its last write end is closed
             gate = None
