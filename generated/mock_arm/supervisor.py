@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'mock_arm',
-    'supervisor_code': '99b4309d9c49aeea',
+    'supervisor_code': '67836a09b5e5c19c',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -133,9 +133,13 @@ def find_program(name: str, search_path: str) -> str | None:
     bare name, without importing shutil and the compression modules it loads: a few ms of every start)."""
     for directory in search_path.split(os.pathsep):
         candidate = os.path.join(directory or os.curdir, name)
-        if os.access(candidate, os.X_OK) and os.path.isfile(candidate):
+        if executable_file(candidate):
             return candidate
     return None
+
+
+def executable_file(path: str) -> bool:
+    return os.access(path, os.X_OK) and os.path.isfile(path)
 
 
 # Which run this is: a random id, the start time and the build, told in a header line at each start.
@@ -1369,7 +1373,7 @@ class Node:
 
     def runs_cpp(self):
         binary = self.cpp_binary()
-        return binary is not None and os.path.isfile(binary) and os.access(binary, os.X_OK)
+        return binary is not None and executable_file(binary)
 
     def runs_python(self):
         """Whether its next launch runs its Python entrypoint."""
@@ -1379,7 +1383,7 @@ class Node:
         """(argv, backend) chosen at launch: the C++ binary when it is executable, else Python."""
         binary = self.cpp_binary()
         if binary is not None:
-            if self.runs_cpp():
+            if executable_file(binary):
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
                 log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))
@@ -1897,11 +1901,11 @@ def node_problems(node) -> list[str]:
         if problem:
             problems.append(f"{node.name}: {problem}")
     binary = node.cpp_binary()
-    if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+    if binary is not None and os.path.lexists(binary) and not executable_file(binary):
         problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
     if spec["kind"] == "custom":
         program = node.custom_program()
-        if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
+        if program is None or not executable_file(program):
             problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
     elif not os.path.isfile(node.entrypoint()):
         problems.append(f"{node.name}: entrypoint {node.entrypoint()} is missing")
@@ -1912,7 +1916,7 @@ def preflight(nodes, python):
     """Every reason the robot cannot start, as lines; empty when it can."""
     problems = [problem for node in nodes for problem in node_problems(node)]
     needs_python = any(node.spec["kind"] != "custom" for node in nodes)
-    if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
+    if needs_python and not executable_file(python):
         problems.append(f"Python interpreter {python} is not an executable file")
     elif needs_python:
         environment = next(node.environment for node in nodes if node.spec["kind"] != "custom")

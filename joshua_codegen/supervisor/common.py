@@ -61,6 +61,10 @@ def find_program(name: str, search_path: str) -> str | None:
     bare name, without importing shutil and the compression modules it loads: a few ms of every start)."""
     for directory in search_path.split(os.pathsep):
         candidate = os.path.join(directory or os.curdir, name)
-        if os.access(candidate, os.X_OK) and os.path.isfile(candidate):
+        if executable_file(candidate):
             return candidate
     return None
+
+
+def executable_file(path: str) -> bool:
+    return os.access(path, os.X_OK) and os.path.isfile(path)

@@ -3,7 +3,7 @@
 import os
 
 from joshua_codegen.supervisor.build import running_build
-from joshua_codegen.supervisor.common import find_program, group_alive, log
+from joshua_codegen.supervisor.common import executable_file, find_program, group_alive, log
 from joshua_codegen.supervisor.node_processes import NODE_MARK_VARIABLE, node_mark
 from joshua_codegen.supervisor.policy import (
     CPP_FALLBACK_WARNING,
@@ -75,7 +75,7 @@ class Node:
 
     def runs_cpp(self):
         binary = self.cpp_binary()
-        return binary is not None and os.path.isfile(binary) and os.access(binary, os.X_OK)
+        return binary is not None and executable_file(binary)
 
     def runs_python(self):
         """Whether its next launch runs its Python entrypoint."""
@@ -85,7 +85,7 @@ class Node:
         """(argv, backend) chosen at launch: the C++ binary when it is executable, else Python."""
         binary = self.cpp_binary()
         if binary is not None:
-            if self.runs_cpp():
+            if executable_file(binary):
                 return [binary, *self.spec["cpp_args"]], "C++"
             if not self.warned_fallback:
                 log(self.name, CPP_FALLBACK_WARNING.format(binary=binary))

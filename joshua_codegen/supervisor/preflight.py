@@ -2,7 +2,7 @@
 
 import os
 
-from joshua_codegen.supervisor.common import under_script_dir
+from joshua_codegen.supervisor.common import executable_file, under_script_dir
 from joshua_codegen.supervisor.policy import RUNTIME_PROBE_TIMEOUT_S
 from joshua_codegen.supervisor.robot import ROBOT
 
@@ -106,11 +106,11 @@ def node_problems(node) -> list[str]:
         if problem:
             problems.append(f"{node.name}: {problem}")
     binary = node.cpp_binary()
-    if binary is not None and os.path.lexists(binary) and not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+    if binary is not None and os.path.lexists(binary) and not executable_file(binary):
         problems.append(f"{node.name}: C++ binary {binary} exists but is not an executable file")
     if spec["kind"] == "custom":
         program = node.custom_program()
-        if program is None or not (os.path.isfile(program) and os.access(program, os.X_OK)):
+        if program is None or not executable_file(program):
             problems.append(f"{node.name}: program {spec['executable']} is not an executable file (or not on PATH)")
     elif not os.path.isfile(node.entrypoint()):
         problems.append(f"{node.name}: entrypoint {node.entrypoint()} is missing")
@@ -121,7 +121,7 @@ def preflight(nodes, python):
     """Every reason the robot cannot start, as lines; empty when it can."""
     problems = [problem for node in nodes for problem in node_problems(node)]
     needs_python = any(node.spec["kind"] != "custom" for node in nodes)
-    if needs_python and not (os.path.isfile(python) and os.access(python, os.X_OK)):
+    if needs_python and not executable_file(python):
         problems.append(f"Python interpreter {python} is not an executable file")
     elif needs_python:
         environment = next(node.environment for node in nodes if node.spec["kind"] != "custom")
