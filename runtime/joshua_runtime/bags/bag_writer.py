@@ -6,10 +6,13 @@ mcap's own readers open it. A file is split when it holds `max_size_bytes` or sp
 (0: no limit). Chunks are finished at least every `CHUNK_FLUSH_PERIOD_S`, so a process killed without
 warning leaves every message up to its last finished chunk readable; `close()` writes the summary
 that makes the file indexed, and metadata.yaml lists the files (rewritten at every split and at close).
+A write that fails (a full disk) may have written part of a record: `abandon()` cuts the file back to
+its last whole record, so that streaming readers reach its end instead of failing on the torn record.
 """
 
 from __future__ import annotations
 
+import os
 import pathlib
 import time
 from dataclasses import dataclass, field
@@ -61,6 +64,7 @@ class BagWriter:
         self._channels: dict[str, int] = {}
         self._file = None
         self._writer: Writer | None = None
+        self._whole_bytes = 0  # the current file's length up to its last record known to be written whole
         self._last_flush = time.monotonic()
         directory.mkdir(parents=True, exist_ok=False)
         self._open_next_file()
@@ -88,6 +92,8 @@ class BagWriter:
         self._writer.add_message(
             self._channels[topic], log_time=receive_time_ns, data=data, publish_time=receive_time_ns
         )
+        if self._file.tell() != self._whole_bytes:  # a full chunk was finished on the way
+            self._mark_whole()
         if not current.count:
             current.start_ns = receive_time_ns
         current.end_ns = max(current.end_ns, receive_time_ns)
@@ -99,6 +105,7 @@ class BagWriter:
         """Finish the chunk in progress once it is CHUNK_FLUSH_PERIOD_S old (called on writes and by timers)."""
         if self._writer is not None and time.monotonic() - self._last_flush >= CHUNK_FLUSH_PERIOD_S:
             self._writer.flush()
+            self._whole_bytes = self._file.tell()
             self._last_flush = time.monotonic()
 
     def close(self) -> None:
@@ -107,13 +114,14 @@ class BagWriter:
             self._finish_file()
 
     def abandon(self) -> None:
-        """Close the file after a failed write, without a summary: it reads as a bag cut by a kill would,
-        up to its last finished chunk (`joshua-topic bag-recover` indexes it)."""
+        """Close the file after a failed write, without a summary, cut back to its last whole record: it reads
+        as a bag cut by a kill would, up to its last finished chunk (`joshua-topic bag-recover` indexes it)."""
         if self._file is not None:
             try:
                 self._file.close()
             except OSError:  # the buffered rest cannot be written either
                 pass
+            os.truncate(self.directory / self.stats.files[-1].path, self._whole_bytes)  # frees space, never needs it
         self._writer = self._file = None
 
     def _split_due(self, current: FileStats, now_ns: int) -> bool:
@@ -132,8 +140,12 @@ class BagWriter:
         for topic, topic_stats in self.stats.topics.items():
             if topic_stats.count:  # the others are registered with their first message
                 self._register(topic)
-        self._file.flush()
+        self._mark_whole()
         self._write_metadata()
+
+    def _mark_whole(self) -> None:
+        self._file.flush()
+        self._whole_bytes = self._file.tell()
 
     def _register(self, topic: str) -> None:
         message_type = self.stats.topics[topic].message_type
