@@ -122,7 +122,7 @@ export interface LogsReply {
   lines: string[];
 }
 
-/** The supervisor's answer to a node action (202: this dashboard's own process, stopping as asked). */
+/** The supervisor's answer to a node action (202: this dashboard's own process, stopping as asked, or a node still stopping or starting when the supervisor's answer did not come in time). */
 export interface NodeActionReply {
   node: string;
   state: string;

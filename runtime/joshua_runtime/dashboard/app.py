@@ -8,7 +8,8 @@ header outside the allow-list, see security.py):
   `inference`, each with the server's `server_time_s`, and `clock` (the server's time, every CLOCK_PERIOD_S);
 - `GET /api/nodes/<name>/logs?lines=N`: the last lines of a node's log;
 - `POST /api/nodes/<name>/restart|stop|start`: a supervisor action; the reply is the supervisor's, but 202
-  for a restart or stop of this dashboard's own process (it stops before the supervisor can answer);
+  for a restart or stop of this dashboard's own process (it stops before the supervisor can answer), and
+  202 with the node's state when the supervisor has not answered in time while the node still stops or starts;
 - `POST /api/recorders/<node>/episode/start|stop|discard|next|rerecord` (start takes `{"task": TEXT}`):
   recorder episodes (ai/episode_protocol.py).
 No GET changes anything. A refusal or failure of the supervisor answers `{"error": LINE, "kind": KIND}`
@@ -210,7 +211,8 @@ class Dashboard:
         try:
             reply = await self._unless_stopping(self.control.node_action(action, node))
         except ControlError as exc:
-            return _control_error(exc)
+            under_way = exc.kind == control.TIMEOUT and await self._action_under_way(node)
+            return JSONResponse(under_way, status_code=202) if under_way else _control_error(exc)
         finally:
             if first:
                 self._note_pending(node, None)
@@ -220,6 +222,19 @@ class Dashboard:
         if node == self.view.dashboard_process:  # stopping as asked: the supervisor carries on without us
             return JSONResponse({"node": node, "state": "stopping", "pid": os.getpid()}, status_code=202)
         return JSONResponse({"error": "the dashboard is stopping", "kind": control.STOPPING}, status_code=503)
+
+    async def _action_under_way(self, node: str) -> dict | None:
+        """The node's entry (name, state, pid) when it is still stopping or starting: the supervisor answers an
+        action once it is done, and a node may take longer to stop than a request waits (it can ask for more
+        time, see supervisor/notify.py); None when it is not, or the supervisor does not answer either."""
+        try:
+            status = await self.control.status()
+        except ControlError:
+            return None
+        entry = next((item for item in status.get("nodes", ()) if item.get("name") == node), None)
+        if entry is None or _settled({"nodes": [entry]}):
+            return None
+        return {"node": node, "state": entry["state"], "pid": entry.get("pid")}
 
     async def _unless_stopping(self, request) -> dict | None:
         """The supervisor's answer to `request`, or None when this server began to stop first (the

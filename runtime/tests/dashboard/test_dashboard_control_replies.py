@@ -17,6 +17,7 @@ from api_contract import checking_replies
 from dashboard_support import control_request, dashboard_token, free_port, node_pid, running_robot
 from starlette.testclient import TestClient
 
+from joshua_runtime.dashboard import control_client as control
 from joshua_runtime.dashboard.app import Dashboard
 from joshua_runtime.dashboard.broadcaster import Broadcaster
 from joshua_runtime.dashboard.control_client import ControlClient
@@ -109,6 +110,20 @@ def test_acting_on_a_node_being_restarted_is_409(supervised, tmp_path):
     assert [reply.status_code for reply in meanwhile] == [409, 409, 409]
     assert meanwhile[0].json() == {"error": "stubborn is already being stopped or restarted", "kind": "conflict"}
     assert done.status_code == 200 and done.json()["pid"] not in (None, old)
+
+
+@pytest.mark.process
+def test_a_stop_longer_than_the_request_timeout_is_accepted_while_the_node_stops(supervised, tmp_path, monkeypatch):
+    # A node may take long to stop (the recorder asks for more time while its save waits for LeRobot): the
+    # supervisor answers when it has stopped, after the dashboard gave up waiting. The stop is under way,
+    # so the page is told so (202), not that the supervisor failed (504).
+    monkeypatch.setattr(control, "REQUEST_TIMEOUT_S", 1.0)  # stubborn holds its stop for its 3 s SIGINT grace
+    stubborn = node_pid(supervised, "stubborn")
+    with dashboard_client(supervised, tmp_path) as client:
+        reply = client.post("/api/nodes/stubborn/stop")
+        wait_for_state(supervised, "stubborn", "stopped")
+    assert reply.status_code == 202, reply.json()
+    assert reply.json() == {"node": "stubborn", "state": "stopping", "pid": stubborn}
 
 
 @pytest.mark.process
