@@ -20,7 +20,7 @@ from testsupport.joshuac_cli import ROOT, joshuac
 
 STARTUP_TIMEOUT_S = 40.0
 TRACKING_TIMEOUT_S = 15.0
-SHUTDOWN_TIMEOUT_S = 10.0
+SHUTDOWN_TIMEOUT_S = 60.0  # the recorder holds its stop (asking for more time) while its save waits for LeRobot
 TRACKING_TOLERANCE_TICKS = 3
 RELIABLE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 SENSOR_QOS = QoSProfile(depth=5, reliability=ReliabilityPolicy.BEST_EFFORT)
