@@ -63,6 +63,7 @@ class BagWriter:
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
         self._file = None
+        self._path: pathlib.Path | None = None  # the current file
         self._writer: Writer | None = None
         self._whole_bytes = 0  # the current file's length up to its last record known to be written whole
         self._last_flush = time.monotonic()
@@ -121,7 +122,7 @@ class BagWriter:
                 self._file.close()
             except OSError:  # the buffered rest cannot be written either
                 pass
-            os.truncate(self.directory / self.stats.files[-1].path, self._whole_bytes)  # frees space, never needs it
+            os.truncate(self._path, self._whole_bytes)  # frees space, never needs it
         self._writer = self._file = None
 
     def _split_due(self, current: FileStats, now_ns: int) -> bool:
@@ -131,7 +132,8 @@ class BagWriter:
 
     def _open_next_file(self) -> None:
         name = f"{self.directory.name}_{len(self.stats.files)}.mcap"
-        self._file = open(self.directory / name, "wb")  # noqa: SIM115 - open until the file is finished
+        self._path, self._whole_bytes = self.directory / name, 0
+        self._file = open(self._path, "wb")  # noqa: SIM115 - open until the file is finished
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE_BYTES, compression=CompressionType.ZSTD)
         self._writer.start(profile=Profile.ROS2, library=LIBRARY)
         self.stats.files.append(FileStats(name))
