@@ -211,7 +211,8 @@ class Dashboard:
         try:
             reply = await self._unless_stopping(self.control.node_action(action, node))
         except ControlError as exc:
-            under_way = exc.kind == control.TIMEOUT and await self._action_under_way(node)
+            # No answer in time: from the supervisor (TIMEOUT), or from another host's agent (UNREACHABLE).
+            under_way = exc.kind in (control.TIMEOUT, control.UNREACHABLE) and await self._action_under_way(node)
             return JSONResponse(under_way, status_code=202) if under_way else _control_error(exc)
         finally:
             if first:
