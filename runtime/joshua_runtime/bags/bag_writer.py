@@ -122,7 +122,10 @@ class BagWriter:
                 self._file.close()
             except OSError:  # the buffered rest cannot be written either
                 pass
-            os.truncate(self._path, self._whole_bytes)  # frees space, never needs it
+            try:
+                os.truncate(self._path, self._whole_bytes)  # frees space, never needs it
+            except FileNotFoundError:  # removed meanwhile: nothing left to cut
+                pass
         self._writer = self._file = None
 
     def _split_due(self, current: FileStats, now_ns: int) -> bool:
