@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'lego_bot',
-    'supervisor_code': '67836a09b5e5c19c',
+    'supervisor_code': '2a38c54ffa150a59',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -3900,13 +3900,17 @@ def print_all_hosts(reply: dict) -> None:
 
 
 CTL_TIMEOUT_S = 30.0  # a restart or a reload waits for the nodes' stop cascades
+# A command that stops nodes is answered once they have stopped, and a stopping node may ask for more time
+# (up to STOP_EXTENSION_MAX_S after its SIGINT): its answer is waited for that much longer.
+CTL_STOPPING_COMMANDS = ("stop", "restart", "reload")
+CTL_STOPPING_TIMEOUT_S = CTL_TIMEOUT_S + STOP_EXTENSION_MAX_S
 CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
 # Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
 # start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.
 CTL_EXIT_DONE = 0
 CTL_EXIT_REFUSED = 1
 CTL_EXIT_USAGE = 2  # bad command line: argparse exits with it
-CTL_EXIT_UNREACHABLE = 3  # no supervisor at the socket, one of another user, or no answer (in CTL_TIMEOUT_S)
+CTL_EXIT_UNREACHABLE = 3  # no supervisor at the socket, one of another user, or no answer in time
 CTL_EXIT_INTERRUPTED = 130  # Ctrl-C before the answer came (following a log, Ctrl-C is its normal end: 0)
 
 
@@ -3996,6 +4000,8 @@ def ctl(argv) -> int:
             pass  # refused and closed at once (too many clients): the reply already sent says why
         if following:
             connection.settimeout(None)
+        elif options.command in CTL_STOPPING_COMMANDS:
+            connection.settimeout(CTL_STOPPING_TIMEOUT_S)
         replies = connection.makefile("rb")
         answer = replies.readline()
         if not answer:

@@ -17,6 +17,8 @@ from supervisor_harness import (
     wait_started,
 )
 
+from joshua_codegen.supervisor.ctl import CTL_TIMEOUT_S
+
 GRACE_S = 0.3
 EXTENSION_S = 1.0  # what the node asks for at each ask, more than three graces
 ASKING_S = 2.0  # how long a node that stops slowly keeps asking before it exits
@@ -106,6 +108,24 @@ def test_a_node_stopped_over_the_control_socket_may_ask_for_more_time_too(tmp_pa
         stopped = ctl(out, sock, "stop", "recorder")
         assert stopped.returncode == 0, stopped.stderr
         assert "escalating" not in supervisor.log()
+        assert [e[2] for e in events(tmp_path / "events.log")] == ["start", "got SIGINT saving", "saved"]
+    finally:
+        supervisor.signal(signal.SIGINT)
+        code = supervisor.wait()
+    assert code == 0, supervisor.log()
+
+
+def test_ctl_stop_waits_for_a_node_that_asks_for_more_time_than_ctl_waits_by_default(tmp_path):
+    # ctl waits CTL_TIMEOUT_S for an answer; a node may hold its stop up to STOP_EXTENSION_MAX_S after its
+    # SIGINT, and the supervisor answers the stop once the node has stopped: ctl waits that long too.
+    asking_s = CTL_TIMEOUT_S + 2.0
+    out = build(tmp_path, robot([slow_stopper(tmp_path, "recorder", GRACE_S, asking_s, "exit")], GRACE_S, GRACE_S))
+    sock = tmp_path / "run" / "r.sock"
+    supervisor = Supervisor(out, "--control-socket", str(sock))
+    try:
+        wait_started(tmp_path / "events.log", "recorder")
+        stopped = ctl(out, sock, "stop", "recorder", timeout=asking_s + 30.0)
+        assert stopped.returncode == 0, stopped.stderr
         assert [e[2] for e in events(tmp_path / "events.log")] == ["start", "got SIGINT saving", "saved"]
     finally:
         supervisor.signal(signal.SIGINT)
