@@ -246,6 +246,11 @@ def teleop(
             if arrived_at is None:
                 missed += 1
                 continue
+            # The leader's emulator reports its reads from a process of its own: the read that carried the
+            # move may be reported after the follower's write was.
+            if not leader_bus.wait_until(lambda at=moved_at: reads.first_after(at) is not None, SAMPLE_TIMEOUT_S):
+                missed += 1
+                continue
             latencies.append(1000 * (arrived_at - moved_at))
             waits.append(1000 * (reads.first_after(moved_at) - moved_at))
     finally:

@@ -74,7 +74,8 @@ def test_a_recorder_that_cannot_save_its_episode_makes_the_supervisor_fail_and_s
     supervisor = Supervisor(out, env=env)
     try:
         supervisor.wait_log(r"recorder.*first frame of the episode recorded", timeout=RECORDER_START_S)
-        wait_until(lambda: (parent / "dataset.staging").is_dir(), "the episode's staging copy")
+        # The staging copy is made by the dataset writer, which records only once it has loaded LeRobot.
+        wait_until(lambda: (parent / "dataset.staging").is_dir(), "the episode's staging copy", RECORDER_START_S)
         with immutable(parent):  # the saved episode cannot be swapped in: the kernel refuses, root or not
             supervisor.signal(signal.SIGINT)
             code = supervisor.wait(timeout=60)

@@ -119,6 +119,9 @@ def test_a_stop_longer_than_the_request_timeout_is_accepted_while_the_node_stops
     # so the page is told so (202), not that the supervisor failed (504).
     monkeypatch.setattr(control, "REQUEST_TIMEOUT_S", 1.0)  # stubborn holds its stop for its 3 s SIGINT grace
     stubborn = node_pid(supervised, "stubborn")
+    deadline = time.monotonic() + WAIT_S  # its shell ignores SIGINT once it has run `trap` and exec'd sleep
+    while Path(f"/proc/{stubborn}/comm").read_text().strip() != "sleep" and time.monotonic() < deadline:
+        time.sleep(0.02)
     with dashboard_client(supervised, tmp_path) as client:
         reply = client.post("/api/nodes/stubborn/stop")
         wait_for_state(supervised, "stubborn", "stopped")
