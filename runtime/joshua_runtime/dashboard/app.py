@@ -233,7 +233,7 @@ class Dashboard:
         except ControlError:
             return None
         entry = next((item for item in status.get("nodes", ()) if item.get("name") == node), None)
-        if entry is None or _settled({"nodes": [entry]}):
+        if entry is None or _node_settled(entry):
             return None
         return {"node": node, "state": entry["state"], "pid": entry.get("pid")}
 
@@ -295,9 +295,12 @@ def _control_error(exc: ControlError, unavailable: bool = False) -> JSONResponse
 def _settled(status: dict) -> bool:
     """Every node of a supervisor's status is running and ready, or stopped (False without a status)."""
     nodes = status.get("nodes")
-    return nodes is not None and all(
-        node["state"] == "stopped" or (node["state"] == "running" and node["ready"]) for node in nodes
-    )
+    return nodes is not None and all(_node_settled(node) for node in nodes)
+
+
+def _node_settled(node: dict) -> bool:
+    """One node of a supervisor's status is running and ready, or stopped: no action on it is under way."""
+    return node["state"] == "stopped" or (node["state"] == "running" and node["ready"])
 
 
 def _clock_event() -> bytes:
