@@ -10,6 +10,7 @@ ARGUMENTS = ['--port', '8640', '--bind', '127.0.0.1']
 
 if __name__ == "__main__":
     from joshua_runtime.dashboard.cli import main
+    from joshua_runtime.process_end import end_process
 
     manifest = Path(__file__).resolve().parent.parent / "manifest.json"
-    sys.exit(main(["--manifest", str(manifest), *ARGUMENTS, *sys.argv[1:]]))
+    end_process(main(["--manifest", str(manifest), *ARGUMENTS, *sys.argv[1:]]))
