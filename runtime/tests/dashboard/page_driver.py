@@ -8,9 +8,13 @@ from pathlib import Path
 
 from dashboard_support import control_request, screenshot
 
+from joshua_codegen.supervisor.policy import STOP_EXTENSION_MAX_S
 from joshua_runtime.dashboard.robot_view import load_robot_view
 
 PAGE_TIMEOUT_MS = 60_000  # a simulation or LeRobot import starting on a busy machine
+# A node's stop, and so its restart, may be held as long as the node asks (the recorder saving while LeRobot
+# loads, which took more than 60 s on a busy machine), up to STOP_EXTENSION_MAX_S after its SIGINT.
+STOP_TIMEOUT_MS = PAGE_TIMEOUT_MS + int(STOP_EXTENSION_MAX_S * 1000)
 POLL_S = 0.05
 LOG_REFRESHES = 3  # the log dialog must survive several refreshes (a crash showed at the second)
 # What a browser logs while the dashboard it talks to restarts: its connections fail or are cut.
@@ -155,6 +159,7 @@ class RobotPage:
         self.wait(
             lambda: self.node(process)["pid"] not in (None, old) and self.node(process)["state"] == "running",
             f"restart_of_{process}",
+            STOP_TIMEOUT_MS,
         )
         pid = self.node(process)["pid"]
         self.wait(lambda: self.live() and self.shows(process, "running", pid), f"page_after_restart_of_{process}")
@@ -166,7 +171,7 @@ class RobotPage:
         self.click("stop", process, confirm=self.critical[process] or process == self.dashboard)
         if process != self.dashboard:
             self.open_log(process)  # while it stops and its streams go stale (its refreshes take seconds)
-        self.wait(lambda: self.node(process)["state"] == "stopped", f"stop_of_{process}")
+        self.wait(lambda: self.node(process)["state"] == "stopped", f"stop_of_{process}", STOP_TIMEOUT_MS)
         if process == self.dashboard:
             self.wait(lambda: not self.live(), "page_notices_its_dashboard_stopped")
             self.page.get_by_test_id("status-age").filter(has_text="not live: as of").wait_for()
