@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': '2a38c54ffa150a59',
+    'supervisor_code': 'b4ebd1bd5965ee26',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -3899,11 +3899,11 @@ def print_all_hosts(reply: dict) -> None:
 # `supervisor.py ctl ...`: the control socket's command-line client.
 
 
-CTL_TIMEOUT_S = 30.0  # a restart or a reload waits for the nodes' stop cascades
-# A command that stops nodes is answered once they have stopped, and a stopping node may ask for more time
-# (up to STOP_EXTENSION_MAX_S after its SIGINT): its answer is waited for that much longer.
+CTL_TIMEOUT_S = 30.0  # an answer on a busy machine, beyond what the robot's own waits take
+# A command that stops nodes is answered once they have stopped: their SIGINT grace, or as long as a stopping node
+# asks for more time (up to STOP_EXTENSION_MAX_S after its SIGINT), then their SIGTERM grace.
 CTL_STOPPING_COMMANDS = ("stop", "restart", "reload")
-CTL_STOPPING_TIMEOUT_S = CTL_TIMEOUT_S + STOP_EXTENSION_MAX_S
+CTL_STOPPING_TIMEOUT_S = max(SIGINT_GRACE_S, STOP_EXTENSION_MAX_S) + SIGTERM_GRACE_S + CTL_TIMEOUT_S
 CTL_CONNECT_RETRY_S = 0.05  # while the socket's queue of waiting clients is full, try again this often
 # Exit codes of `ctl`. A refusal is any error reply of the supervisor (its kind, see REFUSAL_KINDS, among them a
 # start of a running node and a stop of a stopped one, both conflicts); usage errors are argparse's own code.

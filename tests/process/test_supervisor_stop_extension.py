@@ -3,6 +3,7 @@ EXTEND_TIMEOUT_USEC=N on NOTIFY_SOCKET while it stops holds its SIGTERM until N 
 
 The recorder does that while it saves frames recorded before its dataset writer had loaded LeRobot."""
 
+import runpy
 import signal
 
 from supervisor_harness import (
@@ -131,3 +132,14 @@ def test_ctl_stop_waits_for_a_node_that_asks_for_more_time_than_ctl_waits_by_def
         supervisor.signal(signal.SIGINT)
         code = supervisor.wait()
     assert code == 0, supervisor.log()
+
+
+def test_ctl_waits_for_a_stop_as_long_as_the_robots_own_graces_may_take(tmp_path):
+    # An arm that parks before it powers down may be given minutes to stop: ctl's wait for a stop, a restart or
+    # a reload covers the cascade of the robot it was built for, not only the default graces.
+    sigint_grace_s, sigterm_grace_s = 200.0, 60.0
+    node = slow_stopper(tmp_path, "arm", GRACE_S, ASKING_S, "exit")
+    out = build(tmp_path, robot([node], sigint_grace_s, sigterm_grace_s))
+    built = runpy.run_path(str(out / "supervisor.py"), run_name="built")  # the build's data and code, not run
+    assert (built["SIGINT_GRACE_S"], built["SIGTERM_GRACE_S"]) == (sigint_grace_s, sigterm_grace_s)
+    assert built["CTL_STOPPING_TIMEOUT_S"] > sigint_grace_s + sigterm_grace_s
