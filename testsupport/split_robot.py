@@ -40,6 +40,7 @@ DESCRIPTION = """robot_config {{
   dashboard {{ host: "gpu" port: {dashboard_port} }}
   node {{ name: "leader" type: MOCK_ENCODER_PUBLISHER topic_name: "/leader/joint_states" rate_hz: 20 }}
   node {{ name: "follower" type: MOCK_ACTUATOR_SUBSCRIBER host: "gpu" topic_name: "/leader/joint_states" rate_hz: 20 }}
+  {more_nodes}
 }}
 """
 
@@ -93,11 +94,13 @@ def tls_credentials(directory: Path) -> dict[str, str]:
 
 
 class SplitRobot:
-    """The two hosts' supervisors, started from `directory`; `credentials` maps host -> its `control` fields."""
+    """The two hosts' supervisors, started from `directory`; `credentials` maps host -> its `control` fields;
+    `more_nodes`: the text of nodes the robot has beside its leader and follower."""
 
-    def __init__(self, directory: Path, credentials: dict[str, str], env: dict):
+    def __init__(self, directory: Path, credentials: dict[str, str], env: dict, more_nodes: str = ""):
         self.directory = directory
         self.env = env
+        self.more_nodes = more_nodes
         self.ports = {
             "discovery_port": free_port(socket.SOCK_DGRAM),
             "control_port": free_port(),
@@ -110,7 +113,7 @@ class SplitRobot:
 
     def _build(self, host: str, credentials: str) -> Path:
         source = self.directory / f"split_{host}.pbtxt"
-        source.write_text(DESCRIPTION.format(credentials=credentials, **self.ports))
+        source.write_text(DESCRIPTION.format(credentials=credentials, more_nodes=self.more_nodes, **self.ports))
         out = self.directory / f"out_{host}"
         built = joshuac("build", source, "-o", out)
         assert built.returncode == 0, built.stderr

@@ -14,6 +14,7 @@ from joshua_codegen.plan import plan
 from joshua_codegen.render import render
 from joshua_codegen.write import write_tree
 from joshua_core.schema import RobotDescription
+from testsupport.description_text import quoted
 
 PYTHON = sys.executable
 WAIT_S = 10.0  # the longest any single wait of these tests may take before it fails
@@ -133,11 +134,6 @@ def build(directory: Path, config: str, source: str = "robot.pbtxt", prefix: str
     out = directory / "out"
     write_tree(render(plan(describe(config), source), prefix), out)
     return out
-
-
-def quoted(text: str) -> str:
-    """A text-format string literal."""
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
 
 
 def custom_node(name: str, log: Path, *options: str, **fields: str) -> str:

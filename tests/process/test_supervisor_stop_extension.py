@@ -7,64 +7,25 @@ import runpy
 import signal
 
 from supervisor_harness import (
-    PYTHON,
     Supervisor,
     build,
     ctl,
     events,
     log_times,
-    quoted,
     robot,
     wait_started,
 )
 
 from joshua_codegen.supervisor.ctl import CTL_TIMEOUT_S
+from testsupport.slow_stopper import slow_stopper_node
 
 GRACE_S = 0.3
 EXTENSION_S = 1.0  # what the node asks for at each ask, more than three graces
 ASKING_S = 2.0  # how long a node that stops slowly keeps asking before it exits
 
-# A node program that, on SIGINT, asks for EXTENSION more seconds every ASK_EVERY seconds until ASKING seconds
-# have passed, then exits 0 (`then=exit`) or keeps running without asking (`then=stay`); SIGTERM ends it.
-# argv: LOG NAME EXTENSION ASK_EVERY ASKING then=exit|stay
-SLOW_STOPPER = r"""
-import os, signal, socket, sys, time
-log_path, name, extension, every, asking, then = sys.argv[1:7]
-address = os.environ["NOTIFY_SOCKET"]
-address = "\0" + address[1:] if address.startswith("@") else address
-
-def note(text):
-    with open(log_path, "a") as log:
-        log.write(f"{name} {os.getpid()} {text}\n")
-
-def on_sigterm(number, frame):
-    note("got SIGTERM exit")
-    os._exit(0)
-
-stopping = []
-signal.signal(signal.SIGINT, lambda number, frame: stopping.append(time.monotonic()))
-signal.signal(signal.SIGTERM, on_sigterm)
-note("start")
-while not stopping:
-    time.sleep(0.01)
-note("got SIGINT saving")
-with socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM) as sender:
-    while time.monotonic() - stopping[0] < float(asking):
-        sender.sendto(f"EXTEND_TIMEOUT_USEC={int(float(extension) * 1e6)}\nSTATUS=saving".encode(), address)
-        time.sleep(float(every))
-if then == "exit":
-    note("saved")
-    os._exit(0)
-while True:
-    time.sleep(1)
-"""
-
 
 def slow_stopper(directory, name: str, every_s: float, asking_s: float, then: str) -> str:
-    script = directory / "slow_stopper.py"
-    script.write_text(SLOW_STOPPER)
-    args = [str(script), str(directory / "events.log"), name, str(EXTENSION_S), str(every_s), str(asking_s), then]
-    return f'node {{ name: "{name}" type: CUSTOM executable: "{PYTHON}" args: [{", ".join(map(quoted, args))}] }}'
+    return slow_stopper_node(directory, name, EXTENSION_S, every_s, asking_s, then)
 
 
 def test_a_node_asking_for_more_time_while_it_saves_is_not_escalated_and_the_run_ends_0(tmp_path):
