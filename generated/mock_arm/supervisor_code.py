@@ -3848,6 +3848,7 @@ HOSTS_SOCKET_VARIABLE = "JOSHUA_HOSTS_SOCKET"  # told to every node, so the host
 SOCKET_SUFFIX = ".sock"
 HOSTS_SOCKET_SUFFIX = ".hosts.sock"
 UNREACHABLE_KIND = "unreachable"
+WAIT_FIELD = "wait_s"  # how long the sender of a request waits for its answer (joshua_runtime/hosts/requests.py)
 
 
 def hosts_socket_path(control_socket: str) -> str:
@@ -3856,8 +3857,9 @@ def hosts_socket_path(control_socket: str) -> str:
     The agent (`host_agent_<host>`, joshua_runtime/hosts) serves it, owned and checked like the control socket.
     It takes the control socket's requests with one more field: "host" (the host whose supervisor answers, over
     the robot's authenticated Zenoh when it is another) or "all_hosts" (the status of every host at once, each
-    node with its host). Its refusals add the kind "unreachable": the host has not been heard from, or did not
-    answer in time.
+    node with its host), and may say how long its sender waits for the answer ("wait_s", which `ctl` sends with
+    a stop, a restart or a reload: the agents on the way wait as long, less a margin at each hop). Its refusals
+    add the kind "unreachable": the host has not been heard from, or did not answer in time.
     """
     return control_socket.removesuffix(SOCKET_SUFFIX) + HOSTS_SOCKET_SUFFIX
 
@@ -3983,6 +3985,8 @@ def ctl(argv) -> int:
     if options.host or getattr(options, "all_hosts", False):
         path, what = hosts_socket_path(options.control_socket), "the host agent's socket"
         request.update({"host": options.host} if options.host else {"all_hosts": True})
+        if options.command in CTL_STOPPING_COMMANDS:
+            request[WAIT_FIELD] = CTL_STOPPING_TIMEOUT_S  # the agents wait as long for another host's answer
     following = options.command == "logs" and options.follow
     try:
         connection = ctl_connect(path)

@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_arm',
-    'supervisor_code': 'b4ebd1bd5965ee26',
+    'supervisor_code': 'fd4b85d54631b3d8',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -10,6 +10,7 @@ from joshua_codegen.supervisor.control_request import CONTROL_LOG_LINES_DEFAULT,
 from joshua_codegen.supervisor.control_socket import control_name, default_control_socket, may_control, peer_credentials
 from joshua_codegen.supervisor.ctl_hosts import (
     UNREACHABLE_KIND,
+    WAIT_FIELD,
     hosts_socket_path,
     hosts_usage_problem,
     print_all_hosts,
@@ -102,6 +103,8 @@ def ctl(argv) -> int:
     if options.host or getattr(options, "all_hosts", False):
         path, what = hosts_socket_path(options.control_socket), "the host agent's socket"
         request.update({"host": options.host} if options.host else {"all_hosts": True})
+        if options.command in CTL_STOPPING_COMMANDS:
+            request[WAIT_FIELD] = CTL_STOPPING_TIMEOUT_S  # the agents wait as long for another host's answer
     following = options.command == "logs" and options.follow
     try:
         connection = ctl_connect(path)

@@ -6,6 +6,7 @@ HOSTS_SOCKET_VARIABLE = "JOSHUA_HOSTS_SOCKET"  # told to every node, so the host
 SOCKET_SUFFIX = ".sock"
 HOSTS_SOCKET_SUFFIX = ".hosts.sock"
 UNREACHABLE_KIND = "unreachable"
+WAIT_FIELD = "wait_s"  # how long the sender of a request waits for its answer (joshua_runtime/hosts/requests.py)
 
 
 def hosts_socket_path(control_socket: str) -> str:
@@ -14,8 +15,9 @@ def hosts_socket_path(control_socket: str) -> str:
     The agent (`host_agent_<host>`, joshua_runtime/hosts) serves it, owned and checked like the control socket.
     It takes the control socket's requests with one more field: "host" (the host whose supervisor answers, over
     the robot's authenticated Zenoh when it is another) or "all_hosts" (the status of every host at once, each
-    node with its host). Its refusals add the kind "unreachable": the host has not been heard from, or did not
-    answer in time.
+    node with its host), and may say how long its sender waits for the answer ("wait_s", which `ctl` sends with
+    a stop, a restart or a reload: the agents on the way wait as long, less a margin at each hop). Its refusals
+    add the kind "unreachable": the host has not been heard from, or did not answer in time.
     """
     return control_socket.removesuffix(SOCKET_SUFFIX) + HOSTS_SOCKET_SUFFIX
 

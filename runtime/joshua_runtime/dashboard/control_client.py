@@ -95,14 +95,14 @@ class ControlClient:
         reply.pop("ok")
         return reply
 
-    async def reply(self, message: dict) -> dict:
+    async def reply(self, message: dict, timeout_s: float = REQUEST_TIMEOUT_S) -> dict:
         """Send one request; its reply as the supervisor wrote it (`ok` true, or false with its `kind` and
-        `error`: a host's agent passes refusals on as they are), or ControlError when none came."""
+        `error`: a host's agent passes refusals on as they are), or ControlError when none came in `timeout_s`."""
         try:
-            return await asyncio.wait_for(self._exchange(message), REQUEST_TIMEOUT_S)
+            return await asyncio.wait_for(self._exchange(message), timeout_s)
         except asyncio.TimeoutError as exc:
             raise ControlError(
-                f"the supervisor did not answer {message['command']!r} within {REQUEST_TIMEOUT_S:g} s", TIMEOUT
+                f"the supervisor did not answer {message['command']!r} within {timeout_s:g} s", TIMEOUT
             ) from exc
 
     async def _exchange(self, message: dict) -> dict:

@@ -20,13 +20,13 @@ import time
 from pathlib import Path
 
 from joshua_core import control_plane
-from joshua_runtime.dashboard.control_client import ControlClient, ControlError, default_socket_path
+from joshua_runtime.dashboard.control_client import REQUEST_TIMEOUT_S, ControlClient, ControlError, default_socket_path
 from joshua_runtime.dashboard.zenoh_link import check_endpoint
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.hosts import access
-from joshua_runtime.hosts.link import HostsLink
+from joshua_runtime.hosts.link import QUERY_TIMEOUT_S, HostsLink
 from joshua_runtime.hosts.relay import Relay
-from joshua_runtime.hosts.requests import RequestRefused, parse, parse_remote, refusal
+from joshua_runtime.hosts.requests import Request, RequestRefused, parse, parse_remote, refusal
 from joshua_runtime.hosts.roster import STATUS_PERIOD_S, Placement, Roster
 from joshua_runtime.hosts.server_watch import DiscoveryWatch
 from joshua_runtime.notify import Notifier
@@ -162,14 +162,14 @@ class Agent:
     async def _answer(self, query) -> None:
         payload = query.payload.to_bytes() if query.payload is not None else b""
         try:
-            reply = await self._supervisor_reply(parse_remote(payload))
+            reply = await self._supervisor_reply(parse_remote(payload, self.host))
         except RequestRefused as exc:
             reply = exc.reply()
         await asyncio.to_thread(self.link.answer, query, reply)
 
-    async def _supervisor_reply(self, request: dict) -> dict:
+    async def _supervisor_reply(self, request: Request) -> dict:
         try:
-            return await self.supervisor.reply(request)
+            return await self.supervisor.reply(request.forwarded, request.relayed_wait_s() or REQUEST_TIMEOUT_S)
         except ControlError as exc:
             return refusal("unreachable", f"the supervisor of host {self.host} does not answer: {exc}")
 
@@ -182,13 +182,14 @@ class Agent:
         if request.all_hosts:
             return {"ok": True, **self.roster.aggregate(time.monotonic())}
         if request.host == self.host:
-            return await self._supervisor_reply(request.forwarded)
+            return await self._supervisor_reply(request)
         if self.link is None:
             return refusal(
                 "unreachable",
                 f"host {request.host} cannot be reached from here: the description has no `control {{ }}`",
             )
-        reply = await asyncio.to_thread(self.link.ask, request.host, request.forwarded)
+        wait_s = request.relayed_wait_s() or QUERY_TIMEOUT_S
+        reply = await asyncio.to_thread(self.link.ask, request.host, request.remote(), wait_s)
         if reply is None:
             return refusal("unreachable", f"host {request.host} did not answer: {self._why_silent(request.host)}")
         return reply

@@ -15,7 +15,8 @@ from joshua_runtime.dashboard.zenoh_link import open_session
 from joshua_runtime.errors import SettingsError
 
 # A restart on another host waits for its node's stop cascade (7 s at most by default); answered just before a
-# client of the agent's socket (the dashboard, REQUEST_TIMEOUT_S) would give up.
+# client of the agent's socket (the dashboard, REQUEST_TIMEOUT_S) would give up. A request that says how long its
+# sender waits (requests.py, `ctl` stopping a node) is waited for that long instead.
 QUERY_TIMEOUT_S = 14.0
 RETRY_PAUSE_S = 1.0  # between two attempts to reach the router
 MAX_STATUS_BYTES = 64 * 1024  # a status larger than this is dropped, as the fleet view does
@@ -93,13 +94,13 @@ class HostsLink:
         if self.session is not None:
             self.session.put(control_plane.status_key(self.robot, self.host), json.dumps(status))
 
-    def ask(self, host: str, request: dict) -> dict | None:
-        """The reply of `host`'s agent to `request` (blocking, QUERY_TIMEOUT_S at most); None when none came."""
+    def ask(self, host: str, request: dict, timeout_s: float = QUERY_TIMEOUT_S) -> dict | None:
+        """The reply of `host`'s agent to `request` (blocking, `timeout_s` at most); None when none came."""
         session = self.session
         if session is None:
             return None
         key = control_plane.control_key(self.robot, host)
-        for reply in session.get(key, payload=json.dumps(request), timeout=QUERY_TIMEOUT_S):
+        for reply in session.get(key, payload=json.dumps(request), timeout=timeout_s):
             if reply.ok is None:
                 continue
             try:

@@ -4,7 +4,14 @@ import json
 
 import pytest
 
-from joshua_runtime.hosts.requests import REQUEST_LIMIT_BYTES, RequestRefused, parse, parse_remote
+from joshua_runtime.hosts.requests import (
+    RELAY_MARGIN_S,
+    REQUEST_LIMIT_BYTES,
+    WAIT_MAX_S,
+    RequestRefused,
+    parse,
+    parse_remote,
+)
 from joshua_runtime.hosts.roster import HOST_SILENT_AFTER_S, Placement, Roster
 
 MANIFEST = {
@@ -127,4 +134,20 @@ def test_requests_name_a_host_of_the_robot_and_follow_no_log():
         assert refusal.value.kind == kind, line
     for payload in (b'{"command": "status", "host": "arm"}', b'{"command": "reload", "path": "/opt/joshua/evil"}'):
         with pytest.raises(RequestRefused):
-            parse_remote(payload)
+            parse_remote(payload, "arm")
+
+
+def test_a_request_says_how_long_its_sender_waits_and_each_hop_waits_a_margin_less():
+    hosts = ("arm", "gpu")
+    request = parse(b'{"command": "stop", "node": "saver", "host": "arm", "wait_s": 150}', "gpu", hosts)
+    assert (request.forwarded, request.wait_s) == ({"command": "stop", "node": "saver"}, 150.0)
+    assert request.relayed_wait_s() == 150.0 - RELAY_MARGIN_S
+    remote = parse_remote(json.dumps(request.remote()).encode(), "arm")
+    assert (remote.host, remote.forwarded) == ("arm", {"command": "stop", "node": "saver"})
+    assert remote.relayed_wait_s() == 150.0 - 2 * RELAY_MARGIN_S  # what the supervisor there is given
+    unsaid = parse(b'{"command": "stop", "node": "saver", "host": "arm"}', "gpu", hosts)
+    assert unsaid.relayed_wait_s() is None and unsaid.remote() == unsaid.forwarded  # the agents' own bounds
+    for wait in ("0", "-1", "true", '"150"', str(WAIT_MAX_S + 1), "1e999"):
+        with pytest.raises(RequestRefused) as refusal:
+            parse(f'{{"command": "stop", "node": "saver", "wait_s": {wait}}}'.encode(), "gpu", hosts)
+        assert refusal.value.kind == "bad_request", wait

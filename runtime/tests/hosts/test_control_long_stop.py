@@ -1,0 +1,52 @@
+"""A stop that takes longer than the agents' own bounds, asked with `ctl --host` on a robot on two hosts: ctl says
+how long it waits, and each agent on the way waits as long (less a margin), so the answer comes, not `unreachable`.
+
+The node stops as the recorder does while it saves: it asks its supervisor for more time until it is done."""
+
+import os
+import zlib
+
+import pytest
+
+from joshua_runtime.dashboard.control_client import REQUEST_TIMEOUT_S
+from joshua_runtime.hosts.link import QUERY_TIMEOUT_S
+from testsupport.slow_stopper import slow_stopper_node
+from testsupport.split_robot import SplitRobot, password_credentials
+
+SAVING_S = max(QUERY_TIMEOUT_S, REQUEST_TIMEOUT_S) + 2.0  # longer than an agent waits for a request without a wait
+EXTENSION_S = 5.0  # asked for every second while it saves
+
+
+@pytest.fixture(scope="module")
+def robot(tmp_path_factory, request):
+    directory = tmp_path_factory.mktemp("split")
+    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
+    saver = slow_stopper_node(directory, "saver", EXTENSION_S, 1.0, SAVING_S, "exit", 'host: "arm"')
+    robot = SplitRobot(directory, password_credentials(directory / "credentials"), env, saver)
+    try:
+        robot.start_all()
+        robot.wait_until(lambda: all(h["reachable"] for h in robot.all_hosts("gpu")["hosts"]), "both hosts heard")
+        yield robot
+    finally:
+        codes = robot.stop_all()
+        assert codes == {"arm": 0, "gpu": 0}, robot.logs()
+
+
+def saver_events(robot) -> list[str]:
+    log = robot.directory / "events.log"
+    return [line.split(" ", 2)[2] for line in log.read_text().splitlines()] if log.exists() else []
+
+
+@pytest.mark.parametrize("asked_on", ["gpu", "arm"])  # over Zenoh to the other host's agent; through its own
+def test_ctl_host_stop_is_answered_once_a_slow_node_has_saved(robot, asked_on):
+    if robot.node("arm", "saver")["state"] == "stopped":  # by the test before; left stopped, the robot stops at once
+        started = robot.ctl(asked_on, "--host", "arm", "start", "saver")
+        assert started.returncode == 0, started
+    robot.wait_until(lambda: saver_events(robot)[-1:] == ["start"], "the saver started")
+
+    stopped = robot.ctl(asked_on, "--host", "arm", "stop", "saver")
+
+    assert stopped.returncode == 0 and stopped.stdout.strip() == "saver: stopped", (stopped, robot.logs())
+    assert saver_events(robot)[-2:] == ["got SIGINT saving", "saved"]  # it saved for SAVING_S, unescalated
+    assert robot.node("arm", "saver")["state"] == "stopped"
