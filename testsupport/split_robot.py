@@ -7,7 +7,9 @@ made by the commands of docs/across-computers.md; each host's part comes from a 
 files (on real computers one path holds each host's own file).
 """
 
+import contextlib
 import json
+import os
 import re
 import signal
 import socket
@@ -15,10 +17,12 @@ import subprocess
 import sys
 import time
 import urllib.request
+from collections.abc import Iterator
 from pathlib import Path
 
 from joshua_core.dashboard_token import token_path
 from testsupport.joshuac_cli import ROOT, joshuac
+from testsupport.ros_domains import claimed_domain
 
 HOSTS = {"arm": "127.0.0.1", "gpu": "127.0.0.2"}
 ROUTER = "arm"
@@ -231,3 +235,24 @@ class SplitRobot:
                 return value
             assert time.monotonic() < deadline, f"no {what} within {timeout_s:g} s:\n{self.logs()}"
             time.sleep(POLL_S)
+
+
+@contextlib.contextmanager
+def running_split_robot(directory: Path, seed: str, credentials_of=None, more_nodes: str = "") -> Iterator[SplitRobot]:
+    """The robot started in a ROS domain no other test holds meanwhile (claimed by `seed`, the test's id), with the
+    hosts' credentials of `credentials_of(directory)` (default: passwords), until its dashboard answers and each
+    host has heard the other; at exit stopped, each host's supervisor having to end 0."""
+    credentials = (credentials_of or password_credentials)(directory / "credentials")
+    with claimed_domain(seed) as domain:
+        env = dict(
+            os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1"
+        )
+        robot = SplitRobot(directory, credentials, env, more_nodes)
+        try:
+            robot.start_all()
+            robot.wait_for_dashboard()
+            robot.wait_until(lambda: all(h["reachable"] for h in robot.api("/api/status")["hosts"]), "both hosts heard")
+            yield robot
+        finally:
+            codes = robot.stop_all()
+            assert codes == {"arm": 0, "gpu": 0}, robot.logs()

@@ -2,25 +2,26 @@
 (passwords, or certificates, made by the commands of docs/across-computers.md). A peer without the robot's credentials controls
 nothing; a host's credentials do not let it publish or answer as another host."""
 
+import contextlib
 import json
-import os
 import time
-import zlib
 
 import pytest
 
 from joshua_core import control_plane
 from joshua_runtime.dashboard.zenoh_link import open_session
-from testsupport.split_robot import ROUTER, SplitRobot, password_credentials, run_page_commands, tls_credentials
+from testsupport.split_robot import (
+    ROUTER,
+    SplitRobot,
+    password_credentials,
+    run_page_commands,
+    running_split_robot,
+    tls_credentials,
+)
 
 SETTLE_S = 1.5  # time for a session to link to the router and its declarations to reach it, were they allowed
 QUERY_TIMEOUT_S = 3.0
 FORGED_PID = 999_999
-
-
-def environment(request) -> dict:
-    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
-    return dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
 
 
 def endpoint(robot: SplitRobot, scheme: str = "tcp") -> str:
@@ -39,19 +40,10 @@ def ask(session, robot: SplitRobot, host: str, request: dict) -> list:
 
 @pytest.fixture
 def running(tmp_path, request):
-    robots = []
-
-    def start(credentials_of) -> SplitRobot:
-        robot = SplitRobot(tmp_path, credentials_of(tmp_path / "credentials"), environment(request))
-        robots.append(robot)
-        robot.start_all()
-        robot.wait_for_dashboard()
-        robot.wait_until(lambda: all(h["reachable"] for h in robot.api("/api/status")["hosts"]), "both hosts heard")
-        return robot
-
-    yield start
-    for robot in robots:
-        assert robot.stop_all() == {"arm": 0, "gpu": 0}, robot.logs()
+    with contextlib.ExitStack() as stack:
+        yield lambda credentials_of: stack.enter_context(
+            running_split_robot(tmp_path, request.node.nodeid, credentials_of)
+        )
 
 
 def test_peers_without_the_robots_password_control_nothing(running, tmp_path):

@@ -3,15 +3,12 @@ how long it waits, and each agent on the way waits as long (less a margin), so t
 
 The node stops as the recorder does while it saves: it asks its supervisor for more time until it is done."""
 
-import os
-import zlib
-
 import pytest
 
 from joshua_runtime.dashboard.control_client import REQUEST_TIMEOUT_S
 from joshua_runtime.hosts.link import QUERY_TIMEOUT_S
 from testsupport.slow_stopper import slow_stopper_node
-from testsupport.split_robot import SplitRobot, password_credentials
+from testsupport.split_robot import running_split_robot
 
 SAVING_S = max(QUERY_TIMEOUT_S, REQUEST_TIMEOUT_S) + 2.0  # longer than an agent waits for a request without a wait
 EXTENSION_S = 5.0  # asked for every second while it saves
@@ -20,17 +17,9 @@ EXTENSION_S = 5.0  # asked for every second while it saves
 @pytest.fixture(scope="module")
 def robot(tmp_path_factory, request):
     directory = tmp_path_factory.mktemp("split")
-    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
     saver = slow_stopper_node(directory, "saver", EXTENSION_S, 1.0, SAVING_S, "exit", 'host: "arm"')
-    robot = SplitRobot(directory, password_credentials(directory / "credentials"), env, saver)
-    try:
-        robot.start_all()
-        robot.wait_until(lambda: all(h["reachable"] for h in robot.all_hosts("gpu")["hosts"]), "both hosts heard")
+    with running_split_robot(directory, request.node.nodeid, more_nodes=saver) as robot:
         yield robot
-    finally:
-        codes = robot.stop_all()
-        assert codes == {"arm": 0, "gpu": 0}, robot.logs()
 
 
 def saver_events(robot) -> list[str]:

@@ -1,12 +1,9 @@
 """The dashboard page of a robot on two hosts, in Debian's headless Chromium: the processes of both hosts, each with
 its host, a node of the other host restarted from the page, and a silent host's processes shown unknown."""
 
-import os
-import zlib
-
 import pytest
 
-from testsupport.split_robot import SplitRobot, password_credentials
+from testsupport.split_robot import running_split_robot
 
 CHROMIUM = "/usr/bin/chromium-headless-shell"
 CHROMIUM_FLAGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
@@ -15,15 +12,8 @@ PAGE_TIMEOUT_MS = 30_000
 
 @pytest.fixture
 def robot(tmp_path, request):
-    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
-    robot = SplitRobot(tmp_path, password_credentials(tmp_path / "credentials"), env)
-    try:
-        robot.start_all()
-        robot.wait_for_dashboard()
+    with running_split_robot(tmp_path, request.node.nodeid) as robot:
         yield robot
-    finally:
-        assert robot.stop_all() == {"arm": 0, "gpu": 0}, robot.logs()
 
 
 @pytest.fixture

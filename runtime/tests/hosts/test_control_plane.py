@@ -6,12 +6,9 @@ a stopped Discovery Server and a silent host are reported as such.
 One robot serves the tests of this module, in order; each test leaves it as it found it.
 """
 
-import os
-import zlib
-
 import pytest
 
-from testsupport.split_robot import SplitRobot, password_credentials
+from testsupport.split_robot import running_split_robot
 
 SERVER_WATCH_TIMEOUT_S = 20.0  # the agent's bound is 5 s; this only ends a test that would hang
 NODE_FIELDS = {"name", "state", "pid", "restarts", "manual_restarts", "ready", "since_s", "host"}
@@ -19,18 +16,8 @@ NODE_FIELDS = {"name", "state", "pid", "restarts", "manual_restarts", "ready", "
 
 @pytest.fixture(scope="module")
 def robot(tmp_path_factory, request):
-    directory = tmp_path_factory.mktemp("split")
-    domain = zlib.crc32(f"{request.config.rootpath}::{request.node.nodeid}".encode()) % 200 + 20
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
-    robot = SplitRobot(directory, password_credentials(directory / "credentials"), env)
-    try:
-        robot.start_all()
-        robot.wait_for_dashboard()
-        robot.wait_until(lambda: all(h["reachable"] for h in robot.api("/api/status")["hosts"]), "both hosts heard")
+    with running_split_robot(tmp_path_factory.mktemp("split"), request.node.nodeid) as robot:
         yield robot
-    finally:
-        codes = robot.stop_all()
-        assert codes == {"arm": 0, "gpu": 0}, robot.logs()
 
 
 def by_name(status: dict) -> dict[str, dict]:
