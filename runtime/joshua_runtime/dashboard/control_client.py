@@ -95,9 +95,11 @@ class ControlClient:
         reply.pop("ok")
         return reply
 
-    async def reply(self, message: dict, timeout_s: float = REQUEST_TIMEOUT_S) -> dict:
+    async def reply(self, message: dict, timeout_s: float | None = None) -> dict:
         """Send one request; its reply as the supervisor wrote it (`ok` true, or false with its `kind` and
-        `error`: a host's agent passes refusals on as they are), or ControlError when none came in `timeout_s`."""
+        `error`: a host's agent passes refusals on as they are), or ControlError when none came in `timeout_s`
+        (default REQUEST_TIMEOUT_S)."""
+        timeout_s = REQUEST_TIMEOUT_S if timeout_s is None else timeout_s
         try:
             return await asyncio.wait_for(self._exchange(message), timeout_s)
         except asyncio.TimeoutError as exc:

@@ -20,11 +20,11 @@ import time
 from pathlib import Path
 
 from joshua_core import control_plane
-from joshua_runtime.dashboard.control_client import REQUEST_TIMEOUT_S, ControlClient, ControlError, default_socket_path
+from joshua_runtime.dashboard.control_client import ControlClient, ControlError, default_socket_path
 from joshua_runtime.dashboard.zenoh_link import check_endpoint
 from joshua_runtime.errors import JoshuaError, SettingsError
 from joshua_runtime.hosts import access
-from joshua_runtime.hosts.link import QUERY_TIMEOUT_S, HostsLink
+from joshua_runtime.hosts.link import HostsLink
 from joshua_runtime.hosts.relay import Relay
 from joshua_runtime.hosts.requests import Request, RequestRefused, parse, parse_remote, refusal
 from joshua_runtime.hosts.roster import STATUS_PERIOD_S, Placement, Roster
@@ -169,7 +169,7 @@ class Agent:
 
     async def _supervisor_reply(self, request: Request) -> dict:
         try:
-            return await self.supervisor.reply(request.forwarded, request.relayed_wait_s() or REQUEST_TIMEOUT_S)
+            return await self.supervisor.reply(request.forwarded, request.relayed_wait_s())
         except ControlError as exc:
             return refusal("unreachable", f"the supervisor of host {self.host} does not answer: {exc}")
 
@@ -188,8 +188,7 @@ class Agent:
                 "unreachable",
                 f"host {request.host} cannot be reached from here: the description has no `control {{ }}`",
             )
-        wait_s = request.relayed_wait_s() or QUERY_TIMEOUT_S
-        reply = await asyncio.to_thread(self.link.ask, request.host, request.remote(), wait_s)
+        reply = await asyncio.to_thread(self.link.ask, request.host, request.remote(), request.relayed_wait_s())
         if reply is None:
             return refusal("unreachable", f"host {request.host} did not answer: {self._why_silent(request.host)}")
         return reply

@@ -94,8 +94,10 @@ class HostsLink:
         if self.session is not None:
             self.session.put(control_plane.status_key(self.robot, self.host), json.dumps(status))
 
-    def ask(self, host: str, request: dict, timeout_s: float = QUERY_TIMEOUT_S) -> dict | None:
-        """The reply of `host`'s agent to `request` (blocking, `timeout_s` at most); None when none came."""
+    def ask(self, host: str, request: dict, timeout_s: float | None = None) -> dict | None:
+        """The reply of `host`'s agent to `request` (blocking, `timeout_s` at most, default QUERY_TIMEOUT_S); None
+        when none came."""
+        timeout_s = QUERY_TIMEOUT_S if timeout_s is None else timeout_s
         session = self.session
         if session is None:
             return None
