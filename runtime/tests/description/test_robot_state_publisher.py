@@ -10,6 +10,7 @@ from testsupport.compiled_settings import compiled_settings
 
 WAIT_S = 20.0
 ARM = "/arm/joint_states"
+KEPT = 2000
 RELIABLE = {"history": "KEEP_LAST", "depth": 100, "reliability": "RELIABLE", "durability": "VOLATILE"}
 LATCHED = {"history": "KEEP_LAST", "depth": 1, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
 
@@ -21,8 +22,10 @@ def test_transforms_follow_the_joint_states(start_node, ros_client):
       node {{ name: "arm" type: MOCK_ENCODER_PUBLISHER topic_name: "{ARM}" rate_hz: 20 }}
       node {{ name: "state" type: ROBOT_STATE_PUBLISHER topic_name: "{ARM}" }} }}''')
     assert settings["state"]["robot_description"] == "builtin:so100"
-    ros_client.listen(ARM, JointState, RELIABLE, keep=200)
-    ros_client.listen("/tf", TFMessage, RELIABLE, keep=200)
+    # Both kept for 100 s at 20 Hz: on a busy machine the transforms may lag the joint states by seconds, and their
+    # stamps must still find the joint states they came from.
+    ros_client.listen(ARM, JointState, RELIABLE, keep=KEPT)
+    ros_client.listen("/tf", TFMessage, RELIABLE, keep=KEPT)
     start_node(settings["arm"])
     publisher = start_node(settings["state"])
     assert ros_client.spin_until(lambda: ros_client.count("/tf") >= 10, WAIT_S), publisher.failure()
