@@ -4,7 +4,8 @@ Interpreter finalization tears down every module and runs the C++ static destruc
 loaded: the DDS library's alone take 0.2-0.4 s, and a process that imported torch and LeRobot spends
 1.4-2.7 s on a busy 2-core machine after its last line of work. Nodes (entrypoint.py), the dashboard
 (its generated entrypoint), the recorder's dataset writer process and `joshua-train` end with
-`end_process` instead of returning to the interpreter. `die_with_parent()` makes a process end with the one that started it.
+`end_process` instead of returning to the interpreter. `die_with_parent()` makes a process end with
+the one that started it.
 """
 
 import atexit

@@ -3,4 +3,4 @@
 from joshua_runtime.dashboard.cli import main
 from joshua_runtime.process_end import end_process
 
-end_process(main())  # without the DDS library's teardown: a third of the dashboard's stop
+end_process(main())  # without the interpreter's teardown of DDS and OpenCV: half of the dashboard's stop
