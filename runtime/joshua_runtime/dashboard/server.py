@@ -1,13 +1,19 @@
-"""uvicorn's server, telling the dashboard the moment it is asked to stop."""
+"""uvicorn's server, telling the dashboard the moment it is asked to stop, and letting it end by itself."""
 
 import asyncio
+import contextlib
 
 import uvicorn
 
 
 class StoppingAwareServer(uvicorn.Server):
     """A uvicorn server that calls `on_stop()` in its event loop as soon as a SIGINT or SIGTERM asks it to
-    stop, before it waits for the requests in progress to finish. Built inside the running loop."""
+    stop, before it waits for the requests in progress to finish. Built inside the running loop.
+
+    uvicorn raises the signal that stopped it again once it has shut down, so that the process ends as the
+    signal's default would: on SIGTERM it then dies by that signal before the dashboard's own last steps (its
+    fleet status withdrawn, ROS left), and its process manager counts a crash. Here the signal is not raised
+    again: `serve()` returns, and the dashboard ends by itself with code 0 on either signal."""
 
     def __init__(self, config: uvicorn.Config, on_stop):
         super().__init__(config)
@@ -18,3 +24,11 @@ class StoppingAwareServer(uvicorn.Server):
         super().handle_exit(sig, frame)
         if not self.loop.is_closed():
             self.loop.call_soon_threadsafe(self.on_stop)
+
+    @contextlib.contextmanager
+    def capture_signals(self):
+        with super().capture_signals():
+            try:
+                yield
+            finally:
+                self._captured_signals.clear()  # what uvicorn would raise again as it restores the handlers
