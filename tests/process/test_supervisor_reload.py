@@ -116,8 +116,9 @@ def test_a_changed_setting_of_a_python_node_restarts_only_it_from_the_new_build(
         assert "unchanged: follower" in result.stdout.splitlines()
         after = pids(out, sock)
         assert after["follower"] == before["follower"] and after["leader"] not in (None, before["leader"])
-        argv = open(f"/proc/{after['leader']}/cmdline", "rb").read().decode().split("\0")
-        assert str(out2 / "nodes" / "leader.py") in argv  # the node runs from the new build
+        # The node runs from the new build: a node forked by the node starter names its entrypoint once it runs it.
+        entrypoint = str(out2 / "nodes" / "leader.py")
+        wait_until(lambda: entrypoint in process_argv(after["leader"]), f"the leader's argv naming {entrypoint}", 30.0)
         supervisor.wait_log(r"ready: publishing /leader .*25 Hz", timeout=60)
     finally:
         code = stop(supervisor)
@@ -273,3 +274,8 @@ def test_a_build_whose_data_has_another_shape_is_refused_and_the_robot_runs_on(t
     finally:
         code = stop(supervisor)
     assert code == 0
+
+
+def process_argv(pid: int) -> list[str]:
+    with open(f"/proc/{pid}/cmdline", "rb") as cmdline:
+        return cmdline.read().decode().split("\0")
