@@ -177,6 +177,8 @@ def main(argv=None) -> int:
 
     import uvicorn
 
+    from joshua_runtime.dashboard.server import SelfEndingServer
+
     args = parse_arguments(argv)
     session = None
     try:
@@ -203,7 +205,7 @@ def main(argv=None) -> int:
             log_level="warning",
             timeout_graceful_shutdown=SHUTDOWN_GRACE_S,
         )
-        asyncio.run(uvicorn.Server(config).serve(sockets=[sock]))
+        asyncio.run(SelfEndingServer(config).serve(sockets=[sock]))
         subscriber.undeclare()
     except JoshuaError as exc:
         print(f"joshua-fleet: error: {exc}", file=sys.stderr)

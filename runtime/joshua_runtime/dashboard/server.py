@@ -1,4 +1,4 @@
-"""uvicorn's server, telling the dashboard the moment it is asked to stop, and letting it end by itself."""
+"""uvicorn's server, letting the program end by itself after its stop, and telling the dashboard the moment it is asked to stop."""
 
 import asyncio
 import contextlib
@@ -6,14 +6,27 @@ import contextlib
 import uvicorn
 
 
-class StoppingAwareServer(uvicorn.Server):
-    """A uvicorn server that calls `on_stop()` in its event loop as soon as a SIGINT or SIGTERM asks it to
-    stop, before it waits for the requests in progress to finish. Built inside the running loop.
+class SelfEndingServer(uvicorn.Server):
+    """A uvicorn server after whose stop the program ends by itself.
 
     uvicorn raises the signal that stopped it again once it has shut down, so that the process ends as the
-    signal's default would: on SIGTERM it then dies by that signal before the dashboard's own last steps (its
-    fleet status withdrawn, ROS left), and its process manager counts a crash. Here the signal is not raised
-    again: `serve()` returns, and the dashboard ends by itself with code 0 on either signal."""
+    signal's default would: on SIGTERM it then dies by that signal before the program's own last steps (the
+    dashboard's fleet status withdrawn and ROS left, the fleet view's Zenoh session closed), and its process
+    manager counts a crash. Here the signal is not raised again: `serve()` returns, and the program ends with
+    code 0 on either signal."""
+
+    @contextlib.contextmanager
+    def capture_signals(self):
+        with super().capture_signals():
+            try:
+                yield
+            finally:
+                self._captured_signals.clear()  # what uvicorn would raise again as it restores the handlers
+
+
+class StoppingAwareServer(SelfEndingServer):
+    """A SelfEndingServer that calls `on_stop()` in its event loop as soon as a SIGINT or SIGTERM asks it to
+    stop, before it waits for the requests in progress to finish. Built inside the running loop."""
 
     def __init__(self, config: uvicorn.Config, on_stop):
         super().__init__(config)
@@ -24,11 +37,3 @@ class StoppingAwareServer(uvicorn.Server):
         super().handle_exit(sig, frame)
         if not self.loop.is_closed():
             self.loop.call_soon_threadsafe(self.on_stop)
-
-    @contextlib.contextmanager
-    def capture_signals(self):
-        with super().capture_signals():
-            try:
-                yield
-            finally:
-                self._captured_signals.clear()  # what uvicorn would raise again as it restores the handlers
