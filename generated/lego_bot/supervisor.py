@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'lego_bot',
-    'supervisor_code': 'fd4b85d54631b3d8',
+    'supervisor_code': '197fbdac4dc26b84',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

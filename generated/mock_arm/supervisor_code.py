@@ -57,6 +57,9 @@ EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before e
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+# A Python node is exec'd with these blocked: its generated entrypoint unblocks them where a stop ends it with 0.
+# One sent while its interpreter starts (importing `site`) would else end in Python's fatal error and code 1.
+HELD_FOR_PYTHON = STOP_SIGNALS
 
 # Names the fix: the binaries are built by `make cpp` of the joshuac repository; cpp_bin_dir selects them.
 CPP_FALLBACK_WARNING = (
@@ -841,9 +844,12 @@ class DescendantTracker(TrackedProcesses):
 # The forked child of a node: own session, death signal, default signals, then exec.
 
 
-def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None) -> None:
+def child_exec(
+    argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None, held: tuple = ()
+) -> None:
     """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
-    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec."""
+    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec with the signals
+    `held` still blocked (a Python entrypoint takes them once a stop can end it cleanly; see launching.py)."""
     try:
         if output is not None:
             os.dup2(output, 1)
@@ -863,7 +869,7 @@ def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | 
                 os.write(2, f"warning: cannot join cgroup {cgroup}: {exc}\n".encode(errors="replace"))
         if os.getppid() != parent:
             os._exit(EXIT_ORPHANED)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
         os.execve(argv[0], argv, env)
     except BaseException as exc:  # noqa: BLE001 (a forked child ends in os._exit, never back in the parent's code)
         try:
@@ -3460,7 +3466,8 @@ class Launching:
             if pid is None:
                 pid = node.processes.fork()
                 if pid == 0:
-                    child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
+                    held = HELD_FOR_PYTHON if backend == "Python" else ()
+                    child_exec(argv, node.environment, self.pid, node.processes.join, write_end, held)
         except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
             self.start_failed(node, exc, (read_end, write_end))
             return
@@ -3538,6 +3545,12 @@ class Supervisor(StopCascade, Launching):
         self.readers[read_end] = self.drain_wakeup
         signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
         signal.signal(signal.SIGCHLD, lambda number, frame: None)
+        self.take_stop_signals()
+        if self.requests:  # one came before the wakeup descriptor: the loop's first wait must not sleep on it
+            os.write(write_end, b"\0")
+
+    def take_stop_signals(self):
+        """From now on a stop signal is a stop request, taken by the loop (before it runs, by supervise())."""
         for number in STOP_SIGNALS:
             if number == signal.SIGHUP and signal.getsignal(number) == signal.SIG_IGN:
                 continue  # started under nohup: keep ignoring hangups
@@ -4091,6 +4104,9 @@ def print_reload(reply: dict) -> None:
 # The command line of supervisor.py: parse options, run preflight, run the loop (or the listener).
 
 
+STOPPED_BEFORE_START = "received {signal} before any node started: nothing was started"
+
+
 def positive_seconds(text):
     value = float(text)
     if not value > 0:
@@ -4167,9 +4183,12 @@ def parse_arguments(argv):
 def main(argv):
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
-    options = parse_arguments(argv)
     try:
+        options = parse_arguments(argv)
         return supervise(options)
+    except KeyboardInterrupt:  # Ctrl-C before supervise() took the stop signals: nothing started yet
+        log("supervisor", STOPPED_BEFORE_START.format(signal="SIGINT"))
+        return EXIT_OK
     except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
         import traceback
 
@@ -4188,8 +4207,12 @@ def supervise(options):
     if options.supervisord_listener:
         return supervisord_listener()
     supervisor = Supervisor(options)
+    supervisor.take_stop_signals()
     if not options.skip_preflight:
         problems = preflight(supervisor.nodes, options.python)
+        if supervisor.requests:  # a stop during the preflight (its probe may have been stopped by it too)
+            log("supervisor", STOPPED_BEFORE_START.format(signal=signal_name(supervisor.requests[0])))
+            return EXIT_OK
         if problems:
             log(
                 "supervisor",

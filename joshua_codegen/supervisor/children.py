@@ -10,13 +10,15 @@ from joshua_codegen.supervisor.policy import (
     EXIT_EXEC_FAILED,
     EXIT_ORPHANED,
     RESET_IN_CHILD,
-    STOP_SIGNALS,
 )
 
 
-def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None) -> None:
+def child_exec(
+    argv: list[str], env: dict[str, str], parent: int, cgroup: str | None, output: int | None, held: tuple = ()
+) -> None:
     """In the forked child: own session, the supervisor's cgroup, die with the supervisor, default
-    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec."""
+    signals, stdout and stderr to `output` (the node's log pipe) when given, then exec with the signals
+    `held` still blocked (a Python entrypoint takes them once a stop can end it cleanly; see launching.py)."""
     try:
         if output is not None:
             os.dup2(output, 1)
@@ -36,7 +38,7 @@ def child_exec(argv: list[str], env: dict[str, str], parent: int, cgroup: str | 
                 os.write(2, f"warning: cannot join cgroup {cgroup}: {exc}\n".encode(errors="replace"))
         if os.getppid() != parent:
             os._exit(EXIT_ORPHANED)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS + (signal.SIGCHLD,))
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
         os.execve(argv[0], argv, env)
     except BaseException as exc:  # noqa: BLE001 (a forked child ends in os._exit, never back in the parent's code)
         try:

@@ -4,17 +4,19 @@ import argparse
 import os
 import sys
 
-from joshua_codegen.supervisor.common import find_program, log
+from joshua_codegen.supervisor.common import find_program, log, signal_name
 from joshua_codegen.supervisor.control import CONTROL_SOCKET_VARIABLE
 from joshua_codegen.supervisor.control_socket import control_name, default_control_socket
 from joshua_codegen.supervisor.ctl import ctl
 from joshua_codegen.supervisor.ctl_hosts import HOSTS_SOCKET_VARIABLE, hosts_socket_path
 from joshua_codegen.supervisor.loop import Supervisor
 from joshua_codegen.supervisor.node_log import default_log_dir
-from joshua_codegen.supervisor.policy import EXIT_INTERNAL, EXIT_PREFLIGHT
+from joshua_codegen.supervisor.policy import EXIT_INTERNAL, EXIT_OK, EXIT_PREFLIGHT
 from joshua_codegen.supervisor.preflight import preflight
 from joshua_codegen.supervisor.robot import ROBOT
 from joshua_codegen.supervisor.supervisord_listener import supervisord_listener
+
+STOPPED_BEFORE_START = "received {signal} before any node started: nothing was started"
 
 
 def positive_seconds(text):
@@ -93,9 +95,12 @@ def parse_arguments(argv):
 def main(argv):
     if argv[:1] == ["ctl"]:
         return ctl(argv[1:])
-    options = parse_arguments(argv)
     try:
+        options = parse_arguments(argv)
         return supervise(options)
+    except KeyboardInterrupt:  # Ctrl-C before supervise() took the stop signals: nothing started yet
+        log("supervisor", STOPPED_BEFORE_START.format(signal="SIGINT"))
+        return EXIT_OK
     except Exception:  # noqa: BLE001 (a bug before or after the loop, which handles its own: no traceback exit 1)
         import traceback
 
@@ -114,8 +119,12 @@ def supervise(options):
     if options.supervisord_listener:
         return supervisord_listener()
     supervisor = Supervisor(options)
+    supervisor.take_stop_signals()
     if not options.skip_preflight:
         problems = preflight(supervisor.nodes, options.python)
+        if supervisor.requests:  # a stop during the preflight (its probe may have been stopped by it too)
+            log("supervisor", STOPPED_BEFORE_START.format(signal=signal_name(supervisor.requests[0])))
+            return EXIT_OK
         if problems:
             log(
                 "supervisor",

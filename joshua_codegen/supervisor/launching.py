@@ -9,7 +9,7 @@ from joshua_codegen.supervisor.children import child_exec
 from joshua_codegen.supervisor.common import PRCTL, log
 from joshua_codegen.supervisor.node_processes import CgroupContainment
 from joshua_codegen.supervisor.node_starter import NodeStarter
-from joshua_codegen.supervisor.policy import STARTER_MIN_NODES, STOP_SIGNALS
+from joshua_codegen.supervisor.policy import HELD_FOR_PYTHON, STARTER_MIN_NODES, STOP_SIGNALS
 from joshua_codegen.supervisor.reload_plan import input_marks
 
 
@@ -83,7 +83,8 @@ class Launching:
             if pid is None:
                 pid = node.processes.fork()
                 if pid == 0:
-                    child_exec(argv, node.environment, self.pid, node.processes.join, write_end)
+                    held = HELD_FOR_PYTHON if backend == "Python" else ()
+                    child_exec(argv, node.environment, self.pid, node.processes.join, write_end, held)
         except OSError as exc:  # out of descriptors or processes: a failed start, its restart policy applies
             self.start_failed(node, exc, (read_end, write_end))
             return

@@ -84,6 +84,12 @@ class Supervisor(StopCascade, Launching):
         self.readers[read_end] = self.drain_wakeup
         signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
         signal.signal(signal.SIGCHLD, lambda number, frame: None)
+        self.take_stop_signals()
+        if self.requests:  # one came before the wakeup descriptor: the loop's first wait must not sleep on it
+            os.write(write_end, b"\0")
+
+    def take_stop_signals(self):
+        """From now on a stop signal is a stop request, taken by the loop (before it runs, by supervise())."""
         for number in STOP_SIGNALS:
             if number == signal.SIGHUP and signal.getsignal(number) == signal.SIG_IGN:
                 continue  # started under nohup: keep ignoring hangups

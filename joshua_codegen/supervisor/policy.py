@@ -34,6 +34,9 @@ EXIT_ORPHANED = 125  # a node's child found the supervisor already gone before e
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 RESET_IN_CHILD = STOP_SIGNALS + (signal.SIGCHLD, signal.SIGPIPE, signal.SIGXFSZ, signal.SIGQUIT)
+# A Python node is exec'd with these blocked: its generated entrypoint unblocks them where a stop ends it with 0.
+# One sent while its interpreter starts (importing `site`) would else end in Python's fatal error and code 1.
+HELD_FOR_PYTHON = STOP_SIGNALS
 
 # Names the fix: the binaries are built by `make cpp` of the joshuac repository; cpp_bin_dir selects them.
 CPP_FALLBACK_WARNING = (

@@ -3,14 +3,20 @@
 # The web dashboard of robot so100_sim.
 """Runs `python -m joshua_runtime.dashboard` on this build's manifest (extra arguments are passed on)."""
 
+import signal
 import sys
 from pathlib import Path
 
 ARGUMENTS = ['--port', '8640', '--bind', '127.0.0.1']
 
 if __name__ == "__main__":
-    from joshua_runtime.dashboard.cli import main
-    from joshua_runtime.process_end import end_process
-
+    try:
+        # The generated supervisor execs it with the stop signals blocked: they come in here, where a SIGINT
+        # ends it with 0 (below), and not while its interpreter starts, where Python would end in a fatal error.
+        signal.pthread_sigmask(signal.SIG_SETMASK, ())
+        from joshua_runtime.dashboard.cli import main
+        from joshua_runtime.process_end import end_process
+    except KeyboardInterrupt:  # SIGINT before the dashboard took over the signals: it had not started
+        sys.exit(0)
     manifest = Path(__file__).resolve().parent.parent / "manifest.json"
     end_process(main(["--manifest", str(manifest), *ARGUMENTS, *sys.argv[1:]]))

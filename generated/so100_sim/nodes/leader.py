@@ -3,6 +3,7 @@
 # Node leader (MOCK_ENCODER_PUBLISHER) of robot so100_sim.
 """Hands this node's resolved settings to joshua_runtime.entrypoint.run_node."""
 
+import signal
 import sys
 
 SETTINGS = {
@@ -36,6 +37,9 @@ SETTINGS = {
 
 if __name__ == "__main__":
     try:
+        # The generated supervisor execs it with the stop signals blocked: they come in here, where a SIGINT
+        # ends it with 0 (below), and not while its interpreter starts, where Python would end in a fatal error.
+        signal.pthread_sigmask(signal.SIG_SETMASK, ())
         from joshua_runtime.entrypoint import run_node
 
         sys.exit(run_node(SETTINGS))
