@@ -68,7 +68,11 @@ class BagWriter:
         self._whole_bytes = 0  # the current file's length up to its last record known to be written whole
         self._last_flush = time.monotonic()
         directory.mkdir(parents=True, exist_ok=False)
-        self._open_next_file()
+        try:
+            self._open_next_file()
+        except OSError:
+            self._remove_unstarted()
+            raise
 
     def add_topic(self, topic: str, message_type: str, offered_qos: str = "") -> None:
         """Declare a topic, its `pkg/msg/Type` (its definition is looked up now) and its QoS (bag_qos.to_yaml).
@@ -127,6 +131,20 @@ class BagWriter:
             except FileNotFoundError:  # removed meanwhile: nothing left to cut
                 pass
         self._writer = self._file = None
+
+    def _remove_unstarted(self) -> None:
+        """Remove what a bag that failed to start (a full disk) left: its directory, created by this writer, and
+        the files it began there, none of which holds a message. A torn header would pass for a bag."""
+        if self._file is not None:
+            try:
+                self._file.close()
+            except OSError:  # the buffered rest of the header cannot be written either
+                pass
+        self._writer = self._file = None
+        for path in (self._path, self.directory / METADATA_FILE, metadata_staging(self.directory)):
+            if path is not None:
+                path.unlink(missing_ok=True)
+        self.directory.rmdir()
 
     def _split_due(self, current: FileStats, now_ns: int) -> bool:
         too_long = self.max_duration_ns and now_ns - current.start_ns >= self.max_duration_ns
@@ -211,6 +229,11 @@ def write_metadata(directory: pathlib.Path, stats: BagStats) -> None:
             for f in stats.files
         ],
     }
-    staging = directory / f".{METADATA_FILE}.tmp"
+    staging = metadata_staging(directory)
     staging.write_text(yaml.safe_dump({"rosbag2_bagfile_information": info}, sort_keys=False))
     staging.replace(directory / METADATA_FILE)
+
+
+def metadata_staging(directory: pathlib.Path) -> pathlib.Path:
+    """Where metadata.yaml is written before it replaces the last one."""
+    return directory / f".{METADATA_FILE}.tmp"

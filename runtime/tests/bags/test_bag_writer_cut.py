@@ -38,6 +38,9 @@ def test_a_bag_cut_at_any_byte_reads_to_its_last_whole_chunk(tmp_path):
     subprocess.run([sys.executable, WRITER, tmp_path, *map(str, sizes)], check=True, timeout=120)
     survivors = set()
     for size in sizes:
+        if not (tmp_path / str(size)).exists():  # too small for the bag's start: nothing of it is left
+            survivors.add(0)
+            continue
         [path] = (tmp_path / str(size)).glob("*.mcap")
         assert path.stat().st_size <= size
         found = streamed(path)
