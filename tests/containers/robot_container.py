@@ -78,12 +78,17 @@ def stop(podman: Podman, name: str, timeout_s: int) -> float:
     return time.monotonic() - started
 
 
-def median_tracking_errors(follower: list[dict], leader: list[dict], window_s: float) -> dict[str, float]:
+def median_tracking_errors(
+    follower: list[dict], leader: list[dict], window_s: float, clock: str = "t"
+) -> dict[str, float]:
     """Per joint, the median over the follower's samples of how far it is from the nearest goal the leader gave
-    in the `window_s` before: an arm that follows reaches its goals with a lag, most of the time."""
+    in the `window_s` before: an arm that follows reaches its goals with a lag, most of the time. Times are the
+    peer's receipts (`t`), or the publishers' own stamps (`stamp`) where both stamp with the same clock: a peer
+    that falls behind takes in the two topics in bursts, which receipt times would misplace."""
     errors: dict[str, list[float]] = {}
     for sample in follower:
-        recent = [goal["position"] for goal in leader if sample["t"] - window_s <= goal["t"] <= sample["t"]]
+        now = sample[clock]
+        recent = [goal["position"] for goal in leader if now - window_s <= goal[clock] <= now]
         if not recent:
             continue
         for joint, position, goals in zip(sample["name"], sample["position"], zip(*recent)):
