@@ -23,6 +23,7 @@ from joshua_runtime.errors import JoshuaError
 from joshua_runtime.messages import message_class
 from joshua_runtime.notify import Notifier
 from joshua_runtime.qos import qos_profile
+from joshua_runtime.ros_node import create_ros_node
 from joshua_runtime.ros_teardown import leave_ros
 from joshua_runtime.stop_signal import StopRequested, StopSignal
 
@@ -105,7 +106,7 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
     code = 0
     try:
         rclpy.init(args=None, signal_handler_options=SignalHandlerOptions.NO)
-        ros_node = rclpy.create_node(settings.name)
+        ros_node = create_ros_node(settings.name)
         executor = SingleThreadedExecutor()
         executor.add_node(ros_node)
         node = node_class(settings, ros_node)

@@ -9,6 +9,7 @@ import os
 import time
 
 from joshua_runtime.ai import episode_protocol as protocol
+from joshua_runtime.ros_node import create_ros_node
 
 SPIN_SLICE_S = 0.05
 
@@ -25,7 +26,7 @@ class RecorderClient:
         self.message = String
         self.context = rclpy.Context()
         rclpy.init(context=self.context, **({"domain_id": domain} if domain is not None else {}))
-        self.node = rclpy.create_node(f"joshua_episode_{os.getpid()}", context=self.context)
+        self.node = create_ros_node(f"joshua_episode_{os.getpid()}", context=self.context)
         self.states: list[dict] = []
         self.progress: dict | None = None
         self.node.create_subscription(

@@ -19,6 +19,7 @@ from joshua_runtime.dashboard import cdr, frames
 from joshua_runtime.dashboard.api_schema import event_kind
 from joshua_runtime.dashboard.robot_view import IMAGE, JOINTS, SCAN, Inference, RobotView
 from joshua_runtime.messages import message_class
+from joshua_runtime.ros_node import create_ros_node
 from joshua_runtime.ros_teardown import leave_ros
 
 REPORT_PERIOD_S = 1.0
@@ -87,7 +88,7 @@ class Telemetry:
         self.broadcaster = broadcaster
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
-        self.node = rclpy.create_node(node_name, context=self.context)
+        self.node = create_ros_node(node_name, context=self.context)
         self.executor = EventsExecutor(context=self.context)
         self.executor.add_node(self.node)
         self.counts = {stream.topic: 0 for stream in view.streams}

@@ -25,6 +25,7 @@ from joshua_runtime.desktop.model import (
     Telemetry,
 )
 from joshua_runtime.desktop.worker import LinkWorker
+from joshua_runtime.ros_node import create_ros_node
 
 ROS_SPIN_HZ = 100.0
 QUEUE_DEPTH = 10
@@ -44,7 +45,7 @@ class RosWorker(LinkWorker):
         try:
             self.context = rclpy.Context()
             rclpy.init(context=self.context)
-            self.node = rclpy.create_node("joshua_desktop", context=self.context)
+            self.node = create_ros_node("joshua_desktop", context=self.context)
         except RuntimeError as exc:  # rclpy's RCLError: a broken ROS environment
             self.failed.emit(f"cannot start ROS: {' '.join(str(exc).split())}")
             return False

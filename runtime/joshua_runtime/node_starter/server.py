@@ -13,13 +13,8 @@ from joshua_runtime.node_starter.fork_hooks import lttng_fork_hooks
 from joshua_runtime.node_starter.node_process import NodeRequest, become_node
 from joshua_runtime.process_end import end_process
 
-# The interfaces of the services and topics every rclpy node makes (parameters, parameter events, type descriptions).
-ROS_NODE_INTERFACES = (
-    "rcl_interfaces.msg",
-    "rcl_interfaces.srv",
-    "type_description_interfaces.srv",
-    "service_msgs.msg",
-)
+# The interfaces of the topics every node makes by itself (parameter events; ros_node.py leaves out its services).
+ROS_NODE_INTERFACES = ("rcl_interfaces.msg",)
 SERVICE_PARTS = ("Request", "Response", "Event")
 REQUEST_BYTES = 1 << 20  # a node's environment and paths; the supervisor sends far less
 FD_BYTES = socket.CMSG_SPACE(array.array("i").itemsize)
@@ -43,7 +38,7 @@ def preload(node_types: list[str]) -> None:
 
 def import_type_supports() -> None:
     """Load the type support of every message and service class imported so far, and of those rclpy's nodes use
-    themselves (parameters, type descriptions). A node loads them when it first makes a publisher, subscription or
+    themselves (parameter events). A node loads them when it first makes a publisher, subscription or
     service: the modules of rosidl's parser with its grammar, a C extension per package, about 60 ms of CPU."""
     for name in ROS_NODE_INTERFACES:
         importlib.import_module(name)

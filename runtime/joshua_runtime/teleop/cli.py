@@ -16,6 +16,7 @@ import termios
 import threading
 import tty
 
+from joshua_runtime.ros_node import create_ros_node
 from joshua_runtime.ros_teardown import leave_ros
 from joshua_runtime.teleop.mapping import KeyboardTeleop, joy_velocity
 
@@ -77,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
     for number in (signal.SIGINT, signal.SIGTERM):
         signal.signal(number, lambda _signum, _frame: stop.set())
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
-    node = rclpy.create_node("joshua_teleop")
+    node = create_ros_node("joshua_teleop")
     publisher = node.create_publisher(Twist, args.topic, QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
     teleop = KeyboardTeleop(args.max_linear, args.max_angular)
     state = {"velocity": (0.0, 0.0)}

@@ -122,6 +122,7 @@ def main(argv: list[str] | None = None) -> int:
     from rclpy.signals import SignalHandlerOptions
 
     from joshua_runtime.errors import JoshuaError
+    from joshua_runtime.ros_node import create_ros_node
     from joshua_runtime.ros_teardown import leave_ros
     from joshua_runtime.tools.topic_graph import NoMessage
 
@@ -130,9 +131,7 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGINT, signal.default_int_handler)
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=domain, signal_handler_options=SignalHandlerOptions.NO)
-    node = rclpy.create_node(
-        f"joshua_topic_{args.command}_{os.getpid()}", context=context, start_parameter_services=False
-    )
+    node = create_ros_node(f"joshua_topic_{args.command}_{os.getpid()}", context=context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
     code = 1  # an exception this function does not handle ends the process with 1 too
