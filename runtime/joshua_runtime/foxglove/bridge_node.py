@@ -43,6 +43,9 @@ class FoxgloveBridgeNode(JoshuaNode):
         self.channels: dict[str, object] = {}
         self.kept: dict[str, KeptMessages] = {}  # by topic, for transient-local topics
         self.subscriptions = []
+        for topic in self.settings.inputs:  # before the server: a client that connects finds every channel there
+            if topic.message_type:
+                self._bridge(topic.name, topic.message_type, qos_profile(topic.qos))
         try:
             self.server = foxglove.start_server(
                 name=self.settings.robot or self.name,
@@ -54,9 +57,6 @@ class FoxgloveBridgeNode(JoshuaNode):
             raise DeviceError(
                 f"cannot serve Foxglove on {self.settings.foxglove.host}:{self.settings.foxglove.port}: {exc}"
             ) from exc
-        for topic in self.settings.inputs:
-            if topic.message_type:
-                self._bridge(topic.name, topic.message_type, qos_profile(topic.qos))
         self._discover()
         self.ros.create_timer(DISCOVERY_PERIOD_S, self._discover)
         self.log.info(f"serving {len(self.channels)} topics on ws://{self.settings.foxglove.host}:{self.server.port}")
