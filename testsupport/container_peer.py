@@ -6,8 +6,8 @@ It runs with the image's own Python (rclpy comes with the robot's environment), 
 container beside the robot's: the same network namespace, and the robot's IPC namespace, whose
 /dev/shm Fast DDS uses between processes of one machine. It waits up to T seconds for a first
 message on every topic, then records S seconds more, and prints {"TOPIC": [{"t": receipt time,
-"stamp": the header's stamp in seconds, "name": [...], "position": [...], "velocity": [...], "effort": [...]}, ...]}; exit code 3 when a
-topic stayed silent.
+"stamp": the header's stamp in seconds, "name": [...], "position": [...], "velocity": [...],
+"effort": [...]}, ...]}; exit code 3 when a topic stayed silent.
 """
 
 import argparse

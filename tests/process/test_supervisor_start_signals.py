@@ -30,8 +30,8 @@ FATAL_START = ("Fatal Python error", "Traceback", "KeyboardInterrupt")
 
 
 def stopped_in_start(tmp_path: Path, ros_env: dict, argv_end: str, *options: str) -> tuple[int, Supervisor]:
-    """The supervisor's code and its Supervisor, stopped with SIGINT while the interpreter whose command line ends
-    with `argv_end` is in its start."""
+    """The supervisor's exit code and the Supervisor, stopped with SIGINT while the interpreter whose command line
+    ends with `argv_end` is in its start."""
     hooks, inside, stopped = tmp_path / "hooks", tmp_path / "inside-site", tmp_path / "stopped"
     hooks.mkdir()
     (hooks / "sitecustomize.py").write_text(
