@@ -47,7 +47,10 @@ def record(start_node, ros_client, settings, seconds):
     publish_next()  # the recorder learns OUTSIDE's type from this publisher
     arm = start_node(settings["arm"])
     recorder = start_node(settings["recorder"])
-    assert ros_client.spin_until(lambda: publisher.get_subscription_count() > 0, WAIT_S, every=None), recorder.failure()
+    # The recording's seconds count once the recorder subscribed and the arm publishes (it may start later).
+    assert ros_client.spin_until(
+        lambda: publisher.get_subscription_count() > 0 and ros_client.count(ARM) > 0, WAIT_S
+    ), f"recorder: {recorder.failure()}; arm: {arm.failure()}"
     ticks_until = time.monotonic() + seconds
     while time.monotonic() < ticks_until:
         publish_next()
