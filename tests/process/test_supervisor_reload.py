@@ -8,7 +8,7 @@ import time
 
 import pytest
 from control_harness import ctl, status
-from supervisor_harness import Supervisor, build, custom_node, events, robot, wait_until
+from supervisor_harness import Supervisor, build, command_line, custom_node, events, robot, wait_until
 
 SECOND_BUILT = 1767225600.25  # 2026-01-01T00:00:00.250Z: when the reloaded build's stamp was written
 CONTAINMENT = pytest.mark.parametrize("options", [(), ("--no-cgroup",)], ids=["cgroup", "tracking"])
@@ -118,7 +118,7 @@ def test_a_changed_setting_of_a_python_node_restarts_only_it_from_the_new_build(
         assert after["follower"] == before["follower"] and after["leader"] not in (None, before["leader"])
         # The node runs from the new build: a node forked by the node starter names its entrypoint once it runs it.
         entrypoint = str(out2 / "nodes" / "leader.py")
-        wait_until(lambda: entrypoint in process_argv(after["leader"]), f"the leader's argv naming {entrypoint}", 30.0)
+        wait_until(lambda: entrypoint in command_line(after["leader"]), f"the leader's argv naming {entrypoint}", 30.0)
         supervisor.wait_log(r"ready: publishing /leader .*25 Hz", timeout=60)
     finally:
         code = stop(supervisor)
@@ -274,8 +274,3 @@ def test_a_build_whose_data_has_another_shape_is_refused_and_the_robot_runs_on(t
     finally:
         code = stop(supervisor)
     assert code == 0
-
-
-def process_argv(pid: int) -> list[str]:
-    with open(f"/proc/{pid}/cmdline", "rb") as cmdline:
-        return cmdline.read().decode().split("\0")

@@ -7,6 +7,7 @@ from std_msgs.msg import String
 
 from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from testsupport.compiled_settings import compiled_settings
+from testsupport.transform_pairs import transforms_with_states
 
 WAIT_S = 20.0
 ARM = "/arm/joint_states"
@@ -39,18 +40,9 @@ def test_transforms_follow_the_joint_states(start_node, ros_client):
     [laser] = ros_client.last("/tf_static").transforms
     assert (laser.header.frame_id, laser.child_frame_id) == ("base_link", "laser")
 
-    def stamp(header) -> tuple[int, int]:
-        return header.stamp.sec, header.stamp.nanosec
+    def both():
+        return transforms_with_states(ros_client, ARM)
 
-    def both():  # the transforms with the joint states they came from, once this client hears both publishers
-        states = {stamp(m.header): m for m in ros_client.messages(ARM)}
-        return [
-            (tf, states[stamp(tf.transforms[0].header)])
-            for tf in ros_client.messages("/tf")
-            if stamp(tf.transforms[0].header) in states
-        ]
-
-    # The client may match the arm's publisher seconds after the state publisher's on a busy machine.
     assert ros_client.spin_until(lambda: len(both()) >= 5, WAIT_S), (ros_client.count(ARM), ros_client.count("/tf"))
     compared = 0
     for tf, state in both():

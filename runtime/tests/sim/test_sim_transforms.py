@@ -7,6 +7,7 @@ from sim_settings import ENCODER
 
 from joshua_runtime.description.urdf_model import joint_transform, load, quaternion_xyzw
 from testsupport.compiled_settings import compiled_settings
+from testsupport.transform_pairs import transforms_with_states
 
 WAIT_S = 60.0  # a cold MuJoCo process on a loaded machine
 RELIABLE = {"history": "KEEP_LAST", "depth": 100, "reliability": "RELIABLE", "durability": "VOLATILE"}
@@ -27,23 +28,16 @@ def test_the_simulated_arm_publishes_transforms_of_its_joint_states(start_node, 
     assert ros_client.spin_until(lambda: ros_client.count("/tf") >= 20, WAIT_S), engine.failure() + state.failure()
     model = load("builtin:so100")
 
-    def stamp(header) -> tuple[int, int]:
-        return header.stamp.sec, header.stamp.nanosec
+    def both():
+        return transforms_with_states(ros_client, "/arm/joint_states")
 
-    def both() -> list:  # the transforms with the joint positions they came from, once this client hears both
-        joints = {stamp(m.header): dict(zip(m.name, m.position)) for m in ros_client.messages("/arm/joint_states")}
-        transforms = ros_client.messages("/tf")
-        return [
-            (m, joints[stamp(m.transforms[0].header)]) for m in transforms if stamp(m.transforms[0].header) in joints
-        ]
-
-    # The client may match the engine's publisher seconds after the state publisher's on a busy machine.
     assert ros_client.spin_until(lambda: len(both()) >= 5, WAIT_S), (
         ros_client.count("/arm/joint_states"),
         ros_client.count("/tf"),
     )
     matched = 0
-    for message, positions in both():
+    for message, joint_state in both():
+        positions = dict(zip(joint_state.name, joint_state.position))
         for transform in message.transforms:
             joint = next(j for j in model.movable_joints if j.child == transform.child_frame_id)
             expected = joint_transform(joint, positions[joint.name])
@@ -52,4 +46,4 @@ def test_the_simulated_arm_publishes_transforms_of_its_joint_states(start_node, 
             assert transform.transform.translation.x == pytest.approx(expected[0, 3])
         matched += 1
     assert matched >= 5, f"{matched} transforms matched a joint state"
-    assert np.isfinite(both()[0][1]["gripper"])
+    assert np.isfinite(positions["gripper"])
