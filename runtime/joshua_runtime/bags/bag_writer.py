@@ -135,12 +135,7 @@ class BagWriter:
     def _remove_unstarted(self) -> None:
         """Remove what a bag that failed to start (a full disk) left: its directory, created by this writer, and
         the files it began there, none of which holds a message. A torn header would pass for a bag."""
-        if self._file is not None:
-            try:
-                self._file.close()
-            except OSError:  # the buffered rest of the header cannot be written either
-                pass
-        self._writer = self._file = None
+        self.abandon()
         for path in (self._path, self.directory / METADATA_FILE, metadata_staging(self.directory)):
             if path is not None:
                 path.unlink(missing_ok=True)
