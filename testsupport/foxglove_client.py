@@ -48,10 +48,11 @@ async def messages(socket_, topics: list[str], channels: dict):
         if isinstance(frame, str):
             message = json.loads(frame)
             unknown = UNKNOWN_CHANNEL.fullmatch(message.get("message", "")) if message["op"] == "status" else None
-            if unknown and int(unknown.group(1)) in requests and refused < RESUBSCRIBE_TIMES:
+            request = requests.get(int(unknown.group(1))) if unknown else None
+            if request is not None and refused < RESUBSCRIBE_TIMES:
                 refused += 1
                 await asyncio.sleep(RESUBSCRIBE_AFTER_S)
-                await socket_.send(json.dumps(requests[int(unknown.group(1))]))
+                await socket_.send(json.dumps(request))
             if message["op"] != "advertise":
                 continue
             for channel in message["channels"]:

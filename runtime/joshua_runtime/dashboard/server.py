@@ -1,4 +1,4 @@
-"""uvicorn's server, letting the program end by itself after its stop, and telling the dashboard the moment it is asked to stop."""
+"""uvicorn's server, letting its program end by itself after a stop signal, and telling the dashboard of the stop."""
 
 import asyncio
 import contextlib
