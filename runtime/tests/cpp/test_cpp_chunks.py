@@ -1,9 +1,10 @@
 """The C++ actuator and its Python twin follow the same action chunks: same goals over time, same end, same hold.
 
 Both follow one JointTrajectory topic on their own emulated bus. Every goal either writes, sampled while the
-chunks run, must be a goal the shared rule (joshua_runtime.nodes.trajectory_follower) gives within the last
-SAMPLE_LAG_S; a newer chunk takes over midway; a chunk stamped before it changes nothing; once the last
-chunk is over both hold its last point, and the command watchdog counts its silence from then.
+chunks run, must be a goal the shared rule (joshua_runtime.nodes.trajectory_follower) gives between SAMPLE_LAG_S
+before the test asked for it and the bus's answer; a newer chunk takes over midway; a chunk stamped before it
+changes nothing; once the last chunk is over both hold its last point, and the command watchdog counts its
+silence from then.
 """
 
 import copy
@@ -21,9 +22,9 @@ from joshua_runtime.nodes.trajectory_follower import TrajectoryFollower, chunk_f
 CONTROL_HZ = 100
 COMMAND_TIMEOUT_S = 0.4
 POINT_STEP_S = 0.3  # sparse points: a follower that jumped from point to point would show only a few goals
-SAMPLE_LAG_S = 0.5  # a goal sampled at t was computed at most this long before (slack for a busy machine)
-# A chunk reaches a node a few ms after the test sent it, so the node's first segment starts a little later
-# and higher on a ramp than the reference's: a few ticks (0.0015 rad each) either way.
+SAMPLE_LAG_S = 0.5  # a goal sampled at t was computed, and a chunk reached the nodes, at most this long late (a busy machine)
+# A node follows a newer chunk from the goal it has when the chunk arrives, a little after the test sent it, so
+# its first segment runs a little off the reference's, which starts at the sending: a few ticks (0.0015 rad each).
 TOLERANCE_TICKS = 5
 MOVING = ("shoulder_pan", "elbow_flex")
 HOLD_LINE = f"no goal for {COMMAND_TIMEOUT_S:g} s: holding the present position"
@@ -75,15 +76,19 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
         reference.accept(chunk_from_trajectory(message, list(MOVING), sent), sent)
         in_force.append((sent, copy.deepcopy(reference)))
 
-    def expected(at: float):
-        return next(follower for since, follower in reversed(in_force) if since <= at).goal(at)
+    def expected(at: float) -> list:
+        """The goals a node may compute at `at`: the newest chunk's, and the one's before it while the newest may be on its way."""
+        latest = max(i for i, (since, _) in enumerate(in_force) if since <= at)
+        on_its_way = latest > 0 and at - in_force[latest][0] < SAMPLE_LAG_S
+        return [in_force[i][1].goal(at) for i in range(latest - on_its_way, latest + 1)]
 
     samples = {"py": [], "cpp": []}
 
     def sample_goals() -> None:
-        at = now_s(ros_client.node)
         for label, bus in (("py", python_bus), ("cpp", cpp_bus)):
-            samples[label].append((at, [bus.read_register(IDS[JOINTS.index(j)], "Goal_Position") for j in MOVING]))
+            asked = now_s(ros_client.node)
+            goal = [bus.read_register(IDS[JOINTS.index(j)], "Goal_Position") for j in MOVING]
+            samples[label].append((asked, now_s(ros_client.node), goal))  # written before the answer, not long before asked
 
     first_stamp = now_s(ros_client.node)
     publish(chunk(first_stamp, [0.0, 0.0], [0.6, -0.5], points=5))  # 1.2 s long
@@ -98,15 +103,16 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
     final = [ticks(j, v) for j, v in zip(MOVING, second.points[-1].positions)]
     for label, bus in (("py", python_bus), ("cpp", cpp_bus)):
         assert [bus.read_register(IDS[JOINTS.index(j)], "Goal_Position") for j in MOVING] == final, label
-        on_the_way = {tuple(goal) for _, goal in samples[label]}
+        on_the_way = {tuple(goal) for _, _, goal in samples[label]}
         assert len(on_the_way) >= 10, f"{label} jumped from point to point: {samples[label]}"
-        for at, goal in samples[label]:
-            if at - SAMPLE_LAG_S < in_force[0][0]:
+        for asked, read, goal in samples[label]:
+            if asked - SAMPLE_LAG_S < in_force[0][0]:
                 continue  # the first chunk may not have arrived yet
-            window = np.array([expected(t) for t in np.linspace(at - SAMPLE_LAG_S, at, 31)])
+            window = np.array([goal for t in np.linspace(asked - SAMPLE_LAG_S, read, 31) for goal in expected(t)])
             for column, joint in enumerate(MOVING):
                 low, high = (ticks(joint, v) for v in (window[:, column].min(), window[:, column].max()))
-                assert min(low, high) - TOLERANCE_TICKS <= goal[column] <= max(low, high) + TOLERANCE_TICKS, (label, at, joint, goal, low, high)
+                assert min(low, high) - TOLERANCE_TICKS <= goal[column] <= max(low, high) + TOLERANCE_TICKS, (
+                    label, asked, read, joint, goal, low, high)
     assert ros_seconds(second.header.stamp) + 3 * POINT_STEP_S < now_s(ros_client.node)
     for node in (python, cpp):
         code, seconds, stderr = node.stop(signal.SIGINT)
