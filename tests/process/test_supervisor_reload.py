@@ -8,7 +8,7 @@ import time
 
 import pytest
 from control_harness import ctl, status
-from supervisor_harness import Supervisor, build, command_line, custom_node, events, robot, wait_until
+from supervisor_harness import Supervisor, build, command_line, custom_node, events, robot, wait_started, wait_until
 
 SECOND_BUILT = 1767225600.25  # 2026-01-01T00:00:00.250Z: when the reloaded build's stamp was written
 CONTAINMENT = pytest.mark.parametrize("options", [(), ("--no-cgroup",)], ids=["cgroup", "tracking"])
@@ -48,6 +48,8 @@ def test_a_changed_node_restarts_an_added_one_starts_a_removed_one_stops_and_the
     out, sock, supervisor = start(tmp_path, first, *options)
     try:
         before = pids(out, sock)
+        for name, pid in before.items():  # a SIGINT before a program's handler is in place would end it unseen
+            wait_started(log, name, pid)
         second = robot(
             [custom_node("steady", log), custom_node("changed", log, "exit_after=3600"), custom_node("added", log)],
             sigint=0.4,
@@ -69,6 +71,8 @@ def test_a_changed_node_restarts_an_added_one_starts_a_removed_one_stops_and_the
         assert after["steady"]["pid"] == before["steady"]
         assert after["changed"]["pid"] not in (None, before["changed"])
         assert all(node["state"] == "running" for node in after.values())
+        for name in ("changed", "added"):  # running once exec'd: their programs may not have written "start" yet
+            wait_started(log, name, after[name]["pid"])
         by_node = {}
         for name, pid, text in events(log):
             by_node.setdefault(name, []).append((pid, text))
