@@ -37,6 +37,9 @@ LEFTOVER_POLL_S = 0.05  # while stopping: how often groups whose leader is gone 
 TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for new descendants
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
+# Fast DDS tests whether a peer's segment is alive by taking its lock for a moment, so a dead node's lock
+# may be held by a live peer when its segments are first looked for: they are looked for again this late.
+SHM_RECHECK_S = 1.0
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
 # A stopping node may hold its SIGTERM by asking for more time (EXTEND_TIMEOUT_USEC, see notify.py), up to this
@@ -3521,6 +3524,7 @@ class Supervisor(StopCascade, Launching):
         self.writers = self.poller.writers  # fd -> callable run when the fd is writable
         self.internal_errors = 0  # exceptions the supervisor did not expect (bugs), see on_internal_error
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
+        self.shm_recheck = None  # (when, since): abandoned segments are looked for again then
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
@@ -3677,19 +3681,26 @@ class Supervisor(StopCascade, Launching):
             else:
                 self.on_exit(node, pid, status)
         if self.abandoned_since is not None:
-            files, size = remove_abandoned_segments(self.abandoned_since - SHM_CLOCK_SLACK_S)
-            if files:
-                log(
-                    "supervisor",
-                    f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
-                    "that dead processes left in /dev/shm",
-                )
+            since = self.abandoned_since - SHM_CLOCK_SLACK_S
+            self.remove_abandoned_shm(since)
+            if self.shm_recheck is not None:
+                since = min(since, self.shm_recheck[1])
+            self.shm_recheck = (time.monotonic() + SHM_RECHECK_S, since)
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
                 node.pgid = None
             if node.state == "stopping" and not node.alive():
                 node.state = "stopped"
+
+    def remove_abandoned_shm(self, since):
+        files, size = remove_abandoned_segments(since)
+        if files:
+            log(
+                "supervisor",
+                f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) "
+                "that dead processes left in /dev/shm",
+            )
 
     def on_exit(self, node, pid, status):
         node.pid = None
@@ -3762,6 +3773,7 @@ class Supervisor(StopCascade, Launching):
     def timeout(self):
         moments = [self.duration_end, self.next_status, self.stage_deadline, self.readiness.next_deadline()]
         moments.append(self.held_until)
+        moments.append(self.shm_recheck[0] if self.shm_recheck is not None else None)
         moments.append(self.control.deadline() if self.control is not None else None)
         moments.append(self.containment.before_sleep())
         moments += [node.restart_at for node in self.nodes if node.state == "backoff"]
@@ -3796,6 +3808,9 @@ class Supervisor(StopCascade, Launching):
         if self.stage_deadline is not None and now >= self.stage_deadline:
             self.escalate()
         self.start_held(now)
+        if self.shm_recheck is not None and now >= self.shm_recheck[0]:
+            self.remove_abandoned_shm(self.shm_recheck[1])
+            self.shm_recheck = None
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet

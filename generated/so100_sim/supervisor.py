@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_sim',
-    'supervisor_code': '197fbdac4dc26b84',
+    'supervisor_code': '7b59a9ce3010da8a',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

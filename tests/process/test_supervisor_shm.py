@@ -1,7 +1,10 @@
 """The Fast DDS shared-memory files of a SIGKILLed node are removed once the supervisor reaps it; those of
-live processes are left alone."""
+live processes are left alone; those whose lock a peer held for a moment as the node died (Fast DDS tests a
+peer's segment that way) are removed once it is released."""
 
+import ctypes
 import os
+import re
 import signal
 import subprocess
 from pathlib import Path
@@ -9,6 +12,8 @@ from pathlib import Path
 from supervisor_harness import PYTHON, Supervisor, build, quoted, robot, wait_until
 
 SHM = Path("/dev/shm")
+REMOVED = r"removed (\d+) Fast DDS shared-memory files"
+SYS_PIDFD_GETFD = 438  # x86_64: a copy of another process's descriptor, sharing its open file (and its flock)
 
 # argv: READY_FILE. A real rclpy node with a publisher and a subscription; writes its PID once up,
 # stops cleanly on SIGINT.
@@ -45,6 +50,32 @@ def ready_pid(tmp_path: Path, name: str) -> int:
     path = tmp_path / f"{name}.ready"
     wait_until(lambda: path.exists() and path.read_text(), f"{name} to be up", timeout=30)
     return int(path.read_text())
+
+
+def lock_descriptors(pid: int) -> dict[str, int]:
+    """segment name -> the descriptor number of its lock file in process `pid`."""
+    found = {}
+    for fd in Path(f"/proc/{pid}/fd").iterdir():
+        try:
+            target = os.readlink(fd)
+        except OSError:
+            continue
+        if target.startswith(f"{SHM}/fastrtps_") and target.endswith("_el"):
+            found[Path(target).name[: -len("_el")]] = int(fd.name)
+    return found
+
+
+def borrow_descriptor(pid: int, fd: int) -> int:
+    """Process `pid`'s descriptor `fd`, copied into this process: a lock on it outlives `pid` until closed."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    pidfd = os.pidfd_open(pid)
+    try:
+        copy = libc.syscall(SYS_PIDFD_GETFD, pidfd, fd, 0)
+        if copy < 0:
+            raise OSError(ctypes.get_errno(), "pidfd_getfd")
+        return copy
+    finally:
+        os.close(pidfd)
 
 
 def shm_files(pid: int) -> set[str]:
@@ -88,3 +119,28 @@ def test_segments_of_a_sigkilled_node_are_removed_and_others_kept(tmp_path, ros_
         supervisor.close()
         outside.send_signal(signal.SIGINT)
         outside.wait()
+
+
+def test_a_segment_whose_lock_a_peer_holds_as_the_node_dies_is_removed_once_the_peer_lets_go(tmp_path, ros_env):
+    bystander = 'node { name: "bystander" type: CUSTOM executable: "/bin/sleep" args: ["600"] }'  # keeps the run going
+    out = build(tmp_path, robot([ros_node(tmp_path, "victim"), bystander], sigint=10))
+    supervisor = Supervisor(out, env=ros_env)
+    try:
+        victim = ready_pid(tmp_path, "victim")
+        wait_until(lambda: len(lock_descriptors(victim)) >= 2, "segments to exist")
+        doomed = shm_files(victim)
+        held, fd = sorted(lock_descriptors(victim).items())[0]
+        peer = borrow_descriptor(victim, fd)  # the lock stays held through this copy, as a peer's test would
+        try:
+            os.kill(victim, signal.SIGKILL)
+            supervisor.wait_log(REMOVED)  # the segments it could remove as it reaped the victim: all others
+            assert (SHM / held).exists() and (SHM / f"{held}_el").exists()
+        finally:
+            os.close(peer)
+        wait_until(lambda: len(re.findall(REMOVED, supervisor.log())) == 2, "the supervisor's second look")
+        assert sum(int(files) for files in re.findall(REMOVED, supervisor.log())) == len(doomed)
+        assert not [name for name in doomed if (SHM / name).exists()]
+        supervisor.signal(signal.SIGINT)
+        assert supervisor.wait() == 5  # a non-critical node failed for good
+    finally:
+        supervisor.close()
