@@ -80,16 +80,8 @@ def borrow_descriptor(pid: int, fd: int) -> int:
 
 def shm_files(pid: int) -> set[str]:
     """The Fast DDS segments a live process holds (by their lock files), with every companion file."""
-    segments = set()
-    for fd in Path(f"/proc/{pid}/fd").iterdir():
-        try:
-            target = os.readlink(fd)
-        except OSError:
-            continue
-        if target.startswith(f"{SHM}/fastrtps_") and target.endswith("_el"):
-            segments.add(Path(target).name[: -len("_el")])
     names = set()
-    for segment in segments:
+    for segment in lock_descriptors(pid):
         names |= {name for name in (segment, f"{segment}_el", f"sem.{segment}_mutex") if (SHM / name).exists()}
     return names
 
