@@ -73,10 +73,11 @@ class CpuReport:
             return
         ranked = sorted(self.cpu_s.items(), key=lambda item: item[1], reverse=True)
         total = sum(self.cpu_s.values())
+        percent = 100 / total if total > 0 else 0.0
         shown = ranked if self.count == 0 else ranked[: self.count]
         terminalreporter.write_sep("=", f"most CPU: {len(shown)} of {len(ranked)} tests, {total:.0f} CPU-s in all")
         for nodeid, seconds in shown:
-            terminalreporter.write_line(f"{seconds:8.1f} CPU-s {100 * seconds / total:5.1f} %  {nodeid}")
+            terminalreporter.write_line(f"{seconds:8.1f} CPU-s {seconds * percent:5.1f} %  {nodeid}")
         by_directory: dict[str, float] = defaultdict(float)
         for nodeid, seconds in ranked:
             by_directory[str(PurePosixPath(nodeid.split("::")[0]).parent)] += seconds
@@ -84,4 +85,4 @@ class CpuReport:
         for directory, seconds in sorted(by_directory.items(), key=lambda item: item[1], reverse=True)[
             :DIRECTORIES_SHOWN
         ]:
-            terminalreporter.write_line(f"{seconds:8.1f} CPU-s {100 * seconds / total:5.1f} %  {directory}/")
+            terminalreporter.write_line(f"{seconds:8.1f} CPU-s {seconds * percent:5.1f} %  {directory}/")

@@ -77,7 +77,8 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
         in_force.append((sent, copy.deepcopy(reference)))
 
     def expected(at: float) -> list:
-        """The goals a node may compute at `at`: the newest chunk's, and the one's before it while the newest may be on its way."""
+        """The goals a node may compute at `at`: the newest chunk's, and the previous chunk's while the newest may
+        still be on its way to the node."""
         latest = max(i for i, (since, _) in enumerate(in_force) if since <= at)
         on_its_way = latest > 0 and at - in_force[latest][0] < SAMPLE_LAG_S
         return [in_force[i][1].goal(at) for i in range(latest - on_its_way, latest + 1)]
