@@ -1,10 +1,10 @@
 """The C++ actuator and its Python twin follow the same action chunks: same goals over time, same end, same hold.
 
 Both follow one JointTrajectory topic on their own emulated bus. Every goal either writes, sampled while the
-chunks run, must be a goal the shared rule (joshua_runtime.nodes.trajectory_follower) gives between SAMPLE_LAG_S
-before the test asked for it and the bus's answer; a newer chunk takes over midway; a chunk stamped before it
-changes nothing; once the last chunk is over both hold its last point, and the command watchdog counts its
-silence from then.
+chunks run, must lie within the goals the shared rule (joshua_runtime.nodes.trajectory_follower) gives
+between SAMPLE_LAG_S before the test asked for it and the bus's answer; a newer chunk takes over midway; a
+chunk stamped before it changes nothing; once the last chunk is over both hold its last point, and the
+command watchdog counts its silence from then.
 """
 
 import copy
@@ -69,12 +69,17 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
     chunks = ros_client.publisher("/chunks", JointTrajectory, READER_QOS)
     reference = TrajectoryFollower(len(MOVING))
     in_force = []  # (from when, a copy of the reference then)
+    # Where the goals a node may compute change slope: when a chunk was sent, when its points are due, and
+    # when the chunk before it stops counting (expected() below), just before and at that moment.
+    corners = []
 
     def publish(message: JointTrajectory) -> None:
         sent = now_s(ros_client.node)
         chunks.publish(message)
-        reference.accept(chunk_from_trajectory(message, list(MOVING), sent), sent)
+        accepted = chunk_from_trajectory(message, list(MOVING), sent)
+        reference.accept(accepted, sent)
         in_force.append((sent, copy.deepcopy(reference)))
+        corners.extend([sent, sent + SAMPLE_LAG_S - 1e-6, sent + SAMPLE_LAG_S, *accepted.times_s])
 
     def expected(at: float) -> list:
         """The goals a node may compute at `at`: the newest chunk's, and the previous chunk's while the newest may
@@ -109,7 +114,9 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
         for asked, read, goal in samples[label]:
             if asked - SAMPLE_LAG_S < in_force[0][0]:
                 continue  # the first chunk may not have arrived yet
-            window = np.array([goal for t in np.linspace(asked - SAMPLE_LAG_S, read, 31) for goal in expected(t)])
+            # Goals are linear between corners: their extremes over the window lie at its ends or at a corner.
+            times = [asked - SAMPLE_LAG_S, read, *(t for t in corners if asked - SAMPLE_LAG_S < t < read)]
+            window = np.array([goal for t in times for goal in expected(t)])
             for column, joint in enumerate(MOVING):
                 low, high = (ticks(joint, v) for v in (window[:, column].min(), window[:, column].max()))
                 assert min(low, high) - TOLERANCE_TICKS <= goal[column] <= max(low, high) + TOLERANCE_TICKS, (
