@@ -15,6 +15,7 @@ pytest_plugins = [
     "testsupport.tiers",  # marks every test with its tiers (unit, process, ros, ...)
     "testsupport.xdist_groups",  # keeps the tests of an xdist_group on one worker
     "testsupport.cpu_durations",  # --cpu-durations=N: the tests that cost the most CPU
+    "testsupport.shm_leftovers",  # Fast DDS files the tests' killed processes left in /dev/shm go at the end
 ]
 
 # MuJoCo reads MUJOCO_GL once, at its first import in a process; tests that render in this process (the
