@@ -27,6 +27,7 @@ def pytest_sessionfinish(session):
     files, size = remove_abandoned_segments(session.config.stash[BEGAN] - SHM_CLOCK_SLACK_S)
     reporter = session.config.pluginmanager.get_plugin("terminalreporter")
     if files and reporter is not None:
+        reporter.ensure_newline()
         reporter.write_line(
             f"removed {files} Fast DDS shared-memory files ({size / 2**20:.1f} MiB) that processes of the tests left"
         )
