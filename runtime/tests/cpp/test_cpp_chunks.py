@@ -70,7 +70,7 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
     reference = TrajectoryFollower(len(MOVING))
     in_force = []  # (from when, a copy of the reference then)
     # Where the goals a node may compute change slope: when a chunk was sent, when its points are due, and
-    # when the chunk before it stops counting (expected() below), just before and at that moment.
+    # when the chunk before it stops counting (expected() below).
     corners = []
 
     def publish(message: JointTrajectory) -> None:
@@ -79,13 +79,13 @@ def test_actuators_follow_the_same_chunks_and_hold_the_last_point(buses, calibra
         accepted = chunk_from_trajectory(message, list(MOVING), sent)
         reference.accept(accepted, sent)
         in_force.append((sent, copy.deepcopy(reference)))
-        corners.extend([sent, sent + SAMPLE_LAG_S - 1e-6, sent + SAMPLE_LAG_S, *accepted.times_s])
+        corners.extend([sent, sent + SAMPLE_LAG_S, *accepted.times_s])
 
     def expected(at: float) -> list:
         """The goals a node may compute at `at`: the newest chunk's, and the previous chunk's while the newest may
         still be on its way to the node."""
         latest = max(i for i, (since, _) in enumerate(in_force) if since <= at)
-        on_its_way = latest > 0 and at - in_force[latest][0] < SAMPLE_LAG_S
+        on_its_way = latest > 0 and at - in_force[latest][0] <= SAMPLE_LAG_S
         return [in_force[i][1].goal(at) for i in range(latest - on_its_way, latest + 1)]
 
     samples = {"py": [], "cpp": []}

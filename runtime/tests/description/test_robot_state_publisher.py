@@ -40,12 +40,12 @@ def test_transforms_follow_the_joint_states(start_node, ros_client):
     [laser] = ros_client.last("/tf_static").transforms
     assert (laser.header.frame_id, laser.child_frame_id) == ("base_link", "laser")
 
-    def both():
-        return transforms_with_states(ros_client, ARM)
-
-    assert ros_client.spin_until(lambda: len(both()) >= 5, WAIT_S), (ros_client.count(ARM), ros_client.count("/tf"))
+    assert ros_client.spin_until(lambda: len(transforms_with_states(ros_client, ARM)) >= 5, WAIT_S), (
+        ros_client.count(ARM),
+        ros_client.count("/tf"),
+    )
     compared = 0
-    for tf, state in both():
+    for tf, state in transforms_with_states(ros_client, ARM):
         positions = dict(zip(state.name, state.position))
         assert [t.child_frame_id for t in tf.transforms] == [j.child for j in model.movable_joints]
         for transform in tf.transforms:
