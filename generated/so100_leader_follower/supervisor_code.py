@@ -38,8 +38,9 @@ TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for n
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 # Fast DDS tests whether a peer's segment is alive by taking its lock for a moment, so a dead node's lock
-# may be held by a live peer when its segments are first looked for: they are looked for again this late.
-SHM_RECHECK_S = 1.0
+# may be held by a live peer when its segments are first looked for: they are looked for again after each
+# of these pauses (a peer may test it again just as the supervisor looks again).
+SHM_RECHECKS_S = (1.0, 2.0, 4.0, 8.0, 16.0)
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
 # A stopping node may hold its SIGTERM by asking for more time (EXTEND_TIMEOUT_USEC, see notify.py), up to this
@@ -3524,7 +3525,7 @@ class Supervisor(StopCascade, Launching):
         self.writers = self.poller.writers  # fd -> callable run when the fd is writable
         self.internal_errors = 0  # exceptions the supervisor did not expect (bugs), see on_internal_error
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
-        self.shm_recheck = None  # (when, since): abandoned segments are looked for again then
+        self.shm_recheck = None  # (when, since, looks done): abandoned segments are looked for again then
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
@@ -3685,7 +3686,7 @@ class Supervisor(StopCascade, Launching):
             self.remove_abandoned_shm(since)
             if self.shm_recheck is not None:
                 since = min(since, self.shm_recheck[1])
-            self.shm_recheck = (time.monotonic() + SHM_RECHECK_S, since)
+            self.shm_recheck = (time.monotonic() + SHM_RECHECKS_S[0], since, 0)
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -3809,8 +3810,10 @@ class Supervisor(StopCascade, Launching):
             self.escalate()
         self.start_held(now)
         if self.shm_recheck is not None and now >= self.shm_recheck[0]:
-            self.remove_abandoned_shm(self.shm_recheck[1])
-            self.shm_recheck = None
+            _, since, looks = self.shm_recheck
+            self.remove_abandoned_shm(since)
+            looks += 1
+            self.shm_recheck = (now + SHM_RECHECKS_S[looks], since, looks) if looks < len(SHM_RECHECKS_S) else None
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet

@@ -74,7 +74,7 @@ import sys
 
 ROBOT = {
     'name': 'so100_sim',
-    'supervisor_code': '7b59a9ce3010da8a',
+    'supervisor_code': '27c09974291f0bd5',
     'env': {
         'PYTHONUNBUFFERED': '1',
     },

@@ -33,7 +33,7 @@ from joshua_codegen.supervisor.policy import (
     RESTART_DELAY_INITIAL_S,
     RESTART_RESET_AFTER_S,
     SHM_CLOCK_SLACK_S,
-    SHM_RECHECK_S,
+    SHM_RECHECKS_S,
     STOP_SIGNALS,
 )
 from joshua_codegen.supervisor.poller import Poller
@@ -61,7 +61,7 @@ class Supervisor(StopCascade, Launching):
         self.writers = self.poller.writers  # fd -> callable run when the fd is writable
         self.internal_errors = 0  # exceptions the supervisor did not expect (bugs), see on_internal_error
         self.abandoned_since = None  # while reaping: launch time of the first node that ended abnormally
-        self.shm_recheck = None  # (when, since): abandoned segments are looked for again then
+        self.shm_recheck = None  # (when, since, looks done): abandoned segments are looked for again then
         self.requests = []  # stop signals received, handled by the main loop
         self.stopping = False
         self.stage = ""  # "", "SIGINT", "SIGTERM", "SIGKILL"
@@ -222,7 +222,7 @@ class Supervisor(StopCascade, Launching):
             self.remove_abandoned_shm(since)
             if self.shm_recheck is not None:
                 since = min(since, self.shm_recheck[1])
-            self.shm_recheck = (time.monotonic() + SHM_RECHECK_S, since)
+            self.shm_recheck = (time.monotonic() + SHM_RECHECKS_S[0], since, 0)
         for node in self.nodes:
             if node.pid is None and node.pgid is not None and not group_alive(node.pgid):
                 self.guard.forget(node.pgid)
@@ -346,8 +346,10 @@ class Supervisor(StopCascade, Launching):
             self.escalate()
         self.start_held(now)
         if self.shm_recheck is not None and now >= self.shm_recheck[0]:
-            self.remove_abandoned_shm(self.shm_recheck[1])
-            self.shm_recheck = None
+            _, since, looks = self.shm_recheck
+            self.remove_abandoned_shm(since)
+            looks += 1
+            self.shm_recheck = (now + SHM_RECHECKS_S[looks], since, looks) if looks < len(SHM_RECHECKS_S) else None
         for node in self.nodes:
             if node.state == "backoff" and now >= node.restart_at:
                 if node.alive():  # what it left behind (killed when it ended) is not gone yet

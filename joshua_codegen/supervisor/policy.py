@@ -15,8 +15,9 @@ TRACKING_POLL_S = 0.1  # without a cgroup: how often the guard walks /proc for n
 STOP_SETTLE_S = 0.01  # without a cgroup: after stopping descendants, the wait for forks in flight
 SHM_CLOCK_SLACK_S = 0.05  # file times in /dev/shm use the kernel's coarse clock, a tick behind time.time()
 # Fast DDS tests whether a peer's segment is alive by taking its lock for a moment, so a dead node's lock
-# may be held by a live peer when its segments are first looked for: they are looked for again this late.
-SHM_RECHECK_S = 1.0
+# may be held by a live peer when its segments are first looked for: they are looked for again after each
+# of these pauses (a peer may test it again just as the supervisor looks again).
+SHM_RECHECKS_S = (1.0, 2.0, 4.0, 8.0, 16.0)
 CGROUP_EMPTY_POLL_S = 0.01  # how often an emptied cgroup is checked before it is removed
 READY_TIMEOUT_S = 60.0  # a node not ready (no READY=1) this long after its start is warned about, not stopped
 # A stopping node may hold its SIGTERM by asking for more time (EXTEND_TIMEOUT_USEC, see notify.py), up to this

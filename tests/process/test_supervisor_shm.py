@@ -4,15 +4,17 @@ peer's segment that way) are removed once it is released."""
 
 import ctypes
 import os
-import re
 import signal
 import subprocess
 from pathlib import Path
 
-from supervisor_harness import PYTHON, Supervisor, build, quoted, robot, wait_until
+from supervisor_harness import PYTHON, WAIT_S, Supervisor, build, quoted, robot, wait_until
+
+from joshua_codegen.supervisor.policy import SHM_RECHECKS_S
 
 SHM = Path("/dev/shm")
 REMOVED = r"removed (\d+) Fast DDS shared-memory files"
+LATER_LOOKS_S = sum(SHM_RECHECKS_S) + WAIT_S  # the supervisor's last look, with time to spare
 SYS_PIDFD_GETFD = 438  # x86_64: a copy of another process's descriptor, sharing its open file (and its flock)
 
 # argv: READY_FILE. A real rclpy node with a publisher and a subscription; writes its PID once up,
@@ -86,6 +88,10 @@ def shm_files(pid: int) -> set[str]:
     return names
 
 
+def existing(names):
+    return [name for name in names if (SHM / name).exists()]
+
+
 def test_segments_of_a_sigkilled_node_are_removed_and_others_kept(tmp_path, ros_env):
     out = build(tmp_path, robot([ros_node(tmp_path, "victim"), ros_node(tmp_path, "bystander")], sigint=10))
     outside_env = dict(ros_env, FASTRTPS_DEFAULT_PROFILES_FILE=str(out / "fastdds_profile.xml"))
@@ -101,8 +107,9 @@ def test_segments_of_a_sigkilled_node_are_removed_and_others_kept(tmp_path, ros_
         assert any(name.startswith("fastrtps_port") for name in doomed) and len(doomed) >= 4
         os.kill(victim, signal.SIGKILL)
         supervisor.wait_log(r"^.*victim: pid \d+ killed by SIGKILL")
-        supervisor.wait_log(r"removed \d+ Fast DDS shared-memory files")
-        assert not [name for name in doomed if (SHM / name).exists()]
+        supervisor.wait_log(REMOVED)
+        # a peer testing one of them just then keeps it for one of the later looks
+        wait_until(lambda: not existing(doomed), "the victim's files to go", timeout=LATER_LOOKS_S)
         assert all((SHM / name).exists() for name in kept)
         assert shm_files(bystander) | shm_files(outsider) == kept
         supervisor.signal(signal.SIGINT)
@@ -129,9 +136,8 @@ def test_a_segment_whose_lock_a_peer_holds_as_the_node_dies_is_removed_once_the_
             assert (SHM / held).exists() and (SHM / f"{held}_el").exists()
         finally:
             os.close(peer)
-        wait_until(lambda: len(re.findall(REMOVED, supervisor.log())) == 2, "the supervisor's second look")
-        assert sum(int(files) for files in re.findall(REMOVED, supervisor.log())) == len(doomed)
-        assert not [name for name in doomed if (SHM / name).exists()]
+        # by a later look (another supervisor running beside this one may come first: its rule covers it too)
+        wait_until(lambda: not existing(doomed), "the held segment to go", timeout=LATER_LOOKS_S)
         supervisor.signal(signal.SIGINT)
         assert supervisor.wait() == 5  # a non-critical node failed for good
     finally:
