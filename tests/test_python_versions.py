@@ -7,12 +7,13 @@ rule fixture, and build the seeds, exactly as the reference does.
 """
 
 import filecmp
+import os
 import subprocess
 from pathlib import Path
 
 import pytest
 
-from testsupport.interpreters import install_joshuac, supported_interpreters
+from testsupport.interpreters import install_joshuac, supported_interpreters, with_shared_bytecode
 from testsupport.joshuac_cli import CONFIGS, ROOT
 
 INTERPRETERS = supported_interpreters()
@@ -54,9 +55,10 @@ def test_every_supported_version_is_looked_for():
     assert "3.11" in INTERPRETERS, INTERPRETERS
 
 
-def _command(bin_dir: Path):
+def _command(bin_dir: Path, env: dict | None = None):
     def run(*args):
-        return subprocess.run([str(bin_dir / "joshuac"), *map(str, args)], cwd=ROOT, capture_output=True, text=True)
+        command = [str(bin_dir / "joshuac"), *map(str, args)]
+        return subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True)
 
     return run
 
@@ -74,7 +76,8 @@ def reference(tmp_path_factory):
 @pytest.mark.parametrize("version", sorted(INTERPRETERS))
 def test_joshuac_on_each_python_matches_the_reference(version, reference, tmp_path):
     reference_builds, reference_answers = reference
-    run = _command(install_joshuac(INTERPRETERS[version], tmp_path / "venv"))
+    bin_dir = install_joshuac(INTERPRETERS[version], tmp_path / "venv")
+    run = _command(bin_dir, with_shared_bytecode(dict(os.environ), bin_dir.parent))
     answers = _outputs(run)
     for name, expected in reference_answers.items():
         assert answers[name] == expected, f"Python {version}: `{name}` answers differently"

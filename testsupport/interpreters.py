@@ -66,6 +66,15 @@ def supported_interpreters(versions=SUPPORTED) -> dict[str, Path]:
     return dict(sorted(found.items()))
 
 
+def with_shared_bytecode(env: dict, venv: Path) -> dict:
+    """`env` for the processes of the fresh environment `venv`: its packages come without bytecode, and where
+    none may be written (PYTHONDONTWRITEBYTECODE) each process would compile all it imports; instead they
+    write it once under `venv` (never into the checkout) and share it."""
+    shared = {key: value for key, value in env.items() if key != "PYTHONDONTWRITEBYTECODE"}
+    shared["PYTHONPYCACHEPREFIX"] = str(venv / "bytecode")
+    return shared
+
+
 def _uv() -> str:
     local = ROOT / ".venv" / "bin" / "uv"
     return str(local) if local.exists() else "uv"
