@@ -119,6 +119,8 @@ def test_a_changed_program_file_restarts_the_node_running_it(tmp_path):
         program.chmod(0o755)
         run.wait_for(rf"^restarted tool \({re.escape(str(program))} changed\)\nunchanged: steady$", seen)
         wait_until(lambda: any(text == "second" for _, text in history(log)["tool"]), "the new program to run", WAIT_S)
+        # "ready" counts a CUSTOM node once exec'd, before its program wrote its line
+        wait_until(lambda: "steady" in history(log), "the steady node's start line", WAIT_S)
         assert [text for _, text in history(log)["steady"]] == ["start"]
     finally:
         code = run.stop()
