@@ -77,7 +77,7 @@ def reference(tmp_path_factory):
 def test_joshuac_on_each_python_matches_the_reference(version, reference, tmp_path):
     reference_builds, reference_answers = reference
     bin_dir = install_joshuac(INTERPRETERS[version], tmp_path / "venv")
-    run = _command(bin_dir, with_shared_bytecode(dict(os.environ), bin_dir.parent))
+    run = _command(bin_dir, with_shared_bytecode(dict(os.environ), bin_dir.parent / "bytecode"))
     answers = _outputs(run)
     for name, expected in reference_answers.items():
         assert answers[name] == expected, f"Python {version}: `{name}` answers differently"

@@ -66,12 +66,12 @@ def supported_interpreters(versions=SUPPORTED) -> dict[str, Path]:
     return dict(sorted(found.items()))
 
 
-def with_shared_bytecode(env: dict, venv: Path) -> dict:
-    """`env` for the processes of the fresh environment `venv`: its packages come without bytecode, and where
-    none may be written (PYTHONDONTWRITEBYTECODE) each process would compile all it imports; instead they
-    write it once under `venv` (never into the checkout) and share it."""
+def with_shared_bytecode(env: dict, directory: Path) -> dict:
+    """`env` for processes of an environment without bytecode (a fresh one: uv installs none): where none
+    may be written (PYTHONDONTWRITEBYTECODE) each would compile all it imports; instead they write it once
+    in `directory` (never into the checkout) and share it."""
     shared = {key: value for key, value in env.items() if key != "PYTHONDONTWRITEBYTECODE"}
-    shared["PYTHONPYCACHEPREFIX"] = str(venv / "bytecode")
+    shared["PYTHONPYCACHEPREFIX"] = str(directory)
     return shared
 
 

@@ -8,6 +8,8 @@ from pathlib import Path
 import pytest
 from ai_support import RosPeer
 
+from testsupport.interpreters import with_shared_bytecode
+
 OFFLINE = {"HF_HUB_OFFLINE": "1", "HF_DATASETS_OFFLINE": "1", "TRANSFORMERS_OFFLINE": "1"}
 
 
@@ -57,10 +59,7 @@ def ai_env(ros_env, tmp_path, bytecode_cache) -> dict:
     env["HF_DATASETS_CACHE"] = str(tmp_path / "hf-datasets-cache")
     env["HF_LEROBOT_HOME"] = str(tmp_path / "lerobot-home")
     env["JOSHUA_MODEL_REGISTRY"] = str(tmp_path / "registry")
-    if bytecode_cache is not None:
-        env["PYTHONPYCACHEPREFIX"] = str(bytecode_cache)
-        env.pop("PYTHONDONTWRITEBYTECODE", None)
-    return env
+    return env if bytecode_cache is None else with_shared_bytecode(env, bytecode_cache)
 
 
 @pytest.fixture

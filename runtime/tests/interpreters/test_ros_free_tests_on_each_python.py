@@ -80,7 +80,7 @@ def _environment_variables(bin_dir: Path) -> dict:
     modules on 3.12 when each compiled all it imported, 56 with it shared)."""
     env = {key: value for key, value in os.environ.items() if key not in ("VIRTUAL_ENV", "PYTHONPATH")}
     env["PATH"] = f"{bin_dir}:{env['PATH']}"
-    return with_shared_bytecode(env, bin_dir.parent)
+    return with_shared_bytecode(env, bin_dir.parent / "bytecode")
 
 
 @pytest.mark.timeout(TEST_TIMEOUT_S)
