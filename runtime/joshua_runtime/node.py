@@ -2,8 +2,8 @@
 
 A node class receives its NodeSettings (the settings contract, joshua_core.settings), creates its publishers, subscriptions and timers in `start()`, and
 releases its device in `close()`. `run()` owns rclpy: it installs its own SIGINT/SIGTERM handlers,
-spins in short slices so that a signal ends the loop within `SHUTDOWN_POLL_S`, then closes the node
-and returns exit code 0.
+spins until a signal ends the loop (a signal wakes the executor's wait at once, so an idle node does not
+poll), then closes the node and returns exit code 0.
 
 Readiness (sd_notify, see notify.py): a node is ready when `start()` returns, unless its class sets
 `ready_later` and calls `announce_ready()` itself once its background loading is done. Announcing logs
@@ -25,9 +25,10 @@ from joshua_runtime.notify import Notifier
 from joshua_runtime.qos import qos_profile
 from joshua_runtime.ros_node import create_ros_node
 from joshua_runtime.ros_teardown import leave_ros
-from joshua_runtime.stop_signal import StopRequested, StopSignal
+from joshua_runtime.stop_signal import SignalWake, StopRequested, StopSignal
 
-SHUTDOWN_POLL_S = 0.05
+# The longest an idle node's loop waits before it looks at its stop flag anyway (a signal wakes it at once).
+IDLE_WAIT_S = 5.0
 # Topics every rclpy node has; not part of what a node serves.
 INFRASTRUCTURE_TOPICS = ("/rosout", "/parameter_events")
 
@@ -101,7 +102,7 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
     is still importing its libraries or opening its device must not wait for that to finish.
     """
     stop = stop or StopSignal().install()
-    ros_node = executor = node = None
+    ros_node = executor = node = wake = None
     notifier = Notifier.from_environment()
     code = 0
     try:
@@ -109,15 +110,17 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
         ros_node = create_ros_node(settings.name)
         executor = SingleThreadedExecutor()
         executor.add_node(ros_node)
+        wake = SignalWake(ros_node.create_guard_condition(lambda: None).trigger)
         node = node_class(settings, ros_node)
         node.notifier = notifier
         node.start()
         stop.starting = False
         if not node.ready_later:
             node.announce_ready()
+        wait_s = min(IDLE_WAIT_S, notifier.watchdog_interval_s / 4) if notifier.watchdog_interval_s else IDLE_WAIT_S
         while not stop.event.is_set():
             notifier.watchdog()
-            executor.spin_once(timeout_sec=SHUTDOWN_POLL_S)
+            executor.spin_once(timeout_sec=wait_s)
         notifier.stopping()
     except StopRequested:
         pass
@@ -126,6 +129,8 @@ def run(node_class: type[JoshuaNode], settings: NodeSettings, stop: StopSignal |
         code = exc.exit_code
     finally:
         stop.starting = False
+        if wake is not None:
+            wake.close()
         if node is not None:
             try:
                 node.close()

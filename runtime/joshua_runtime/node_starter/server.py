@@ -3,6 +3,7 @@
 import argparse
 import array
 import importlib
+import inspect
 import os
 import select
 import signal
@@ -34,6 +35,7 @@ def preload(node_types: list[str]) -> None:
         except Exception:  # noqa: BLE001,S112 (the node itself says what is wrong)
             continue
     import_type_supports()
+    map_modules_to_files()
 
 
 def import_type_supports() -> None:
@@ -50,6 +52,13 @@ def import_type_supports() -> None:
                 load = getattr(type(interface), "__import_type_support__", None)
                 if load is not None and isinstance(interface, type):
                     load()
+
+
+def map_modules_to_files() -> None:
+    """Let inspect map every module imported so far to its file. rclpy's logger looks up its caller's source
+    (inspect.getframeinfo) on every call, and the first lookup in a process maps every loaded module, about
+    0.1 s of CPU; mapped here once, the nodes inherit the map."""
+    inspect.getframeinfo(inspect.currentframe())
 
 
 def receive(channel: socket.socket) -> tuple[bytes, int | None]:
