@@ -36,8 +36,10 @@ def test_a_full_disk_ends_the_bag_recorder_at_the_first_failed_write(start_node,
         start_node(settings["follower"])
         recorder = start_node(settings["recorder"])
         assert ros_client.spin_until(lambda: len(ros_client.messages(ARM)) > 20, WAIT_S), recorder.failure()
-        [bag] = (small / "bags").iterdir()
-        [path] = bag.glob("*.mcap")
+        # The recorder makes its bag when it starts, which a busy machine may leave until after the arm's messages.
+        assert ros_client.spin_until(lambda: any((small / "bags").glob("*/*.mcap")), WAIT_S), recorder.failure()
+        [path] = (small / "bags").glob("*/*.mcap")
+        bag = path.parent
         assert ros_client.spin_until(lambda: messages_readable(path) > 0, WAIT_S), recorder.failure()
         fill(small)
         code, stderr = recorder.wait(EXIT_TIMEOUT_S)
