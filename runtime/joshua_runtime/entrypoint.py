@@ -8,10 +8,14 @@ format version, and runs the class the node-type registry names for the node's t
 Exit codes (`joshua_core.exit_codes`): 0 clean stop, 1 runtime failure, 2 unusable settings, 3 device
 failure, 6 data lost (the node could not save data it had taken in).
 
+A node that crashes in native code (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT) prints the Python stack of
+each of its threads first (faulthandler), so the supervisor's log says where.
+
 Once a node has run, `run_node` ends the process itself (process_end.py): the DDS library's
 teardown at interpreter exit alone takes 0.2-0.4 s, too much for the 0.5 s shutdown contract.
 """
 
+import faulthandler
 import importlib
 import sys
 
@@ -39,6 +43,7 @@ def run_node(literal: dict, exit_process: bool = True) -> int:
     """
     from joshua_runtime.stop_signal import StopRequested, StopSignal
 
+    faulthandler.enable()
     stop = StopSignal().install()  # before the imports: a node may be stopped while it loads rclpy or more
     name = literal.get("name", "?") if isinstance(literal, dict) else "?"
     try:
