@@ -3,6 +3,8 @@
 Shared by the runtime test suites (importable from every test as testsupport.node_process).
 """
 
+import os
+import select
 import signal
 import subprocess
 import sys
@@ -72,6 +74,20 @@ class NodeProcess:
     def stderr_text(self) -> str:
         """What the node wrote to stderr so far (only with `stderr_path`)."""
         return self.stderr_path.read_text(errors="replace") if self.stderr_path.exists() else ""
+
+    def read_stderr_until(self, text: str, timeout: float = NODE_EXIT_TIMEOUT_S) -> str:
+        """Read the node's piped stderr until `text` appears; what was read (gone from what `stop` returns).
+        Fails with it when the node exits first or time runs out."""
+        deadline, seen = time.monotonic() + timeout, b""
+        stderr = self.process.stderr.fileno()
+        while text.encode() not in seen:
+            remaining = deadline - time.monotonic()
+            assert remaining > 0, f"no {text!r} from the node within {timeout} s: {seen.decode(errors='replace')}"
+            if select.select([stderr], [], [], remaining)[0]:
+                chunk = os.read(stderr, 4096)
+                assert chunk, f"the node exited before {text!r}: {seen.decode(errors='replace')}"
+                seen += chunk
+        return seen.decode(errors="replace")
 
     def stop(self, signum=signal.SIGINT) -> tuple[int, float, str]:
         """Send `signum`; return (exit code, seconds until exit, stderr)."""

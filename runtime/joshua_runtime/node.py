@@ -28,7 +28,7 @@ from joshua_runtime.ros_teardown import leave_ros
 from joshua_runtime.stop_signal import SignalWake, StopRequested, StopSignal
 
 # The longest an idle node's loop waits before it looks at its stop flag anyway (a signal wakes it at once).
-IDLE_WAIT_S = 5.0
+IDLE_WAIT_S = 2.0
 # Topics every rclpy node has; not part of what a node serves.
 INFRASTRUCTURE_TOPICS = ("/rosout", "/parameter_events")
 

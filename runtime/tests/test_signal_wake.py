@@ -6,7 +6,6 @@ answered a stop late.
 """
 
 import os
-import select
 import signal
 import subprocess
 import sys
@@ -77,19 +76,6 @@ def test_close_ends_the_thread_while_a_forked_child_holds_the_pipe_open():
     assert (done.returncode, done.stdout) == (0, "closed False -1\n"), done.stderr
 
 
-def wait_for_ready_line(node) -> None:
-    """Read the node's stderr until its ready line; fails with its output when it exits or time runs out."""
-    deadline, seen = time.monotonic() + READY_TIMEOUT_S, b""
-    stderr = node.process.stderr.fileno()
-    while b"ready:" not in seen:
-        remaining = deadline - time.monotonic()
-        assert remaining > 0, f"no ready line within {READY_TIMEOUT_S} s: {seen.decode(errors='replace')}"
-        if select.select([stderr], [], [], remaining)[0]:
-            chunk = os.read(stderr, 4096)
-            assert chunk, f"the node exited before it was ready: {seen.decode(errors='replace')}"
-            seen += chunk
-
-
 def test_a_node_with_nothing_to_do_for_seconds_stops_within_the_contract(start_node):
     settings = compiled_node(
         'name: "idle" type: MOCK_ENCODER_PUBLISHER topic_name: "/idle/joint_states" rate_hz: 0.05 '
@@ -97,7 +83,7 @@ def test_a_node_with_nothing_to_do_for_seconds_stops_within_the_contract(start_n
     )
     for signum in (signal.SIGINT, signal.SIGTERM):
         node = start_node(settings)
-        wait_for_ready_line(node)
+        node.read_stderr_until("ready:", READY_TIMEOUT_S)
         time.sleep(IDLE_WAIT_S / 2)  # mid-wait: nothing but the signal ends it sooner
         code, seconds, stderr = node.stop(signum)
         assert code == 0, stderr
