@@ -9,12 +9,11 @@ starts and records how long it takes to see all N. Each node prints the moment i
 (just before rclpy.init), so "discovery" is the time from there to visible, without Python's start.
 Then the same nodes as a built robot, started by its supervisor.py: from the supervisor's start to every node
 visible, its Python nodes forked from the node starter and, for comparison, each in an interpreter of its own
-(--no-node-starter); the goal is all 32 visible within GOAL_S, the max over the runs. Every case runs as the
-machine is ("quiet") and under load (one busy-looping burner process per
-core, at the nodes' priority, started and stopped here); "unseen" counts nodes an observer had not
-seen after OBSERVE_TIMEOUT_S. Then PSS per node (/proc/PID/smaps_rollup) of N
-running nodes, with the profile of processes that carry images (large shared-memory segment) and
-with the profile of the others.
+(--no-node-starter), with the CPU-s a node had used by then; the goal is all 32 visible within GOAL_S, the max
+over the runs. Every case runs as the machine is ("quiet") and under load (one busy-looping burner process per
+core, at the nodes' priority, started and stopped here); "unseen" counts nodes an observer had not seen after
+OBSERVE_TIMEOUT_S. Then PSS per node (/proc/PID/smaps_rollup) of N running nodes, with the profile of processes
+that carry images (large shared-memory segment) and with the profile of the others.
 """
 
 import argparse
@@ -165,8 +164,24 @@ def run_case(count: int, env: dict) -> dict[str, list[float]]:
     }
 
 
-def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) -> float | None:
-    """Seconds from the supervisor's start to all `count` nodes visible (None: some never were)."""
+def node_cpu_s(supervisor: int) -> list[float]:
+    """CPU-s so far (user + system, all threads) of each node the supervisor runs (its children running a node)."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    spent = []
+    for entry in Path("/proc").iterdir():
+        try:
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            command = (entry / "cmdline").read_bytes()
+        except (OSError, IndexError):
+            continue
+        if int(fields[1]) == supervisor and f"/nodes/{NAME}".encode() in command:
+            spent.append((int(fields[11]) + int(fields[12])) / ticks)
+    return spent
+
+
+def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) -> tuple[float | None, float]:
+    """Seconds from the supervisor's start to all `count` nodes visible (None: some never were), and the mean
+    CPU-s a node had used by then."""
     from google.protobuf import text_format
 
     out = directory / f"robot{count}"
@@ -178,27 +193,32 @@ def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) 
     started = time.monotonic()
     try:
         seen = seen_times(observer, count)
+        spent = node_cpu_s(supervisor.popen.pid)
     finally:
         observer.stop()
         supervisor.stop()
-    return max(seen.values()) - started if len(seen) == count else None
+    return (max(seen.values()) - started if len(seen) == count else None), statistics.fmean(spent or [0.0])
 
 
 def supervised_cases(sizes: list[int], runs: int, env: dict, directory: Path) -> None:
-    print(f"supervisor.py start -> all visible, seconds, max of {runs} run(s); goal for 32 nodes: {GOAL_S} s")
-    print(f"{'load':<6} {'nodes':>5} {'node starter':>13} {'own interpreter':>16} {'ratio':>6}")
+    print(f"supervisor.py start -> all visible, seconds, max of {runs} run(s); goal for 32 nodes: {GOAL_S} s;")
+    print("CPU-s a node used by then (mean over the runs), forked from the node starter / in its own interpreter")
+    print(f"{'load':<6} {'nodes':>5} {'node starter':>13} {'own interpreter':>16} {'ratio':>6} {'CPU-s/node':>12}")
     for busy in (False, True):
         for count in sizes:
-            times = {True: [], False: []}
+            times, cpu = {True: [], False: []}, {True: [], False: []}
             with cpu_load(busy):
                 for _ in range(runs):
                     for starter in (True, False):  # taking turns, so that both see the same machine
-                        times[starter].append(supervised_visible_s(count, env, directory, starter))
+                        seconds, node_cpu = supervised_visible_s(count, env, directory, starter)
+                        times[starter].append(seconds)
+                        cpu[starter].append(node_cpu)
             worst = {key: None if None in values else max(values) for key, values in times.items()}
             shown = {key: "unseen" if value is None else f"{value:.2f}" for key, value in worst.items()}
             ratio = f"{worst[False] / worst[True]:.2f}" if None not in worst.values() else "-"
+            spent = f"{statistics.fmean(cpu[True]):.2f} / {statistics.fmean(cpu[False]):.2f}"
             print(
-                f"{'busy' if busy else 'quiet':<6} {count:>5} {shown[True]:>13} {shown[False]:>16} {ratio:>6}",
+                f"{'busy' if busy else 'quiet':<6} {count:>5} {shown[True]:>13} {shown[False]:>16} {ratio:>6} {spent:>12}",
                 flush=True,
             )
 
