@@ -11,6 +11,7 @@ ANSIBLE_DIR = "ansible"
 INVENTORY = "inventory.yml"
 DEPLOY_PLAYBOOK = "deploy.yml"
 ROLLBACK_PLAYBOOK = "rollback.yml"
+SSH_PORT = 22  # Ansible's, when the inventory names none
 
 
 @dataclass(frozen=True)
@@ -21,6 +22,7 @@ class Robot:
     robot: str  # the robot it is (all of a robot's hosts are rolled out together)
     address: str
     release: str  # 12 hex digits
+    port: int = SSH_PORT  # its SSH port
 
 
 @dataclass(frozen=True)
@@ -64,7 +66,13 @@ def read_inventory(out: Path) -> Inventory:
         (fleet, group), *_ = document["all"]["children"].items()
         settings, hosts = group["vars"], group["hosts"]
         robots = tuple(
-            Robot(name, str(v["joshua_robot"]), str(v["ansible_host"]), str(v["joshua_release"]))
+            Robot(
+                name,
+                str(v["joshua_robot"]),
+                str(v["ansible_host"]),
+                str(v["joshua_release"]),
+                int(v.get("ansible_port", SSH_PORT)),
+            )
             for name, v in hosts.items()
         )
         return Inventory(

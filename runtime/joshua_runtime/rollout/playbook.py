@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from joshua_runtime.errors import SettingsError
-from joshua_runtime.rollout.inventory import Inventory
+from joshua_runtime.rollout.inventory import Inventory, Robot
 
 # Ansible settings a rollout uses unless the environment says otherwise: plain text for the log, and one
 # SSH round trip per module (pipelining).
@@ -70,16 +70,20 @@ def read_outcome(path: Path) -> Outcome | None:
         return None
 
 
-def missing_outcome(robot: str, output: str, exit_code: int) -> Outcome:
-    """What ansible's output says about a robot that left no outcome."""
+def missing_outcome(robot: Robot, output: str, exit_code: int) -> Outcome:
+    """What ansible's output says about a robot that left no outcome. Where Ansible's words do not say which
+    address and port it could not reach (a connection that broke, rather than one refused), they are added."""
     for match in _UNREACHABLE.finditer(output):
-        if match.group("robot") == robot:
+        if match.group("robot") == robot.name:
             try:
                 message = json.loads(match.group("result")).get("msg", "unreachable")
             except ValueError:
                 message = "unreachable"
-            return Outcome(robot, False, "connect", " ".join(str(message).split()))
-    return Outcome(robot, False, "ansible", f"ansible-playbook exited {exit_code} without an outcome for it")
+            message = " ".join(str(message).split())
+            if f"port {robot.port}" not in message:
+                message = f"ssh to {robot.address} port {robot.port}: {message}"
+            return Outcome(robot.name, False, "connect", message)
+    return Outcome(robot.name, False, "ansible", f"ansible-playbook exited {exit_code} without an outcome for it")
 
 
 def run_playbook(
@@ -100,8 +104,8 @@ def run_playbook(
         output = done.stdout.decode("utf-8", "replace")
         log.write(output)
         log.flush()
-        outcomes = {}
+        outcomes, computers = {}, {entry.name: entry for entry in inventory.robots}
         for robot in robots:
             found = read_outcome(reports / f"{robot}.json")
-            outcomes[robot] = found or missing_outcome(robot, output, done.returncode)
+            outcomes[robot] = found or missing_outcome(computers[robot], output, done.returncode)
         return outcomes

@@ -48,11 +48,22 @@ def test_a_robot_ansible_could_not_reach_is_told_from_ansibles_own_words():
         'fatal: [arm_2]: UNREACHABLE! => {"changed": false, "msg": "Failed to connect to the host via ssh: '
         'ssh: connect to host 10.0.0.12 port 22: No route to host", "unreachable": true}\n'
     )
-    assert missing_outcome("arm_2", output, 4) == Outcome(
+    assert missing_outcome(ROBOTS[1], output, 4) == Outcome(
         "arm_2", False, "connect", "Failed to connect to the host via ssh: ssh: connect to host 10.0.0.12 port 22: "
         "No route to host"
     )  # fmt: skip
-    assert missing_outcome("arm_1", output, 4).message == "ansible-playbook exited 4 without an outcome for it"
+    assert missing_outcome(ROBOTS[0], output, 4).message == "ansible-playbook exited 4 without an outcome for it"
+
+
+def test_a_broken_connection_is_told_with_the_address_and_port_ansible_left_out():
+    output = (
+        'fatal: [arm_1]: UNREACHABLE! => {"changed": false, "msg": "Task failed: Data could not be sent to remote '
+        'host \'10.0.0.11\'. Make sure this host can be reached over SSH: [Errno 32] Broken pipe", "unreachable": true}\n'
+    )
+    assert missing_outcome(ROBOTS[0], output, 4).message == (
+        "ssh to 10.0.0.11 port 22: Task failed: Data could not be sent to remote host '10.0.0.11'. "
+        "Make sure this host can be reached over SSH: [Errno 32] Broken pipe"
+    )
 
 
 def test_each_robot_ends_with_one_line():
