@@ -37,6 +37,7 @@ def start_python(env: dict, *args: str, stderr=subprocess.PIPE) -> subprocess.Po
 
 
 NODE_STOP_TIMEOUT_S = 5.0
+SHUTDOWN_CONTRACT_S = 0.5  # every node exits within this after SIGINT/SIGTERM (DESIGN.md)
 NODE_EXIT_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
 
 

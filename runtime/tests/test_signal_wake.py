@@ -15,12 +15,11 @@ import time
 from joshua_runtime.node import IDLE_WAIT_S
 from joshua_runtime.stop_signal import SignalWake
 from testsupport.compiled_settings import compiled_node
+from testsupport.node_process import SHUTDOWN_CONTRACT_S
 
 LONG_WAIT_S = 30.0  # the executor's timeout: a wait that ends sooner was ended by the signal
 SIGNAL_AFTER_S = 0.3
 WOKEN_WITHIN_S = 5.0  # generous for a busy machine, far below LONG_WAIT_S
-READY_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
-SHUTDOWN_CONTRACT_S = 0.5  # every node exits within this after SIGINT/SIGTERM (DESIGN.md)
 
 
 def test_a_signal_ends_the_executors_wait_and_its_handler_runs_then(ros_domain):
@@ -83,7 +82,7 @@ def test_a_node_with_nothing_to_do_for_seconds_stops_within_the_contract(start_n
     )
     for signum in (signal.SIGINT, signal.SIGTERM):
         node = start_node(settings)
-        node.read_stderr_until("ready:", READY_TIMEOUT_S)
+        node.read_stderr_until("ready:")
         time.sleep(IDLE_WAIT_S / 2)  # mid-wait: nothing but the signal ends it sooner
         code, seconds, stderr = node.stop(signum)
         assert code == 0, stderr

@@ -10,7 +10,6 @@ from testsupport.ros_client import RosClient
 
 NODE_START_TIMEOUT_S = 30.0  # a cold rclpy process on a busy 2-core machine
 MESSAGE_TIMEOUT_S = 15.0
-SHUTDOWN_CONTRACT_S = 0.5  # every node exits within this after SIGINT/SIGTERM (DESIGN.md)
 
 # The QoS joshuac gives camera and lidar publishers, and every other node, when the description sets none.
 SENSOR_QOS = {"history": "KEEP_LAST", "depth": 5, "reliability": "BEST_EFFORT", "durability": "VOLATILE"}

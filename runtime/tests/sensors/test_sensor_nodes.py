@@ -18,7 +18,6 @@ from sensor_support import (
     DEFAULT_QOS,
     NODE_START_TIMEOUT_S,
     SENSOR_QOS,
-    SHUTDOWN_CONTRACT_S,
     SO100_JOINTS,
     collect,
     publishers,
@@ -32,6 +31,7 @@ from joshua_runtime.nodes.mock_camera_publisher import SCROLL_PX, gradient, patt
 from testsupport.compiled_settings import compiled_node
 from testsupport.joshuac_cli import ROOT
 from testsupport.mjpeg_server import MjpegServer
+from testsupport.node_process import SHUTDOWN_CONTRACT_S
 
 RELIABLE_QOS = {"history": "KEEP_LAST", "depth": 3, "reliability": "RELIABLE", "durability": "TRANSIENT_LOCAL"}
 
