@@ -29,6 +29,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from support.described_nodes import PYTHON, compiled_settings, write_fastdds_profiles
+from support.process_usage import cpu_seconds
 from support.ros_env import bench_environment
 
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
@@ -166,16 +167,14 @@ def run_case(count: int, env: dict) -> dict[str, list[float]]:
 
 def node_cpu_s(supervisor: int) -> list[float]:
     """CPU-s so far (user + system, all threads) of each node the supervisor runs (its children running a node)."""
-    ticks = os.sysconf("SC_CLK_TCK")
     spent = []
     for entry in Path("/proc").iterdir():
         try:
-            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
-            command = (entry / "cmdline").read_bytes()
-        except (OSError, IndexError):
+            parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            if parent == supervisor and f"/nodes/{NAME}".encode() in (entry / "cmdline").read_bytes():
+                spent.append(cpu_seconds(int(entry.name)))
+        except (OSError, IndexError, ValueError):
             continue
-        if int(fields[1]) == supervisor and f"/nodes/{NAME}".encode() in command:
-            spent.append((int(fields[11]) + int(fields[12])) / ticks)
     return spent
 
 
