@@ -88,14 +88,16 @@ def test_a_bag_holds_every_topic_with_its_definitions_and_splits_by_duration(sta
     assert info["storage_identifier"] == "mcap"
     records = [record for name in files for record in decoded(bag / name)]
     assert info["message_count"] == len(records) == sum(f["message_count"] for f in info["files"])
-    with open(bag / files[0], "rb") as stream:
-        reader = make_reader(stream)
-        assert reader.get_header().profile == "ros2"
-        summary = reader.get_summary()
-        assert {s.encoding for s in summary.schemas.values()} == {"ros2msg"}
-        assert {c.message_encoding for c in summary.channels.values()} == {"cdr"}
-        tf_schema = next(s for s in summary.schemas.values() if s.name == "tf2_msgs/msg/TFMessage")
-        assert b"MSG: geometry_msgs/TransformStamped" in tf_schema.data
+    tf_schemas = []
+    for name in files:  # a busy machine may deliver the first transform after the first file's second
+        with open(bag / name, "rb") as stream:
+            reader = make_reader(stream)
+            assert reader.get_header().profile == "ros2"
+            summary = reader.get_summary()
+            assert {s.encoding for s in summary.schemas.values()} == {"ros2msg"}
+            assert {c.message_encoding for c in summary.channels.values()} == {"cdr"}
+            tf_schemas += [s for s in summary.schemas.values() if s.name == "tf2_msgs/msg/TFMessage"]
+    assert tf_schemas and all(b"MSG: geometry_msgs/TransformStamped" in schema.data for schema in tf_schemas)
 
     recorded_tf = [m for topic, schema, m in records if topic == OUTSIDE]
     assert [t.transforms[0].transform.translation.x for t in recorded_tf] == [
