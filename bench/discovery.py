@@ -35,6 +35,7 @@ from support.ros_env import bench_environment
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH
 from joshua_codegen.plan import plan
 from joshua_codegen.render import render
+from joshua_codegen.supervisor.containment import children_of
 from joshua_codegen.write import write_tree
 from joshua_core.schema import RobotDescription
 
@@ -168,19 +169,18 @@ def run_case(count: int, env: dict) -> dict[str, list[float]]:
 def node_cpu_s(supervisor: int) -> list[float]:
     """CPU-s so far (user + system, all threads) of each node the supervisor runs (its children running a node)."""
     spent = []
-    for entry in Path("/proc").iterdir():
+    for child in children_of(supervisor):
         try:
-            parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
-            if parent == supervisor and f"/nodes/{NAME}".encode() in (entry / "cmdline").read_bytes():
-                spent.append(cpu_seconds(int(entry.name)))
-        except (OSError, IndexError, ValueError):
+            if f"/nodes/{NAME}".encode() in Path(f"/proc/{child}/cmdline").read_bytes():
+                spent.append(cpu_seconds(child))
+        except OSError:  # gone meanwhile
             continue
     return spent
 
 
 def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) -> tuple[float | None, float]:
     """Seconds from the supervisor's start to all `count` nodes visible (None: some never were), and the mean
-    CPU-s a node had used by then."""
+    CPU-s a node had used by then (nan: no node process was found)."""
     from google.protobuf import text_format
 
     out = directory / f"robot{count}"
@@ -196,7 +196,9 @@ def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) 
     finally:
         observer.stop()
         supervisor.stop()
-    return (max(seen.values()) - started if len(seen) == count else None), statistics.fmean(spent or [0.0])
+    return (max(seen.values()) - started if len(seen) == count else None), (
+        statistics.fmean(spent) if spent else float("nan")
+    )
 
 
 def supervised_cases(sizes: list[int], runs: int, env: dict, directory: Path) -> None:
