@@ -42,7 +42,7 @@ def test_a_signal_ends_the_executors_wait_and_its_handler_runs_then(ros_domain):
         returned = time.monotonic()
         timer.join()
         assert returned - started < WOKEN_WITHIN_S, f"the wait ended {returned - started:.1f} s after it began"
-        assert handled and handled[0] >= returned - WOKEN_WITHIN_S, "the handler did not run once the wait ended"
+        assert handled and started <= handled[0] <= returned, "the handler did not run while spin_once returned"
     finally:
         wake.close()
         signal.signal(signal.SIGUSR1, previous)
