@@ -27,7 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from support.foxglove_peer import bridge_cpu_percent, foxglove_block  # noqa: E402
-from support.process_usage import cpu_seconds, rss_mib  # noqa: E402
+from support.process_usage import cpu_seconds, descendants, rss_mib, tree_cpu_seconds  # noqa: E402
 from support.ros_env import bench_environment  # noqa: E402
 
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
@@ -190,20 +190,26 @@ def measure_browser(port: int, token: str, seconds: float, warm_up_s: float) -> 
         page.wait_for_selector("[data-testid^='camera-']", timeout=30_000)
         time.sleep(warm_up_s)
         page.evaluate("window.__latency = {joints: [], image: []}")
-        cpu = server_cpu_percent_of_run(page, seconds)
+        chromium = [pid for pid in descendants(os.getpid()) if runs_chromium(pid)]
+        page_before, server_before = tree_cpu_seconds(chromium), cpu_seconds(SERVER_PID[0])
+        page.wait_for_timeout(seconds * 1000)
+        page_cpu = 100.0 * (tree_cpu_seconds(chromium) - page_before) / seconds
+        server_cpu = 100.0 * (cpu_seconds(SERVER_PID[0]) - server_before) / seconds
         latency = page.evaluate("window.__latency")
         browser.close()
-    return {"latency": latency, "server_cpu": cpu}
-
-
-def server_cpu_percent_of_run(page, seconds: float) -> float:
-    pid = SERVER_PID[0]
-    before = cpu_seconds(pid)
-    page.wait_for_timeout(seconds * 1000)
-    return 100.0 * (cpu_seconds(pid) - before) / seconds
+    return {"latency": latency, "server_cpu": server_cpu, "page_cpu": page_cpu}
 
 
 SERVER_PID = [0]
+
+
+def runs_chromium(pid: int) -> bool:
+    """Whether process `pid` is one of Chromium's (browser, renderer, GPU, utility), not Playwright's driver."""
+    try:
+        program = os.readlink(f"/proc/{pid}/exe")  # Chromium rewrites its command line; its executable stays
+    except OSError:
+        return False
+    return Path(program).name == Path(CHROMIUM).name
 
 
 def stalled_client(port: int, token: str, pid: int, seconds: float) -> list[float]:
@@ -298,7 +304,8 @@ def report(port: int, token: str, pid: int, seconds: tuple[float, float, float],
         )
     print(
         f"server CPU with 1 browser: {browser['server_cpu']:.1f} % "
-        f"(+{browser['server_cpu'] - idle:.1f} % for the client)"
+        f"(+{browser['server_cpu'] - idle:.1f} % for the client); the page itself: Chromium's processes "
+        f"{browser['page_cpu']:.1f} % of a core"
     )
     bridge_cpu, bridge_rates, bridge_latency = bridge()
     rates = ", ".join(f"{topic} {rate:.1f}/s" for topic, rate in bridge_rates.items())

@@ -3,6 +3,8 @@
 import os
 from pathlib import Path
 
+from joshua_codegen.supervisor.containment import children_of
+
 CLK_TCK = os.sysconf("SC_CLK_TCK")
 
 
@@ -18,3 +20,24 @@ def rss_mib(pid: int) -> float:
         if line.startswith("VmRSS:"):
             return int(line.split()[1]) / 1024
     return 0.0
+
+
+def descendants(pid: int) -> list[int]:
+    """Every process below `pid` (its children, theirs, and so on) as they are now."""
+    found, waiting = [], children_of(pid)
+    while waiting:
+        child = waiting.pop()
+        found.append(child)
+        waiting.extend(children_of(child))
+    return found
+
+
+def tree_cpu_seconds(pids: list[int]) -> float:
+    """User and system CPU seconds of those of `pids` still running."""
+    total = 0.0
+    for pid in pids:
+        try:
+            total += cpu_seconds(pid)
+        except OSError:
+            continue
+    return total

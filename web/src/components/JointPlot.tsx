@@ -1,3 +1,4 @@
+import { memo } from "react";
 import { formatValue } from "../format";
 import { MIN_SPAN, PLOT_WINDOW_S, type Quantity, UNITS, valueRange } from "../plotScale";
 import type { JointStateEvent } from "../types";
@@ -9,8 +10,9 @@ const HEIGHT = 120;
 const MARGIN = 4;
 
 /** One quantity of every joint over the last PLOT_WINDOW_S seconds (time on the server's clock, `now`
- * at the right edge), one line per joint, broken where no message came for `gapS`; greyed out when `stale`. */
-export function JointPlot({ history, quantity, now, gapS, stale = false }: {
+ * at the right edge), one line per joint, broken where no message came for `gapS`; greyed out when `stale`.
+ * Drawn again only when one of these changes. */
+export const JointPlot = memo(function JointPlot({ history, quantity, now, gapS, stale = false }: {
   history: JointStateEvent[]; quantity: Quantity; now: number; gapS: number; stale?: boolean;
 }) {
   const shown = history.filter((event) => now - event.server_time_s <= PLOT_WINDOW_S);
@@ -61,4 +63,4 @@ export function JointPlot({ history, quantity, now, gapS, stale = false }: {
       </div>
     </figure>
   );
-}
+});

@@ -6,7 +6,8 @@ import type { ServerEvents } from "../types";
 
 const HubContext = createContext<EventHub | null>(null);
 
-const AGE_TICK_MS = 250; // how often shown ages move on
+/** How often shown ages move on, and how often the plots are drawn again. */
+export const AGE_TICK_MS = 250;
 
 /** Holds the page's event stream; it connects once a component asks for it (useEventStream). */
 export function EventHubProvider({ hub, children }: { hub?: EventHub; children: ReactNode }) {
@@ -24,14 +25,27 @@ export function useEventStream(enabled: boolean): void {
   }, [hub, enabled]);
 }
 
-/** The server's clock (seconds, Unix time), moving on every `periodMs` while the component is mounted. */
+/** The server's clock (seconds, Unix time) at the last of its ticks, every `periodMs` while the component is
+ * mounted: the same value until the next tick, however often the component is drawn meanwhile. */
+export function useServerTick(periodMs = AGE_TICK_MS): number {
+  const hub = useContext(HubContext);
+  const [now, setNow] = useState(() => serverNow(hub));
+  useEffect(() => {
+    const timer = setInterval(() => setNow(serverNow(hub)), periodMs);
+    return () => clearInterval(timer);
+  }, [hub, periodMs]);
+  return now;
+}
+
+/** The server's clock (seconds, Unix time) as the component is drawn, which happens at least every `periodMs`
+ * while it is mounted. */
 export function useServerNow(periodMs = AGE_TICK_MS): number {
   const hub = useContext(HubContext);
-  const [, setTick] = useState(0);
-  useEffect(() => {
-    const timer = setInterval(() => setTick((n) => n + 1), periodMs);
-    return () => clearInterval(timer);
-  }, [periodMs]);
+  useServerTick(periodMs);
+  return serverNow(hub);
+}
+
+function serverNow(hub: EventHub | null): number {
   return hub ? hub.serverNow() : Date.now() / 1000;
 }
 

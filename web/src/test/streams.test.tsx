@@ -4,7 +4,7 @@ import { App } from "../components/App";
 import { CameraView } from "../components/CameraView";
 import { JointPlot } from "../components/JointPlot";
 import { JointStatePanel } from "../components/JointStatePanel";
-import { EventHubProvider } from "../hooks/EventHubContext";
+import { AGE_TICK_MS, EventHubProvider } from "../hooks/EventHubContext";
 import { staleness } from "../hooks/staleness";
 import { JOINT_REFRESH_MS } from "../hooks/streams";
 import { valueRange } from "../plotScale";
@@ -75,7 +75,7 @@ describe("JointPlot", () => {
 });
 
 describe("JointStatePanel", () => {
-  it("shows a burst of joint states once per refresh, the first at once, and plots every one", () => {
+  it("shows a burst of joint states once per refresh, the first at once, and plots every one at the clock's tick", () => {
     vi.useFakeTimers({ toFake: ["setTimeout", "clearTimeout", "setInterval", "clearInterval", "performance", "Date"] });
     const hub = new EventHub("/api/events", () => ({}));
     const stream: StreamInfo = { topic: "/j", message_type: "sensor_msgs/msg/JointState", kind: "joints", stale_after_s: 1.5 };
@@ -83,11 +83,14 @@ describe("JointStatePanel", () => {
     const start = Date.now() / 1000;
     for (let i = 0; i < 20; i++) send(hub, "joints", joints(start + i * 0.001, i + 1));
     const position = () => screen.getByTestId("joint-/j-a-position").textContent;
+    const plotted = () => container.querySelector("[data-testid=joint-plot-position] path")!.getAttribute("d")!;
     expect(position()).toBe("1"); // the first of the burst at once; the other 19 wait for the refresh
+    expect(plotted().match(/[ML]/g)).toHaveLength(1);
     act(() => vi.advanceTimersByTime(JOINT_REFRESH_MS));
     expect(position()).toBe("20");
-    const plotted = container.querySelector("[data-testid=joint-plot-position] path")!.getAttribute("d")!;
-    expect(plotted.match(/[ML]/g)).toHaveLength(20);
+    expect(plotted().match(/[ML]/g)).toHaveLength(1); // the plots wait for the clock's next tick
+    act(() => vi.advanceTimersByTime(AGE_TICK_MS - JOINT_REFRESH_MS));
+    expect(plotted().match(/[ML]/g)).toHaveLength(20);
   });
 });
 
