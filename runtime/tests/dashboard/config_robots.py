@@ -16,6 +16,7 @@ CPP_BIN_DIR = ROOT / "build" / "bin"
 EMULATOR = [sys.executable, "-m", "joshua_runtime.emulators.cli"]
 SERVO_IDS = "1,2,3,4,5,6"
 HUB_ADDRESS = "F4:B8:5E:00:00:01"  # the emulated hub's (joshua_runtime.emulators.pybricks)
+VIDEO_WIDTH, VIDEO_HEIGHT, VIDEO_FRAMES = 160, 120, 20  # the video file the leader-follower camera reads
 EMULATOR_STOP_TIMEOUT_S = 10
 
 
@@ -52,19 +53,23 @@ def _stop(process: subprocess.Popen) -> None:
 
 
 def _leader_follower_devices(directory: Path, stack: ExitStack) -> list[str]:
-    """Two emulated servo buses, a video file for the camera, the recorder's dataset under `directory`."""
+    """Two emulated servo buses, a video file for the camera (which publishes it at the file's size, as a camera
+    of that size would; scaled up to the description's 640x480, every frame cost the camera, the recorder, its
+    PNG writer and the page 16 times the work), the recorder's dataset under `directory`."""
     leader, follower = directory / "ttyLEADER", directory / "ttyFOLLOWER"
     for link in (leader, follower):
         _start(stack, [*EMULATOR, "sts3215", "--ids", SERVO_IDS, "--link", str(link)])
     video = directory / "camera.avi"
-    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 10, (160, 120))
-    for frame in range(20):
-        writer.write(np.full((120, 160, 3), 10 * frame, np.uint8))
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 10, (VIDEO_WIDTH, VIDEO_HEIGHT))
+    for frame in range(VIDEO_FRAMES):
+        writer.write(np.full((VIDEO_HEIGHT, VIDEO_WIDTH, 3), 10 * frame, np.uint8))
     writer.release()
     return [
         f"encoder_publisher.serial_port={leader}",
         f"actuator_subscriber.serial_port={follower}",
         f"camera_publisher.video_source={video}",
+        f"camera_publisher.width={VIDEO_WIDTH}",
+        f"camera_publisher.height={VIDEO_HEIGHT}",
         f"data_subscriber.output_directory={directory / 'episodes'}",
         f"cpp_bin_dir={CPP_BIN_DIR}",
     ]
