@@ -5,6 +5,7 @@ Shared helpers live in the package testsupport/ beside this file, importable fro
 """
 
 import os
+import sys
 
 import pytest
 
@@ -17,6 +18,11 @@ pytest_plugins = [
     "testsupport.cpu_durations",  # --cpu-durations=N: the tests that cost the most CPU
     "testsupport.shm_leftovers",  # Fast DDS files the tests' killed processes left in /dev/shm go at the end
 ]
+
+# pytest keeps the test modules it rewrites (for its assertions) compiled in __pycache__, as set-up keeps the
+# project's; where PYTHONDONTWRITEBYTECODE is set it would rewrite and compile all of them again in every worker
+# of every run (7.5 s of CPU each). Processes the tests start keep the environment's setting.
+sys.dont_write_bytecode = False
 
 # MuJoCo reads MUJOCO_GL once, at its first import in a process; tests that render in this process (the
 # training demonstrations) need EGL, as there is no display. Node processes choose their own.

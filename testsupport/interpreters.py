@@ -3,6 +3,7 @@ of joshuac, or of the runtime with its locked dependencies, on them."""
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import subprocess
@@ -44,6 +45,7 @@ def _candidates() -> list[Path]:
     return found
 
 
+@functools.cache  # a pyenv shim takes 0.2-0.3 s to answer; each test module that asks would run them all again
 def _version(interpreter: Path) -> tuple[int, int] | None:
     try:
         result = subprocess.run(

@@ -9,7 +9,6 @@ import numpy as np
 from joshua_runtime.sim import arm_task as arm
 from joshua_runtime.train import reach_env
 from joshua_runtime.train.reach_batch import RolloutWorlds
-from joshua_runtime.train.reach_vec_env import ReachVecEnv
 
 ACTIONS = 30
 WORLDS = 3
@@ -38,6 +37,10 @@ def test_each_world_follows_the_single_environment_step_for_step():
 
 
 def test_every_episode_ends_after_its_steps_with_the_terminal_observation():
+    # Imported here, not at the top: stable-baselines3 imports torch (3 s), which every worker of the suite
+    # would otherwise pay when it collects this module.
+    from joshua_runtime.train.reach_vec_env import ReachVecEnv
+
     vec = ReachVecEnv(RolloutWorlds(WORLDS), seed=1)
     observations = vec.reset()
     assert observations.shape == (WORLDS, reach_env.OBSERVATION_SIZE) and observations.dtype == np.float32
