@@ -27,7 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from support.foxglove_peer import bridge_cpu_percent, foxglove_block  # noqa: E402
-from support.process_usage import cpu_seconds, descendants, rss_mib, tree_cpu_seconds  # noqa: E402
+from support.process_usage import cpu_seconds, cpu_seconds_of, descendants, rss_mib  # noqa: E402
 from support.ros_env import bench_environment  # noqa: E402
 
 from joshua_codegen.emitters.fastdds import IMAGES_PROFILE_PATH  # noqa: E402
@@ -191,9 +191,9 @@ def measure_browser(port: int, token: str, seconds: float, warm_up_s: float) -> 
         time.sleep(warm_up_s)
         page.evaluate("window.__latency = {joints: [], image: []}")
         chromium = [pid for pid in descendants(os.getpid()) if runs_chromium(pid)]
-        page_before, server_before = tree_cpu_seconds(chromium), cpu_seconds(SERVER_PID[0])
+        page_before, server_before = cpu_seconds_of(chromium), cpu_seconds(SERVER_PID[0])
         page.wait_for_timeout(seconds * 1000)
-        page_cpu = 100.0 * (tree_cpu_seconds(chromium) - page_before) / seconds
+        page_cpu = 100.0 * (cpu_seconds_of(chromium) - page_before) / seconds
         server_cpu = 100.0 * (cpu_seconds(SERVER_PID[0]) - server_before) / seconds
         latency = page.evaluate("window.__latency")
         browser.close()

@@ -32,8 +32,8 @@ def descendants(pid: int) -> list[int]:
     return found
 
 
-def tree_cpu_seconds(pids: list[int]) -> float:
-    """User and system CPU seconds of those of `pids` still running."""
+def cpu_seconds_of(pids: list[int]) -> float:
+    """User and system CPU seconds of those of `pids` still running, summed."""
     total = 0.0
     for pid in pids:
         try:
