@@ -34,6 +34,7 @@ import tempfile
 from functools import cache
 from pathlib import Path
 
+from joshua_codegen import wheel_cache
 from joshua_codegen.model import Robot
 from joshua_codegen.ownership import STAMP
 from joshua_codegen.placement import ROS_SYSTEM_SETUP
@@ -45,7 +46,7 @@ from joshua_core.node_types import spec
 from joshua_core.settings import FORMAT_VERSION
 
 SOURCE_ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("joshua-core", "joshua-runtime")
+PACKAGES = {"joshua-core": "core", "joshua-runtime": "runtime"}  # the workspace members the runtime is made of
 RUNTIME_PACKAGE = "joshua-runtime"
 INSTALL_SCRIPT = "install.sh"
 WHEEL_DIR = "wheels"
@@ -100,11 +101,18 @@ def uv(*arguments: str) -> str:
 
 @cache
 def wheels() -> dict[str, bytes]:
-    """{wheel file name: content} of the workspace packages the runtime is made of."""
+    """{wheel file name: content} of the workspace packages the runtime is made of (those last built from the
+    same sources when the user's cache holds them: `wheel_cache`)."""
+    digest = wheel_cache.sources_digest([SOURCE_ROOT / member for member in PACKAGES.values()])
+    kept = wheel_cache.load(digest)
+    if kept:
+        return kept
     with tempfile.TemporaryDirectory(prefix="joshuac-wheels-") as directory:
         for package in PACKAGES:
             uv("build", "--quiet", "--wheel", "--package", package, "--out-dir", directory)
-        return {path.name: path.read_bytes() for path in sorted(Path(directory).glob("*.whl"))}
+        built = {path.name: path.read_bytes() for path in sorted(Path(directory).glob("*.whl"))}
+    wheel_cache.store(digest, built)
+    return built
 
 
 def requirements(robot: Robot, without_ros: bool = False) -> str:
@@ -184,7 +192,7 @@ def bundle_files(robot: Robot) -> dict[str, str | bytes]:
 
 def _check_source_tree() -> None:
     if not (SOURCE_ROOT / "uv.lock").is_file() or not all(
-        (SOURCE_ROOT / d / "pyproject.toml").is_file() for d in ("core", "runtime")
+        (SOURCE_ROOT / member / "pyproject.toml").is_file() for member in PACKAGES.values()
     ):
         raise BundleError(
             f"--bundle builds the runtime from joshuac's source tree, which {SOURCE_ROOT} is not; "
