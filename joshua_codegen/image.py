@@ -75,8 +75,8 @@ def image_files(robot: Robot, prefix: str, files: dict[str, str | bytes]) -> dic
     try:
         binaries = cpp_binaries(robot)
         page = page_files(robot)
-        context = {**files, **bundle_files(robot), **page, **cpp_files(binaries)}
-        context[CONTAINERFILE] = containerfile(robot, prefix, binaries, page=bool(page))
+        written = containerfile(robot, prefix, binaries, page=bool(page))  # a prefix it refuses, before the wheels
+        context = {**files, **bundle_files(robot), **page, **cpp_files(binaries), CONTAINERFILE: written}
     except (BundleError, ContainerfileError) as exc:
         raise ImageError(str(exc)) from exc
     context[CONTAINERIGNORE] = containerignore(robot, [*context, CONTAINERIGNORE, STAMP])
