@@ -65,14 +65,15 @@ def scan(bus, baud_rates=tuple(BAUD_RATE_CODES)) -> ScanResult:
     return ScanResult(servos, shared)
 
 
-def ping_every_id(bus) -> Counter:
-    """Ids answering an addressed PING (a garbled answer counts twice: a shared id)."""
+def ping_every_id(bus, ids=range(proto.MAX_SERVO_ID + 1)) -> Counter:
+    """The ids among `ids` (default: every id) answering an addressed PING (a garbled answer counts twice: a
+    shared id)."""
     transport = bus.transport
     saved = transport.reply_timeout_s, transport.max_retries
     transport.reply_timeout_s, transport.max_retries = SWEEP_REPLY_TIMEOUT_S, SWEEP_RETRIES
     counts = Counter()
     try:
-        for servo_id in range(proto.MAX_SERVO_ID + 1):
+        for servo_id in ids:
             try:
                 transport.transact(proto.encode(servo_id, proto.INST_PING), [Expected(servo_id, 0)])
                 counts[servo_id] = 1

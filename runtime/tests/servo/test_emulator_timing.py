@@ -1,6 +1,7 @@
 """The STS3215 emulator serves at real-time priority (figures: bench/servo_replies.py) and models a USB
 adapter's latency timer; the drivers and tools allow for that latency and for their own thread running late."""
 
+import json
 import os
 import time
 
@@ -10,7 +11,8 @@ from joshua_runtime.drivers import sts3215_protocol as proto
 from joshua_runtime.drivers import sts3215_transport
 from joshua_runtime.drivers.sts3215_transport import REPLY_TIMEOUT_S, WRITE_TIMEOUT_S, Expected, SerialTransport
 from joshua_runtime.servo_tools.bus import open_bus
-from joshua_runtime.servo_tools.scan import ping_every_id, scan
+from joshua_runtime.servo_tools.cli import main
+from joshua_runtime.servo_tools.scan import ping_every_id
 
 FTDI_LATENCY_TIMER_S = 0.016  # an FTDI adapter's default: a short reply waits this long in the chip
 REPLY_LANDS_S = 0.05  # ample time for the emulator to answer one PING
@@ -38,20 +40,23 @@ def test_a_reply_held_by_the_adapters_latency_timer_still_counts(emulators):
         transport.close()
 
 
-def test_scan_sweeps_every_id_through_an_adapter_with_a_latency_timer(emulators):
+def test_scan_pings_every_id_through_an_adapter_with_a_latency_timer_when_the_broadcast_replies_are_garbled(
+    emulators, capsys
+):
     emulator = emulators("ttyFTDISCAN", ids=[3, 200], adapter_latency_s=FTDI_LATENCY_TIMER_S)
-    emulator.corrupt_next_replies(1)  # a garbled broadcast reply: each id is pinged one by one
-    with open_bus(str(emulator.link)) as bus:
-        result = scan(bus, baud_rates=(1_000_000,))
-    assert [servo.id for servo in result.servos] == [3, 200]
-    assert emulator.stats["packets"] > proto.MAX_SERVO_ID
+    emulator.corrupt_next_replies(1)  # the first broadcast reply arrives with a bad checksum
+    code = main(["scan", str(emulator.link), "--json"])
+    out, err = capsys.readouterr()
+    assert (code, err) == (0, "")
+    assert [servo["id"] for servo in json.loads(out)] == [3, 200]
+    assert emulator.stats["packets"] > proto.MAX_SERVO_ID  # one PING per id at the noisy rate
 
 
 def test_the_sweep_asks_a_silent_id_twice(emulators):
     emulator = emulators("ttySWEEP", ids=[3, 200])
     emulator.drop_next_replies(1)  # id 3's first answer is lost on the wire
-    with open_bus(str(emulator.link)) as bus:
-        assert sorted(ping_every_id(bus)) == [3, 200]
+    with open_bus(str(emulator.link)) as bus:  # a sweep of every id is the test above's; a few ids show the retry
+        assert sorted(ping_every_id(bus, ids=[*range(8), 200])) == [3, 200]
 
 
 class LateClock:
