@@ -33,11 +33,26 @@ fi
 # --inexact: the ROS 2 wheels ship setuptools egg-info folders that uv takes for extraneous
 # distributions; removing them would delete rclpy and the message packages themselves.
 # Bytecode is compiled up front: with PYTHONDONTWRITEBYTECODE set, every node process would
-# otherwise compile rclpy, torch and the project from source at each start.
-uv sync --locked --inexact --quiet --compile-bytecode
+# otherwise compile rclpy, torch and the project from source at each start. uv walks the whole
+# environment to do it (1.7 s with nothing to compile), so only after a sync that installed or removed a
+# distribution: that changes site-packages or one of its entries.
+uv sync --locked --inexact --quiet
+compiled=.venv/.bytecode-compiled
+if [ ! -f "$compiled" ] || [ -n "$(find .venv/lib/python*/site-packages -maxdepth 1 -newer "$compiled" -print -quit)" ]; then
+  uv sync --locked --inexact --quiet --compile-bytecode
+  touch "$compiled"
+fi
 .venv/bin/python scripts/build_ros_interfaces.py  # tf2_msgs; a no-op when its stamp is current
 .venv/bin/python -m compileall -q joshua_codegen core/joshua_core runtime/joshua_runtime bench testsupport >/dev/null
-.venv/bin/joshuac build config/robots/so100_leader_follower.pbtxt -o "$(mktemp -d)/warm" >/dev/null 2>&1 || true  # fills the compiled-template cache
+# A build fills the compiled-template cache, unless it is newer than every template (an entry whose template
+# is unchanged is kept as it is, so the directory is touched after the build).
+template_cache=joshua_codegen/_template_cache
+if [ ! -d "$template_cache" ] || [ -n "$(find templates -name '*.j2' -newer "$template_cache" -print -quit)" ]; then
+  warm=$(mktemp -d)
+  .venv/bin/joshuac build config/robots/so100_leader_follower.pbtxt -o "$warm/out" >/dev/null 2>&1 || true
+  rm -rf "$warm"
+  touch "$template_cache"
+fi
 
 # C++ node binaries (build/bin/), compiled against the ROS 2 wheels just installed; a no-op when up to date.
 if ! make --no-print-directory -s -C cpp; then
