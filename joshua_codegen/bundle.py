@@ -103,7 +103,8 @@ def uv(*arguments: str) -> str:
 def wheels() -> dict[str, bytes]:
     """{wheel file name: content} of the workspace packages the runtime is made of (those last built from the
     same sources when the user's cache holds them: `wheel_cache`)."""
-    digest = wheel_cache.sources_digest([SOURCE_ROOT / member for member in PACKAGES.values()])
+    members = [SOURCE_ROOT / member for member in PACKAGES.values()]
+    digest = wheel_cache.sources_digest(members)
     kept = wheel_cache.load(digest)
     if kept:
         return kept
@@ -111,7 +112,8 @@ def wheels() -> dict[str, bytes]:
         for package in PACKAGES:
             uv("build", "--quiet", "--wheel", "--package", package, "--out-dir", directory)
         built = {path.name: path.read_bytes() for path in sorted(Path(directory).glob("*.whl"))}
-    wheel_cache.store(digest, built)
+    if wheel_cache.sources_digest(members) == digest:  # not kept when a source changed while uv built
+        wheel_cache.store(digest, built)
     return built
 
 

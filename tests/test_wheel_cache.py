@@ -2,6 +2,7 @@
 
 import os
 import time
+from pathlib import Path
 
 import pytest
 
@@ -82,3 +83,16 @@ def test_kept_wheels_are_those_uv_builds_again(cache_home):
             wheel.unlink()  # nothing kept: uv builds them again, byte for byte as before
     bundle.wheels.cache_clear()
     assert bundle.wheels() == built
+
+
+def test_wheels_built_while_a_source_changed_are_not_kept(cache_home, monkeypatch):
+    digests = iter(["before", "after"])
+    monkeypatch.setattr(wheel_cache, "sources_digest", lambda members: next(digests))
+
+    def build(*arguments):  # `uv build ... --out-dir DIR`: one wheel in DIR
+        out_dir = Path(arguments[arguments.index("--out-dir") + 1])
+        (out_dir / f"{arguments[arguments.index('--package') + 1]}-0.1.0-py3-none-any.whl").write_bytes(b"wheel")
+
+    monkeypatch.setattr(bundle, "uv", build)
+    assert sorted(bundle.wheels()) == ["joshua-core-0.1.0-py3-none-any.whl", "joshua-runtime-0.1.0-py3-none-any.whl"]
+    assert not cache_home.exists()
