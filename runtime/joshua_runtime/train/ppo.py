@@ -162,10 +162,12 @@ def train(
 
 
 def _model(environments, settings: PpoSettings, seed: int):
-    """A new PPO model with these settings (its weights are replaced when a run continues)."""
+    """A new PPO model with these settings (its weights are replaced when a run continues). Its logger writes
+    nothing: stable-baselines3's default one makes a directory in /tmp at every run and leaves it there."""
     from stable_baselines3 import PPO
+    from stable_baselines3.common.logger import Logger
 
-    return PPO(
+    model = PPO(
         "MlpPolicy",
         environments,
         n_steps=settings.n_steps,
@@ -179,6 +181,8 @@ def _model(environments, settings: PpoSettings, seed: int):
         device="cpu",
         verbose=0,
     )
+    model.set_logger(Logger(folder=None, output_formats=[]))
+    return model
 
 
 def _environments(env_id: str, backend: str, n_envs: int, seed: int, vec_env: str):

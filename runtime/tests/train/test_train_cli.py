@@ -13,10 +13,12 @@ TOOL_TIMEOUT_S = 240
 STEPS = 1024  # one PPO update of 4 environments x 256 steps
 
 
-def run(*args, registry=None, check=True):
+def run(*args, registry=None, check=True, temporary=None):
     env = dict(os.environ)
     if registry is not None:
         env["JOSHUA_MODEL_REGISTRY"] = str(registry)
+    if temporary is not None:
+        env["TMPDIR"] = str(temporary)
     result = subprocess.run(
         [sys.executable, "-m", *args], capture_output=True, text=True, env=env, timeout=TOOL_TIMEOUT_S
     )
@@ -25,7 +27,7 @@ def run(*args, registry=None, check=True):
     return result
 
 
-def train(output, steps):
+def train(output, steps, temporary=None):
     return run(
         "joshua_runtime.train.cli",
         "rl",
@@ -42,12 +44,16 @@ def train(output, steps):
         "--eval-episodes",
         "2",
         "--no-progress",
+        temporary=temporary,
     )
 
 
 def test_rl_checkpoints_resumes_and_is_imported_with_its_lineage(tmp_path):
     output = tmp_path / "run"
-    first = train(output, STEPS)
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    first = train(output, STEPS, temporary)
+    assert not list(temporary.glob("SB3-*"))  # stable-baselines3's default logger made one at every run
     assert "saved PPO policy for so100_reach after 1024 steps" in first.stdout
     assert sorted(p.name for p in (output / "checkpoints").iterdir()) == [
         "ppo_1024_steps.safetensors",
