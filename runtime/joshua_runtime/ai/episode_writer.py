@@ -19,11 +19,10 @@ import json
 import os
 import queue
 import shutil
-import tempfile
 import threading
 from pathlib import Path
 
-from joshua_runtime.ai import staged_directory
+from joshua_runtime.ai import private_cache, staged_directory
 from joshua_runtime.errors import DataLostError, JoshuaError, SettingsError
 
 VIDEO_CODEC = "libsvtav1"
@@ -33,6 +32,7 @@ VIDEO_CODEC = "libsvtav1"
 ENCODER_LOG_VARIABLE = "SVT_LOG"
 QUIET_ENCODER_LOG_LEVEL = "1"
 IMAGE_WRITER_THREADS = 4
+CACHE_PREFIX = "joshua-recorder-cache-"  # the Hugging Face datasets cache of a writer, in /tmp
 # LeRobot's default features, added by LeRobot itself; ignored when comparing with an existing dataset.
 _DEFAULT_FEATURES = ("timestamp", "frame_index", "episode_index", "index", "task_index")
 
@@ -58,7 +58,8 @@ class EpisodeWriter:
         self._task = ""
         self._frames = 0
         self._last_save: tuple[int, int, bool] | None = None  # (episode, frames, had a previous version)
-        self._cache = tempfile.mkdtemp(prefix="joshua-recorder-cache-")
+        # Held under a lock, so that the next writer removes it if this process is killed before close().
+        self._cache, self._cache_lock = private_cache.make(CACHE_PREFIX)
         os.environ.setdefault(ENCODER_LOG_VARIABLE, QUIET_ENCODER_LOG_LEVEL)
         self._import_lerobot()
         self._thread = threading.Thread(target=self._run, name="episode-writer", daemon=True)
@@ -89,7 +90,9 @@ class EpisodeWriter:
         self._commands.put(("close", None))
         self._thread.join()
         staged_directory.drop_previous(self.target)
-        shutil.rmtree(self._cache, ignore_errors=True)
+        if self._cache_lock is not None:
+            private_cache.remove(self._cache, self._cache_lock)
+            self._cache_lock = None
 
     def _import_lerobot(self) -> None:
         """Import LeRobot now: an import in the writing thread would starve the ROS thread for seconds."""
@@ -201,7 +204,8 @@ class EpisodeWriter:
 
     def _clear_cache(self) -> None:
         for entry in Path(self._cache).iterdir():
-            shutil.rmtree(entry, ignore_errors=True)
+            if entry.name != private_cache.LOCK_NAME:
+                shutil.rmtree(entry, ignore_errors=True)
 
     def _open(self):
         """The LeRobotDataset to write the next episode into, in a fresh staging copy."""
