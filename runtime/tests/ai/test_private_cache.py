@@ -22,9 +22,8 @@ time.sleep(600)
 @pytest.fixture
 def temporary(tmp_path, monkeypatch):
     monkeypatch.setenv("TMPDIR", str(tmp_path))
-    monkeypatch.setattr("tempfile.tempdir", None)  # read TMPDIR again
-    yield tmp_path
-    monkeypatch.setattr("tempfile.tempdir", None)
+    monkeypatch.setattr("tempfile.tempdir", None)  # read TMPDIR again; monkeypatch puts the old value back
+    return tmp_path
 
 
 def holder(prefix: str, temporary) -> tuple[subprocess.Popen, str]:
