@@ -2,23 +2,32 @@
 
 Each topic gets one publisher with the QoS its recording stored (bag_qos.py; without one, reliable
 and volatile): a latched topic (transient local) keeps its last messages for subscribers that come
-later, as its original publisher did. Message i is published `(t_i - t_first) / rate` after the
+later, as its original publisher did. A reliable, volatile topic's publisher keeps at least the
+messages of its last REPAIR_WINDOW_S seconds of play: a sample lost on the way to a subscriber on a
+busy machine is sent again when the subscriber asks for it, which is at the writer's next heartbeat
+(every 3 s with Fast DDS's defaults); with the recorded depth (10, say, at 40 messages a second) it
+would already be gone. Subscribers see no difference: history depth is not part of QoS matching. Message i is published `(t_i - t_first) / rate` after the
 first, from `start_s` seconds into the bag; with `loop` the bag starts over after its last message.
 Messages go out serialized, exactly as recorded (header stamps are not rewritten).
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
 from joshua_runtime.bags import bag_qos
-from joshua_runtime.bags.bag_reader import Bag
+from joshua_runtime.bags.bag_reader import Bag, BagTopic
 from joshua_runtime.errors import SettingsError
 from joshua_runtime.messages import message_class
 
 NS_PER_S = 1_000_000_000
 SLEEP_SLICE_S = 0.1  # longest single sleep, so that Ctrl-C is handled at once
+REPAIR_WINDOW_S = 4.0  # how long a reliable, volatile topic's publisher can still send a message again
+REPAIR_DEPTH_MAX = 200  # and at most this many messages of it (200 camera frames of 640x480: 184 MB)
 
 
 @dataclass(frozen=True)
@@ -39,14 +48,27 @@ def chosen_topics(bag: Bag, wanted: list[str]) -> list[str]:
     return list(wanted) or sorted(bag.topics)
 
 
-def create_publishers(node, bag: Bag, topics: list[str]) -> dict:
-    """One publisher per topic, with the recorded QoS; {topic: publisher}."""
+def create_publishers(node, bag: Bag, topics: list[str], rate: float) -> dict:
+    """One publisher per topic, with the recorded QoS (publish_qos); {topic: publisher}."""
     publishers = {}
     for topic in topics:
         recorded = bag.topics[topic]
-        qos = bag_qos.from_yaml(recorded.offered_qos) or bag_qos.fallback()
+        qos = publish_qos(recorded, bag.duration_s, rate)
         publishers[topic] = node.create_publisher(message_class(recorded.message_type), topic, qos)
     return publishers
+
+
+def publish_qos(recorded: BagTopic, duration_s: float, rate: float) -> QoSProfile:
+    """The recorded QoS; a reliable, volatile one keeps the messages of REPAIR_WINDOW_S seconds of play."""
+    qos = bag_qos.from_yaml(recorded.offered_qos) or bag_qos.fallback()
+    if (
+        qos.reliability == ReliabilityPolicy.RELIABLE
+        and qos.durability == DurabilityPolicy.VOLATILE
+        and qos.history == HistoryPolicy.KEEP_LAST
+    ):
+        per_second = recorded.count / duration_s * rate if duration_s > 0 else recorded.count
+        qos.depth = max(qos.depth, min(math.ceil(per_second * REPAIR_WINDOW_S), recorded.count, REPAIR_DEPTH_MAX))
+    return qos
 
 
 def wait_until(moment: float) -> None:

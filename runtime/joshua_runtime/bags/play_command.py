@@ -40,7 +40,7 @@ def run(node, _executor, args) -> int:
         raise SettingsError("--start and --delay must be 0 or more")
     bag = open_bag(pathlib.Path(args.bag))
     topics = chosen_topics(bag, args.topics)
-    publishers = create_publishers(node, bag, topics)
+    publishers = create_publishers(node, bag, topics, args.rate)
     count = sum(bag.topics[topic].count for topic in topics)
     print(
         f"playing {bag.path}: {count} messages on {len(topics)} topics over {bag.duration_s:.3f} s"
