@@ -91,6 +91,7 @@ class EpisodeWriter:
         self._thread.join()
         staged_directory.drop_previous(self.target)
         if self._cache_lock is not None:
+            self._restore_datasets_cache()
             private_cache.remove(self._cache, self._cache_lock)
             self._cache_lock = None
 
@@ -98,11 +99,26 @@ class EpisodeWriter:
         """Import LeRobot now: an import in the writing thread would starve the ROS thread for seconds."""
         # Keep the Hugging Face datasets cache of this process private (LeRobot reloads the dataset
         # when it resumes it), and delete it at close.
-        os.environ["HF_DATASETS_CACHE"] = self._cache
         import datasets.config
+
+        self._previous_cache_variable = os.environ.get("HF_DATASETS_CACHE")
+        self._previous_cache = datasets.config.HF_DATASETS_CACHE
+        os.environ["HF_DATASETS_CACHE"] = self._cache
+        datasets.config.HF_DATASETS_CACHE = Path(self._cache)
         import lerobot.datasets.lerobot_dataset  # noqa: F401
 
-        datasets.config.HF_DATASETS_CACHE = Path(self._cache)
+    def _restore_datasets_cache(self) -> None:
+        """Point the datasets library back where it was: a dataset this process reads after close() would
+        otherwise make the removed cache again, and nobody would remove it."""
+        import datasets.config
+
+        if os.environ.get("HF_DATASETS_CACHE") == self._cache:
+            if self._previous_cache_variable is None:
+                del os.environ["HF_DATASETS_CACHE"]
+            else:
+                os.environ["HF_DATASETS_CACHE"] = self._previous_cache_variable
+        if datasets.config.HF_DATASETS_CACHE == Path(self._cache):
+            datasets.config.HF_DATASETS_CACHE = self._previous_cache
 
     # The writing thread.
     def _run(self) -> None:

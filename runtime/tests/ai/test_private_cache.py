@@ -62,3 +62,21 @@ def test_an_old_directory_without_a_lock_goes_and_a_new_one_stays(temporary):
     os.utime(old, (long_ago, long_ago))
     private_cache.remove_abandoned("cache-")
     assert not old.exists() and new.is_dir()
+
+
+def test_a_closed_writer_leaves_the_datasets_cache_where_it_was(temporary, monkeypatch, tmp_path):
+    """A process that records a dataset and then reads it (a script, `joshua-train demonstrate`, the tests'
+    tiny ACT) must not recreate the writer's removed cache: the datasets library is pointed back after close."""
+    import datasets.config
+    from lerobot.datasets.lerobot_dataset import LeRobotDataset
+
+    from joshua_runtime.ai.episode_writer import CACHE_PREFIX
+    from testsupport.tiny_act import record_dataset
+
+    monkeypatch.setenv("HF_DATASETS_CACHE", str(tmp_path / "users-cache"))
+    monkeypatch.setattr(datasets.config, "HF_DATASETS_CACHE", tmp_path / "users-cache")
+    dataset = record_dataset(tmp_path / "dataset", episodes=1, frames=3, size=(16, 12))
+    assert os.environ["HF_DATASETS_CACHE"] == str(tmp_path / "users-cache")
+    assert datasets.config.HF_DATASETS_CACHE == tmp_path / "users-cache"
+    assert len(LeRobotDataset("local/dataset", root=dataset)) == 3
+    assert list(temporary.glob(f"{CACHE_PREFIX}*")) == []
