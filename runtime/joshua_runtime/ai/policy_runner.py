@@ -18,6 +18,7 @@ always those of the policy's model.safetensors (`load_vlm_weights` off).
 Importing this module imports torch and LeRobot.
 """
 
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -52,6 +53,19 @@ def check_device(device: str) -> torch.device:
     raise SettingsError(f"unsupported device {name!r} (use cpu or cuda)")
 
 
+def _read_config(config_class, policy_dir: Path):
+    """LeRobot's `PreTrainedConfig.from_pretrained`, which leaves a copy of config.json in the temporary
+    directory (a NamedTemporaryFile it does not delete): for the call, the process's temporary directory is
+    one of its own, removed after (a node's other threads make no temporary files meanwhile)."""
+    previous = tempfile.tempdir
+    with tempfile.TemporaryDirectory(prefix="joshua-policy-config-") as scratch:
+        tempfile.tempdir = scratch
+        try:
+            return config_class.from_pretrained(policy_dir)
+        finally:
+            tempfile.tempdir = previous
+
+
 class PolicyRunner:
     """A policy, its pre/post-processors and its device, ready for `act(observation)`."""
 
@@ -62,7 +76,7 @@ class PolicyRunner:
         from lerobot.configs.policies import PreTrainedConfig
         from lerobot.policies.factory import get_policy_class, make_pre_post_processors
 
-        config = PreTrainedConfig.from_pretrained(policy_dir)
+        config = _read_config(PreTrainedConfig, policy_dir)
         if config.type not in SUPPORTED_POLICY_TYPES:
             raise SettingsError(
                 f"policy type {config.type!r} is not supported (supported: {', '.join(SUPPORTED_POLICY_TYPES)})"

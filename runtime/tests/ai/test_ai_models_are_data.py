@@ -195,8 +195,13 @@ def test_a_lerobot_policy_loads_and_acts_without_unpickling(tmp_path, lerobot_of
 
     policy = save_tiny_diffusion(tmp_path / "diffusion", 24, 32, np.zeros(2), np.ones(2))
     crafted_models.forbid_unpickling(monkeypatch)
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    monkeypatch.setenv("TMPDIR", str(temporary))
+    monkeypatch.setattr("tempfile.tempdir", None)  # read TMPDIR again; monkeypatch puts the old value back
     runner = PolicyRunner(policy, "cpu")
     assert runner.warm_up() > 0
+    assert list(temporary.iterdir()) == []  # LeRobot's config loading leaves a copy of config.json there
 
 
 def test_the_allowed_processor_steps_are_those_lerobot_saves_for_act_diffusion_and_smolvla(tmp_path, lerobot_offline):
