@@ -1,6 +1,7 @@
 """The generated supervisord.conf under real supervisord and supervisorctl: start, status, stop, restarts."""
 
 import json
+import os
 import re
 import signal
 import subprocess
@@ -26,9 +27,14 @@ class Supervisord:
     def __init__(self, out: Path):
         self.conf = out / "supervisord.conf"
         self.log_path = out.parent / "supervisord.log"
+        self.temporary = out.parent / "tmp"  # where supervisord keeps the logs the configuration leaves AUTO
+        self.temporary.mkdir()
         with open(self.log_path, "w") as log:
             self.process = subprocess.Popen(
-                [BIN / "supervisord", "-c", self.conf], stdout=log, stderr=subprocess.STDOUT
+                [BIN / "supervisord", "-c", self.conf],
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                env={**os.environ, "TMPDIR": str(self.temporary)},
             )
         wait_until(lambda: (out / "supervisord.sock").exists(), "the control socket")
 
@@ -143,6 +149,7 @@ def test_a_critical_node_failing_for_good_stops_supervisord_and_every_node(tmp_p
         supervisord.close()
     assert [text for name, _, text in events(log) if name == "steady"] == ["start", "got SIGINT exit"]
     assert "crash: fatal: critical node failed for good; stopping the robot" in supervisord.log()
+    assert list(supervisord.temporary.iterdir()) == []  # the listener's stdout is the event protocol, not a log
 
 
 ODD = ["it's", 'say "hi"', "a ;b", "#c", "%(here)s", "$HOME", "new\n  line", "", "tab\tx", "é"]
