@@ -144,7 +144,7 @@ def in_process_action(policy_dir, observation):
     return action.squeeze(0).numpy()
 
 
-def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offline):
+def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offline, monkeypatch):
     from lerobot.datasets.lerobot_dataset import LeRobotDataset
 
     from joshua_runtime.ai.ros_arrays import joint_state, rgb_to_image
@@ -184,6 +184,8 @@ def test_record_train_serve_round_trip(tmp_path, ai_env, ros_peer, lerobot_offli
             f"no {ACTIONS_TO_COMPARE} actions on {ACTIONS_TOPIC}"
         )
         actions = ros_peer.messages(ACTIONS_TOPIC)
+        # LeRobot's config loading leaves a copy of config.json in the temporary directory: the test's own.
+        monkeypatch.setattr("tempfile.tempdir", str(tmp_path))
         expected = in_process_action(policy_dir, {"observation.images.rt_camera": image, "observation.state": state})
         for message in actions:
             assert list(message.name) == SO100_JOINTS
