@@ -10,6 +10,7 @@ seconds and exits: 0, or 3 when the link never came up.
 
 import argparse
 import os
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -110,6 +111,7 @@ def _run(args) -> int:
         window.thread.stop()
         if emulator is not None:
             emulator.stop()
+            shutil.rmtree(emulator.link.parent, ignore_errors=True)  # _start_emulator's directory
     return EXIT_LINK_FAILED if window.link_failed else 0
 
 

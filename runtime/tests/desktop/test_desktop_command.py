@@ -1,6 +1,7 @@
 """`joshua-desktop` as a command: offscreen screenshots, a link that fails, bad preset files."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -15,9 +16,9 @@ from joshua_runtime.errors import SettingsError
 JOINTS = ["shoulder_pan", "gripper"]
 
 
-def desktop(*argv):
+def desktop(*argv, env=None):
     command = [Path(sys.executable).parent / "joshua-desktop", *map(str, argv)]  # the console script
-    return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False)
+    return subprocess.run(command, capture_output=True, text=True, timeout=60, check=False, env=env)
 
 
 @pytest.mark.process
@@ -25,8 +26,14 @@ def test_screenshot_of_the_emulated_demo(tmp_path):
     presets = tmp_path / "presets.json"
     presets.write_text(json.dumps({"wave": {"shoulder_pan": 0.8, "wrist_roll": -1.0}}))
     path = ARTIFACTS / "demo.png"
-    result = desktop("--emulate", "--demo", "--presets", presets, "--screenshot", path, "--quit-after", 4)
+    temporary = tmp_path / "tmp"  # where the emulated bus's pty link is made
+    temporary.mkdir()
+    result = desktop(
+        "--emulate", "--demo", "--presets", presets, "--screenshot", path, "--quit-after", 4,
+        env={**os.environ, "TMPDIR": str(temporary)},
+    )  # fmt: skip
     assert result.returncode == 0, result.stderr
+    assert list(temporary.iterdir()) == []
     image = QImage(str(path))
     assert (image.width(), image.height()) >= (1200, 700)
     print(f"screenshot: {path}")
