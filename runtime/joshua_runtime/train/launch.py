@@ -11,6 +11,7 @@ writes joshua_policy.json.
 import os
 import subprocess
 import sys
+import tempfile
 
 # The rendezvous of the processes on this machine (`--standalone`: a free local port).
 LAUNCHER = ("-m", "torch.distributed.run", "--standalone")
@@ -30,6 +31,11 @@ def is_main_process() -> bool:
 
 
 def run(processes: int, arguments: list[str]) -> int:
-    """Run `joshua-train ARGUMENTS` as `processes` processes; their exit code."""
+    """Run `joshua-train ARGUMENTS` as `processes` processes; their exit code.
+
+    They run with a temporary directory of their own, removed after: the launcher keeps its logs in a
+    `torchelastic_*` directory there and never removes it."""
     command = [sys.executable, *LAUNCHER, f"--nproc_per_node={processes}", "-m", "joshua_runtime.train.cli"]
-    return subprocess.run([*command, *arguments], check=False).returncode
+    with tempfile.TemporaryDirectory(prefix="joshua-train-") as temporary:
+        env = {**os.environ, "TMPDIR": temporary}
+        return subprocess.run([*command, *arguments], check=False, env=env).returncode

@@ -67,9 +67,13 @@ def test_training_resizes_frames_as_serving_does():
     assert np.max(np.abs(trained - served)) <= 1.0 / 255.0
 
 
-def test_two_cpu_processes_lower_the_loss_as_one_process_does(recording, tmp_path):
+def test_two_cpu_processes_lower_the_loss_as_one_process_does(recording, tmp_path, monkeypatch):
+    temporary = tmp_path / "tmp"  # PyTorch's launcher keeps its logs in a directory of its own there
+    temporary.mkdir()
+    monkeypatch.setenv("TMPDIR", str(temporary))
     one_dir, one = imitation(recording, tmp_path / "one", "--device", "auto", "--workers", 1)
     two_dir, two = imitation(recording, tmp_path / "two", "--device", "cpu", "--workers", 0, "--processes", 2)
+    assert list(temporary.iterdir()) == []
     config = json.loads((one_dir / "config.json").read_text())
     assert config["input_features"]["observation.images.camera"]["shape"] == [3, TRAINED_SIZE[1], TRAINED_SIZE[0]]
     assert one["image_size"] == list(TRAINED_SIZE) and one["device"] == "cpu" and one["processes"] == 1
