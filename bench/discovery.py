@@ -10,7 +10,9 @@ starts and records how long it takes to see all N. Each node prints the moment i
 Then the same nodes as a built robot, started by its supervisor.py: from the supervisor's start to every node
 visible, its Python nodes forked from the node starter and, for comparison, each in an interpreter of its own
 (--no-node-starter), with the CPU-s a node had used by then; the goal is all 32 visible within GOAL_S, the max
-over the runs. Every case runs as the machine is ("quiet") and under load (one busy-looping burner process per
+over the runs. The peer, in turn with them: N C++ nodes of the same shape (cpp/bench/graph_node.cpp, on the C++
+nodes' joshua_rcl, one JointState publisher) spawned at once, from the first spawn to all visible: what DDS
+discovery costs on this machine without Python and without a supervisor. Every case runs as the machine is ("quiet") and under load (one busy-looping burner process per
 core, at the nodes' priority, started and stopped here); "unseen" counts nodes an observer had not seen after
 OBSERVE_TIMEOUT_S. Then PSS per node (/proc/PID/smaps_rollup) of N running nodes, with the profile of processes
 that carry images (large shared-memory segment) and with the profile of the others.
@@ -28,6 +30,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
+from support import graph_peer
 from support.described_nodes import PYTHON, compiled_settings, write_fastdds_profiles
 from support.process_usage import cpu_seconds
 from support.ros_env import bench_environment
@@ -44,6 +47,7 @@ OBSERVER_POLL_S = 0.005
 OBSERVE_TIMEOUT_S = 60.0  # a node not seen by then counts as unseen
 STOP_TIMEOUT_S = 10.0
 GOAL_S = 1.5  # 32 Python nodes visible on the graph within this of the supervisor's start, on 2 cores
+RATE_HZ = 5.0  # of every node's JointState
 IMPORTED = "imported at "
 READY, SEEN = "starting at ", "seen "
 # The node process: the generated entrypoint's call, with the moment its imports end printed first.
@@ -59,7 +63,7 @@ sys.exit(run_node({settings!r}))
 def description(count: int) -> str:
     nodes = "\n".join(
         f'  node {{ name: "{NAME}{i:02d}" type: MOCK_ENCODER_PUBLISHER topic_name: "/{NAME}{i:02d}/joints" '
-        f"rate_hz: 5 }}"
+        f"rate_hz: {RATE_HZ:g} }}"
         for i in range(count)
     )
     return f'robot_config {{\n  name: "bench_discovery"\n  mode: MODE_TELEOPERATION\n{nodes}\n}}\n'
@@ -201,25 +205,54 @@ def supervised_visible_s(count: int, env: dict, directory: Path, starter: bool) 
     )
 
 
+def peer_visible_s(count: int, env: dict) -> tuple[float | None, float]:
+    """Seconds from spawning `count` C++ peer nodes at once to all visible (None: some never were), and the mean
+    CPU-s a node had used by then."""
+    observer, _ = start_observer(count, env)
+    started = time.monotonic()
+    nodes = [Lines(graph_peer.command(f"{NAME}{i:02d}", f"/{NAME}{i:02d}/joints", RATE_HZ), env) for i in range(count)]
+    try:
+        seen = seen_times(observer, count)
+        spent = [cpu_seconds(node.popen.pid) for node in nodes]
+    finally:
+        observer.stop()
+        for node in nodes:
+            node.stop()
+    return (max(seen.values()) - started if len(seen) == count else None), statistics.fmean(spent)
+
+
+def ratio(numerator: float | None, denominator: float | None) -> str:
+    return "-" if numerator is None or denominator is None else f"{numerator / denominator:.2f}"
+
+
 def supervised_cases(sizes: list[int], runs: int, env: dict, directory: Path) -> None:
     print(f"supervisor.py start -> all visible, seconds, max of {runs} run(s); goal for 32 nodes: {GOAL_S} s;")
-    print("CPU-s a node used by then (mean over the runs), forked from the node starter / in its own interpreter")
-    print(f"{'load':<6} {'nodes':>5} {'node starter':>13} {'own interpreter':>16} {'ratio':>6} {'CPU-s/node':>12}")
+    print("Python nodes forked from the node starter / each in its own interpreter; the peer: C++ nodes spawned")
+    print("at once. Ratios: own interpreter / starter, starter / C++. CPU-s a node used by then (mean): the same three")
+    print(
+        f"{'load':<6} {'nodes':>5} {'node starter':>13} {'own interpreter':>16} {'C++ peer':>9} "
+        f"{'own/starter':>12} {'starter/C++':>12} {'CPU-s/node':>19}"
+    )
+    variants = ("starter", "own", "peer")
     for busy in (False, True):
         for count in sizes:
-            times, cpu = {True: [], False: []}, {True: [], False: []}
+            times, cpu = {key: [] for key in variants}, {key: [] for key in variants}
             with cpu_load(busy):
                 for _ in range(runs):
-                    for starter in (True, False):  # taking turns, so that both see the same machine
-                        seconds, node_cpu = supervised_visible_s(count, env, directory, starter)
-                        times[starter].append(seconds)
-                        cpu[starter].append(node_cpu)
+                    for variant in variants:  # taking turns, so that all see the same machine
+                        if variant == "peer":
+                            seconds, node_cpu = peer_visible_s(count, env)
+                        else:
+                            seconds, node_cpu = supervised_visible_s(count, env, directory, variant == "starter")
+                        times[variant].append(seconds)
+                        cpu[variant].append(node_cpu)
             worst = {key: None if None in values else max(values) for key, values in times.items()}
             shown = {key: "unseen" if value is None else f"{value:.2f}" for key, value in worst.items()}
-            ratio = f"{worst[False] / worst[True]:.2f}" if None not in worst.values() else "-"
-            spent = f"{statistics.fmean(cpu[True]):.2f} / {statistics.fmean(cpu[False]):.2f}"
+            spent = " / ".join(f"{statistics.fmean(cpu[key]):.2f}" for key in variants)
             print(
-                f"{'busy' if busy else 'quiet':<6} {count:>5} {shown[True]:>13} {shown[False]:>16} {ratio:>6} {spent:>12}",
+                f"{'busy' if busy else 'quiet':<6} {count:>5} {shown['starter']:>13} {shown['own']:>16} "
+                f"{shown['peer']:>9} {ratio(worst['own'], worst['starter']):>12} "
+                f"{ratio(worst['starter'], worst['peer']):>12} {spent:>19}",
                 flush=True,
             )
 
@@ -273,6 +306,7 @@ def main() -> int:
     if args.observe is not None:
         return observe(args.observe, OBSERVE_TIMEOUT_S)
     sizes, runs = ([2], 1) if args.quick else ([int(size) for size in args.sizes.split(",")], args.runs)
+    graph_peer.build()
     with tempfile.TemporaryDirectory(prefix="joshua-bench-discovery-") as tmp:
         profiles = write_fastdds_profiles(description(1), Path(tmp), path="bench_discovery.pbtxt")
         plain = profiles[f"{NAME}00"]
