@@ -28,7 +28,7 @@ class Supervisord:
         self.conf = out / "supervisord.conf"
         self.log_path = out.parent / "supervisord.log"
         self.temporary = out.parent / "tmp"  # where supervisord keeps the logs the configuration leaves AUTO
-        self.temporary.mkdir()
+        self.temporary.mkdir(exist_ok=True)
         with open(self.log_path, "w") as log:
             self.process = subprocess.Popen(
                 [BIN / "supervisord", "-c", self.conf],

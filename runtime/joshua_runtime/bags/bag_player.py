@@ -2,13 +2,15 @@
 
 Each topic gets one publisher with the QoS its recording stored (bag_qos.py; without one, reliable
 and volatile): a latched topic (transient local) keeps its last messages for subscribers that come
-later, as its original publisher did. A reliable, volatile topic's publisher keeps at least the
-messages of its last REPAIR_WINDOW_S seconds of play: a sample lost on the way to a subscriber on a
-busy machine is sent again when the subscriber asks for it, which is at the writer's next heartbeat
-(every 3 s with Fast DDS's defaults); with the recorded depth (10, say, at 40 messages a second) it
-would already be gone. Subscribers see no difference: history depth is not part of QoS matching. Message i is published `(t_i - t_first) / rate` after the
+later, as its original publisher did. Message i is published `(t_i - t_first) / rate` after the
 first, from `start_s` seconds into the bag; with `loop` the bag starts over after its last message.
 Messages go out serialized, exactly as recorded (header stamps are not rewritten).
+
+A reliable, volatile topic's publisher keeps at least the messages of its last REPAIR_WINDOW_S seconds
+of play: a sample lost on the way to a subscriber on a busy machine is sent again when the subscriber
+asks for it, at the writer's next heartbeat (every 3 s with Fast DDS's defaults); with the recorded
+depth (10, say, at 40 messages a second) it would be gone by then. Subscribers see no difference:
+history depth is not part of QoS matching.
 """
 
 from __future__ import annotations
