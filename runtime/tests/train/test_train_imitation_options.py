@@ -67,6 +67,7 @@ def test_training_resizes_frames_as_serving_does():
     assert np.max(np.abs(trained - served)) <= 1.0 / 255.0
 
 
+@pytest.mark.timeout(2 * TOOL_TIMEOUT_S)  # two trainings, each bounded by its own timeout: 160 s beside 6 burners
 def test_two_cpu_processes_lower_the_loss_as_one_process_does(recording, tmp_path, monkeypatch):
     temporary = tmp_path / "tmp"  # PyTorch's launcher keeps its logs in a directory of its own there
     temporary.mkdir()
