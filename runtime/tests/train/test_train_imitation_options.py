@@ -6,8 +6,11 @@ Two CPU processes (gloo) must lower the loss as one process does: compared by tr
 
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -69,12 +72,16 @@ def test_training_resizes_frames_as_serving_does():
 
 @pytest.mark.timeout(2 * TOOL_TIMEOUT_S)  # two trainings, each bounded by its own timeout: 160 s beside 6 burners
 def test_two_cpu_processes_lower_the_loss_as_one_process_does(recording, tmp_path, monkeypatch):
-    temporary = tmp_path / "tmp"  # PyTorch's launcher keeps its logs in a directory of its own there
-    temporary.mkdir()
+    # PyTorch's launcher keeps its logs in a directory of its own in TMPDIR. A short one: a data loader worker
+    # hands tensors over through a Unix socket made there, whose path must fit in 107 bytes.
+    temporary = Path(tempfile.mkdtemp(prefix="two-processes-"))
     monkeypatch.setenv("TMPDIR", str(temporary))
-    one_dir, one = imitation(recording, tmp_path / "one", "--device", "auto", "--workers", 1)
-    two_dir, two = imitation(recording, tmp_path / "two", "--device", "cpu", "--workers", 0, "--processes", 2)
-    assert list(temporary.iterdir()) == []
+    try:
+        one_dir, one = imitation(recording, tmp_path / "one", "--device", "auto", "--workers", 1)
+        two_dir, two = imitation(recording, tmp_path / "two", "--device", "cpu", "--workers", 0, "--processes", 2)
+        assert list(temporary.iterdir()) == []
+    finally:
+        shutil.rmtree(temporary, ignore_errors=True)
     config = json.loads((one_dir / "config.json").read_text())
     assert config["input_features"]["observation.images.camera"]["shape"] == [3, TRAINED_SIZE[1], TRAINED_SIZE[0]]
     assert one["image_size"] == list(TRAINED_SIZE) and one["device"] == "cpu" and one["processes"] == 1
