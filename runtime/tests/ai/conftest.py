@@ -83,3 +83,13 @@ def trained_smolvla(tmp_path_factory, lerobot_offline) -> Path:
     from testsupport.tiny_smolvla import train_tiny_smolvla
 
     return train_tiny_smolvla(tmp_path_factory.mktemp("tiny-smolvla"))
+
+
+@pytest.fixture
+def temporary(tmp_path, monkeypatch) -> Path:
+    """An empty directory that is this process's TMPDIR (and its children's) for the test."""
+    directory = tmp_path / "tmp"
+    directory.mkdir()
+    monkeypatch.setenv("TMPDIR", str(directory))
+    monkeypatch.setattr("tempfile.tempdir", None)  # read TMPDIR again; monkeypatch puts the old value back
+    return directory

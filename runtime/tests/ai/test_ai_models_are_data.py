@@ -190,15 +190,11 @@ def test_the_policy_runner_refuses_code_in_a_saved_pipeline_before_loading_it(tm
     assert_refused(outside, policy / "policy_postprocessor.json", "../stats.safetensors")
 
 
-def test_a_lerobot_policy_loads_and_acts_without_unpickling(tmp_path, lerobot_offline, monkeypatch):
+def test_a_lerobot_policy_loads_and_acts_without_unpickling(tmp_path, lerobot_offline, monkeypatch, temporary):
     from joshua_runtime.ai.policy_runner import PolicyRunner
 
     policy = save_tiny_diffusion(tmp_path / "diffusion", 24, 32, np.zeros(2), np.ones(2))
     crafted_models.forbid_unpickling(monkeypatch)
-    temporary = tmp_path / "tmp"
-    temporary.mkdir()
-    monkeypatch.setenv("TMPDIR", str(temporary))
-    monkeypatch.setattr("tempfile.tempdir", None)  # read TMPDIR again; monkeypatch puts the old value back
     runner = PolicyRunner(policy, "cpu")
     assert runner.warm_up() > 0
     assert list(temporary.iterdir()) == []  # LeRobot's config loading leaves a copy of config.json there

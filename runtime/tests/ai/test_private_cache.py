@@ -6,8 +6,6 @@ import subprocess
 import sys
 import time
 
-import pytest
-
 from joshua_runtime.ai import private_cache
 
 HOLDER = """
@@ -17,13 +15,6 @@ directory, _lock = private_cache.make(sys.argv[1])
 print(directory, flush=True)
 time.sleep(600)
 """
-
-
-@pytest.fixture
-def temporary(tmp_path, monkeypatch):
-    monkeypatch.setenv("TMPDIR", str(tmp_path))
-    monkeypatch.setattr("tempfile.tempdir", None)  # read TMPDIR again; monkeypatch puts the old value back
-    return tmp_path
 
 
 def holder(prefix: str, temporary) -> tuple[subprocess.Popen, str]:
