@@ -30,7 +30,6 @@ the latency of its first model call is in, whichever is later (for the tests).
 import argparse
 import json
 import os
-import shutil
 import signal
 import socket
 import subprocess
@@ -196,10 +195,10 @@ def measure_lerobot(policy_dir: Path, window: dict, env: dict, server_place, cli
     from support.lerobot_async import policy_server_command
 
     port = Here.free_port() if server_place is Here else LEROBOT_PORT
-    scratch = tempfile.mkdtemp(prefix="joshua-bench-lerobot-")  # LeRobot leaves a config copy in its TMPDIR
+    scratch = tempfile.TemporaryDirectory(prefix="joshua-bench-lerobot-")  # LeRobot leaves a config copy there
     server = server_place.popen(
         policy_server_command(PYTHON, server_place.address, port, POLICY_HZ),
-        env=dict(env, TMPDIR=scratch), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        env=dict(env, TMPDIR=scratch.name), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )  # fmt: skip
     spec = {
         "address": server_place.address,
@@ -214,7 +213,7 @@ def measure_lerobot(policy_dir: Path, window: dict, env: dict, server_place, cli
         result = robot_side(client_place, "support.lerobot_async", spec, env, timeout_s)
     finally:
         stop(server)
-        shutil.rmtree(scratch, ignore_errors=True)
+        scratch.cleanup()
     if "error" in result:
         raise SystemExit(f"(d): {result['error']}")
     return result
